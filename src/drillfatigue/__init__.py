@@ -1,0 +1,12 @@
+"""drillfatigue: drill-string dynamics in deviated wells and fatigue prognosis.
+
+Subpackages: ``well`` (trajectories, wellbore geometry), ``string`` (components
+and segmentation), ``dynamics`` (numba rigid-segment simulator), ``fatigue``
+(stresses, rainflow, S-N, Miner, critical plane, API RP7G), ``surrogate``
+(torch ensemble), ``sweep`` (case design and parallel runs), ``config``
+(validated parameter models), ``cli``. SI units throughout the code.
+"""
+
+from __future__ import annotations
+
+__version__ = "0.1.0"

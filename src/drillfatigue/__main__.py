@@ -1,0 +1,3 @@
+from drillfatigue.cli import run
+
+run()

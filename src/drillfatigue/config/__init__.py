@@ -1,0 +1,81 @@
+"""Validated configuration: one strict model per ``params.yaml`` section.
+
+``load_params(path)`` validates a whole ``params.yaml``; ``load_case(path)``
+validates a standalone case file (the simulation sections only). Both raise
+:class:`drillfatigue.errors.InputError` with a dotted field path on bad input.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from pydantic import Field
+
+from drillfatigue.config.base import StrictModel, read_yaml, validate
+from drillfatigue.config.bit import BitConfig
+from drillfatigue.config.contact import ContactConfig
+from drillfatigue.config.fatigue import FatigueConfig
+from drillfatigue.config.friction import FrictionConfig
+from drillfatigue.config.operation import OperationConfig
+from drillfatigue.config.recording import RecordingConfig
+from drillfatigue.config.solver import SolverConfig
+from drillfatigue.config.string import StringConfig
+from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.config.sweep import SweepConfig
+from drillfatigue.config.well import WellConfig
+
+__all__ = [
+    "BitConfig",
+    "CaseConfig",
+    "ContactConfig",
+    "FatigueConfig",
+    "FrictionConfig",
+    "OperationConfig",
+    "Params",
+    "RecordingConfig",
+    "SolverConfig",
+    "StringConfig",
+    "SurrogateConfig",
+    "SweepConfig",
+    "WellConfig",
+    "load_case",
+    "load_params",
+    "validate",
+]
+
+
+class CaseConfig(StrictModel):
+    """One simulation: well, string, operation and the physics/solver options."""
+
+    well: WellConfig = Field(default_factory=WellConfig)
+    string: StringConfig = Field(default_factory=StringConfig)
+    operation: OperationConfig = Field(default_factory=OperationConfig)
+    friction: FrictionConfig = Field(default_factory=FrictionConfig)
+    contact: ContactConfig = Field(default_factory=ContactConfig)
+    bit: BitConfig = Field(default_factory=BitConfig)
+    solver: SolverConfig = Field(default_factory=SolverConfig)
+    recording: RecordingConfig = Field(default_factory=RecordingConfig)
+    fatigue: FatigueConfig = Field(default_factory=FatigueConfig)
+
+
+class Params(CaseConfig):
+    """The whole ``params.yaml``: the case sections plus pipeline sections."""
+
+    sweep: SweepConfig = Field(default_factory=SweepConfig)
+    surrogate: SurrogateConfig = Field(default_factory=SurrogateConfig)
+
+
+def load_params(path: str | Path = "params.yaml") -> Params:
+    """Load and validate a ``params.yaml``."""
+    return validate(Params, read_yaml(path))
+
+
+def load_case(path: str | Path) -> CaseConfig:
+    """Load and validate a standalone case YAML file."""
+    return validate(CaseConfig, read_yaml(path))
+
+
+def case_from_dict(data: dict[str, Any]) -> CaseConfig:
+    """Validate a case given as a plain mapping (e.g. one row of a sweep)."""
+    return validate(CaseConfig, data)

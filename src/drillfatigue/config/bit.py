@@ -1,0 +1,9 @@
+"""``bit`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class BitConfig(StrictModel):
+    """Settings of the ``bit`` section. Units: SI unless the field name says otherwise."""

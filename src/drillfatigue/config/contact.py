@@ -1,0 +1,9 @@
+"""``contact`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class ContactConfig(StrictModel):
+    """Settings of the ``contact`` section. Units: SI unless the field name says otherwise."""

@@ -1,0 +1,9 @@
+"""``fatigue`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class FatigueConfig(StrictModel):
+    """Settings of the ``fatigue`` section. Units: SI unless the field name says otherwise."""

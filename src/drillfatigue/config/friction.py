@@ -1,0 +1,9 @@
+"""``friction`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class FrictionConfig(StrictModel):
+    """Settings of the ``friction`` section. Units: SI unless the field name says otherwise."""

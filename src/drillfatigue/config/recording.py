@@ -1,0 +1,9 @@
+"""``recording`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class RecordingConfig(StrictModel):
+    """Settings of the ``recording`` section. Units: SI unless the field name says otherwise."""

@@ -1,0 +1,9 @@
+"""``solver`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class SolverConfig(StrictModel):
+    """Settings of the ``solver`` section. Units: SI unless the field name says otherwise."""

@@ -1,0 +1,9 @@
+"""``string`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class StringConfig(StrictModel):
+    """Settings of the ``string`` section. Units: SI unless the field name says otherwise."""

@@ -1,0 +1,9 @@
+"""``surrogate`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class SurrogateConfig(StrictModel):
+    """Settings of the ``surrogate`` section. Units: SI unless the field name says otherwise."""

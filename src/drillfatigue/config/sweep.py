@@ -1,0 +1,9 @@
+"""``sweep`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class SweepConfig(StrictModel):
+    """Settings of the ``sweep`` section. Units: SI unless the field name says otherwise."""

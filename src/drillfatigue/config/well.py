@@ -1,0 +1,9 @@
+"""``well`` section of params.yaml (initial minimal model; extended by its owner)."""
+
+from __future__ import annotations
+
+from drillfatigue.config.base import StrictModel
+
+
+class WellConfig(StrictModel):
+    """Settings of the ``well`` section. Units: SI unless the field name says otherwise."""

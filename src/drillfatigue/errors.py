@@ -1,0 +1,39 @@
+"""Error types shared by the whole package.
+
+Bad user input raises :class:`InputError` (a ``ValueError``) naming the field
+path, what is wrong and the allowed range. The CLI prints it as one line
+``error: <field path>: <what is wrong> (allowed: ...)`` and exits with code 2.
+"""
+
+from __future__ import annotations
+
+
+class InputError(ValueError):
+    """Invalid user input: a config field, a file, a query.
+
+    Parameters
+    ----------
+    field : str
+        Dotted path of the offending field (``string.components[0].od_m``) or
+        a file name.
+    problem : str
+        What is wrong, e.g. ``"must be > 0, got -1.0"``.
+    allowed : str, optional
+        The allowed values or range, e.g. ``"0 < od_m <= 1.0"``.
+    """
+
+    def __init__(self, field: str, problem: str, allowed: str | None = None) -> None:
+        self.field = field
+        self.problem = problem
+        self.allowed = allowed
+        super().__init__(self.one_line())
+
+    def one_line(self) -> str:
+        text = f"{self.field}: {self.problem}"
+        if self.allowed:
+            text += f" (allowed: {self.allowed})"
+        return " ".join(text.split())
+
+
+class SimulationError(RuntimeError):
+    """A simulation diverged or failed; the message says when, where and why."""
