@@ -12,3 +12,15 @@ LBF_N = 4.4482216152605  # N per pound-force
 PSI_PA = 6894.757293168361  # Pa per psi
 LB_PER_FT_KG_PER_M = 0.45359237 / 0.3048  # kg/m per lb/ft
 LB_KG = 0.45359237  # kg per pound (exact)
+
+# --- added for the surrogate query/twin boundary (user-facing units) ---
+KN_N = 1000.0  # N per kilonewton
+KLBF_N = 1000.0 * LBF_N  # N per kilo-pound-force
+MM_M = 1e-3  # m per millimetre
+HOUR_S = 3600.0  # s per hour
+M_PER_H_M_PER_S = 1.0 / HOUR_S  # (m/s) per (m/h)
+FT_PER_H_M_PER_S = FT_M / HOUR_S  # (m/s) per (ft/h)
+SG_KG_PER_M3 = 1000.0  # kg/m^3 per unit specific gravity (water = 1000 kg/m^3)
+US_GAL_M3 = 231.0 * INCH_M**3  # m^3 per US gallon (exact, 231 in^3)
+PPG_KG_PER_M3 = LB_KG / US_GAL_M3  # kg/m^3 per lb/US gal (mud weight)
+DEG_PER_100FT_DEG_PER_30M = 30.0 / (100.0 * FT_M)  # (deg/30 m) per (deg/100 ft)
