@@ -24,3 +24,7 @@ SG_KG_PER_M3 = 1000.0  # kg/m^3 per unit specific gravity (water = 1000 kg/m^3)
 US_GAL_M3 = 231.0 * INCH_M**3  # m^3 per US gallon (exact, 231 in^3)
 PPG_KG_PER_M3 = LB_KG / US_GAL_M3  # kg/m^3 per lb/US gal (mud weight)
 DEG_PER_100FT_DEG_PER_30M = 30.0 / (100.0 * FT_M)  # (deg/30 m) per (deg/100 ft)
+
+# --- added for fatigue (S-N curves are tabulated in MPa, API RP7G in psi) ---
+MPA_PA = 1e6  # Pa per megapascal
+KSI_PA = 1000.0 * PSI_PA  # Pa per ksi
