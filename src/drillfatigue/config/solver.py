@@ -1,9 +1,32 @@
-"""``solver`` section of params.yaml (initial minimal model; extended by its owner)."""
+"""``solver`` section of params.yaml: integration and numerical stiffness.
+
+The integrator is explicit velocity Verlet with a fixed step set by the
+stiffest element (see :mod:`drillfatigue.dynamics.integrator`).
+"""
 
 from __future__ import annotations
+
+from pydantic import Field
 
 from drillfatigue.config.base import StrictModel
 
 
 class SolverConfig(StrictModel):
     """Settings of the ``solver`` section. Units: SI unless the field name says otherwise."""
+
+    dt_s: float | None = Field(None, gt=0.0, le=0.01,
+                               description="fixed step; default: safety x stable step")
+    safety_factor: float = Field(0.5, gt=0.0, le=0.95,
+                                 description="fraction of the stable step 2/omega_max")
+    joint_damping_ratio: float = Field(0.02, ge=0.0, le=1.0,
+                                       description="zeta of every joint spring, c = 2 zeta sqrt(k m)")
+    boundary_damping_ratio: float = Field(0.5, ge=0.0, le=2.0,
+                                          description="zeta of the top/bit boundary springs")
+    top_axial_stiffness_N_per_m: float | None = Field(None, gt=0.0, le=1e13)
+    top_torsional_stiffness_N_m_per_rad: float | None = Field(None, gt=0.0, le=1e12)
+    parasitic_stiffness_scale: float = Field(1.0, gt=0.0, le=100.0,
+                                             description="top lateral/tilt springs vs the joint springs")
+    chunk_steps: int = Field(2000, ge=1, le=10_000_000, description="steps per kernel call")
+    checkpoint_every_s: float = Field(0.0, ge=0.0, le=1e6, description="0 = no checkpoints")
+    energy_blowup_factor: float = Field(1e3, gt=1.0, le=1e12,
+                                        description="divergence when energy exceeds this x its scale")

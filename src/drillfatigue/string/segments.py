@@ -1,0 +1,171 @@
+"""Segmentation of the string into rigid segments (MODEL.md §1, §2).
+
+Each component of ``n_segments`` is cut into equal rigid segments. Segment
+properties are those of a tube of the body section; tool joints (a fraction
+``tool_joint_length_fraction`` of the length with the connection section) add
+mass and set the contact radius but not stiffness (standard stiff-string
+practice). Inertia of a tube segment (MODEL.md §1):
+I_axial = m (r_o^2 + r_i^2) / 2, I_transverse = m (3 (r_o^2 + r_i^2) + L^2) / 12.
+Buoyancy uses the displaced steel volume m / rho_steel (open-ended pipe, mud
+inside and out: the buoyed weight is the effective weight).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from drillfatigue.config.string import StringConfig
+
+#: Component type names; ``Segments.component_type_code`` indexes this tuple.
+COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub")
+
+
+@dataclass(frozen=True)
+class Segments:
+    """Rigid segments and the joints between neighbours, SI, index 0 at the bit.
+
+    Per segment (shape (n,)): ``length_m``, ``od_m``, ``id_m`` (body section),
+    ``mass_kg``, ``volume_m3`` (steel volume, for buoyancy), ``buoyed_weight_N``,
+    ``contact_radius_m``, ``inertia_axial_kg_m2``, ``inertia_transverse_kg_m2``,
+    ``ea_N``, ``ei_Nm2``, ``gj_Nm2``, ``kga_N`` (kappa G A), ``component_index``,
+    ``component_type`` (list of names), ``component_type_code`` (index into
+    :data:`COMPONENT_TYPES`), ``s_from_bit_m`` (distance bit -> segment centre),
+    ``mass_per_length_kg_per_m``.
+
+    Per joint between segment j and j+1 (shape (n-1,)): ``joint_s_from_bit_m``,
+    ``body_od_m``, ``body_id_m``, ``conn_od_m``, ``conn_id_m`` and
+    ``joint_component_type`` (of the weaker side, smaller EI), ``joint_component``.
+    """
+
+    length_m: np.ndarray
+    od_m: np.ndarray
+    id_m: np.ndarray
+    mass_kg: np.ndarray
+    volume_m3: np.ndarray
+    buoyed_weight_N: np.ndarray
+    contact_radius_m: np.ndarray
+    inertia_axial_kg_m2: np.ndarray
+    inertia_transverse_kg_m2: np.ndarray
+    ea_N: np.ndarray
+    ei_Nm2: np.ndarray
+    gj_Nm2: np.ndarray
+    kga_N: np.ndarray
+    mass_per_length_kg_per_m: np.ndarray
+    component_index: np.ndarray
+    component_type: list[str]
+    component_type_code: np.ndarray
+    s_from_bit_m: np.ndarray
+    joint_s_from_bit_m: np.ndarray
+    body_od_m: np.ndarray
+    body_id_m: np.ndarray
+    conn_od_m: np.ndarray
+    conn_id_m: np.ndarray
+    joint_component_type: list[str]
+    joint_component: np.ndarray
+
+    @property
+    def n_segments(self) -> int:
+        """Number of segments."""
+        return int(self.length_m.size)
+
+    @property
+    def n_joints(self) -> int:
+        """Number of joints between neighbouring segments (n - 1)."""
+        return int(self.joint_s_from_bit_m.size)
+
+    @property
+    def total_length_m(self) -> float:
+        """Length bit -> top of the top segment (m)."""
+        return float(self.length_m.sum())
+
+
+def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Segments:
+    """Cut the string into rigid segments.
+
+    Parameters
+    ----------
+    string_cfg : StringConfig
+        Components from the bit up.
+    mud_density_kg_per_m3 : float
+        Mud density, for the buoyed weight.
+
+    Returns
+    -------
+    Segments
+        Per-segment and per-joint arrays, index 0 at the bit end.
+    """
+    cols: dict[str, list[float]] = {k: [] for k in (
+        "length_m", "od_m", "id_m", "mass_kg", "volume_m3", "contact_radius_m", "ia", "it",
+        "ea", "ei", "gj", "kga", "mpl", "comp", "code", "conn_od", "conn_id")}
+    types: list[str] = []
+    kappa = string_cfg.shear_coefficient
+    for ci, comp in enumerate(string_cfg.components):
+        mat = comp.material
+        ro, ri = 0.5 * comp.od_m, 0.5 * comp.id_m
+        a_body = math.pi * (ro * ro - ri * ri)
+        a_conn = 0.25 * math.pi * (comp.conn_od_m ** 2 - comp.conn_id_m ** 2)
+        f = comp.tool_joint_length_fraction
+        mpl = comp.linear_mass_kg_per_m
+        if mpl is None:
+            mpl = mat.density_kg_per_m3 * ((1.0 - f) * a_body + f * a_conn)
+        i_area = 0.25 * math.pi * (ro ** 4 - ri ** 4)
+        length = comp.length_m / comp.n_segments
+        m = mpl * length
+        for _ in range(comp.n_segments):
+            cols["length_m"].append(length)
+            cols["od_m"].append(comp.od_m)
+            cols["id_m"].append(comp.id_m)
+            cols["mass_kg"].append(m)
+            cols["volume_m3"].append(m / mat.density_kg_per_m3)
+            cols["contact_radius_m"].append(comp.outer_contact_radius_m)
+            cols["ia"].append(0.5 * m * (ro * ro + ri * ri))
+            cols["it"].append(m * (3.0 * (ro * ro + ri * ri) + length * length) / 12.0)
+            cols["ea"].append(mat.youngs_modulus_Pa * a_body)
+            cols["ei"].append(mat.youngs_modulus_Pa * i_area)
+            cols["gj"].append(mat.shear_modulus_Pa * 2.0 * i_area)
+            cols["kga"].append(kappa * mat.shear_modulus_Pa * a_body)
+            cols["mpl"].append(mpl)
+            cols["comp"].append(ci)
+            cols["code"].append(COMPONENT_TYPES.index(comp.type))
+            cols["conn_od"].append(comp.conn_od_m)
+            cols["conn_id"].append(comp.conn_id_m)
+            types.append(comp.type)
+    arr = {k: np.asarray(v, dtype=np.float64) for k, v in cols.items()}
+    length = arr["length_m"]
+    top_end = np.cumsum(length)
+    s_centre = top_end - 0.5 * length
+    n = length.size
+    # joint j between segment j and j+1: take the section of the weaker side
+    weaker = np.where(arr["ei"][:-1] <= arr["ei"][1:], np.arange(n - 1), np.arange(1, n))
+    mass = arr["mass_kg"]
+    buoyed = (mass - mud_density_kg_per_m3 * arr["volume_m3"]) * 9.80665
+    return Segments(
+        length_m=length,
+        od_m=arr["od_m"],
+        id_m=arr["id_m"],
+        mass_kg=mass,
+        volume_m3=arr["volume_m3"],
+        buoyed_weight_N=buoyed,
+        contact_radius_m=arr["contact_radius_m"],
+        inertia_axial_kg_m2=arr["ia"],
+        inertia_transverse_kg_m2=arr["it"],
+        ea_N=arr["ea"],
+        ei_Nm2=arr["ei"],
+        gj_Nm2=arr["gj"],
+        kga_N=arr["kga"],
+        mass_per_length_kg_per_m=arr["mpl"],
+        component_index=arr["comp"].astype(np.int64),
+        component_type=types,
+        component_type_code=arr["code"].astype(np.int64),
+        s_from_bit_m=s_centre,
+        joint_s_from_bit_m=top_end[:-1].copy(),
+        body_od_m=arr["od_m"][weaker],
+        body_id_m=arr["id_m"][weaker],
+        conn_od_m=arr["conn_od"][weaker],
+        conn_id_m=arr["conn_id"][weaker],
+        joint_component_type=[types[k] for k in weaker],
+        joint_component=arr["comp"].astype(np.int64)[weaker],
+    )
