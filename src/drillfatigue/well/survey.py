@@ -25,10 +25,12 @@ Completion 20(1), 2005, eqs. 1-4.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import math
 import os
 import tempfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -40,6 +42,7 @@ from drillfatigue.units import FT_M
 __all__ = [
     "SURVEY_COLUMNS",
     "Survey",
+    "atomic_output",
     "dogleg_rad",
     "minimum_curvature",
     "read_survey_csv",
@@ -251,20 +254,35 @@ def read_survey_csv(path: str | Path) -> Survey:
     return minimum_curvature(arr[:, 0], np.radians(arr[:, 1]), np.radians(arr[:, 2]))
 
 
-def write_survey_csv(survey: Survey, path: str | Path) -> None:
-    """Write ``md_m,inc_deg,azi_deg`` (plus no other columns) atomically."""
+@contextlib.contextmanager
+def atomic_output(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; move it onto ``path`` on success.
+
+    The temporary file keeps ``path``'s suffix (matplotlib picks the format
+    from it) and gets the usual ``0o666 & ~umask`` permissions. On an
+    exception it is removed and ``path`` is left untouched.
+    """
     p = Path(path)
-    azi = np.degrees(survey.azi_rad) % 360.0
-    azi = np.where(azi >= 360.0, 0.0, azi)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent or ".")
+    folder = p.parent if str(p.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=f".tmp{p.suffix}", dir=folder)
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
     try:
-        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh)
-            w.writerow(SURVEY_COLUMNS)
-            for md, inc, az in zip(survey.md_m, np.degrees(survey.inc_rad), azi, strict=True):
-                w.writerow([repr(float(md)), repr(float(inc)), repr(float(az))])
+        yield Path(tmp)
         os.replace(tmp, p)
-    except BaseException:
+    finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
-        raise
+
+
+def write_survey_csv(survey: Survey, path: str | Path) -> None:
+    """Write the survey as CSV ``md_m,inc_deg,azi_deg`` (full precision), atomically."""
+    azi = np.degrees(survey.azi_rad) % 360.0
+    azi = np.where(azi >= 360.0, 0.0, azi)
+    with atomic_output(path) as tmp, tmp.open("w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(SURVEY_COLUMNS)
+        for md, inc, az in zip(survey.md_m, np.degrees(survey.inc_rad), azi, strict=True):
+            w.writerow([repr(float(md)), repr(float(inc)), repr(float(az))])
