@@ -14,9 +14,8 @@ from drillfatigue.cli.app import app
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.errors import InputError
 from drillfatigue.well import Survey, build_survey, key_points, write_survey_csv
+from drillfatigue.well.outputs import plot_survey
 from drillfatigue.well.profiles import resolve_profile
-from drillfatigue.well.survey import atomic_output
-from drillfatigue.well.wellbore import resample_path
 
 well_app = typer.Typer(help="Well profiles: show key points, plot, export the survey.",
                        no_args_is_help=True)
@@ -71,62 +70,6 @@ def show(case: Path = CaseArg, profile: str | None = ProfileOpt) -> None:
                   f"deg/100ft at MD {sv.md_m[imax]:.1f} m; TD {sv.md_m[-1]:.1f} m")
 
 
-def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig = plt.figure(figsize=(13, 4.5))
-    ax3 = fig.add_subplot(1, 3, 1, projection="3d")
-    # Draw the minimum-curvature arcs, not the chords between stations.
-    _, fine, _ = resample_path(sv, 2.0, np.empty(0), math.inf)
-    n, e, tvd = fine.T
-    ax3.plot(e, n, tvd, lw=1.5)
-    half = 0.5 * max(np.ptp(n), np.ptp(e), np.ptp(tvd), 1.0)
-    for setter, v in ((ax3.set_xlim, e), (ax3.set_ylim, n), (ax3.set_zlim, tvd)):
-        mid = 0.5 * (v.min() + v.max())
-        setter(mid - half, mid + half)
-    ax3.set_xlabel("east, m")
-    ax3.set_ylabel("north, m")
-    ax3.set_zlabel("TVD, m")
-    ax3.invert_zaxis()
-    ax3.set_title("3D view")
-    end = sv.pos_m[-1]
-    az = math.atan2(end[1], end[0]) if math.hypot(end[0], end[1]) > 1e-9 else 0.0
-    vs = n * math.cos(az) + e * math.sin(az)
-    ax = fig.add_subplot(1, 3, 2)
-    ax.plot(vs, tvd, lw=1.5)
-    ax.invert_yaxis()
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(f"vertical section at {math.degrees(az) % 360:.1f} deg, m")
-    ax.set_ylabel("TVD, m")
-    ax.set_title("vertical section")
-    ax.grid(alpha=0.3)
-    ax = fig.add_subplot(1, 3, 3)
-    ax.step(sv.md_m, sv.dls_deg_per_30m, where="pre")
-    ax.set_xlabel("MD, m")
-    ax.set_ylabel("DLS, deg/30 m")
-    ax.set_title("dogleg severity")
-    ax.grid(alpha=0.3)
-    fig.suptitle(title)
-    fig.tight_layout()
-    return fig
-
-
-def save_profile_plot(sv: Survey, path: Path, title: str) -> None:
-    """Draw 3D view, vertical section and DLS vs MD; write ``path`` atomically."""
-    import matplotlib.pyplot as plt
-
-    suffix = path.suffix.lower().lstrip(".")
-    fig = _figure(sv, title)
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format=suffix, dpi=110)
-    finally:
-        plt.close(fig)
-
-
 @well_app.command("plot")
 def plot(case: Path = CaseArg,
          output: Path = typer.Option(..., "--output", "-o", help="figure file (.png/.pdf/.svg)"),
@@ -134,7 +77,7 @@ def plot(case: Path = CaseArg,
     """Draw the 3D view, the vertical section and DLS vs MD."""
     _check_output(output, _PLOT_FORMATS)
     _, name, sv = _load(case, profile)
-    save_profile_plot(sv, output, f"well profile {name}")
+    plot_survey(sv, output, f"well profile {name}")
 
 
 @well_app.command("export")
