@@ -1,9 +1,101 @@
-"""``surrogate`` section of params.yaml (initial minimal model; extended by its owner)."""
+"""``surrogate`` section of params.yaml: the torch deep-ensemble estimator.
+
+Read by the ``train`` and ``evaluate`` stages. Column names of the dataset
+(``data/dataset/damage.parquet``) are configured here and nowhere else, so the
+model follows a renamed column by editing this section only.
+"""
 
 from __future__ import annotations
 
+from typing import Literal
+
+from pydantic import Field, model_validator
+
 from drillfatigue.config.base import StrictModel
+
+Criterion = Literal["matake", "findley", "uniaxial", "rp7g"]
+
+DEFAULT_FEATURES: tuple[str, ...] = (
+    "operation.rpm",
+    "operation.wob_N",
+    "operation.rop_m_per_s",
+    "friction.mu_static",
+    "friction.mu_dynamic",
+    "operation.mud_density_kg_per_m3",
+    "bit.amplitude_m",
+    "bit.lobes",
+    "well.kop_m",
+    "well.dls_deg_per_30m",
+    "md_m",
+    "s_from_bit_m",
+    "local_dls_deg_per_30m",
+)
+DEFAULT_CATEGORICAL: tuple[str, ...] = ("component_type", "location", "well.profile")
 
 
 class SurrogateConfig(StrictModel):
-    """Settings of the ``surrogate`` section. Units: SI unless the field name says otherwise."""
+    """Settings of the ``surrogate`` section. Units: SI unless the field name says otherwise.
+
+    Target: ``log10(max(rate, rate_floor_per_h))`` of the column
+    ``target_prefix + criterion`` (fatigue damage per hour of operation). A
+    zero rate (no damaging cycle in the simulated window) is thereby censored at
+    the floor; the default 1e-12 per hour is a life of 1e12 h, i.e. infinite
+    for any practical purpose.
+    """
+
+    # --- data ---
+    features: tuple[str, ...] = Field(DEFAULT_FEATURES, min_length=1)
+    categorical: tuple[str, ...] = DEFAULT_CATEGORICAL
+    criterion: Criterion = "matake"
+    target_prefix: str = Field("damage_rate_per_h_", min_length=1)
+    group_column: str = Field("case_id", min_length=1)
+    rate_floor_per_h: float = Field(1e-12, gt=0.0, le=1e-3)
+    # --- split (by case: all rows of a case fall in one part) ---
+    test_fraction: float = Field(0.2, gt=0.0, lt=0.5)
+    calibration_fraction: float = Field(0.2, gt=0.0, lt=0.5)
+    validation_fraction: float = Field(0.15, gt=0.0, lt=0.5)
+    split_seed: int = Field(0, ge=0)
+    # --- ensemble ---
+    seeds: tuple[int, ...] = Field((0, 1, 2, 3, 4), min_length=5, max_length=64)
+    hidden_layers: tuple[int, ...] = Field((64, 64), min_length=1, max_length=8)
+    activation: Literal["silu", "relu", "tanh", "gelu"] = "silu"
+    loss: Literal["gaussian_nll", "mse"] = "gaussian_nll"
+    learning_rate: float = Field(2e-3, gt=0.0, le=1.0)
+    weight_decay: float = Field(0.0, ge=0.0, le=1.0)
+    batch_size: int = Field(256, ge=1, le=1_000_000)
+    max_epochs: int = Field(300, ge=1, le=100_000)
+    patience: int = Field(30, ge=1, le=100_000)
+    n_threads: int = Field(2, ge=1, le=256)
+    # --- uncertainty and domain ---
+    coverage: float = Field(0.90, gt=0.5, lt=1.0)
+    ood_k: int = Field(5, ge=1, le=100)
+    ood_quantile: float = Field(0.99, gt=0.5, le=1.0)
+    ood_reference_rows: int = Field(5000, ge=10, le=200_000)
+    # --- baselines ---
+    gp_max_rows: int = Field(1000, ge=10, le=2000)
+    hgb_max_iter: int = Field(300, ge=1, le=100_000)
+
+    @model_validator(mode="after")
+    def _check(self) -> SurrogateConfig:
+        if len(set(self.seeds)) != len(self.seeds):
+            raise ValueError("seeds must be distinct (allowed: >= 5 distinct integers)")
+        if any(s < 0 for s in self.seeds):
+            raise ValueError("seeds must be >= 0 (allowed: non-negative integers)")
+        if any(h < 1 or h > 4096 for h in self.hidden_layers):
+            raise ValueError("hidden_layers widths out of range (allowed: 1..4096)")
+        both = set(self.features) & set(self.categorical)
+        if both:
+            raise ValueError(f"columns both numeric and categorical: {sorted(both)} "
+                             "(allowed: disjoint lists)")
+        if len(set(self.features)) != len(self.features) or \
+                len(set(self.categorical)) != len(self.categorical):
+            raise ValueError("duplicate column names (allowed: each column once)")
+        if self.test_fraction + self.calibration_fraction >= 0.8:
+            raise ValueError("test_fraction + calibration_fraction too large "
+                             "(allowed: sum < 0.8)")
+        return self
+
+    @property
+    def target_column(self) -> str:
+        """Dataset column of the configured criterion's damage rate per hour."""
+        return self.target_prefix + self.criterion

@@ -1,0 +1,312 @@
+"""The :class:`Surrogate` facade: a fitted ensemble + conformal intervals + domain check.
+
+``Surrogate.load(path).predict(frame)`` is the public query API. A saved model
+is a folder::
+
+    metadata.json     feature lists, category levels, scaler, ranges, conformal
+                      quantile, OOD threshold, target, versions, training summary
+    ensemble.pt       torch state dict of the EnsembleModule (weights only)
+    ood_reference.npy standardised reference rows of the k-NN domain test
+    model.ts          TorchScript export, scaler and conformal quantile baked in
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import shutil
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import torch
+
+from drillfatigue import __version__
+from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.errors import InputError
+from drillfatigue.surrogate.conformal import SplitConformal
+from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
+from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
+from drillfatigue.surrogate.ood import DomainChecker
+
+FORMAT_VERSION = 1
+
+#: output columns of :meth:`Surrogate.predict`
+PREDICTION_COLUMNS = (
+    "log10_damage_rate_per_h", "log10_damage_rate_per_h_lower", "log10_damage_rate_per_h_upper",
+    "sigma_log10", "damage_rate_per_h", "damage_rate_per_h_lower", "damage_rate_per_h_upper",
+    "life_h", "life_h_lower", "life_h_upper", "ood", "ood_reason",
+)
+
+
+def regressor_from_config(cfg: SurrogateConfig) -> DeepEnsembleRegressor:
+    """The ensemble estimator with the hyper-parameters of the ``surrogate`` section."""
+    return DeepEnsembleRegressor(
+        numeric_features=list(cfg.features), categorical_features=list(cfg.categorical),
+        seeds=list(cfg.seeds), hidden_layers=list(cfg.hidden_layers),
+        activation=cfg.activation, loss=cfg.loss, learning_rate=cfg.learning_rate,
+        weight_decay=cfg.weight_decay, batch_size=cfg.batch_size, max_epochs=cfg.max_epochs,
+        patience=cfg.patience, validation_fraction=cfg.validation_fraction,
+        n_threads=cfg.n_threads)
+
+
+class Surrogate:
+    """Fitted estimator of log10 damage rate per hour with intervals and OOD flag.
+
+    Build with :meth:`fit` (or :func:`fit_surrogate`) or :meth:`load`.
+    """
+
+    def __init__(self, module: EnsembleModule, preprocessor: Preprocessor,
+                 domain: DomainChecker, metadata: dict[str, Any]) -> None:
+        self.module = module.eval()
+        self.preprocessor = preprocessor
+        self.domain = domain
+        self.metadata = metadata
+
+    # -- properties ---------------------------------------------------------
+    @property
+    def features(self) -> list[str]:
+        """Numeric feature columns (SI), model order."""
+        return list(self.preprocessor.numeric)
+
+    @property
+    def categorical(self) -> list[str]:
+        return list(self.preprocessor.categorical)
+
+    @property
+    def categories(self) -> dict[str, list[str]]:
+        return dict(self.preprocessor.categories_)
+
+    @property
+    def coverage(self) -> float:
+        return float(self.metadata["coverage"])
+
+    @property
+    def conformal_quantile(self) -> float:
+        return float(self.module.conformal_q.item())
+
+    # -- fit ----------------------------------------------------------------
+    @classmethod
+    def fit(cls, frame: pd.DataFrame, cfg: SurrogateConfig,
+            callback: Callable[[int, np.ndarray, np.ndarray, np.ndarray], None] | None = None,
+            ) -> Surrogate:
+        """Split by case, fit the ensemble, calibrate intervals and the domain test.
+
+        Parameters
+        ----------
+        frame : DataFrame
+            Dataset with the configured feature, categorical, group and target
+            columns.
+        cfg : SurrogateConfig
+        callback : callable, optional
+            Per-epoch hook of :meth:`DeepEnsembleRegressor.fit`.
+        """
+        check_columns(frame, cfg)
+        y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
+        groups = frame[cfg.group_column].to_numpy()
+        split = split_by_case(groups, cfg)
+        reg = regressor_from_config(cfg)
+        tr = frame.loc[split.train]
+        reg.fit(tr, y[split.train], groups=groups[split.train], callback=callback)
+        cal = frame.loc[split.calibration]
+        mu_c, sd_c = reg.predict_dist(cal)
+        conf = SplitConformal(cfg.coverage).fit(mu_c, sd_c, y[split.calibration])
+        if not np.isfinite(conf.quantile_):
+            raise InputError("surrogate.calibration_fraction",
+                             "too few calibration rows for the coverage", "a larger fraction")
+        module = reg.module_
+        with torch.no_grad():
+            module.conformal_q.fill_(conf.quantile_)
+        p = reg.preprocessor_
+        domain = DomainChecker(p.numeric, cfg.ood_k, cfg.ood_quantile, cfg.ood_reference_rows,
+                               cfg.split_seed).fit(
+            p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_)
+        hist = reg.history_
+        meta = {
+            "format_version": FORMAT_VERSION,
+            "target": "log10_damage_rate_per_h",
+            "target_column": cfg.target_column,
+            "criterion": cfg.criterion,
+            "rate_floor_per_h": cfg.rate_floor_per_h,
+            "coverage": cfg.coverage,
+            "n_calibration": conf.n_calibration_,
+            "architecture": {"n_numeric": module.n_numeric, "n_levels": module.n_levels,
+                             "n_members": module.n_members, "hidden": module.hidden,
+                             "activation": module.activation, "gaussian": module.gaussian},
+            "config": cfg.model_dump(mode="json"),
+            "split": {"train_cases": sorted(map(str, np.unique(groups[split.train]))),
+                      "calibration_cases": sorted(map(str, np.unique(groups[split.calibration]))),
+                      "test_cases": sorted(map(str, np.unique(groups[split.test])))},
+            "training": {"epochs": int(hist["train_loss"].shape[0]),
+                         "best_epoch": hist["best_epoch"].tolist(),
+                         "best_val_loss": hist["best_val_loss"].tolist(),
+                         "n_train_rows": int(split.train.sum())},
+        }
+        return cls(module, p, domain, meta)
+
+    # -- encode -------------------------------------------------------------
+    def encode(self, frame: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
+        """Raw numeric array (n, n_numeric) float64 and category codes (n, n_cat) int64.
+
+        Raises InputError for a missing column, a NaN or non-numeric value, or
+        an unseen category level.
+        """
+        return self.preprocessor.numeric_array(frame), self.preprocessor.category_codes(frame)
+
+    # -- predict ------------------------------------------------------------
+    def predict_array(self, x_num: np.ndarray, x_cat: np.ndarray | None = None,
+                      ood: bool = True, knn: bool = True) -> dict[str, np.ndarray]:
+        """Fast path on encoded arrays (no DataFrame round trip, no input checks).
+
+        Parameters
+        ----------
+        x_num : ndarray, shape (n, n_numeric)
+            Numeric features in SI, columns in :attr:`features` order.
+        x_cat : ndarray of int, shape (n, n_categorical)
+            Level codes (index into :attr:`categories`).
+        ood : bool
+            Compute the out-of-domain flag (``ood`` key; False everywhere if not).
+        knn : bool
+            Include the k-NN joint-distance test (else per-feature ranges only).
+
+        Returns
+        -------
+        dict of ndarray, shape (n,)
+            ``log10``, ``sigma``, ``lower``, ``upper`` (log10 damage rate per
+            hour and its interval), ``ood`` (bool), ``knn_distance``.
+        """
+        x_num = np.asarray(x_num, dtype=np.float64)
+        if x_cat is None:
+            x_cat = np.zeros((x_num.shape[0], len(self.categorical)), dtype=np.int64)
+        with torch.inference_mode():
+            out = self.module(torch.from_numpy(x_num.astype(np.float32)),
+                              torch.from_numpy(np.asarray(x_cat, dtype=np.int64))).numpy()
+        res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
+               "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
+        if ood:
+            flag, dist = self.domain.check(x_num, knn=knn)
+        else:
+            flag, dist = np.zeros(x_num.shape[0], dtype=bool), np.full(x_num.shape[0], np.nan)
+        res["ood"] = flag
+        res["knn_distance"] = dist
+        return res
+
+    def predict(self, frame: pd.DataFrame) -> pd.DataFrame:
+        """Damage rate per hour, life in hours, interval and OOD flag per row.
+
+        Parameters
+        ----------
+        frame : DataFrame
+            One row per query with the model's feature columns (SI units,
+            names as in the dataset; extra columns are ignored).
+
+        Returns
+        -------
+        DataFrame, same index, columns :data:`PREDICTION_COLUMNS`. Rates are per
+        hour of operation (Miner damage), lives in hours (1 / rate); the
+        interval has the calibrated coverage :attr:`coverage`.
+        """
+        x_num, x_cat = self.encode(frame)
+        r = self.predict_array(x_num, x_cat)
+        reasons = self.domain.reasons(x_num, r["knn_distance"], r["ood"])
+        return prediction_frame(r, reasons, frame.index)
+
+    # -- persistence --------------------------------------------------------
+    def save(self, path: str | Path, export: bool = True) -> Path:
+        """Write the model folder atomically (temp folder, then rename)."""
+        dest = Path(path)
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{dest.name}.", dir=dest.parent))
+        try:
+            torch.save(self.module.state_dict(), tmp / "ensemble.pt")
+            np.save(tmp / "ood_reference.npy", self.domain.reference_)
+            meta = dict(self.metadata)
+            meta["preprocessor"] = self.preprocessor.to_dict()
+            meta["domain"] = self.domain.to_dict()
+            meta["conformal_quantile"] = self.conformal_quantile
+            meta["versions"] = {"drillfatigue": __version__, "torch": torch.__version__,
+                                "numpy": np.__version__, "python": platform.python_version()}
+            (tmp / "metadata.json").write_text(json.dumps(meta, indent=2), encoding="utf-8")
+            if export:
+                from drillfatigue.surrogate.export import export_torchscript
+                export_torchscript(self, tmp / "model.ts")
+            old = None
+            if dest.exists():
+                old = dest.with_name(f".{dest.name}.old")
+                if old.exists():
+                    shutil.rmtree(old)
+                os.replace(dest, old)
+            os.replace(tmp, dest)
+            if old is not None:
+                shutil.rmtree(old)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+        return dest
+
+    @classmethod
+    def load(cls, path: str | Path) -> Surrogate:
+        """Load a model folder written by :meth:`save`."""
+        p = Path(path)
+        meta_path = p / "metadata.json"
+        if not meta_path.is_file():
+            raise InputError(str(p), "not a surrogate model folder (no metadata.json)",
+                             "a folder written by the train stage")
+        meta = json.loads(meta_path.read_text(encoding="utf-8"))
+        if meta.get("format_version") != FORMAT_VERSION:
+            raise InputError(str(p), f"model format {meta.get('format_version')!r}",
+                             f"format {FORMAT_VERSION}")
+        a = meta["architecture"]
+        module = EnsembleModule(a["n_numeric"], a["n_levels"], a["n_members"], a["hidden"],
+                                a["activation"], a["gaussian"])
+        module.load_state_dict(torch.load(p / "ensemble.pt", weights_only=True))
+        pre = Preprocessor.from_dict(meta.pop("preprocessor"))
+        domain = DomainChecker.from_dict(meta.pop("domain"), np.load(p / "ood_reference.npy"))
+        meta.pop("conformal_quantile", None)
+        meta.pop("versions", None)
+        return cls(module, pre, domain, meta)
+
+
+def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
+                     index: Any = None) -> pd.DataFrame:
+    """Assemble the :data:`PREDICTION_COLUMNS` frame from :meth:`Surrogate.predict_array` output."""
+    rate = 10.0 ** r["log10"]
+    lo = 10.0 ** r["lower"]
+    hi = 10.0 ** r["upper"]
+    return pd.DataFrame({
+        "log10_damage_rate_per_h": r["log10"],
+        "log10_damage_rate_per_h_lower": r["lower"],
+        "log10_damage_rate_per_h_upper": r["upper"],
+        "sigma_log10": r["sigma"],
+        "damage_rate_per_h": rate, "damage_rate_per_h_lower": lo, "damage_rate_per_h_upper": hi,
+        "life_h": 1.0 / rate, "life_h_lower": 1.0 / hi, "life_h_upper": 1.0 / lo,
+        "ood": r["ood"], "ood_reason": reasons,
+    }, index=index)
+
+
+def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
+                  live_dir: str | Path | None = None) -> Surrogate:
+    """Fit a :class:`Surrogate`; log per-member train/val loss per epoch with dvclive.
+
+    ``live_dir``: dvclive folder (``Live(dir=..., dvcyaml=None,
+    save_dvc_exp=False)``, for use inside a DVC stage); None: no logging.
+    """
+    if live_dir is None:
+        return Surrogate.fit(frame, cfg)
+    from dvclive import Live
+
+    with Live(dir=str(live_dir), dvcyaml=None, save_dvc_exp=False, report=None) as live:
+        def log_epoch(epoch: int, tr: np.ndarray, va: np.ndarray, active: np.ndarray) -> None:
+            for m in range(tr.shape[0]):
+                live.log_metric(f"train/loss/member{m}", float(tr[m]), plot=True)
+                live.log_metric(f"val/loss/member{m}", float(va[m]), plot=True)
+            live.log_metric("active_members", int(active.sum()), plot=True)
+            live.next_step()
+
+        model = Surrogate.fit(frame, cfg, callback=log_epoch)
+        live.summary["best_epoch"] = model.metadata["training"]["best_epoch"]
+    return model

@@ -1,0 +1,476 @@
+"""Deep ensemble of MLPs with Gaussian heads (torch, CPU).
+
+The ensemble follows Lakshminarayanan, Pritzel & Blundell, "Simple and
+scalable predictive uncertainty estimation using deep ensembles", NeurIPS
+2017: M independently initialised MLPs, each with a mean and a log-variance
+head trained on the Gaussian negative log-likelihood; the ensemble predicts
+the mixture mean mu = mean_m mu_m and variance
+sigma^2 = mean_m sigma_m^2 + var_m mu_m (their eq. 3, Gaussian approximation
+of the mixture). With ``loss="mse"`` the heads give the mean only and sigma is
+the ensemble spread (std of the member means).
+
+All members live in one set of stacked weight tensors of shape
+(M, n_in, n_out) and are evaluated with one batched matrix product per layer
+(``torch.baddbmm``). Adam is element-wise and the loss is a sum over members,
+so stacked training is exactly M independent trainings; each member draws its
+own initial weights and minibatch order from its own seed.
+
+Feature scaling (standardisation) and one-hot encoding of the categorical
+columns are fitted in :meth:`DeepEnsembleRegressor.fit` (:class:`Preprocessor`)
+and baked into the torch module (:class:`EnsembleModule`), so the TorchScript
+export takes raw SI features.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import torch
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.exceptions import NotFittedError
+from torch import Tensor, nn
+
+from drillfatigue.errors import InputError
+
+LOGVAR_MIN = -14.0  # clamp of the log-variance head (scaled target units)
+LOGVAR_MAX = 6.0
+SPREAD_FLOOR = 1e-6  # minimal sigma (scaled target units) for the MSE variant
+
+EpochCallback = Callable[[int, np.ndarray, np.ndarray, np.ndarray], None]
+
+
+# ---------------------------------------------------------------------------
+# preprocessing
+# ---------------------------------------------------------------------------
+class Preprocessor:
+    """Standardise numeric columns and integer-code categorical columns.
+
+    Parameters
+    ----------
+    numeric : sequence of str
+        Numeric feature columns, in model order.
+    categorical : sequence of str
+        Categorical feature columns; levels seen in ``fit`` are sorted and
+        coded 0..n-1.
+    """
+
+    def __init__(self, numeric: Sequence[str], categorical: Sequence[str] = ()) -> None:
+        self.numeric = list(numeric)
+        self.categorical = list(categorical)
+
+    def fit(self, frame: pd.DataFrame) -> Preprocessor:
+        x = self.numeric_array(frame)
+        self.mean_ = x.mean(axis=0)
+        std = x.std(axis=0)
+        self.scale_ = np.where(std > 0.0, std, 1.0)
+        self.min_ = x.min(axis=0)
+        self.max_ = x.max(axis=0)
+        self.categories_ = {}
+        for col in self.categorical:
+            self._require(frame, col)
+            self.categories_[col] = sorted({str(v) for v in frame[col].to_numpy()})
+        return self
+
+    @staticmethod
+    def _require(frame: pd.DataFrame, col: str) -> None:
+        if col not in frame.columns:
+            raise InputError(col, "missing column", "the model's feature columns")
+
+    def numeric_array(self, frame: pd.DataFrame) -> np.ndarray:
+        """Numeric features as float64 array, shape (n, n_numeric); NaN/non-numeric raise."""
+        cols = []
+        for col in self.numeric:
+            self._require(frame, col)
+            try:
+                v = pd.to_numeric(frame[col], errors="raise").to_numpy(dtype=np.float64)
+            except (ValueError, TypeError):
+                raise InputError(col, "non-numeric value", "finite numbers") from None
+            if not np.all(np.isfinite(v)):
+                raise InputError(col, "NaN or infinite value", "finite numbers") from None
+            cols.append(v)
+        if not cols:
+            return np.zeros((len(frame), 0))
+        return np.column_stack(cols)
+
+    def category_codes(self, frame: pd.DataFrame) -> np.ndarray:
+        """Categorical codes, int64 array shape (n, n_categorical); unseen levels raise."""
+        out = np.zeros((len(frame), len(self.categorical)), dtype=np.int64)
+        for j, col in enumerate(self.categorical):
+            self._require(frame, col)
+            levels = self.categories_[col]
+            lookup = {v: i for i, v in enumerate(levels)}
+            values = frame[col].astype(str).to_numpy()
+            codes = np.fromiter((lookup.get(v, -1) for v in values), dtype=np.int64,
+                                count=len(values))
+            if np.any(codes < 0):
+                bad = values[np.argmax(codes < 0)]
+                raise InputError(col, f"value {bad!r} not seen in training",
+                                 ", ".join(levels))
+            out[:, j] = codes
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "numeric": self.numeric, "categorical": self.categorical,
+            "mean": self.mean_.tolist(), "scale": self.scale_.tolist(),
+            "min": self.min_.tolist(), "max": self.max_.tolist(),
+            "categories": self.categories_,
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> Preprocessor:
+        p = cls(d["numeric"], d["categorical"])
+        p.mean_ = np.asarray(d["mean"], dtype=np.float64)
+        p.scale_ = np.asarray(d["scale"], dtype=np.float64)
+        p.min_ = np.asarray(d["min"], dtype=np.float64)
+        p.max_ = np.asarray(d["max"], dtype=np.float64)
+        p.categories_ = {k: list(v) for k, v in d["categories"].items()}
+        return p
+
+
+# ---------------------------------------------------------------------------
+# torch module
+# ---------------------------------------------------------------------------
+class EnsembleModule(nn.Module):
+    """Stacked MLP ensemble with the scaler and one-hot encoder baked in.
+
+    ``forward(x_num, x_cat)`` takes raw features: ``x_num`` float32, shape
+    (n, n_numeric), SI units as in the dataset; ``x_cat`` int64, shape
+    (n, n_categorical), level codes (see ``metadata.json``). It returns a
+    float32 tensor (n, 4): mean, sigma, lower and upper interval bound of the
+    target (log10 damage rate per hour), the interval being
+    mean -/+ ``conformal_q`` * sigma.
+    """
+
+    def __init__(self, n_numeric: int, n_levels: Sequence[int], n_members: int,
+                 hidden: Sequence[int], activation: str = "silu",
+                 gaussian: bool = True) -> None:
+        super().__init__()
+        self.n_numeric = int(n_numeric)
+        self.n_levels = [int(v) for v in n_levels]
+        self.n_members = int(n_members)
+        self.hidden = [int(h) for h in hidden]
+        self.activation = str(activation)
+        self.gaussian = bool(gaussian)
+        self.logvar_min = float(LOGVAR_MIN)
+        self.logvar_max = float(LOGVAR_MAX)
+        self.spread_floor = float(SPREAD_FLOOR)
+        cat_col = [j for j, n in enumerate(self.n_levels) for _ in range(n)]
+        cat_code = [c for n in self.n_levels for c in range(n)]
+        self.register_buffer("cat_col", torch.tensor(cat_col, dtype=torch.long))
+        self.register_buffer("cat_code", torch.tensor(cat_code, dtype=torch.long))
+        self.register_buffer("x_mean", torch.zeros(self.n_numeric))
+        self.register_buffer("x_scale", torch.ones(self.n_numeric))
+        self.register_buffer("y_mean", torch.zeros(()))
+        self.register_buffer("y_scale", torch.ones(()))
+        self.register_buffer("conformal_q", torch.zeros(()))
+        sizes = [self.n_numeric + len(cat_col), *self.hidden, 2 if self.gaussian else 1]
+        self.n_layers = len(sizes) - 1
+        self.weights = nn.ParameterList(
+            [nn.Parameter(torch.zeros(self.n_members, a, b)) for a, b in zip(sizes[:-1], sizes[1:])])
+        self.biases = nn.ParameterList(
+            [nn.Parameter(torch.zeros(self.n_members, 1, b)) for b in sizes[1:]])
+
+    def init_members(self, seeds: Sequence[int]) -> None:
+        """Initialise member m from ``seeds[m]`` as ``nn.Linear`` does (U(+-1/sqrt(fan_in)))."""
+        with torch.no_grad():
+            for m, seed in enumerate(seeds):
+                gen = torch.Generator().manual_seed(int(seed))
+                for w, b in zip(self.weights, self.biases):
+                    bound = 1.0 / math.sqrt(w.shape[1])
+                    w[m].copy_(torch.rand(w.shape[1:], generator=gen) * 2 * bound - bound)
+                    b[m].copy_(torch.rand(b.shape[1:], generator=gen) * 2 * bound - bound)
+
+    def _act(self, h: Tensor) -> Tensor:
+        if self.activation == "relu":
+            return torch.relu(h)
+        if self.activation == "tanh":
+            return torch.tanh(h)
+        if self.activation == "gelu":
+            return nn.functional.gelu(h)
+        return nn.functional.silu(h)
+
+    def encode(self, x_num: Tensor, x_cat: Tensor) -> Tensor:
+        """Scaled numeric features and one-hot levels, shape (n, n_in)."""
+        z = (x_num - self.x_mean) / self.x_scale
+        if self.cat_col.shape[0] > 0:
+            onehot = (x_cat[:, self.cat_col] == self.cat_code).to(z.dtype)
+            z = torch.cat([z, onehot], dim=1)
+        return z
+
+    def members(self, z: Tensor) -> tuple[Tensor, Tensor]:
+        """Per-member mean and log-variance in scaled target units.
+
+        ``z``: (M, n, n_in) (each member its own rows) or (n, n_in) (shared).
+        Returns two tensors of shape (M, n).
+        """
+        if z.dim() == 2:
+            h = z.unsqueeze(0).expand(self.n_members, z.shape[0], z.shape[1])
+        else:
+            h = z
+        i = 0
+        for w, b in zip(self.weights, self.biases):
+            h = torch.baddbmm(b, h, w)
+            if i < self.n_layers - 1:
+                h = self._act(h)
+            i += 1
+        mu = h[:, :, 0]
+        if self.gaussian:
+            logvar = torch.clamp(h[:, :, 1], self.logvar_min, self.logvar_max)
+        else:
+            logvar = torch.zeros_like(mu)
+        return mu, logvar
+
+    def forward(self, x_num: Tensor, x_cat: Tensor) -> Tensor:
+        mu_m, logvar_m = self.members(self.encode(x_num, x_cat))
+        mu = mu_m.mean(dim=0)
+        spread = ((mu_m - mu) ** 2).mean(dim=0)
+        if self.gaussian:
+            var = torch.exp(logvar_m).mean(dim=0) + spread
+        else:
+            var = spread + self.spread_floor**2
+        mean_y = mu * self.y_scale + self.y_mean
+        sigma_y = torch.sqrt(var) * self.y_scale
+        half = self.conformal_q * sigma_y
+        return torch.stack([mean_y, sigma_y, mean_y - half, mean_y + half], dim=1)
+
+
+# ---------------------------------------------------------------------------
+# estimator
+# ---------------------------------------------------------------------------
+class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
+    """Deep ensemble regressor with the scikit-learn estimator contract.
+
+    Parameters
+    ----------
+    numeric_features : sequence of str or None
+        Numeric columns of ``X`` (a DataFrame). ``None``: every column not in
+        ``categorical_features`` (and all columns of a plain array).
+    categorical_features : sequence of str
+        Categorical columns, one-hot encoded inside.
+    seeds : sequence of int
+        One seed per member (>= 5 members recommended).
+    hidden_layers : sequence of int
+        Widths of the hidden layers of each member.
+    activation : {"silu", "relu", "tanh", "gelu"}
+    loss : {"gaussian_nll", "mse"}
+        Gaussian NLL with a log-variance head, or MSE with the ensemble spread
+        as sigma.
+    learning_rate, weight_decay : float
+        Adam settings.
+    batch_size, max_epochs, patience : int
+        Minibatch size; epochs at most; early stopping when the validation loss
+        of a member has not improved for ``patience`` epochs (its best state is
+        kept).
+    validation_fraction : float
+        Fraction of rows (of groups, if ``groups`` is given to ``fit``) held
+        out for early stopping.
+    n_threads : int
+        ``torch.set_num_threads`` during fit.
+
+    Attributes
+    ----------
+    preprocessor_ : Preprocessor
+    module_ : EnsembleModule
+    history_ : dict with "train_loss", "val_loss" (n_epochs, M) arrays and "best_epoch"
+    n_features_in_ : int
+    """
+
+    def __init__(self, numeric_features: Sequence[str] | None = None,
+                 categorical_features: Sequence[str] = (),
+                 seeds: Sequence[int] = (0, 1, 2, 3, 4),
+                 hidden_layers: Sequence[int] = (64, 64), activation: str = "silu",
+                 loss: str = "gaussian_nll", learning_rate: float = 2e-3,
+                 weight_decay: float = 0.0, batch_size: int = 256, max_epochs: int = 300,
+                 patience: int = 30, validation_fraction: float = 0.15,
+                 n_threads: int = 2) -> None:
+        self.numeric_features = numeric_features
+        self.categorical_features = categorical_features
+        self.seeds = seeds
+        self.hidden_layers = hidden_layers
+        self.activation = activation
+        self.loss = loss
+        self.learning_rate = learning_rate
+        self.weight_decay = weight_decay
+        self.batch_size = batch_size
+        self.max_epochs = max_epochs
+        self.patience = patience
+        self.validation_fraction = validation_fraction
+        self.n_threads = n_threads
+
+    # -- data ---------------------------------------------------------------
+    def _as_frame(self, X: Any) -> pd.DataFrame:
+        if isinstance(X, pd.DataFrame):
+            return X
+        arr = np.asarray(X, dtype=np.float64)
+        if arr.ndim != 2:
+            raise InputError("X", f"must be 2-D, got shape {arr.shape}", "(n_rows, n_features)")
+        return pd.DataFrame(arr, columns=[f"x{i}" for i in range(arr.shape[1])])
+
+    def _encode(self, X: Any) -> tuple[np.ndarray, np.ndarray]:
+        frame = self._as_frame(X)
+        p = self.preprocessor_
+        return p.numeric_array(frame), p.category_codes(frame)
+
+    # -- fit ----------------------------------------------------------------
+    def fit(self, X: Any, y: Any, groups: Any = None,
+            callback: EpochCallback | None = None) -> DeepEnsembleRegressor:
+        """Fit all members; ``groups`` (e.g. case ids) keeps the validation split by group.
+
+        ``callback(epoch, train_loss (M,), val_loss (M,), active (M,) bool)``
+        is called after every epoch (used for dvclive logging).
+        """
+        if self.loss not in ("gaussian_nll", "mse"):
+            raise InputError("loss", f"unknown loss {self.loss!r}", "gaussian_nll, mse")
+        if self.activation not in ("silu", "relu", "tanh", "gelu"):
+            raise InputError("activation", f"unknown activation {self.activation!r}",
+                             "silu, relu, tanh, gelu")
+        frame = self._as_frame(X)
+        cats = list(self.categorical_features)
+        nums = (list(self.numeric_features) if self.numeric_features is not None
+                else [c for c in frame.columns if c not in cats])
+        yv = np.asarray(y, dtype=np.float64).reshape(-1)
+        if yv.shape[0] != len(frame):
+            raise InputError("y", f"has {yv.shape[0]} rows, X has {len(frame)}", "equal lengths")
+        if not np.all(np.isfinite(yv)):
+            raise InputError("y", "NaN or infinite target", "finite numbers")
+        self.preprocessor_ = Preprocessor(nums, cats).fit(frame)
+        x_num, x_cat = self._encode(frame)
+        self.n_features_in_ = x_num.shape[1] + x_cat.shape[1]
+        self.feature_names_in_ = np.asarray(nums + cats, dtype=object)
+
+        seeds = [int(s) for s in self.seeds]
+        rng = np.random.default_rng(seeds[0])
+        n = len(yv)
+        if groups is not None:
+            g = np.asarray(groups)
+            ug = np.unique(g)
+            n_val_g = max(1, int(round(self.validation_fraction * len(ug))))
+            val_groups = rng.choice(ug, size=n_val_g, replace=False)
+            is_val = np.isin(g, val_groups)
+        else:
+            n_val = max(1, int(round(self.validation_fraction * n)))
+            is_val = np.zeros(n, dtype=bool)
+            is_val[rng.choice(n, size=n_val, replace=False)] = True
+        if is_val.all() or not is_val.any():
+            raise InputError("X", "too few rows/groups for a validation split",
+                             ">= 2 groups (rows)")
+
+        module = EnsembleModule(x_num.shape[1], [len(self.preprocessor_.categories_[c]) for c in cats],
+                                len(seeds), self.hidden_layers, self.activation,
+                                self.loss == "gaussian_nll")
+        module.init_members(seeds)
+        y_mean = float(yv[~is_val].mean())
+        y_std = float(yv[~is_val].std()) or 1.0
+        with torch.no_grad():
+            module.x_mean.copy_(torch.as_tensor(self.preprocessor_.mean_, dtype=torch.float32))
+            module.x_scale.copy_(torch.as_tensor(self.preprocessor_.scale_, dtype=torch.float32))
+            module.y_mean.fill_(y_mean)
+            module.y_scale.fill_(y_std)
+
+        old_threads = torch.get_num_threads()
+        torch.set_num_threads(int(self.n_threads))
+        try:
+            self.history_ = self._train(module, x_num, x_cat, (yv - y_mean) / y_std,
+                                        is_val, seeds, callback)
+        finally:
+            torch.set_num_threads(old_threads)
+        module.eval()
+        self.module_ = module
+        return self
+
+    def _member_loss(self, module: EnsembleModule, z: Tensor, y: Tensor) -> Tensor:
+        mu, logvar = module.members(z)
+        if module.gaussian:
+            per = 0.5 * (logvar + (y - mu) ** 2 * torch.exp(-logvar))
+        else:
+            per = (y - mu) ** 2
+        return per.mean(dim=1)  # (M,)
+
+    def _train(self, module: EnsembleModule, x_num: np.ndarray, x_cat: np.ndarray,
+               ys: np.ndarray, is_val: np.ndarray, seeds: list[int],
+               callback: EpochCallback | None) -> dict[str, Any]:
+        with torch.no_grad():
+            z_all = module.encode(torch.as_tensor(x_num, dtype=torch.float32),
+                                  torch.as_tensor(x_cat, dtype=torch.long))
+        y_all = torch.as_tensor(ys, dtype=torch.float32)
+        z_tr, y_tr = z_all[~torch.as_tensor(is_val)], y_all[~torch.as_tensor(is_val)]
+        z_va, y_va = z_all[torch.as_tensor(is_val)], y_all[torch.as_tensor(is_val)]
+        n_tr = z_tr.shape[0]
+        M = len(seeds)
+        rngs = [np.random.default_rng(s + 7919) for s in seeds]
+        opt = torch.optim.Adam(module.parameters(), lr=float(self.learning_rate),
+                               weight_decay=float(self.weight_decay))
+        best = np.full(M, np.inf)
+        best_epoch = np.zeros(M, dtype=np.int64)
+        best_state = [copy.deepcopy([p.detach()[m].clone() for p in module.parameters()])
+                      for m in range(M)]
+        active = np.ones(M, dtype=bool)
+        bs = min(int(self.batch_size), n_tr)
+        train_hist, val_hist = [], []
+        for epoch in range(int(self.max_epochs)):
+            perms = np.stack([r.permutation(n_tr) for r in rngs])  # (M, n_tr)
+            module.train()
+            tot = torch.zeros(M)
+            for start in range(0, n_tr, bs):
+                idx = torch.as_tensor(perms[:, start:start + bs])
+                zb = z_tr[idx]  # (M, b, n_in)
+                yb = y_tr[idx]  # (M, b)
+                loss_m = self._member_loss(module, zb, yb)
+                opt.zero_grad(set_to_none=True)
+                loss_m.sum().backward()
+                opt.step()
+                tot += loss_m.detach() * idx.shape[1]
+            module.eval()
+            with torch.no_grad():
+                val = self._member_loss(module, z_va, y_va).numpy().astype(np.float64)
+            tr = (tot / n_tr).numpy().astype(np.float64)
+            train_hist.append(tr)
+            val_hist.append(val)
+            for m in np.flatnonzero(active):
+                if val[m] < best[m]:
+                    best[m] = val[m]
+                    best_epoch[m] = epoch
+                    best_state[m] = [p.detach()[m].clone() for p in module.parameters()]
+                elif epoch - best_epoch[m] >= int(self.patience):
+                    active[m] = False
+            if callback is not None:
+                callback(epoch, tr, val, active.copy())
+            if not active.any():
+                break
+        with torch.no_grad():
+            for m in range(M):
+                for p, s in zip(module.parameters(), best_state[m]):
+                    p[m].copy_(s)
+        return {"train_loss": np.asarray(train_hist), "val_loss": np.asarray(val_hist),
+                "best_epoch": best_epoch, "best_val_loss": best}
+
+    # -- predict ------------------------------------------------------------
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "module_"):
+            raise NotFittedError("DeepEnsembleRegressor is not fitted yet; call fit first")
+
+    def predict_raw(self, x_num: np.ndarray, x_cat: np.ndarray | None = None) -> np.ndarray:
+        """Module output for encoded arrays: float64 (n, 4) mean, sigma, lower, upper."""
+        self._check_fitted()
+        if x_cat is None:
+            x_cat = np.zeros((x_num.shape[0], 0), dtype=np.int64)
+        with torch.inference_mode():
+            out = self.module_(torch.as_tensor(x_num, dtype=torch.float32),
+                               torch.as_tensor(x_cat, dtype=torch.long))
+        return out.numpy().astype(np.float64)
+
+    def predict_dist(self, X: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Predictive mean and standard deviation, each shape (n,)."""
+        self._check_fitted()
+        out = self.predict_raw(*self._encode(X))
+        return out[:, 0], out[:, 1]
+
+    def predict(self, X: Any) -> np.ndarray:
+        """Predictive mean, shape (n,)."""
+        return self.predict_dist(X)[0]
