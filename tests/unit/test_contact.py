@@ -141,3 +141,19 @@ def test_stable_dt_is_the_explicit_limit():
 def test_build_chain_rejects_bad_shape():
     with pytest.raises(ValueError):
         build_cylinder_chain(np.zeros((1, 3)), 0.1)
+
+
+def test_contact_config_defaults_and_damping():
+    from drillfatigue.config.base import validate
+    from drillfatigue.config.contact import ContactConfig
+    from drillfatigue.dynamics.contact import contact_damping
+    from drillfatigue.errors import InputError
+
+    cfg = ContactConfig()
+    assert contact_damping(cfg, 260.0) == pytest.approx(2 * 0.2 * math.sqrt(5e7 * 260.0))
+    assert contact_damping(ContactConfig(c_c_N_s_per_m=5e4), 1.0) == 5e4
+    # default stiffness is softer than a 1 m drill-pipe joint's axial spring EA/L ~ 7e8 N/m
+    assert stable_dt(cfg.k_c_N_per_m, 29.0) > 2 * math.sqrt(29.0 / 7e8)
+    with pytest.raises(InputError) as exc:
+        validate(ContactConfig, {"k_c_N_per_m": -1}, "contact")
+    assert exc.value.field == "contact.k_c_N_per_m"

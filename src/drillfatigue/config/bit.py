@@ -1,9 +1,65 @@
-"""``bit`` section of params.yaml (initial minimal model; extended by its owner)."""
+"""``bit`` section of params.yaml: the bit-rock interaction law (MODEL.md section 4).
+
+Kernel: :mod:`drillfatigue.dynamics.bitrock`. Defaults: the public parameter set
+of the Yigit & Christoforou torque-on-bit shape, b0 = r_b mu0 = 0.0239 m,
+b1 = 1.91 s/rad, b2 = 8.5 s/rad, b3 = 5.47 s^2/rad^2, for an 8 1/2 in bit. The
+lobed axial bit motion (lobe count, amplitude) and the prescribed ROP value
+live in the ``operation`` section (``lobe_count``, ``lobe_amplitude_m``,
+``rop_m_per_s``), not here.
+"""
 
 from __future__ import annotations
 
+from typing import Literal
+
+from pydantic import Field
+
 from drillfatigue.config.base import StrictModel
+from drillfatigue.units import INCH_M
+
+#: Bit radius of an 8 1/2 in bit, m.
+DEFAULT_BIT_RADIUS_M = 0.5 * 8.5 * INCH_M
+#: Public value of r_b mu0 for the TOB law, m (MODEL.md section 4).
+DEFAULT_RB_MU0_M = 0.0239
 
 
 class BitConfig(StrictModel):
-    """Settings of the ``bit`` section. Units: SI unless the field name says otherwise."""
+    """Settings of the ``bit`` section. Units: SI unless the field name says otherwise.
+
+    Attributes
+    ----------
+    model : str
+        ``yigit_christoforou``: TOB and ROP from the bit-rock law;
+        ``prescribed_rop``: TOB from the same law, ROP given by
+        ``operation.rop_m_per_s``.
+    bit_radius_m : float
+        Bit radius r_b, m (0.02..0.5). Default 8.5 in / 2.
+    mu0 : float
+        Bit-rock friction scale mu0 (0..5); default 0.0239 m / r_b, so that
+        r_b mu0 = 0.0239 m.
+    tob_b1_s_per_rad, tob_b2_s_per_rad, tob_b3_s2_per_rad2 : float
+        Shape constants of mu_b(Omega) = mu0 [tanh(b1 Omega) + b2 Omega / (1 + b3 Omega^2)].
+    rop_c1_m_per_N_sqrt_s : float
+        c1 of ROP = c1 WOB sqrt(Omega) + c2, m/(N sqrt(s)) (Omega in rad/s).
+        Default 1.4e-8: 20 m/h at 100 kN and 150 rpm.
+    rop_c2_m_per_s : float
+        c2, m/s (may be negative: a drilling threshold).
+    wob_threshold_N, omega_threshold_rad_s : float
+        Sarker et al. thresholds: no penetration and no cutting torque below
+        either (TOB is then the bit's friction term only).
+    threshold_band : float
+        Relative width over which cutting fades in above each threshold
+        (smoothstep), 0..1; 0 is the sharp switch of Sarker et al.
+    """
+
+    model: Literal["yigit_christoforou", "prescribed_rop"] = "yigit_christoforou"
+    bit_radius_m: float = Field(DEFAULT_BIT_RADIUS_M, ge=0.02, le=0.5)
+    mu0: float = Field(DEFAULT_RB_MU0_M / DEFAULT_BIT_RADIUS_M, ge=0.0, le=5.0)
+    tob_b1_s_per_rad: float = Field(1.91, gt=0.0, le=1e3)
+    tob_b2_s_per_rad: float = Field(8.5, ge=0.0, le=1e3)
+    tob_b3_s2_per_rad2: float = Field(5.47, ge=0.0, le=1e4)
+    rop_c1_m_per_N_sqrt_s: float = Field(1.4e-8, ge=0.0, le=1e-3)
+    rop_c2_m_per_s: float = Field(0.0, ge=-1.0, le=1.0)
+    wob_threshold_N: float = Field(5e3, ge=0.0, le=1e7)
+    omega_threshold_rad_s: float = Field(0.05, ge=0.0, le=100.0)
+    threshold_band: float = Field(0.1, ge=0.0, le=1.0)

@@ -46,9 +46,13 @@ section 5); 5e4 N s/m for the 260 kg segment, as in the open codes.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
+
+if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
+    from drillfatigue.config.contact import ContactConfig
 
 #: Layout of the ``out`` array of :func:`find_contact`.
 OUT_DELTA = 0
@@ -280,6 +284,14 @@ def stable_dt(k_c: float, m_min: float, zeta: float = 0.0) -> float:
 def damping_from_ratio(k_c: float, m_eff: float, zeta: float) -> float:
     """Contact dash-pot ``c_c = 2 zeta sqrt(k_c m_eff)`` in N s/m."""
     return 2.0 * zeta * math.sqrt(k_c * m_eff)
+
+
+def contact_damping(cfg: ContactConfig, m_eff: float) -> float:
+    """Dash-pot ``c_c`` (N s/m) from a ``ContactConfig``: the fixed value if given,
+    else ``2 zeta sqrt(k_c m_eff)`` for the mass ``m_eff`` (kg) carried by the point."""
+    if cfg.c_c_N_s_per_m is not None:
+        return float(cfg.c_c_N_s_per_m)
+    return damping_from_ratio(cfg.k_c_N_per_m, m_eff, cfg.damping_ratio)
 
 
 def build_cylinder_chain(

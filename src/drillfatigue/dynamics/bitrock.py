@@ -1,0 +1,149 @@
+"""Bit-rock interaction: torque on bit and rate of penetration.
+
+Torque on bit after Yigit & Christoforou (J. Sound Vib. 1998/2000; the
+standard form, MODEL.md section 4)::
+
+    TOB = WOB r_b mu_b(Omega),   mu_b = mu0 [tanh(b1 Omega) + b2 Omega / (1 + b3 Omega^2)]
+
+with the public parameter set b0 = r_b mu0 = 0.0239 m, b1 = 1.91, b2 = 8.5,
+b3 = 5.47 (Omega in rad/s). Which constant is which follows from the shape:
+b0 carries the length unit (it multiplies WOB to give N m), b1 is the rate of
+the tanh (s/rad; the tanh term, the bit's Coulomb-like friction, saturates at
+Omega ~ 1/b1 = 0.5 rad/s), and b2 (s/rad), b3 (s^2/rad^2) shape the rational
+term, which peaks at Omega = 1/sqrt(b3) = 0.43 rad/s (4 rpm) at
+b2/(2 sqrt(b3)) = 1.82 and then decays as b2/(b3 Omega). The sum rises from 0
+at Omega = 0 to a peak mu_b ~ 2.5 mu0 near 0.45 rad/s and then falls towards
+mu0: the velocity weakening that drives torsional stick-slip. TOB is odd in
+Omega.
+
+ROP after Sarker, Rideout & Butt (J. Petrol. Sci. Eng. 2012)::
+
+    ROP = c1 WOB sqrt(Omega) + c2     (clipped at 0)
+
+with thresholds: no penetration below a threshold WOB or bit speed, where the
+torque is the friction term ``WOB b0 tanh(b1 Omega)`` only. Here the cutting
+part (the rational term of TOB and the ROP) is multiplied by a factor
+f = S(WOB) S(Omega) that rises from 0 at the threshold to 1 at
+threshold (1 + band) by a smoothstep S (band = 0: the sharp switch), so the
+law is continuous for the integrator. Backward rotation (Omega <= 0) cuts
+nothing. WOB <= 0 is bit bounce: the bit is off bottom, TOB = ROP = 0.
+
+``PRESCRIBED_ROP``: the same TOB, ROP = the given value (the bit is guided
+kinematically), 0 during bit bounce.
+
+Parameter vector ``p`` (float64, length ``N_PARAMS``) from
+:func:`pack_bit_params`: indices ``I_B0 .. I_ROP``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
+    from drillfatigue.config.bit import BitConfig
+
+YIGIT_CHRISTOFOROU = 0
+PRESCRIBED_ROP = 1
+
+MODEL_IDS: dict[str, int] = {"yigit_christoforou": YIGIT_CHRISTOFOROU, "prescribed_rop": PRESCRIBED_ROP}
+
+I_B0 = 0  # r_b mu0, m
+I_B1 = 1  # s/rad
+I_B2 = 2  # s/rad
+I_B3 = 3  # s^2/rad^2
+I_C1 = 4  # m / (N sqrt(s))
+I_C2 = 5  # m/s
+I_WOB_TH = 6  # N
+I_OMEGA_TH = 7  # rad/s
+I_BAND = 8  # relative fade-in width
+I_ROP = 9  # prescribed ROP, m/s
+N_PARAMS = 10
+
+
+@njit(cache=True)
+def _fade_in(x, th, band):
+    """0 below th, smoothstep to 1 at th (1 + band); a sharp step if band or th is 0."""
+    if x < th or x <= 0.0:
+        return 0.0
+    w = band * th
+    if w <= 0.0 or x >= th + w:
+        return 1.0
+    t = (x - th) / w
+    return t * t * (3.0 - 2.0 * t)
+
+
+@njit(cache=True)
+def bit_response(model, p, wob_N, omega_bit_rad_s, out):
+    """Torque on bit and rate of penetration.
+
+    Parameters
+    ----------
+    model : int
+        ``YIGIT_CHRISTOFOROU`` or ``PRESCRIBED_ROP``.
+    p : ndarray, shape (N_PARAMS,)
+        From :func:`pack_bit_params`.
+    wob_N : float
+        Weight on bit (axial contact force of the rock on the bit), N; <= 0 is
+        bit bounce (off bottom).
+    omega_bit_rad_s : float
+        Bit rotary speed about its axis, rad/s (positive: drilling direction).
+    out : ndarray, shape (2,)
+        Written: ``[tob_Nm, rop_m_per_s]``; TOB resists rotation (its sign is
+        that of Omega; apply it as ``-tob`` about the bit axis).
+
+    Returns
+    -------
+    int
+        0, or -1 for an unknown model id (``out`` zeroed).
+
+    References
+    ----------
+    Yigit & Christoforou (1998, 2000); Sarker, Rideout & Butt (2012); MODEL.md section 4.
+    """
+    out[0] = 0.0
+    out[1] = 0.0
+    if model != YIGIT_CHRISTOFOROU and model != PRESCRIBED_ROP:
+        return -1
+    if wob_N <= 0.0:
+        return 0
+    om = omega_bit_rad_s
+    f = _fade_in(wob_N, p[I_WOB_TH], p[I_BAND]) * _fade_in(om, p[I_OMEGA_TH], p[I_BAND])
+    out[0] = wob_N * p[I_B0] * (math.tanh(p[I_B1] * om) + f * p[I_B2] * om / (1.0 + p[I_B3] * om * om))
+    if model == PRESCRIBED_ROP:
+        out[1] = p[I_ROP]
+    elif f > 0.0:
+        rop = p[I_C1] * wob_N * math.sqrt(om) + p[I_C2]
+        out[1] = f * rop if rop > 0.0 else 0.0
+    return 0
+
+
+def pack_bit_params(cfg: BitConfig, rop_m_per_s: float = 0.0) -> tuple[int, np.ndarray]:
+    """Model id and parameter vector from a validated ``BitConfig``.
+
+    Parameters
+    ----------
+    cfg : BitConfig
+    rop_m_per_s : float
+        Prescribed ROP (``operation.rop_m_per_s``), used by ``prescribed_rop``.
+
+    Returns
+    -------
+    model_id : int
+    p : ndarray, shape (N_PARAMS,), float64
+    """
+    p = np.zeros(N_PARAMS)
+    p[I_B0] = cfg.bit_radius_m * cfg.mu0
+    p[I_B1] = cfg.tob_b1_s_per_rad
+    p[I_B2] = cfg.tob_b2_s_per_rad
+    p[I_B3] = cfg.tob_b3_s2_per_rad2
+    p[I_C1] = cfg.rop_c1_m_per_N_sqrt_s
+    p[I_C2] = cfg.rop_c2_m_per_s
+    p[I_WOB_TH] = cfg.wob_threshold_N
+    p[I_OMEGA_TH] = cfg.omega_threshold_rad_s
+    p[I_BAND] = cfg.threshold_band
+    p[I_ROP] = float(rop_m_per_s)
+    return MODEL_IDS[cfg.model], p
