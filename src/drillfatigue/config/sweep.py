@@ -1,9 +1,181 @@
-"""``sweep`` section of params.yaml (initial minimal model; extended by its owner)."""
+"""``sweep`` section of params.yaml: case design and the parallel sweep engine.
+
+A design variable is named by its dotted path in the case configuration
+(``operation.rpm``, ``friction.mu_dynamic``, ``string.components[0].od_m``)
+and given either a numeric range (``low``/``high``, optionally ``scale: log``
+and ``kind: integer``) or a list of ``choices`` (categorical)::
+
+    sweep:
+      method: sobol
+      n_cases: 32
+      seed: 20240601
+      variables:
+        operation.rpm: {low: 60, high: 180}
+        bit.amplitude_m: {low: 1.0e-4, high: 2.0e-3, scale: log}
+        bit.lobes: {low: 1, high: 3, kind: integer}
+        well.profile: {choices: [1, 2, 3]}
+
+Whether a path exists and whether the bounds are physically allowed is
+checked against the case models when the design is built
+(:func:`drillfatigue.sweep.design.design_cases`), before any work starts,
+with errors named ``sweep.variables.<path>``.
+"""
 
 from __future__ import annotations
 
+import math
+import re
+from typing import Any, Literal
+
+from pydantic import Field, field_validator, model_validator
+
 from drillfatigue.config.base import StrictModel
+
+_ADDRESS = re.compile(r"^(tcp|tls|ucx|inproc)://[^\s/]+(:\d{1,5})?$")
+_PATH = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\[\d+\])*(\.[A-Za-z_][A-Za-z0-9_]*(\[\d+\])*)+$")
+
+SCHEDULERS = ("serial", "processes", "local-cluster")
+
+
+def check_path(path: str) -> str:
+    """Check the syntax of a dotted configuration path; return it unchanged."""
+    if not isinstance(path, str) or not _PATH.match(path):
+        raise ValueError(
+            f"bad configuration path {path!r} (allowed: a dotted path such as "
+            "operation.rpm or string.components[0].od_m)"
+        )
+    return path
+
+
+class VariableSpec(StrictModel):
+    """One design variable: a numeric range or a list of categorical choices.
+
+    Attributes
+    ----------
+    low, high : float, optional
+        Bounds of a numeric variable, in the unit of the target field (the
+        field name says it). Both inclusive; ``low < high`` (``low <= high``
+        for integers).
+    scale : {'linear', 'log'}
+        ``log`` samples uniformly in log(value): use it for ranges spanning
+        decades (needs ``low > 0``).
+    kind : {'float', 'integer'}
+        ``integer`` samples whole numbers in ``[low, high]`` with equal weight.
+    choices : list, optional
+        Categorical values (numbers, strings, booleans or mappings), sampled
+        with equal weight. Exclusive with ``low``/``high``.
+    """
+
+    low: float | None = None
+    high: float | None = None
+    scale: Literal["linear", "log"] = "linear"
+    kind: Literal["float", "integer"] = "float"
+    choices: list[Any] | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> VariableSpec:
+        if self.choices is not None:
+            if self.low is not None or self.high is not None:
+                raise ValueError("give either choices or low/high, not both "
+                                 "(allowed: {choices: [...]} or {low: ..., high: ...})")
+            if len(self.choices) == 0:
+                raise ValueError("choices is empty (allowed: a non-empty list)")
+            return self
+        if self.low is None or self.high is None:
+            raise ValueError("a numeric variable needs both low and high "
+                             "(allowed: {low: ..., high: ...} or {choices: [...]})")
+        if not (math.isfinite(self.low) and math.isfinite(self.high)):
+            raise ValueError("bounds must be finite (allowed: finite numbers)")
+        if self.kind == "integer":
+            if self.low != int(self.low) or self.high != int(self.high):
+                raise ValueError(f"integer bounds must be whole numbers, got "
+                                 f"[{self.low}, {self.high}] (allowed: whole numbers)")
+            if self.low > self.high:
+                raise ValueError(f"low > high: [{self.low}, {self.high}] (allowed: low <= high)")
+        elif not self.low < self.high:
+            raise ValueError(f"low >= high: [{self.low}, {self.high}] (allowed: low < high)")
+        if self.scale == "log" and self.low <= 0.0:
+            raise ValueError(f"log scale needs low > 0, got {self.low} (allowed: 0 < low < high)")
+        return self
 
 
 class SweepConfig(StrictModel):
-    """Settings of the ``sweep`` section. Units: SI unless the field name says otherwise."""
+    """Settings of the ``sweep`` section (case design and the sweep engine).
+
+    Attributes
+    ----------
+    method : {'sobol', 'lhs'}
+        Scrambled Sobol sequence (default; ``n_cases`` is rounded UP to the
+        next power of two, with a warning, because Sobol balance holds only
+        for 2^m points) or Latin hypercube (exactly ``n_cases``), both from
+        ``scipy.stats.qmc`` and seeded.
+    n_cases : int
+        Requested number of cases, 1 ... 1,000,000.
+    seed : int
+        Seed of the design (same seed → same cases, same ids).
+    variables : dict[str, VariableSpec]
+        Design variables by dotted case path. ``fatigue.*`` paths are not
+        allowed: fatigue settings apply to all cases in the fatigue stage.
+    fixed : dict[str, Any]
+        Overrides applied to every case before the variables (e.g. a shorter
+        window ``operation.duration_s: 20``).
+    window_s : float, optional
+        Simulated window per case, s (0 < window_s <= 1e5); when given it is
+        written to ``window_path`` of every case. Choose it long enough for
+        stable damage statistics: at least ~20 revolutions of the slowest rpm
+        and several stick-slip periods (documented in the dataset card).
+    window_path : str
+        Case path that holds the simulated duration.
+    scheduler : str
+        ``processes`` (local process pool, default), ``serial`` (in-process,
+        for debugging), ``local-cluster`` (Dask ``LocalCluster``) or a Dask
+        scheduler address ``tcp://host:port``.
+    n_workers : int
+        Parallel workers (processes) for ``processes`` and ``local-cluster``.
+    max_retries : int
+        Extra attempts for a failed case (0 ... 10).
+    failure_threshold : float
+        The sweep fails (exit code 1) if more than this fraction of cases
+        finally fails, 0 ... 1.
+    cases_path, sweep_dir, fatigue_dir, dataset_dir : str
+        Output locations of the design, simulate, fatigue and dataset stages.
+    """
+
+    method: Literal["sobol", "lhs"] = "sobol"
+    n_cases: int = Field(default=32, ge=1, le=1_000_000)
+    seed: int = Field(default=20240601, ge=0, le=2**63 - 1)
+    variables: dict[str, VariableSpec] = Field(default_factory=dict)
+    fixed: dict[str, Any] = Field(default_factory=dict)
+    window_s: float | None = Field(default=None, gt=0.0, le=1.0e5)
+    window_path: str = "operation.duration_s"
+    scheduler: str = "processes"
+    n_workers: int = Field(default=2, ge=1, le=1024)
+    max_retries: int = Field(default=1, ge=0, le=10)
+    failure_threshold: float = Field(default=0.1, ge=0.0, le=1.0)
+    cases_path: str = "data/design/cases.parquet"
+    sweep_dir: str = "data/sweep"
+    fatigue_dir: str = "data/fatigue"
+    dataset_dir: str = "data/dataset"
+
+    @field_validator("variables", "fixed")
+    @classmethod
+    def _check_paths(cls, value: dict[str, Any]) -> dict[str, Any]:
+        for path in value:
+            check_path(path)
+            if path.split(".")[0].split("[")[0] == "fatigue":
+                raise ValueError(f"{path}: fatigue settings cannot vary per case "
+                                 "(allowed: paths outside the fatigue section)")
+        return value
+
+    @field_validator("window_path")
+    @classmethod
+    def _check_window_path(cls, value: str) -> str:
+        return check_path(value)
+
+    @field_validator("scheduler")
+    @classmethod
+    def _check_scheduler(cls, value: str) -> str:
+        if value in SCHEDULERS or _ADDRESS.match(value):
+            return value
+        raise ValueError(f"unknown scheduler {value!r} (allowed: serial, processes, "
+                         "local-cluster or a Dask address tcp://host:port)")

@@ -1,0 +1,393 @@
+"""Assemble the damage dataset of a sweep, its dataset card, and raw-history exports.
+
+``damage.parquet`` has one row per (case, component location): the design
+inputs (columns named by their dotted config path; the field name carries
+the unit), the location (joint, component, MD, distance from the bit), the
+case's summary dynamics, and per fatigue criterion the damage rate per hour,
+the life in hours and the critical-plane angle. The API RP7G (Lubinski /
+Hansford-Lubinski) estimate is the criterion ``api_rp7g``, so its damage rate
+``damage_rate_per_h_api_rp7g`` sits beside the dynamic criteria.
+
+Summary dynamics are read from the run's ``summary.json``; rms and peak
+surface torque fall back to ``channels.parquet`` when the summary lacks them.
+A figure the simulator does not report is NaN (``whirl_class``: missing
+value), never zero.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+import re
+import shutil
+import uuid
+from collections.abc import Mapping, Sequence
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from drillfatigue.errors import InputError
+
+__all__ = [
+    "DYNAMICS_COLUMNS",
+    "build_dataset",
+    "dataset_card",
+    "dataset_metrics",
+    "export_histories",
+    "summary_dynamics",
+    "unit_of",
+    "write_dataset",
+]
+
+KEY_COLUMNS = ("joint", "component", "component_type", "location", "md_m", "s_from_bit_m")
+PIVOT_VALUES = ("damage_rate_per_h", "life_h", "critical_angle_deg")
+DYNAMICS_COLUMNS: dict[str, str] = {
+    "rms_surface_torque_Nm": "rms of the surface (top-drive) torque over the window",
+    "peak_surface_torque_Nm": "largest |surface torque| over the window",
+    "stick_slip_severity": "(max - min) / mean bit speed over the window, dimensionless",
+    "whirl_class": "whirl class of the run (simulator's event detection)",
+    "max_contact_force_N": "largest wall contact force of any segment",
+    "bit_bounce_count": "number of times WOB reached zero (bit bounce)",
+    "duration_s": "simulated window length",
+    "wall_time_s": "wall-clock time of the simulation",
+}
+_UNIT_SUFFIXES: tuple[tuple[str, str], ...] = (
+    ("_deg_per_30m", "deg/30 m"), ("_m_per_s", "m/s"), ("_m_per_h", "m/h"),
+    ("_kg_per_m3", "kg/m³"), ("_per_h", "1/h"), ("_Nm", "N·m"), ("_kN", "kN"),
+    ("_N", "N"), ("_Pa", "Pa"), ("_MPa", "MPa"), ("_deg", "deg"), ("_rad", "rad"),
+    ("_mm", "mm"), ("_m", "m"), ("_s", "s"), ("_h", "h"), ("_kg", "kg"), ("_Hz", "Hz"),
+    ("rpm", "rev/min"), ("_count", "count"),
+)
+
+
+def unit_of(column: str) -> str:
+    """Unit of a column from its name's suffix (project naming convention); '-' if none."""
+    leaf = column.rsplit(".", 1)[-1]
+    for value in PIVOT_VALUES:  # damage_rate_per_h_<criterion> -> damage_rate_per_h
+        if leaf.startswith(value + "_"):
+            leaf = value
+    for suffix, unit in _UNIT_SUFFIXES:
+        if leaf.endswith(suffix):
+            return unit
+    return "-"
+
+
+def _criterion_name(name: Any) -> str:
+    return re.sub(r"[^a-z0-9]+", "_", str(name).lower()).strip("_")
+
+
+def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
+    """Summary dynamics of one run folder (see module doc for the fallbacks)."""
+    run_dir = Path(run_dir)
+    try:
+        summary = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        summary = {}
+    out: dict[str, Any] = {}
+    for name in DYNAMICS_COLUMNS:
+        value = summary.get(name)
+        if name == "whirl_class":
+            out[name] = None if value is None else str(value)
+        else:
+            out[name] = float(value) if isinstance(value, int | float) else math.nan
+    need = [n for n in ("rms_surface_torque_Nm", "peak_surface_torque_Nm") if math.isnan(out[n])]
+    channels = run_dir / "channels.parquet"
+    if need and channels.is_file():
+        torque = pd.read_parquet(channels, columns=["surface_torque_Nm"])["surface_torque_Nm"]
+        values = torque.to_numpy(dtype=float)
+        if values.size:
+            out["rms_surface_torque_Nm"] = float(np.sqrt(np.mean(values**2)))
+            out["peak_surface_torque_Nm"] = float(np.max(np.abs(values)))
+    return out
+
+
+def _case_rows(case_id: str, damage: pd.DataFrame) -> pd.DataFrame:
+    """Pivot one case's long damage table to one row per location."""
+    keys = [k for k in KEY_COLUMNS if k in damage.columns]
+    damage = damage.assign(criterion=damage["criterion"].map(_criterion_name))
+    values = [v for v in PIVOT_VALUES if v in damage.columns]
+    wide = damage.pivot_table(index=keys, columns="criterion", values=values, aggfunc="first",
+                              dropna=False, sort=True)
+    wide.columns = [f"{value}_{crit}" for value, crit in wide.columns]
+    wide = wide.dropna(axis=1, how="all").reset_index()
+    wide.insert(0, "case_id", case_id)
+    return wide
+
+
+def build_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str | Path,
+                  variables: Sequence[str] | None = None) -> pd.DataFrame:
+    """One row per (case, component location) of every case with fatigue results.
+
+    Parameters
+    ----------
+    cases : DataFrame
+        Design table (``case_id``, variable columns, ``case_json``).
+    sweep_root, fatigue_root : path
+        ``<root>/<case_id>/`` folders of the simulate and fatigue passes.
+    variables : sequence of str, optional
+        Input columns to carry; default: every column of ``cases`` but
+        ``case_id``, ``design_index`` and ``case_json``.
+
+    Returns
+    -------
+    DataFrame
+        Columns: ``case_id``, inputs, location keys, dynamics, then
+        ``damage_rate_per_h_<criterion>``, ``life_h_<criterion>``,
+        ``critical_angle_deg_<criterion>``. Cases without a
+        ``damage.parquet`` are left out (they are counted as failures in the
+        card and metrics).
+    """
+    if variables is None:
+        variables = [c for c in cases.columns if c not in ("case_id", "design_index", "case_json")]
+    inputs = cases.set_index("case_id")[list(variables)]
+    parts = []
+    for cid in cases["case_id"]:
+        damage_path = Path(fatigue_root) / cid / "damage.parquet"
+        if not damage_path.is_file():
+            continue
+        wide = _case_rows(cid, pd.read_parquet(damage_path))
+        for name, value in reversed(list(summary_dynamics(Path(sweep_root) / cid).items())):
+            wide.insert(1, name, value)
+        for name in reversed(list(variables)):
+            wide.insert(1, name, inputs.at[cid, name])
+        parts.append(wide)
+    if not parts:
+        return pd.DataFrame(columns=["case_id", *variables, *KEY_COLUMNS, *DYNAMICS_COLUMNS])
+    frame = pd.concat(parts, ignore_index=True, sort=False)
+    if "whirl_class" in frame.columns:
+        frame["whirl_class"] = frame["whirl_class"].astype("string")
+    return frame
+
+
+def _versions() -> dict[str, str]:
+    out = {"python": platform.python_version()}
+    for pkg in ("drillfatigue", "numpy", "numba", "scipy", "pandas", "pyarrow", "fatpack",
+                "dask", "distributed", "torch"):
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out
+
+
+def _describe(column: str, variables: Sequence[str]) -> str:
+    if column == "case_id":
+        return "case id: first 12 hex digits of SHA-256 of the case's simulation inputs"
+    if column in variables:
+        return f"design input `{column}` (case configuration path)"
+    if column in DYNAMICS_COLUMNS:
+        return DYNAMICS_COLUMNS[column]
+    fixed = {"joint": "recorded joint index (0 = nearest the bit)",
+             "component": "string component name", "component_type": "component type",
+             "location": "location on the component (pipe body, upset, thread root ...)",
+             "md_m": "measured depth of the location at the end of the window",
+             "s_from_bit_m": "distance from the bit along the string"}
+    if column in fixed:
+        return fixed[column]
+    for value, text in (("damage_rate_per_h_", "Miner damage per hour"),
+                        ("life_h_", "fatigue life in hours"),
+                        ("critical_angle_deg_", "critical-plane angle")):
+        if column.startswith(value):
+            crit = column[len(value):]
+            extra = " (API RP7G, Lubinski/Hansford-Lubinski baseline)" if crit == "api_rp7g" else ""
+            return f"{text}, criterion `{crit}`{extra}"
+    return ""
+
+
+def dataset_metrics(frame: pd.DataFrame, *, n_designed: int, n_sim_failed: int,
+                    n_fatigue_failed: int) -> dict[str, Any]:
+    """Small metrics dict for ``dvc metrics``: counts and damage-rate quantiles."""
+    n_with = int(frame["case_id"].nunique()) if len(frame) else 0
+    out: dict[str, Any] = {"n_cases_designed": n_designed, "n_cases_in_dataset": n_with,
+                           "n_cases_failed_simulation": n_sim_failed,
+                           "n_cases_failed_fatigue": n_fatigue_failed, "n_rows": int(len(frame))}
+    for col in sorted(c for c in frame.columns if c.startswith("damage_rate_per_h_")):
+        values = pd.to_numeric(frame[col], errors="coerce").dropna()
+        if len(values):
+            out[f"median_{col}"] = float(values.median())
+            out[f"max_{col}"] = float(values.max())
+    return out
+
+
+def dataset_card(frame: pd.DataFrame, *, design: Mapping[str, Any], metrics: Mapping[str, Any],
+                 base_case: Mapping[str, Any] | None = None) -> str:
+    """Markdown dataset card (purpose, schema with units, design, counts, versions, loading)."""
+    variables = list(design.get("variables", {}))
+    lines = [
+        "# drillfatigue damage dataset",
+        "",
+        "Generated by the `dataset` stage of the drillfatigue DVC pipeline; do not edit by hand.",
+        "",
+        "## Purpose",
+        "",
+        "Fatigue damage of drill-string component locations under sampled operating conditions",
+        "(rigid-segment drill-string dynamics in a deviated well, then rainflow/S-N/Miner and",
+        "multiaxial critical-plane criteria, with the API RP7G estimate beside them). Meant for",
+        "engineering screening and for training surrogate models of damage rate versus inputs.",
+        "",
+        "## Contents",
+        "",
+        f"- cases designed: {metrics.get('n_cases_designed')}",
+        f"- cases in the dataset: {metrics.get('n_cases_in_dataset')}",
+        f"- cases failed in simulation (after retries): {metrics.get('n_cases_failed_simulation')}"
+        " (see `data/sweep/failures.parquet`)",
+        f"- cases failed in fatigue evaluation: {metrics.get('n_cases_failed_fatigue')}"
+        " (see `data/fatigue/failures.parquet`)",
+        f"- rows (case x component location): {metrics.get('n_rows')}",
+        "",
+        "## Sampling design",
+        "",
+        f"- method: {design.get('method')} (scipy.stats.qmc, scrambled), seed {design.get('seed')}",
+        f"- cases requested: {design.get('n_cases')}"
+        + (" (a Sobol design is rounded up to a power of two)" if design.get("method") == "sobol"
+           else ""),
+        f"- simulated window per case: {design.get('window_s') or 'the base case duration'}"
+        + (" s" if design.get("window_s") else ""),
+        "",
+        "| input (config path) | range / choices | scale | kind |",
+        "|---|---|---|---|",
+    ]
+    for path, spec in design.get("variables", {}).items():
+        if spec.get("choices") is not None:
+            rng = ", ".join(json.dumps(c) for c in spec["choices"])
+            lines.append(f"| `{path}` | {rng} | - | categorical |")
+        else:
+            lines.append(f"| `{path}` | {spec.get('low')} ... {spec.get('high')} | "
+                         f"{spec.get('scale', 'linear')} | {spec.get('kind', 'float')} |")
+    if not variables:
+        lines.append("| (none: the base case only) | | | |")
+    lines += ["", "Every other input is the base case of `params.yaml` (stored in full, per case,",
+              "in `data/design/cases.parquet`, column `case_json`).", "",
+              "## Schema", "", "| column | dtype | unit | description |", "|---|---|---|---|"]
+    for col in frame.columns:
+        lines.append(f"| `{col}` | {frame[col].dtype} | {unit_of(col)} | "
+                     f"{_describe(col, variables)} |")
+    lines += ["", "Units are SI unless the column name says otherwise; a missing dynamics figure",
+              "(not reported by the simulator) is NaN, never zero.", "",
+              "## Software versions", "", "| package | version |", "|---|---|"]
+    for pkg, ver in _versions().items():
+        lines.append(f"| {pkg} | {ver} |")
+    target = next((c for c in frame.columns if c.startswith("damage_rate_per_h_")),
+                  "damage_rate_per_h_<criterion>")
+    numeric_inputs = [v for v in variables if v in frame.columns
+                      and pd.api.types.is_numeric_dtype(frame[v])]
+    lines += [
+        "", "## Loading", "", "pandas:", "", "```python", "import pandas as pd",
+        'df = pd.read_parquet("data/dataset/damage.parquet")',
+        f'print(df.groupby("location")["{target}"].describe())', "```", "",
+        "torch (numeric inputs → log10 damage rate):", "", "```python",
+        "import numpy as np, pandas as pd, torch",
+        'df = pd.read_parquet("data/dataset/damage.parquet")',
+        f"inputs = {numeric_inputs + ['s_from_bit_m']!r}",
+        f'df = df.dropna(subset=inputs + ["{target}"])',
+        "x = torch.tensor(df[inputs].to_numpy(np.float32))",
+        f'y = torch.tensor(np.log10(df["{target}"].to_numpy(np.float32) + 1e-30))',
+        "dataset = torch.utils.data.TensorDataset(x, y)", "```", "",
+        "Raw load histories (optional): `drillfatigue dataset export --histories OUT`, then",
+        '`pd.read_parquet("OUT/loads", filters=[("case_id", "==", "<id>")])`.', ""]
+    if base_case is not None:
+        lines += ["## Base case", "", "```json", json.dumps(dict(base_case), indent=1,
+                                                             sort_keys=True), "```", ""]
+    return "\n".join(lines)
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def _failed_count(path: Path) -> int:
+    if not path.is_file():
+        return 0
+    frame = pd.read_parquet(path, columns=["final"])
+    return int(frame["final"].sum())
+
+
+def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str | Path,
+                  out_dir: str | Path, *, design: Mapping[str, Any],
+                  base_case: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Build and write ``damage.parquet``, ``README.md``, ``metrics.json`` and plot data.
+
+    ``design`` is the ``sweep`` section as a dict (method, seed, n_cases,
+    variables, window_s). Plot data: ``plots/damage_rate_hist.csv`` (log10
+    damage-rate histogram per criterion). Returns the metrics dict.
+    """
+    out = Path(out_dir)
+    (out / "plots").mkdir(parents=True, exist_ok=True)
+    variables = [v for v in design.get("variables", {}) if v in cases.columns]
+    frame = build_dataset(cases, sweep_root, fatigue_root, variables)
+    metrics = dataset_metrics(
+        frame, n_designed=len(cases),
+        n_sim_failed=_failed_count(Path(sweep_root) / "failures.parquet"),
+        n_fatigue_failed=_failed_count(Path(fatigue_root) / "failures.parquet"))
+    tmp = out / f".damage.parquet.{os.getpid()}.tmp"
+    frame.to_parquet(tmp, index=False)
+    os.replace(tmp, out / "damage.parquet")
+    _atomic_write_text(out / "README.md", dataset_card(frame, design=design, metrics=metrics,
+                                                       base_case=base_case))
+    _atomic_write_text(out / "metrics.json", json.dumps(metrics, indent=2, sort_keys=True) + "\n")
+    rows = []
+    for col in sorted(c for c in frame.columns if c.startswith("damage_rate_per_h_")):
+        values = pd.to_numeric(frame[col], errors="coerce").to_numpy(dtype=float)
+        values = values[np.isfinite(values) & (values > 0)]
+        if values.size == 0:
+            continue
+        counts, edges = np.histogram(np.log10(values), bins=20)
+        for c, lo, hi in zip(counts, edges[:-1], edges[1:], strict=True):
+            rows.append({"criterion": col[len("damage_rate_per_h_"):],
+                         "log10_damage_rate_per_h": 0.5 * (lo + hi), "count": int(c)})
+    hist = pd.DataFrame(rows, columns=["criterion", "log10_damage_rate_per_h", "count"])
+    _atomic_write_text(out / "plots" / "damage_rate_hist.csv", hist.to_csv(index=False))
+    return metrics
+
+
+def export_histories(sweep_root: str | Path, out: str | Path,
+                     case_ids: Sequence[str] | None = None,
+                     tables: Sequence[str] = ("loads", "channels")) -> Path:
+    """Export raw histories to Parquet datasets partitioned by case (hive layout).
+
+    Writes ``out/<table>/case_id=<id>/part-0.parquet`` for each table
+    (``loads``: internal loads per joint; ``channels``: surface and bit
+    channels) of every completed case (a ``DONE`` marker), built in a
+    temporary folder and moved into place. Read back with
+    ``pd.read_parquet(out / "loads")`` (``case_id`` becomes a column).
+
+    Raises
+    ------
+    InputError
+        ``sweep_root`` missing or holding no completed case.
+    """
+    root = Path(sweep_root)
+    if not root.is_dir():
+        raise InputError(str(root), "sweep folder not found", "the output folder of a sweep")
+    ids = list(case_ids) if case_ids is not None else sorted(
+        p.name for p in root.iterdir() if (p / "DONE").is_file())
+    ids = [i for i in ids if (root / i / "DONE").is_file()]
+    if not ids:
+        raise InputError(str(root), "no completed case to export", "a folder with finished cases")
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        for table in tables:
+            for cid in ids:
+                src = root / cid / f"{table}.parquet"
+                if not src.is_file():
+                    continue
+                dest = tmp / table / f"case_id={cid}"
+                dest.mkdir(parents=True)
+                shutil.copyfile(src, dest / "part-0.parquet")
+        old = out.with_name(f".{out.name}.{uuid.uuid4().hex[:8]}.old")
+        if out.exists():
+            os.replace(out, old)
+        os.replace(tmp, out)
+        shutil.rmtree(old, ignore_errors=True)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out

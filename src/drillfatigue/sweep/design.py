@@ -1,0 +1,298 @@
+"""Case design: sample operating conditions over ranges and give each case a stable id.
+
+The design maps a quasi-random sample in the unit hypercube (scrambled Sobol
+or Latin hypercube, ``scipy.stats.qmc``, seeded) to the design variables of
+:class:`drillfatigue.config.SweepConfig`, applies them by dotted path to the
+base case and validates every resulting case with the strict case models
+before any simulation runs.
+
+Case id: the first 12 hex digits of the SHA-256 of the case's canonical JSON
+(sorted keys, no whitespace) over the simulation sections only (every
+``CaseConfig`` section except ``fatigue``, which the fatigue stage applies to
+all cases). The same inputs always get the same id, independent of row order,
+seed or design method. Rows that give identical cases are merged (warning).
+
+References
+----------
+Owen, A. B. (1998). Scrambling Sobol' and Niederreiter-Xing points. J. Complexity 14.
+McKay, Beckman, Conover (1979). Latin hypercube sampling. Technometrics 21(2).
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+import os
+import re
+import warnings
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from scipy.stats import qmc
+
+from pydantic import BaseModel
+
+from drillfatigue.config import CaseConfig, case_from_dict, validate
+from drillfatigue.config.sweep import SweepConfig, VariableSpec
+from drillfatigue.errors import InputError
+
+__all__ = [
+    "CASE_ID_LENGTH",
+    "apply_overrides",
+    "base_case_from_params",
+    "canonical_json",
+    "case_id_of",
+    "design_cases",
+    "inputs_sha256",
+    "read_cases",
+    "simulation_inputs",
+    "write_cases",
+]
+
+CASE_ID_LENGTH = 12
+_TOKEN = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)")
+
+
+def case_sections() -> tuple[str, ...]:
+    """Names of the case sections of :class:`CaseConfig`, in model order."""
+    return tuple(CaseConfig.model_fields)
+
+
+def base_case_from_params(params: Any) -> dict[str, Any]:
+    """The base case of a ``Params`` object as a JSON-ready dict (case sections only)."""
+    dump = params.model_dump(mode="json")
+    return {name: dump[name] for name in case_sections() if name in dump}
+
+
+def canonical_json(data: Any) -> str:
+    """Canonical JSON text: sorted keys, no whitespace, NaN/inf rejected."""
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), ensure_ascii=True,
+                      allow_nan=False)
+
+
+def simulation_inputs(case: Mapping[str, Any]) -> dict[str, Any]:
+    """The part of a case that identifies a simulation (all sections but ``fatigue``)."""
+    return {k: v for k, v in case.items() if k != "fatigue"}
+
+
+def inputs_sha256(data: Any) -> str:
+    """Full SHA-256 hex digest of the canonical JSON of ``data``."""
+    return hashlib.sha256(canonical_json(data).encode("ascii")).hexdigest()
+
+
+def case_id_of(case: Mapping[str, Any]) -> str:
+    """Stable short id of a case: hash of its simulation inputs (see module doc)."""
+    return inputs_sha256(simulation_inputs(case))[:CASE_ID_LENGTH]
+
+
+def _split_path(path: str) -> list[str | int]:
+    keys: list[str | int] = []
+    for part in path.split("."):
+        m = _TOKEN.fullmatch(part)
+        if m is None:
+            raise InputError(path, "bad configuration path",
+                             "a dotted path such as operation.rpm")
+        keys.append(m.group(1))
+        keys.extend(int(i) for i in re.findall(r"\[(\d+)\]", m.group(2)))
+    return keys
+
+
+def apply_overrides(base: Mapping[str, Any], overrides: Mapping[str, Any],
+                    prefix: str = "sweep.variables") -> dict[str, Any]:
+    """Return a deep copy of ``base`` with values set by dotted path.
+
+    Parameters
+    ----------
+    base : mapping
+        Full case dict (every field present, as from ``model_dump``).
+    overrides : mapping of str to value
+        ``{"operation.rpm": 120.0, "string.components[0].od_m": 0.127}``.
+    prefix : str
+        Prefix of the field name in errors.
+
+    Raises
+    ------
+    InputError
+        ``<prefix>.<path>`` when the path does not exist in ``base``.
+    """
+    out = copy.deepcopy(dict(base))
+    for path, value in overrides.items():
+        keys = _split_path(path)
+        node: Any = out
+        for i, key in enumerate(keys):
+            last = i == len(keys) - 1
+            if isinstance(key, int):
+                ok = isinstance(node, list) and key < len(node)
+            else:
+                ok = isinstance(node, dict) and key in node
+            if not ok:
+                where = ".".join(str(k) for k in keys[: i + 1])
+                raise InputError(f"{prefix}.{path}", f"unknown configuration path (no '{where}' "
+                                 "in the case configuration)",
+                                 "a field of the case sections, see params.yaml")
+            if last:
+                node[key] = copy.deepcopy(value)
+            else:
+                node = node[key]
+    return out
+
+
+def _validate_case(case: dict[str, Any], field: str,
+                   model: type[BaseModel] = CaseConfig) -> dict[str, Any]:
+    """Validate a case dict; on error re-raise naming ``field``; return the JSON dump."""
+    try:
+        cfg = case_from_dict(case) if model is CaseConfig else validate(model, case)
+    except InputError as exc:
+        raise InputError(field, f"gives an invalid case: {exc.field}: {exc.problem}",
+                         exc.allowed) from None
+    return cfg.model_dump(mode="json")
+
+
+def _column_values(spec: VariableSpec, u: np.ndarray) -> list[Any]:
+    """Map unit-interval samples ``u`` (shape (n,)) to the variable's values."""
+    if spec.choices is not None:
+        k = len(spec.choices)
+        idx = np.minimum((u * k).astype(np.int64), k - 1)
+        return [copy.deepcopy(spec.choices[i]) for i in idx]
+    lo, hi = float(spec.low), float(spec.high)  # type: ignore[arg-type]
+    if spec.kind == "integer":
+        if spec.scale == "log":
+            x = np.exp(math.log(lo) + u * (math.log(hi + 1.0) - math.log(lo)))
+        else:
+            x = lo + u * (hi - lo + 1.0)
+        return [int(v) for v in np.clip(np.floor(x), lo, hi)]
+    if spec.scale == "log":
+        x = np.exp(math.log(lo) + u * (math.log(hi) - math.log(lo)))
+    else:
+        x = lo + u * (hi - lo)
+    return [float(v) for v in np.clip(x, lo, hi)]
+
+
+def _extremes(spec: VariableSpec) -> list[Any]:
+    if spec.choices is not None:
+        return list(spec.choices)
+    if spec.kind == "integer":
+        return [int(spec.low), int(spec.high)]  # type: ignore[arg-type]
+    return [float(spec.low), float(spec.high)]  # type: ignore[arg-type]
+
+
+def _unit_sample(cfg: SweepConfig, d: int) -> np.ndarray:
+    """Unit-hypercube sample, shape (n, d); see :class:`SweepConfig` for the rules."""
+    if cfg.method == "sobol":
+        m = max(0, math.ceil(math.log2(cfg.n_cases)))
+        if 2**m != cfg.n_cases:
+            warnings.warn(f"sweep.n_cases={cfg.n_cases} rounded up to {2**m}: a Sobol design "
+                          "is balanced only for a power of two", UserWarning, stacklevel=3)
+        return qmc.Sobol(d=d, scramble=True, seed=cfg.seed).random_base2(m)
+    return qmc.LatinHypercube(d=d, seed=cfg.seed).random(cfg.n_cases)
+
+
+def _column_frame_value(values: list[Any]) -> list[Any]:
+    """Make a categorical column Parquet-friendly: JSON text unless one scalar type."""
+    types = {type(v) for v in values}
+    if types <= {int, float} or types == {str} or types == {bool}:
+        return values
+    return [canonical_json(v) for v in values]
+
+
+def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
+                 model: type[BaseModel] = CaseConfig) -> pd.DataFrame:
+    """Sample the design and return the case table.
+
+    Parameters
+    ----------
+    cfg : SweepConfig
+        Design method, size, seed and variables.
+    base_case : mapping
+        The base case (case sections as a JSON-ready dict, see
+        :func:`base_case_from_params`).
+    model : pydantic model class
+        Model every case must satisfy (default :class:`CaseConfig`; tests
+        pass a small stand-in).
+
+    Returns
+    -------
+    DataFrame
+        One row per distinct case: ``case_id`` (str), ``design_index`` (row of
+        the unit sample), one column per variable named by its dotted path
+        (the field name carries the unit), and ``case_json`` (the full,
+        validated case as canonical JSON).
+
+    Raises
+    ------
+    InputError
+        Before any sampling result is used: ``sweep.variables.<path>`` for an
+        unknown path or a bound the case models reject, ``sweep.fixed.<path>``
+        / ``sweep.window_path`` likewise.
+    """
+    fixed = dict(cfg.fixed)
+    if cfg.window_s is not None:
+        fixed[cfg.window_path] = cfg.window_s
+    base = apply_overrides(base_case, fixed, prefix="sweep.fixed")
+    for path, value in fixed.items():
+        trial = apply_overrides(base, {path: value}, "sweep.fixed")
+        _validate_case(trial, f"sweep.fixed.{path}", model)
+    base = _validate_case(base, "sweep.fixed", model)
+
+    names = list(cfg.variables)
+    # Check every variable at each of its extremes first: a bad path or an
+    # out-of-range bound fails here, naming the variable, before any work.
+    for path in names:
+        for value in _extremes(cfg.variables[path]):
+            trial = apply_overrides(base, {path: value})
+            _validate_case(trial, f"sweep.variables.{path}", model)
+
+    if not names:
+        unit = np.zeros((1, 0))
+    else:
+        unit = _unit_sample(cfg, len(names))
+    columns = {p: _column_values(cfg.variables[p], unit[:, j]) for j, p in enumerate(names)}
+
+    rows: list[dict[str, Any]] = []
+    seen: dict[str, int] = {}
+    for i in range(unit.shape[0]):
+        overrides = {p: columns[p][i] for p in names}
+        case = _validate_case(apply_overrides(base, overrides), "sweep.variables", model)
+        cid = case_id_of(case)
+        if cid in seen:
+            continue
+        seen[cid] = i
+        rows.append({"case_id": cid, "design_index": i, **overrides,
+                     "case_json": canonical_json(case)})
+    if len(rows) < unit.shape[0]:
+        warnings.warn(f"{unit.shape[0] - len(rows)} design rows repeat an earlier case and "
+                      f"were merged; {len(rows)} distinct cases", UserWarning, stacklevel=2)
+    frame = pd.DataFrame(rows, columns=["case_id", "design_index", *names, "case_json"])
+    for p in names:
+        frame[p] = _column_frame_value(list(frame[p]))
+    frame.attrs["design"] = {"method": cfg.method, "seed": cfg.seed,
+                             "n_requested": cfg.n_cases, "n_sampled": int(unit.shape[0])}
+    return frame
+
+
+def write_cases(frame: pd.DataFrame, path: str | Path) -> Path:
+    """Write the case table to Parquet atomically; return the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    frame.to_parquet(tmp, index=False)
+    os.replace(tmp, path)
+    return path
+
+
+def read_cases(path: str | Path) -> pd.DataFrame:
+    """Read a case table written by :func:`write_cases`."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(str(path), "case table not found", "a cases.parquet from the design stage")
+    frame = pd.read_parquet(path)
+    missing = {"case_id", "case_json"} - set(frame.columns)
+    if missing:
+        raise InputError(str(path), f"not a case table, missing columns {sorted(missing)}",
+                         "a cases.parquet from the design stage")
+    return frame
