@@ -19,6 +19,8 @@ from drillfatigue.errors import InputError
 # Command modules, imported for their registration side effect.
 COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.well",
+    "drillfatigue.cli.query",
+    "drillfatigue.cli.twin",
 )
 
 

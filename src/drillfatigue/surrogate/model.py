@@ -102,17 +102,19 @@ class Preprocessor:
         out = np.zeros((len(frame), len(self.categorical)), dtype=np.int64)
         for j, col in enumerate(self.categorical):
             self._require(frame, col)
-            levels = self.categories_[col]
-            lookup = {v: i for i, v in enumerate(levels)}
-            values = frame[col].astype(str).to_numpy()
-            codes = np.fromiter((lookup.get(v, -1) for v in values), dtype=np.int64,
-                                count=len(values))
-            if np.any(codes < 0):
-                bad = values[np.argmax(codes < 0)]
-                raise InputError(col, f"value {bad!r} not seen in training",
-                                 ", ".join(levels))
-            out[:, j] = codes
+            out[:, j] = self.codes_for(col, frame[col].to_numpy())
         return out
+
+    def codes_for(self, col: str, values: Any) -> np.ndarray:
+        """Level codes of one categorical column, int64 shape (n,); unseen levels raise."""
+        levels = self.categories_[col]
+        lookup = {v: i for i, v in enumerate(levels)}
+        vals = np.asarray(values, dtype=object).astype(str)
+        codes = np.fromiter((lookup.get(v, -1) for v in vals), dtype=np.int64, count=len(vals))
+        if np.any(codes < 0):
+            bad = vals[np.argmax(codes < 0)]
+            raise InputError(col, f"value {bad!r} not seen in training", ", ".join(levels))
+        return codes
 
     def to_dict(self) -> dict[str, Any]:
         return {

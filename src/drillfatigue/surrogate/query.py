@@ -1,0 +1,163 @@
+"""User-facing query vocabulary: names with units, converted to the model's SI columns.
+
+Every numeric model column gets user names from its last dotted part: the SI
+unit suffix of the column (``_N``, ``_m_per_s``, ``_m``, ``_kg_per_m3``,
+``_deg_per_30m``) may be replaced by another unit of the same quantity, e.g.
+``operation.wob_N`` -> ``wob_N``, ``wob_kN``, ``wob_klbf``;
+``operation.rop_m_per_s`` -> ``rop_m_per_s``, ``rop_m_per_h``, ``rop_ft_per_h``.
+Columns without a unit suffix (``rpm``, ``mu_static``, ``lobes``) keep their
+name. If two columns would share a short name, the full column name with dots
+turned into underscores is used instead. The full SI column name itself is
+always accepted. CLI flags are the same names with ``-`` for ``_``
+(``--wob-kN``). Unit factors come from :mod:`drillfatigue.units` only.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from drillfatigue import units
+from drillfatigue.errors import InputError
+
+#: SI suffix -> {accepted suffix: factor to SI}; longest suffixes are tried first.
+UNIT_FAMILIES: dict[str, dict[str, float]] = {
+    "_m_per_s": {"_m_per_s": 1.0, "_m_per_h": units.M_PER_H_M_PER_S,
+                 "_ft_per_h": units.FT_PER_H_M_PER_S},
+    "_kg_per_m3": {"_kg_per_m3": 1.0, "_sg": units.SG_KG_PER_M3, "_ppg": units.PPG_KG_PER_M3},
+    "_deg_per_30m": {"_deg_per_30m": 1.0, "_deg_per_100ft": units.DEG_PER_100FT_DEG_PER_30M},
+    "_N": {"_N": 1.0, "_kN": units.KN_N, "_klbf": units.KLBF_N},
+    "_m": {"_m": 1.0, "_mm": units.MM_M, "_ft": units.FT_M, "_in": units.INCH_M},
+}
+
+
+@dataclass(frozen=True)
+class Term:
+    """One accepted user name: the model column it fills and the factor to SI."""
+
+    column: str
+    factor: float
+    categorical: bool = False
+
+
+def _stem_and_family(column: str) -> tuple[str, dict[str, float] | None]:
+    last = column.rsplit(".", 1)[-1]
+    for suffix in sorted(UNIT_FAMILIES, key=len, reverse=True):
+        if last.endswith(suffix) and len(last) > len(suffix):
+            return last[: -len(suffix)], UNIT_FAMILIES[suffix]
+    return last, None
+
+
+class Vocabulary:
+    """Accepted user names of a model's features.
+
+    Parameters
+    ----------
+    features : sequence of str
+        Numeric SI columns of the model.
+    categorical : sequence of str
+        Categorical columns (values passed through as text).
+    """
+
+    def __init__(self, features: Sequence[str], categorical: Sequence[str] = ()) -> None:
+        self.features = list(features)
+        self.categorical = list(categorical)
+        def stem_of(col: str, full: bool) -> tuple[str, dict[str, float] | None]:
+            name = col.replace(".", "_") if full else col
+            if col in self.categorical:
+                return name.rsplit(".", 1)[-1], None
+            return _stem_and_family(name)
+
+        short: dict[str, list[str]] = {}
+        for col in self.features + self.categorical:
+            short.setdefault(stem_of(col, False)[0], []).append(col)
+        self.terms: dict[str, Term] = {}
+        for col in self.features + self.categorical:
+            is_cat = col in self.categorical
+            stem, fam = stem_of(col, False)
+            if len(short[stem]) > 1:
+                stem, fam = stem_of(col, True)
+            if fam is None:
+                self.terms[stem] = Term(col, 1.0, is_cat)
+            else:
+                for suf, fac in fam.items():
+                    self.terms[stem + suf] = Term(col, fac, is_cat)
+            self.terms.setdefault(col, Term(col, 1.0, is_cat))
+
+    def names_for(self, column: str) -> list[str]:
+        """User names that fill ``column`` (short names first)."""
+        return [n for n, t in self.terms.items() if t.column == column]
+
+    def allowed(self) -> str:
+        """Short text listing the accepted names (one per column, SI first)."""
+        return ", ".join(self.names_for(c)[0] for c in self.features + self.categorical)
+
+    @staticmethod
+    def flag(name: str) -> str:
+        return "--" + name.replace("_", "-")
+
+    # -- conversion ---------------------------------------------------------
+    def _number(self, name: str, value: object) -> float:
+        try:
+            v = float(value)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            raise InputError(name, f"non-numeric value {value!r}", "a finite number") from None
+        if not math.isfinite(v):
+            raise InputError(name, f"value {value!r} is NaN or infinite", "a finite number")
+        return v
+
+    def frame_from_mapping(self, values: Mapping[str, object],
+                           require: Sequence[str] | None = None) -> pd.DataFrame:
+        """One-row SI frame from ``{user name: value}`` (a CLI query).
+
+        ``require``: model columns that must be given (default: all).
+        """
+        return self.frame_from_table(pd.DataFrame({k: [v] for k, v in values.items()}),
+                                     require=require)
+
+    def frame_from_table(self, table: pd.DataFrame, require: Sequence[str] | None = None,
+                         passthrough: Sequence[str] = ()) -> pd.DataFrame:
+        """SI frame (model column names) from a table with user-named columns.
+
+        Columns in ``passthrough`` are copied unchanged; any other unknown
+        column raises InputError, as do two names for one column, a missing
+        required column, a non-numeric, NaN or infinite value.
+        """
+        out: dict[str, object] = {}
+        source: dict[str, str] = {}
+        for name in table.columns:
+            key = str(name)
+            if key in passthrough:
+                out[key] = table[name].to_numpy()
+                continue
+            term = self.terms.get(key)
+            if term is None:
+                raise InputError(key, "unknown name (or unit)", self.allowed())
+            if term.column in source:
+                raise InputError(key, f"given twice (also as {source[term.column]!r})",
+                                 "one name per feature")
+            source[term.column] = key
+            col = table[name]
+            if term.categorical:
+                vals = col.to_numpy(dtype=object)
+                if any(v is None or (isinstance(v, float) and math.isnan(v)) for v in vals):
+                    raise InputError(key, "missing value", "a category name")
+                out[term.column] = np.asarray([str(v).strip() for v in vals], dtype=object)
+                continue
+            num = pd.to_numeric(col, errors="coerce").to_numpy(dtype=np.float64)
+            bad = ~np.isfinite(num)
+            if bad.any():
+                i = int(np.argmax(bad))
+                self._number(key, col.iloc[i])  # raises with the offending value
+                raise InputError(key, "NaN or infinite value", "a finite number")
+            out[term.column] = num * term.factor
+        need = self.features + self.categorical if require is None else list(require)
+        for col in need:
+            if col not in out:
+                raise InputError(self.names_for(col)[0], "missing", "give it as "
+                                 + " or ".join(self.names_for(col)[:3]))
+        return pd.DataFrame(out, index=table.index)

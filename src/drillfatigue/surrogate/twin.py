@@ -1,0 +1,289 @@
+"""Digital twin: replay an operating log through the surrogate, accumulate damage.
+
+Every component of the string moves with the bit: its measured depth is
+``md = bit_md - s_from_bit`` (a component with md < 0 is not in the hole yet
+and accumulates nothing). At each log step the estimator is queried for every
+in-hole component (batched over steps x components) and Miner damage is
+accumulated with a piecewise-constant (previous value held) rule::
+
+    D_c = sum_i rate_c(t_i) * (t_{i+1} - t_i)       (rates per hour, dt in hours)
+
+so a log of constant conditions over T hours gives exactly D = rate * T. The
+interval bounds are accumulated the same way from the lower/upper rates
+(treating the surrogate error as fully correlated over time: the conservative
+choice, since a bias of the estimator does not average out). The time a
+component spends at out-of-domain conditions is summed as well.
+
+Log columns: ``time_s`` (seconds) or ``time`` (date-time text or seconds),
+``bit_md_m`` (or ``bit_md_ft``), and any model feature in user units
+(:mod:`drillfatigue.surrogate.query`), typically ``rpm``, ``wob_kN``,
+``rop_m_per_h``. Component columns: ``serial``, ``s_from_bit_m`` and the
+per-component features (``component_type``, ``location``). Features given by
+neither (friction, mud, well) come from ``constants``; the local dogleg
+severity at each component's depth comes from an optional survey table
+(md_m, dls_deg_per_30m), linearly interpolated.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from drillfatigue import units
+from drillfatigue.errors import InputError
+from drillfatigue.surrogate.facade import Surrogate
+from drillfatigue.surrogate.query import Vocabulary
+
+MD_COLUMN = "md_m"
+S_COLUMN = "s_from_bit_m"
+LOCAL_DLS_COLUMN = "local_dls_deg_per_30m"
+_STEP_CHUNK = 20_000  # rows per surrogate batch
+
+
+@dataclass(frozen=True)
+class ReplayResult:
+    """Outcome of :func:`replay_log`.
+
+    Attributes
+    ----------
+    components : DataFrame
+        One row per component: serial, s_from_bit_m, component columns,
+        damage, damage_lower, damage_upper, last_damage_rate_per_h,
+        remaining_life_h (+ _lower/_upper, at the last rate),
+        time_in_hole_s, ood_time_s.
+    duration_s : float
+        Log span (last - first time).
+    """
+
+    components: pd.DataFrame
+    duration_s: float
+
+
+def components_from_table(table: pd.DataFrame) -> pd.DataFrame:
+    """Validate a component list (serial, s_from_bit_m, per-component features).
+
+    Kept as a small step: later the list will come from the string config
+    (``drillfatigue.string.build_segments``).
+    """
+    for col in ("serial", S_COLUMN):
+        if col not in table.columns:
+            raise InputError(col, "missing column in the component list",
+                             "serial, s_from_bit_m, component_type, location")
+    if table["serial"].astype(str).duplicated().any():
+        dup = table["serial"].astype(str)[table["serial"].astype(str).duplicated()].iloc[0]
+        raise InputError("serial", f"duplicate serial {dup!r}", "unique serials")
+    s = pd.to_numeric(table[S_COLUMN], errors="coerce").to_numpy(dtype=np.float64)
+    if not np.all(np.isfinite(s)) or np.any(s < 0):
+        raise InputError(S_COLUMN, "non-numeric, NaN or negative value", "finite values >= 0 m")
+    out = table.copy()
+    out["serial"] = out["serial"].astype(str)
+    out[S_COLUMN] = s
+    return out.reset_index(drop=True)
+
+
+def log_times_s(log: pd.DataFrame) -> np.ndarray:
+    """Time stamps of a log in seconds (``time_s``, or ``time`` as date-time or seconds)."""
+    if "time_s" in log.columns:
+        t = pd.to_numeric(log["time_s"], errors="coerce").to_numpy(dtype=np.float64)
+        name = "time_s"
+    elif "time" in log.columns:
+        name = "time"
+        t = pd.to_numeric(log["time"], errors="coerce").to_numpy(dtype=np.float64)
+        if not np.all(np.isfinite(t)):
+            try:
+                ts = pd.to_datetime(log["time"], errors="raise", utc=True)
+            except (ValueError, TypeError):
+                raise InputError("time", "not seconds nor date-time text",
+                                 "seconds or ISO 8601 date-times") from None
+            t = (ts - ts.iloc[0]).dt.total_seconds().to_numpy(dtype=np.float64)
+    else:
+        raise InputError("time_s", "missing column in the log", "time_s or time")
+    if not np.all(np.isfinite(t)):
+        raise InputError(name, "non-numeric or NaN time", "finite times")
+    if t.size < 2 or np.any(np.diff(t) < 0):
+        raise InputError(name, "fewer than 2 rows or time going backwards",
+                         ">= 2 rows, non-decreasing time")
+    return t
+
+
+def _bit_md(log: pd.DataFrame) -> np.ndarray:
+    if "bit_md_m" in log.columns:
+        name, fac = "bit_md_m", 1.0
+    elif "bit_md_ft" in log.columns:
+        name, fac = "bit_md_ft", units.FT_M
+    else:
+        raise InputError("bit_md_m", "missing column in the log", "bit_md_m or bit_md_ft")
+    v = pd.to_numeric(log[name], errors="coerce").to_numpy(dtype=np.float64)
+    if not np.all(np.isfinite(v)):
+        raise InputError(name, "non-numeric or NaN value", "finite depths")
+    return v * fac
+
+
+def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
+               constants: Mapping[str, Any] | None = None,
+               survey: pd.DataFrame | None = None) -> ReplayResult:
+    """Replay an operating log through ``model`` and accumulate damage per component.
+
+    Parameters
+    ----------
+    log : DataFrame
+        Time series, see the module docstring.
+    components : DataFrame
+        Component list, see :func:`components_from_table`.
+    model : Surrogate
+    constants : mapping, optional
+        ``{user name: value}`` of features constant over the log.
+    survey : DataFrame, optional
+        Columns ``md_m`` and ``dls_deg_per_30m``: local dogleg severity along
+        the well, interpolated at each component's depth.
+
+    Returns
+    -------
+    ReplayResult
+    """
+    comps = components_from_table(components)
+    t = log_times_s(log)
+    bit_md = _bit_md(log)
+    vocab = Vocabulary(model.features, model.categorical)
+    skip = {"time_s", "time", "bit_md_m", "bit_md_ft"}
+    log_si = vocab.frame_from_table(log[[c for c in log.columns if c not in skip]], require=())
+    comp_si = vocab.frame_from_table(comps.drop(columns=["serial"]), require=(),
+                                     passthrough=[c for c in comps.columns
+                                                  if c not in vocab.terms and c != "serial"])
+    const_si = (vocab.frame_from_mapping(dict(constants), require=()) if constants
+                else pd.DataFrame(index=[0]))
+    derived = {MD_COLUMN}
+    if survey is not None:
+        derived.add(LOCAL_DLS_COLUMN)
+        for col in ("md_m", "dls_deg_per_30m"):
+            if col not in survey.columns:
+                raise InputError(col, "missing column in the survey", "md_m, dls_deg_per_30m")
+        s_md = survey["md_m"].to_numpy(dtype=np.float64)
+        s_dls = survey["dls_deg_per_30m"].to_numpy(dtype=np.float64)
+        if np.any(np.diff(s_md) <= 0):
+            raise InputError("md_m", "survey depths not increasing", "increasing md_m")
+    sources: dict[str, str] = {}
+    for col in model.features + model.categorical:
+        where = [name for name, fr in (("log", log_si), ("components", comp_si),
+                                       ("constants", const_si)) if col in fr.columns]
+        if col in derived:
+            where.append("derived")
+        if not where:
+            raise InputError(vocab.names_for(col)[0], "not given by the log, the components, "
+                             "the constants or the survey", "add it with --set NAME=VALUE")
+        if len(where) > 1:
+            raise InputError(vocab.names_for(col)[0], f"given twice ({' and '.join(where)})",
+                             "one source per feature")
+        sources[col] = where[0]
+
+    # encode category codes once (per component / constant)
+    pre = model.preprocessor
+    n_t, n_c = t.size, len(comps)
+    s_comp = comps[S_COLUMN].to_numpy()
+    dt_h = np.diff(t) / units.HOUR_S  # (n_t - 1,)
+    dmg = np.zeros(n_c)
+    dmg_lo = np.zeros(n_c)
+    dmg_hi = np.zeros(n_c)
+    ood_s = np.zeros(n_c)
+    in_hole_s = np.zeros(n_c)
+    last = np.full((n_c, 3), np.nan)  # rate, lower, upper at the last in-hole step
+    cat_codes: dict[str, np.ndarray] = {}
+    for col in model.categorical:
+        fr = {"log": log_si, "components": comp_si, "constants": const_si}[sources[col]]
+        cat_codes[col] = pre.codes_for(col, fr[col].to_numpy())
+    steps_per_chunk = max(1, _STEP_CHUNK // max(n_c, 1))
+    for a in range(0, n_t - 1, steps_per_chunk):
+        b = min(a + steps_per_chunk, n_t - 1)
+        idx_t = np.repeat(np.arange(a, b), n_c)
+        idx_c = np.tile(np.arange(n_c), b - a)
+        md = bit_md[idx_t] - s_comp[idx_c]
+        in_hole = md >= 0.0
+        x_num = np.empty((idx_t.size, len(model.features)))
+        for j, col in enumerate(model.features):
+            src = sources[col]
+            if col == MD_COLUMN:
+                x_num[:, j] = md
+            elif src == "derived":  # local dogleg from the survey
+                x_num[:, j] = np.interp(md, s_md, s_dls)
+            elif src == "log":
+                x_num[:, j] = log_si[col].to_numpy(dtype=np.float64)[idx_t]
+            elif src == "components":
+                x_num[:, j] = comp_si[col].to_numpy(dtype=np.float64)[idx_c]
+            else:
+                x_num[:, j] = float(const_si[col].iloc[0])
+        x_cat = np.zeros((idx_t.size, len(model.categorical)), dtype=np.int64)
+        for j, col in enumerate(model.categorical):
+            src = sources[col]
+            codes = cat_codes[col]
+            x_cat[:, j] = (codes[idx_t] if src == "log" else codes[idx_c] if src == "components"
+                           else codes[0])
+        r = model.predict_array(x_num[in_hole], x_cat[in_hole])
+        rate = np.zeros(idx_t.size)
+        lo = np.zeros(idx_t.size)
+        hi = np.zeros(idx_t.size)
+        ood = np.zeros(idx_t.size, dtype=bool)
+        rate[in_hole] = 10.0 ** r["log10"]
+        lo[in_hole] = 10.0 ** r["lower"]
+        hi[in_hole] = 10.0 ** r["upper"]
+        ood[in_hole] = r["ood"]
+        w = dt_h[idx_t]
+        dmg += np.bincount(idx_c, rate * w, minlength=n_c)
+        dmg_lo += np.bincount(idx_c, lo * w, minlength=n_c)
+        dmg_hi += np.bincount(idx_c, hi * w, minlength=n_c)
+        ood_s += np.bincount(idx_c, ood * w, minlength=n_c) * units.HOUR_S
+        in_hole_s += np.bincount(idx_c, in_hole * w, minlength=n_c) * units.HOUR_S
+        last_rows = np.flatnonzero(in_hole)
+        if last_rows.size:
+            # later rows overwrite earlier ones: the last in-hole step per component
+            last[idx_c[last_rows], 0] = rate[last_rows]
+            last[idx_c[last_rows], 1] = lo[last_rows]
+            last[idx_c[last_rows], 2] = hi[last_rows]
+    remaining = np.clip(1.0 - dmg, 0.0, None)
+    out = comps.copy()
+    out["damage"] = dmg
+    out["damage_lower"] = dmg_lo
+    out["damage_upper"] = dmg_hi
+    out["last_damage_rate_per_h"] = last[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out["remaining_life_h"] = remaining / last[:, 0]
+        out["remaining_life_h_lower"] = np.clip(1.0 - dmg_hi, 0.0, None) / last[:, 2]
+        out["remaining_life_h_upper"] = np.clip(1.0 - dmg_lo, 0.0, None) / last[:, 1]
+    out["time_in_hole_s"] = in_hole_s
+    out["ood_time_s"] = ood_s
+    return ReplayResult(components=out, duration_s=float(t[-1] - t[0]))
+
+
+def plot_damage_along_string(result: ReplayResult, path: str) -> None:
+    """Accumulated damage (with interval) versus distance from the bit, log scale, PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    c = result.components.sort_values(S_COLUMN)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    s = c[S_COLUMN].to_numpy()
+    d = c["damage"].to_numpy()
+    lo = c["damage_lower"].to_numpy()
+    hi = c["damage_upper"].to_numpy()
+    pos = d > 0
+    ax.errorbar(s[pos], d[pos], yerr=[d[pos] - lo[pos], hi[pos] - d[pos]], fmt="o", ms=4,
+                capsize=3, label="accumulated damage (interval)")
+    if "ood_time_s" in c and (c["ood_time_s"] > 0).any():
+        m = (c["ood_time_s"].to_numpy() > 0) & pos
+        ax.plot(s[m], d[m], "rx", ms=8, label="some time out of domain")
+    ax.set_yscale("log")
+    ax.set_xlabel("distance from bit (m)")
+    ax.set_ylabel("Miner damage (-)")
+    ax.set_title(f"Accumulated damage over {result.duration_s / units.HOUR_S:.3g} h")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    from drillfatigue.surrogate.io import save_figure
+
+    save_figure(fig, path)
+    plt.close(fig)
