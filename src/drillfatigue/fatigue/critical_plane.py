@@ -1,0 +1,367 @@
+"""Multiaxial critical-plane damage on the tube surface (and the uniaxial route).
+
+The outer surface is in plane stress (sigma = sigma_z, tau = tau_z-theta) in the
+local axes (z axial, theta hoop, r radial, r the free-surface normal). Candidate
+planes (FATIGUE.md section 4):
+
+* family A, planes perpendicular to the surface, normal n = (cos t, sin t, 0) at
+  angle t to the pipe axis: sigma_n = sigma cos^2 t + tau sin 2t; one shear
+  component, along the surface, tau_u = -sigma sin t cos t + tau cos 2t;
+* family B, planes inclined at 45 degrees to the surface (n = (cos t, sin t, 0)
+  cos b + e_r sin b, b = 45 deg): sigma_n = cos^2 b sigma_nA; the shear vector
+  has two components, tau_a = cos b tau_u and tau_b = -sin b cos b sigma_nA,
+  and is projected on ``n_shear_axes`` axes psi in the plane (code_aster's
+  projection of the shear path on axes).
+
+Both families are symmetric under t -> t + 180 deg (the stress has no radial
+components), so t runs over [0, 180). The coarse grid has ``plane_step_deg``;
+the governing plane of the most damaged surface points is refined by halving
+the step ``n_refine`` times around it (code_aster refines four times: 2, 1, 0.5,
+0.25 deg).
+
+Per candidate the resolved shear is rainflow counted (numba kernel
+:func:`drillfatigue.fatigue.kernels.multiplane_damage`), each cycle gets an
+equivalent stress from its shear range and the normal stress at its two extreme
+instants, and Miner damage comes from the tension S-N curve:
+
+* ``matake``: sigma_eq = (f/t)[dtau/2 + a max(sigma_n1, sigma_n2, 0)],
+  a = 2t/f - 1; the critical plane is the plane of largest shear damage
+  (Matake's maximum-shear plane; sigma_eq = dtau there), so uniaxial loading
+  gives exactly the uniaxial result (45 deg plane, sigma_eq = sigma_a);
+* ``findley``: f = dtau/2 + k max(sigma_n1, sigma_n2) on the plane of largest
+  damage, mapped to a tension amplitude by sigma_eq = 2 f/(k + sqrt(1 + k^2));
+  closed forms: pure torsion f = tau_a sqrt(1 + k^2), pure tension
+  f = sigma_a (k + sqrt(1 + k^2))/2;
+* ``fatemi_socie`` (elastic, stress form): sigma_eq = dtau (1 + k
+  max(sigma_n, 0)/sigma_y); the strain form (dgamma/2)(1 + k sigma_n,max/sigma_y)
+  divided by the shear modulus;
+* ``uniaxial``: rainflow of sigma_z at every point, with the configured
+  mean-stress correction (the conventional route; ``uniaxial_damage``).
+
+The normal stress is taken at the cycle's two turning instants (code_aster's
+MATAKE_MODI_AV / FINDLEY convention), not its maximum over the whole span
+(Bannantine-Socie); this is documented and exact for proportional loading.
+
+References
+----------
+Matake, Bull. JSME 20 (1977) 257-263; Findley, J. Eng. Ind. 81 (1959) 301-306;
+Fatemi & Socie, FFEMS 11 (1988) 149-165; Bannantine & Socie, ASTM STP 1122
+(1992) 249-275; code_aster R7.04.04 (critères de fatigue multiaxiale).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from drillfatigue.errors import InputError
+from drillfatigue.fatigue import kernels as K
+from drillfatigue.fatigue.rainflow import find_cycles_indexed
+from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress
+from drillfatigue.fatigue.stress import SCF, Section, surface_coefficients
+from drillfatigue.units import MPA_PA
+
+CRITERIA: tuple[str, ...] = ("matake", "findley", "fatemi_socie", "uniaxial")
+_CRIT_CODE = {"matake": K.CRIT_MATAKE, "findley": K.CRIT_FINDLEY,
+              "fatemi_socie": K.CRIT_FATEMI_SOCIE}
+
+
+@dataclass(frozen=True)
+class CriterionParams:
+    """Constants of the criteria.
+
+    Attributes
+    ----------
+    torsion_to_tension_ratio : float
+        t/f, fully reversed torsion over tension fatigue limit (Matake);
+        1/sqrt(3) (von Mises) for ductile steel; must be in [0.5, 1].
+    findley_k : float
+        Findley normal-stress sensitivity (0.2-0.3 for ductile steel).
+    fs_k : float
+        Fatemi-Socie k (0.5-1).
+    yield_Pa : float
+        Yield strength for Fatemi-Socie, Pa.
+    """
+
+    torsion_to_tension_ratio: float = 1.0 / math.sqrt(3.0)
+    findley_k: float = 0.25
+    fs_k: float = 0.6
+    yield_Pa: float = 517e6
+
+    def constants(self, criterion: str) -> tuple[float, float, float]:
+        """(ca, cb, cc) for the kernel's ``_equivalent``."""
+        if criterion == "matake":
+            r = self.torsion_to_tension_ratio
+            return 1.0 / r, 2.0 * r - 1.0, 0.0
+        if criterion == "findley":
+            k = self.findley_k
+            return k, 2.0 / (k + math.sqrt(1.0 + k * k)), 0.0
+        if criterion == "fatemi_socie":
+            return self.fs_k, 1.0 / self.yield_Pa, 0.0
+        raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
+                         ", ".join(CRITERIA))
+
+
+@dataclass(frozen=True)
+class Planes:
+    """Candidate planes and shear axes.
+
+    Attributes
+    ----------
+    theta_deg : ndarray, shape (n,)
+        Angle of the plane normal's surface projection to the pipe axis.
+    beta_deg : ndarray, shape (n,)
+        Inclination of the normal out of the surface (0 family A, 45 family B).
+    psi_deg : ndarray, shape (n,)
+        Shear projection axis within the plane (family B).
+    c, n : ndarray, shape (n, 2)
+        Resolved-shear and normal-stress coefficients on (sigma, tau).
+    """
+
+    theta_deg: np.ndarray
+    beta_deg: np.ndarray
+    psi_deg: np.ndarray
+    c: np.ndarray
+    n: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.theta_deg.shape[0])
+
+
+def make_planes(theta_deg: np.ndarray, beta_deg: np.ndarray, psi_deg: np.ndarray) -> Planes:
+    """Coefficients of the candidate planes (see module docstring)."""
+    t = np.radians(np.asarray(theta_deg, dtype=float))
+    b = np.radians(np.asarray(beta_deg, dtype=float))
+    ps = np.radians(np.asarray(psi_deg, dtype=float))
+    # sigma_nA = sigma cos^2 t + tau sin 2t ; tau_u = -sigma sin t cos t + tau cos 2t
+    snA = np.column_stack([np.cos(t) ** 2, np.sin(2 * t)])
+    tu = np.column_stack([-np.sin(t) * np.cos(t), np.cos(2 * t)])
+    cb, sb = np.cos(b)[:, None], np.sin(b)[:, None]
+    ta = cb * tu
+    tb = -sb * cb * snA
+    c = np.cos(ps)[:, None] * ta + np.sin(ps)[:, None] * tb
+    n = cb**2 * snA
+    return Planes(np.asarray(theta_deg, float), np.asarray(beta_deg, float),
+                  np.asarray(psi_deg, float), np.ascontiguousarray(c), np.ascontiguousarray(n))
+
+
+def plane_grid(step_deg: float = 10.0, family_b: bool = True, n_shear_axes: int = 2) -> Planes:
+    """Coarse candidate grid: family A every ``step_deg`` over [0, 180) and,
+    optionally, family B (45 deg to the surface) with ``n_shear_axes`` axes
+    psi = 0, 180/n, ... deg."""
+    if not (0.0 < step_deg <= 45.0):
+        raise InputError("fatigue.plane_step_deg", f"must be in (0, 45], got {step_deg}",
+                         "0 < plane_step_deg <= 45")
+    th = np.arange(0.0, 180.0 - 1e-9, step_deg)
+    thetas, betas, psis = [th], [np.zeros_like(th)], [np.zeros_like(th)]
+    if family_b:
+        for psi in np.arange(n_shear_axes) * 180.0 / n_shear_axes:
+            thetas.append(th)
+            betas.append(np.full_like(th, 45.0))
+            psis.append(np.full_like(th, psi))
+    return make_planes(np.concatenate(thetas), np.concatenate(betas), np.concatenate(psis))
+
+
+def _boundaries(c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted pseudo-angles where each candidate's shear increment changes sign."""
+    nz = np.flatnonzero(np.hypot(c[:, 0], c[:, 1]) > 0.0)
+    wx = np.concatenate([-c[nz, 1], c[nz, 1]])
+    wy = np.concatenate([c[nz, 0], -c[nz, 0]])
+    pa = np.empty(wx.size)
+    K.pseudo_angles(wx, wy, pa)
+    owner = np.concatenate([nz, nz]).astype(np.int64)
+    order = np.argsort(pa, kind="stable")
+    return np.ascontiguousarray(pa[order]), np.ascontiguousarray(owner[order])
+
+
+def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray, planes: Planes,
+                 curve: SNCurve, criterion: str, params: CriterionParams,
+                 residue: str = "half", thickness_factor: float = 1.0
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Damage of every candidate plane at every surface point (numba kernel).
+
+    Parameters
+    ----------
+    loads : ndarray, shape (n_time, 6)
+        N and N m.
+    coef_sigma, coef_tau : ndarray, shape (n_points, 6)
+    planes : Planes
+    curve : SNCurve
+    criterion : {'matake', 'findley', 'fatemi_socie'}
+    params : CriterionParams
+    residue : {'half', 'repeat', 'carry'} ('carry' closes as half)
+    thickness_factor : float
+        DNV thickness factor on the stress.
+
+    Returns
+    -------
+    damage, select, param : ndarray, shape (n_points, n_planes)
+        Miner damage, plane-selection damage (shear damage for Matake) and the
+        largest criterion parameter of any cycle (Pa).
+    """
+    if criterion not in _CRIT_CODE:
+        raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
+                         ", ".join(CRITERIA))
+    loads = np.ascontiguousarray(loads, dtype=np.float64)
+    ca, cb, cc = params.constants(criterion)
+    crit = _CRIT_CODE[criterion]
+    sel = K.CRIT_SHEAR if criterion == "matake" else crit
+    bpa, bown = _boundaries(planes.c)
+    seg = curve.kernel_arrays()
+    n_p, n_c = coef_sigma.shape[0], len(planes)
+    dmg = np.zeros((n_p, n_c))
+    sel_d = np.zeros((n_p, n_c))
+    par = np.zeros((n_p, n_c))
+    if bpa.size == 0 or loads.shape[0] < 2:
+        return dmg, sel_d, par
+    mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
+    cap = 1024
+    while True:
+        st = K.multiplane_damage(loads, np.ascontiguousarray(coef_sigma),
+                                 np.ascontiguousarray(coef_tau), planes.c, planes.n, bpa, bown,
+                                 crit, ca, cb, cc, sel, thickness_factor / MPA_PA, seg[0], seg[1],
+                                 seg[2], seg[3], mode, cap, dmg, sel_d, par)
+        if st == K.STATUS_OK:
+            return dmg, sel_d, par
+        if cap > 4 * loads.shape[0] + 16:  # pragma: no cover - cannot happen
+            raise RuntimeError("multiplane_damage: residue stack overflow")
+        cap *= 8
+
+
+@dataclass
+class LocationResult:
+    """Result of one location (one section, one SCF set) of one joint."""
+
+    damage: float
+    critical_angle_deg: float
+    critical_plane_deg: float
+    critical_plane_beta_deg: float
+    critical_point: int
+    point_damage: np.ndarray  # shape (n_points,)
+    uniaxial_damage: float
+    param_max_Pa: float
+
+
+def _select(dmg: np.ndarray, sel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    j = np.argmax(sel, axis=1)
+    return dmg[np.arange(dmg.shape[0]), j], j
+
+
+def refine_plane(loads: np.ndarray, cs_row: np.ndarray, ct_row: np.ndarray, theta0: float,
+                 beta: float, psi: float, step0: float, n_refine: int, curve: SNCurve,
+                 criterion: str, params: CriterionParams, residue: str, tf: float
+                 ) -> tuple[float, float, float, float]:
+    """Refine the governing plane of one point by halving the step ``n_refine`` times.
+
+    Returns (theta_deg, damage, selection_damage, param_max_Pa) of the best plane.
+    """
+    best_t = theta0
+    d0, s0, p0 = plane_damage(loads, cs_row[None], ct_row[None],
+                              make_planes([theta0], [beta], [psi]), curve, criterion, params,
+                              residue, tf)
+    best = (float(d0[0, 0]), float(s0[0, 0]), float(p0[0, 0]))
+    step = step0
+    for _ in range(n_refine):
+        step /= 2.0
+        ths = np.array([best_t - step, best_t + step]) % 180.0
+        d, s, p = plane_damage(loads, cs_row[None], ct_row[None],
+                               make_planes(ths, [beta, beta], [psi, psi]), curve, criterion,
+                               params, residue, tf)
+        j = int(np.argmax(s[0]))
+        if s[0, j] > best[1]:
+            best_t = float(ths[j])
+            best = (float(d[0, j]), float(s[0, j]), float(p[0, j]))
+    return best_t, best[0], best[1], best[2]
+
+
+def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCurve,
+                          residue: str, mean_stress: str, ultimate_Pa: float,
+                          thickness_factor: float = 1.0, walker_gamma: float = 0.5,
+                          compressive_alpha: float = 0.6) -> np.ndarray:
+    """Uniaxial route: rainflow of sigma_z at each point, mean-stress correction, Miner.
+
+    Returns
+    -------
+    ndarray, shape (n_points,)
+        Damage per point.
+    """
+    sig = coef_sigma @ np.asarray(loads, dtype=np.float64).T
+    out = np.zeros(sig.shape[0])
+    for p in range(sig.shape[0]):
+        i0, i1, cnt = find_cycles_indexed(sig[p], "repeat" if residue == "repeat" else "half")
+        if cnt.size == 0:
+            continue
+        a, b = sig[p, i0], sig[p, i1]
+        S = correct_mean_stress(np.abs(b - a), 0.5 * (a + b), mean_stress, ultimate_Pa,
+                                walker_gamma, compressive_alpha)
+        N = curve.cycles_to_failure(S * thickness_factor)
+        out[p] = float(np.sum(cnt / N))
+    return out
+
+
+def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCurve,
+                      criterion: str, params: CriterionParams, *, n_points: int = 36,
+                      plane_step_deg: float = 10.0, family_b: bool = True,
+                      n_shear_axes: int = 2, n_refine: int = 4, n_refine_points: int = 2,
+                      residue: str = "half", mean_stress: str = "none",
+                      ultimate_Pa: float = 689e6, thickness_m: float | None = None,
+                      walker_gamma: float = 0.5, compressive_alpha: float = 0.6
+                      ) -> LocationResult:
+    """Damage of one location of one joint over one load window.
+
+    Parameters
+    ----------
+    loads : ndarray, shape (n_time, 6)
+        Internal loads, N and N m (order of :data:`stress.LOAD_COLUMNS`).
+    section, scf, curve
+        Section, stress concentration factors, S-N curve of the location.
+    criterion : {'matake', 'findley', 'fatemi_socie', 'uniaxial'}
+    params : CriterionParams
+    n_points : int
+        Surface points (>= 36 in production).
+    plane_step_deg, family_b, n_shear_axes, n_refine, n_refine_points
+        Plane grid and refinement (refinement at the ``n_refine_points`` most
+        damaged points).
+    residue, mean_stress, ultimate_Pa, thickness_m, walker_gamma, compressive_alpha
+        Counting and uniaxial-route options.
+
+    Returns
+    -------
+    LocationResult
+    """
+    if criterion not in CRITERIA:
+        raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
+                         ", ".join(CRITERIA))
+    cs, ct, phi = surface_coefficients(section, scf, n_points)
+    tf = curve.thickness_factor(thickness_m if thickness_m is not None
+                                else (section.od_m - section.id_m) / 2.0)
+    uni = uniaxial_point_damage(loads, cs, curve, residue, mean_stress, ultimate_Pa, tf,
+                                walker_gamma, compressive_alpha)
+    if criterion == "uniaxial":
+        p = int(np.argmax(uni))
+        return LocationResult(float(uni[p]), float(np.degrees(phi[p])), 0.0, 0.0, p, uni,
+                              float(uni[p]), float("nan"))
+    planes = plane_grid(plane_step_deg, family_b, n_shear_axes)
+    dmg, sel, par = plane_damage(loads, cs, ct, planes, curve, criterion, params, residue, tf)
+    jbest = np.argmax(sel, axis=1)
+    rows = np.arange(dmg.shape[0])
+    pdmg = dmg[rows, jbest].copy()
+    psel = sel[rows, jbest].copy()
+    theta = planes.theta_deg[jbest].copy()
+    pmax = par[rows, jbest].copy()
+    if n_refine > 0:
+        for p in np.argsort(-psel)[:max(1, n_refine_points)]:
+            j = jbest[p]
+            t, d, s, pm = refine_plane(loads, cs[p], ct[p], float(planes.theta_deg[j]),
+                                       float(planes.beta_deg[j]), float(planes.psi_deg[j]),
+                                       plane_step_deg, n_refine, curve, criterion, params,
+                                       residue, tf)
+            if s >= psel[p]:
+                pdmg[p], psel[p], theta[p], pmax[p] = d, s, t, pm
+    # governing point: largest selection damage (= damage except for Matake)
+    p = int(np.argmax(psel))
+    return LocationResult(float(pdmg[p]), float(np.degrees(phi[p])), float(theta[p]),
+                          float(planes.beta_deg[jbest[p]]), p, pdmg,
+                          float(uni.max()), float(pmax[p]))
