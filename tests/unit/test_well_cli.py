@@ -1,0 +1,41 @@
+"""``drillfatigue well show|plot|export`` on good input."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from drillfatigue.cli import main
+from drillfatigue.well import read_survey_csv
+
+
+@pytest.fixture()
+def case(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "case.yaml"
+    path.write_text("well:\n  profile: profile_2\n")
+    return path
+
+
+def test_show_prints_key_points_and_max_dls(case: Path, capsys) -> None:
+    assert main(["well", "show", str(case)]) == 0
+    out = capsys.readouterr().out
+    for word in ("profile_2", "surface", "KOP", "end of build", "TD", "max DLS"):
+        assert word in out
+    # Member 2 of the default family: R = 650 - 450 = 200 m -> 8.594 deg/30 m.
+    assert "8.594 deg/30m" in out
+
+
+def test_show_other_profile(case: Path, capsys) -> None:
+    assert main(["well", "show", str(case), "--profile", "profile_3"]) == 0
+    assert "end of tangent" in capsys.readouterr().out
+
+
+def test_plot_and_export(case: Path, tmp_path: Path) -> None:
+    assert main(["well", "plot", str(case), "-o", "fig.png"]) == 0
+    assert (tmp_path / "fig.png").read_bytes()[:4] == b"\x89PNG"
+    assert main(["well", "export", str(case), "-o", "s.csv"]) == 0
+    sv = read_survey_csv(tmp_path / "s.csv")
+    assert sv.pos_m[-1, 2] == pytest.approx(650.0, abs=1e-6)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["case.yaml", "fig.png", "s.csv"]

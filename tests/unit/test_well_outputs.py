@@ -1,0 +1,55 @@
+"""The ``wells`` stage script on a tiny params file."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pyarrow.parquet as pq
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _stage():
+    spec = importlib.util.spec_from_file_location("wells_stage", ROOT / "pipeline" / "wells.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+PARAMS = """
+well:
+  family: {tvd_end_m: 300.0, displacement_m: 250.0}
+  profiles:
+    a: {kind: family_member, member: 1, kop_m: 100.0}
+    b: {kind: family_member, member: 3, kop_m: 100.0, tangent_length_m: 30.0}
+    v: {kind: vertical, td_m: 50.0}
+  min_clearance_m: 0.05
+"""
+
+
+def test_stage_writes_every_profile(tmp_path: Path) -> None:
+    (tmp_path / "params.yaml").write_text(PARAMS)
+    out = tmp_path / "wells"
+    assert _stage().main(["--params", str(tmp_path / "params.yaml"), "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert set(summary["profiles"]) == {"a", "b", "v"}
+    assert summary["family_end_spread_m"] < 0.1
+    for name in ("a", "b", "v"):
+        assert (out / name / "survey.csv").is_file()
+        assert (out / name / "profile.png").is_file()
+        table = pq.read_table(out / name / "cylinders.parquet")
+        assert table.num_rows == summary["profiles"][name]["n_cylinders"]
+        assert "radius_m" in table.column_names
+    assert summary["profiles"]["a"]["max_dls_deg_per_30m"] == pytest.approx(
+        30.0 / 200.0 * 180.0 / 3.141592653589793, rel=1e-9)
+
+
+def test_stage_bad_params_writes_nothing(tmp_path: Path, capsys) -> None:
+    (tmp_path / "params.yaml").write_text("well:\n  profile: zz\n")
+    out = tmp_path / "wells"
+    assert _stage().main(["--params", str(tmp_path / "params.yaml"), "--out", str(out)]) == 2
+    assert capsys.readouterr().err.startswith("error: well.profile: ")
+    assert not out.exists()
