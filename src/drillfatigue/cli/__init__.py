@@ -19,6 +19,7 @@ from drillfatigue.errors import InputError
 # Command modules, imported for their registration side effect.
 COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.well",
+    "drillfatigue.cli.tnd",
     "drillfatigue.cli.query",
     "drillfatigue.cli.twin",
 )
