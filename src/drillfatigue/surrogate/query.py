@@ -156,8 +156,9 @@ class Vocabulary:
                 raise InputError(key, "NaN or infinite value", "a finite number")
             out[term.column] = num * term.factor
         need = self.features + self.categorical if require is None else list(require)
-        for col in need:
-            if col not in out:
-                raise InputError(self.names_for(col)[0], "missing", "give it as "
-                                 + " or ".join(self.names_for(col)[:3]))
+        missing = [self.names_for(c)[0] for c in need if c not in out]
+        if missing:
+            first = next(c for c in need if c not in out)
+            raise InputError(", ".join(missing), "missing", "give each, e.g. "
+                             + " or ".join(self.names_for(first)[:3]))
         return pd.DataFrame(out, index=table.index)

@@ -184,7 +184,8 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     pre = model.preprocessor
     n_t, n_c = t.size, len(comps)
     s_comp = comps[S_COLUMN].to_numpy()
-    dt_h = np.diff(t) / units.HOUR_S  # (n_t - 1,)
+    dt_s = np.diff(t)  # (n_t - 1,)
+    dt_h = dt_s / units.HOUR_S
     dmg = np.zeros(n_c)
     dmg_lo = np.zeros(n_c)
     dmg_hi = np.zeros(n_c)
@@ -234,8 +235,8 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         dmg += np.bincount(idx_c, rate * w, minlength=n_c)
         dmg_lo += np.bincount(idx_c, lo * w, minlength=n_c)
         dmg_hi += np.bincount(idx_c, hi * w, minlength=n_c)
-        ood_s += np.bincount(idx_c, ood * w, minlength=n_c) * units.HOUR_S
-        in_hole_s += np.bincount(idx_c, in_hole * w, minlength=n_c) * units.HOUR_S
+        ood_s += np.bincount(idx_c, ood * dt_s[idx_t], minlength=n_c)
+        in_hole_s += np.bincount(idx_c, in_hole * dt_s[idx_t], minlength=n_c)
         last_rows = np.flatnonzero(in_hole)
         if last_rows.size:
             # later rows overwrite earlier ones: the last in-hole step per component
