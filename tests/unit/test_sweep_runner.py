@@ -1,0 +1,153 @@
+"""Sweep engine: every case once, resume, retries and failure records, threshold, kill and rerun.
+
+The case function is :func:`drillfatigue.sweep.synthetic.synthetic_case`, a
+module-level function of the package (so it pickles by name into process-pool
+and Dask workers) whose outputs are a deterministic function of its inputs.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from drillfatigue.errors import InputError
+from drillfatigue.sweep.runner import (
+    DONE_NAME,
+    FAILURES_NAME,
+    Case,
+    SweepFailedError,
+    is_done,
+    run_sweep,
+)
+from drillfatigue.sweep.synthetic import synthetic_case
+
+
+def make_cases(n: int, **synthetic) -> list[Case]:
+    return [Case(f"case{i:03d}", {"operation": {"rpm": 60.0 + i}, "synthetic": dict(synthetic)})
+            for i in range(n)]
+
+
+def tree(root: Path) -> dict[str, bytes]:
+    """Every file under the case folders (not the sweep-level report), by relative path."""
+    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*"))
+            if p.is_file() and p.parent != root}
+
+
+def test_all_cases_done_once_then_resume_skips(tmp_path):
+    cases = make_cases(6, work=1000)
+    report = run_sweep(cases, synthetic_case, tmp_path, scheduler="processes", n_workers=2)
+    assert (report.n_done, report.n_skipped, report.n_failed) == (6, 0, 0)
+    assert sorted(p.name for p in tmp_path.iterdir() if p.is_dir()) == [c.case_id for c in cases]
+    assert all(is_done(c, tmp_path) for c in cases)
+    assert not (tmp_path / ".tmp").exists()
+    assert pd.read_parquet(tmp_path / FAILURES_NAME).empty
+    stamp = {c.case_id: (tmp_path / c.case_id / DONE_NAME).stat().st_mtime_ns for c in cases}
+
+    again = run_sweep(cases, synthetic_case, tmp_path, scheduler="processes", n_workers=2)
+    assert (again.n_done, again.n_skipped) == (0, 6)
+    assert stamp == {c.case_id: (tmp_path / c.case_id / DONE_NAME).stat().st_mtime_ns for c in cases}
+
+
+def test_changed_inputs_rerun_the_case(tmp_path):
+    cases = make_cases(2)
+    run_sweep(cases, synthetic_case, tmp_path, scheduler="serial")
+    changed = [cases[0], Case(cases[1].case_id, cases[1].inputs | {"x": 1.0})]
+    report = run_sweep(changed, synthetic_case, tmp_path, scheduler="serial")
+    assert (report.n_done, report.n_skipped) == (1, 1)
+    assert json.loads((tmp_path / "case001" / "case.json").read_text())["x"] == 1.0
+
+
+def test_failing_case_retried_and_recorded(tmp_path):
+    cases = make_cases(4)
+    bad = Case("bad", {"synthetic": {"fail_times": 99, "counter_dir": str(tmp_path / "n")}})
+    flaky = Case("flaky", {"synthetic": {"fail_times": 1, "counter_dir": str(tmp_path / "n")}})
+    report = run_sweep([*cases, bad, flaky], synthetic_case, tmp_path / "out", scheduler="serial",
+                       max_retries=2, failure_threshold=0.5)
+    assert (report.n_done, report.n_failed, report.failed_ids) == (5, 1, ["bad"])
+    fails = pd.read_parquet(tmp_path / "out" / FAILURES_NAME).set_index("case_id")
+    assert fails.loc["bad", "attempts"] == 3  # 1 + max_retries
+    assert bool(fails.loc["bad", "final"]) is True
+    assert fails.loc["bad", "error_type"] == "SimulationError"
+    assert "synthetic divergence" in fails.loc["bad", "error"]
+    assert "Traceback" in fails.loc["bad", "traceback_tail"]
+    assert json.loads(fails.loc["bad", "inputs_json"]) == bad.inputs
+    assert bool(fails.loc["flaky", "final"]) is False and fails.loc["flaky", "attempts"] == 2
+    assert not (tmp_path / "out" / "bad").exists()
+    assert is_done(flaky, tmp_path / "out")
+
+
+def test_threshold_exceeded_raises_after_recording(tmp_path):
+    cases = [*make_cases(3), Case("bad", {"synthetic": {"fail_times": 99,
+                                                        "counter_dir": str(tmp_path / "n")}})]
+    with pytest.raises(SweepFailedError, match=r"1 of 4 cases failed .*failures.parquet"):
+        run_sweep(cases, synthetic_case, tmp_path / "out", scheduler="serial", max_retries=0,
+                  failure_threshold=0.2)
+    assert pd.read_parquet(tmp_path / "out" / FAILURES_NAME)["case_id"].tolist() == ["bad"]
+    assert json.loads((tmp_path / "out" / "sweep.json").read_text())["n_failed"] == 1
+
+
+def test_bad_arguments(tmp_path):
+    with pytest.raises(InputError, match="duplicate"):
+        run_sweep([Case("a", {}), Case("a", {})], synthetic_case, tmp_path, scheduler="serial")
+    with pytest.raises(InputError, match="n_workers"):
+        run_sweep([], synthetic_case, tmp_path, n_workers=0)
+
+
+def test_worker_crash_is_retried_on_a_new_pool(tmp_path):
+    """A worker process killed (SIGKILL) mid-case: the pool is rebuilt, nothing is lost."""
+    cases = make_cases(4)
+    crash = Case("crash", {"synthetic": {"crash_times": 1, "counter_dir": str(tmp_path / "n")}})
+    report = run_sweep([*cases, crash], synthetic_case, tmp_path / "out", scheduler="processes",
+                       n_workers=2, max_retries=2)
+    assert (report.n_done, report.n_failed) == (5, 0)
+    fails = pd.read_parquet(tmp_path / "out" / FAILURES_NAME).set_index("case_id")
+    assert fails.loc["crash", "error_type"] == "BrokenProcessPool"
+    assert not fails["final"].any()
+
+
+_KILL_SCRIPT = textwrap.dedent("""
+    import sys
+    from drillfatigue.sweep.runner import Case, run_sweep
+    from drillfatigue.sweep.synthetic import synthetic_case
+    if __name__ == "__main__":
+        cases = [Case(f"case{i:03d}", {"operation": {"rpm": 60.0 + i},
+                                       "synthetic": {"sleep_s": 0.3}}) for i in range(12)]
+        run_sweep(cases, synthetic_case, sys.argv[1], scheduler="processes", n_workers=2)
+""")
+
+
+def test_killed_sweep_rerun_matches_uninterrupted(tmp_path):
+    """Kill the sweep and its workers mid-way (SIGKILL), rerun: each case once, same files."""
+    cases = make_cases(12, sleep_s=0.3)
+    reference = tmp_path / "reference"
+    run_sweep(cases, synthetic_case, reference, scheduler="serial")
+
+    out = tmp_path / "killed"
+    script = tmp_path / "sweep_script.py"
+    script.write_text(_KILL_SCRIPT)
+    proc = subprocess.Popen([sys.executable, str(script), str(out)], start_new_session=True,
+                            env=os.environ | {"PYTHONPATH": str(Path(__file__).parents[2] / "src")})
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        n = len(list(out.glob(f"*/{DONE_NAME}"))) if out.exists() else 0
+        if n >= 3 or proc.poll() is not None:
+            break
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)  # the sweep and every worker of its session
+    proc.wait()
+    done_before = len(list(out.glob(f"*/{DONE_NAME}")))
+    assert 3 <= done_before < 12, "the sweep must be killed mid-way"
+
+    report = run_sweep(cases, synthetic_case, out, scheduler="processes", n_workers=2)
+    assert report.n_skipped == done_before and report.n_done == 12 - done_before
+    assert sorted(p.name for p in out.iterdir() if p.is_dir()) == [c.case_id for c in cases]
+    assert tree(out) == tree(reference)
