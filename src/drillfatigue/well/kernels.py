@@ -47,8 +47,9 @@ def path_point(md, node_md, node_pos, node_tan, hint, out_pos, out_tan):
     node_tan : ndarray, shape (m, 3), float64
         Unit tangents of the path at the nodes.
     hint : int
-        Interval index found by the previous call (any value is safe; a good
-        hint makes the lookup O(1) for a slowly moving ``md``).
+        Interval index found by the previous call (any value is safe; the
+        lookup is O(1) when ``md`` stays in the same or a neighbouring
+        interval, O(log m) otherwise).
     out_pos : ndarray, shape (3,), float64
         Receives the position, m.
     out_tan : ndarray, shape (3,), float64
@@ -80,10 +81,22 @@ def path_point(md, node_md, node_pos, node_tan, hint, out_pos, out_tan):
         i = 0
     if i > last:
         i = last
-    while md < node_md[i]:
-        i -= 1
-    while md > node_md[i + 1]:
-        i += 1
+    if md < node_md[i] or md > node_md[i + 1]:
+        # Try the neighbours (a slowly moving md), else bisect: O(log m).
+        if i > 0 and node_md[i - 1] <= md <= node_md[i]:
+            i -= 1
+        elif i < last and node_md[i + 1] <= md <= node_md[i + 2]:
+            i += 1
+        else:
+            lo = 0
+            hi = last
+            while lo < hi:
+                mid = (lo + hi + 1) // 2
+                if node_md[mid] <= md:
+                    lo = mid
+                else:
+                    hi = mid - 1
+            i = lo
     ds = node_md[i + 1] - node_md[i]
     s = md - node_md[i]
     dn = 0.0
