@@ -1,0 +1,327 @@
+"""Fatigue of a simulator run directory: ``damage.parquet``, ``summary.json``, plots.
+
+A run directory holds ``loads.parquet`` (columns exactly ``time_s, joint, md_m,
+axial_N, shear_x_N, shear_y_N, bending_x_Nm, bending_y_Nm, torque_Nm``),
+``joints.parquet`` (``joint, component, component_type, s_from_bit_m,
+body_od_m, body_id_m, conn_od_m, conn_id_m``) and ``summary.json`` with
+``duration_s`` and ``status == "complete"``. Every input is checked before
+anything is written, so bad input leaves no output behind.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from drillfatigue.config.fatigue import COMPONENT_TYPES, FatigueConfig, UserCurveConfig
+from drillfatigue.errors import InputError
+from drillfatigue.fatigue.critical_plane import CRITERIA, CriterionParams, evaluate_location
+from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, rainflow_matrix
+from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress, get_curve, get_grade, user_curve
+from drillfatigue.fatigue.stress import LOAD_COLUMNS, SCF, Section, surface_coefficients
+from drillfatigue.units import HOUR_S
+
+LOADS_COLUMNS: tuple[str, ...] = ("time_s", "joint", "md_m") + LOAD_COLUMNS
+JOINTS_COLUMNS: tuple[str, ...] = ("joint", "component", "component_type", "s_from_bit_m",
+                                   "body_od_m", "body_id_m", "conn_od_m", "conn_id_m")
+DAMAGE_COLUMNS: tuple[str, ...] = (
+    "joint", "md_m", "s_from_bit_m", "component", "component_type", "location", "criterion",
+    "damage", "damage_rate_per_h", "life_h", "life_windows", "critical_angle_deg",
+    "critical_plane_deg", "uniaxial_damage")
+LOCATIONS: tuple[str, ...] = ("body", "connection")
+
+
+def _atomic_write_bytes(path: Path, data: bytes) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _atomic_write_parquet(df: pd.DataFrame, path: Path) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        df.to_parquet(tmp, index=False)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def build_curve(spec: str | UserCurveConfig, environment: str) -> SNCurve:
+    """S-N curve from a config entry (library name or user curve)."""
+    if isinstance(spec, str):
+        return get_curve(spec, environment)
+    return user_curve(spec.m1, spec.log_a1, spec.m2, spec.knee_N, spec.cutoff_N, spec.name,
+                      spec.reference)
+
+
+def _read_parquet(path: Path, columns: Sequence[str]) -> pd.DataFrame:
+    if not path.is_file():
+        raise InputError(str(path), "file not found", "a run directory written by simulate")
+    try:
+        df = pd.read_parquet(path)
+    except Exception as exc:  # pyarrow raises several types for a corrupt file
+        raise InputError(str(path), f"cannot read parquet: {type(exc).__name__}",
+                         "a valid parquet file") from None
+    missing = [c for c in columns if c not in df.columns]
+    if missing:
+        raise InputError(str(path), f"missing column(s) {', '.join(missing)}",
+                         "columns " + ", ".join(columns))
+    return df
+
+
+def read_run(run_dir: Path) -> tuple[pd.DataFrame, pd.DataFrame, dict[str, Any]]:
+    """Read and check a run directory; raise InputError on anything unusable."""
+    run_dir = Path(run_dir)
+    if not run_dir.is_dir():
+        raise InputError(str(run_dir), "run directory not found", "an existing directory")
+    sp = run_dir / "summary.json"
+    if not sp.is_file():
+        raise InputError(str(sp), "file not found", "a run directory written by simulate")
+    try:
+        summary = json.loads(sp.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise InputError(str(sp), f"invalid JSON: {exc.msg}", "valid JSON") from None
+    status = summary.get("status")
+    if status != "complete":
+        raise InputError(f"{sp}: status", f"run is {status!r}, not usable for fatigue",
+                         "'complete'")
+    dur = summary.get("duration_s")
+    if not isinstance(dur, int | float) or not math.isfinite(dur) or dur <= 0:
+        raise InputError(f"{sp}: duration_s", f"must be a number > 0, got {dur!r}", "> 0")
+    loads = _read_parquet(run_dir / "loads.parquet", LOADS_COLUMNS)
+    joints = _read_parquet(run_dir / "joints.parquet", JOINTS_COLUMNS)
+    if len(loads) == 0:
+        raise InputError(str(run_dir / "loads.parquet"), "zero-length history (no rows)",
+                         "at least two time samples per joint")
+    num = loads[list(LOADS_COLUMNS)]
+    bad = [c for c in LOADS_COLUMNS if not np.all(np.isfinite(num[c].to_numpy(dtype=float)))]
+    if bad:
+        raise InputError(str(run_dir / "loads.parquet"),
+                         f"NaN or infinite values in column {bad[0]}", "finite numbers")
+    if joints["joint"].duplicated().any():
+        raise InputError(str(run_dir / "joints.parquet"), "a joint appears in more than one row",
+                         "one row per recorded joint")
+    unknown = sorted(set(joints["component_type"]) - set(COMPONENT_TYPES))
+    if unknown:
+        raise InputError(str(run_dir / "joints.parquet"),
+                         f"unknown component_type {unknown[0]!r}", ", ".join(COMPONENT_TYPES))
+    return loads, joints, summary
+
+
+def _joint_loads(loads: pd.DataFrame, j: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
+    sub = loads[loads["joint"] == j].sort_values("time_s", kind="stable")
+    t = sub["time_s"].to_numpy(dtype=float)
+    if t.size < 2:
+        raise InputError(where, f"joint {j} has {t.size} time sample(s)", ">= 2 samples")
+    if np.any(np.diff(t) <= 0):
+        raise InputError(where, f"joint {j} has repeated time stamps", "strictly increasing time")
+    return t, sub[list(LOAD_COLUMNS)].to_numpy(dtype=np.float64), float(sub["md_m"].iloc[-1])
+
+
+def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None, *,
+                 joints: Sequence[int] | None = None, criterion: str | None = None
+                 ) -> pd.DataFrame:
+    """Fatigue damage of every selected joint and location of a run.
+
+    Parameters
+    ----------
+    run_dir : Path
+        Simulator run directory (see module docstring).
+    cfg : FatigueConfig
+    out_dir : Path, optional
+        Where to write ``damage.parquet``, ``summary.json`` and plots; nothing
+        is written when None.
+    joints : sequence of int, optional
+        Joints to evaluate (default ``cfg.joints``, else all).
+    criterion : str, optional
+        Overrides ``cfg.criterion``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per joint x location with :data:`DAMAGE_COLUMNS`.
+    """
+    crit = criterion if criterion is not None else cfg.criterion
+    if crit not in CRITERIA:
+        raise InputError("criterion", f"unknown criterion {crit!r}", ", ".join(CRITERIA))
+    run_dir = Path(run_dir)
+    loads, jt, summary = read_run(run_dir)
+    duration_s = float(summary["duration_s"])
+    sel = list(joints) if joints is not None else cfg.joints
+    all_joints = sorted(int(j) for j in jt["joint"])
+    if sel is None:
+        sel = all_joints
+    missing = [j for j in sel if j not in all_joints]
+    if missing:
+        raise InputError("joints", f"joint {missing[0]} is not in joints.parquet",
+                         f"recorded joints {all_joints[:10]}{' ...' if len(all_joints) > 10 else ''}")
+    env = cfg.effective_environment
+    curves = {loc: build_curve(getattr(cfg, loc).curve, env) for loc in LOCATIONS}
+    grade = get_grade(cfg.grade)
+    params = CriterionParams(cfg.torsion_to_tension_ratio, cfg.findley_k, cfg.fatemi_socie_k,
+                             grade.yield_Pa)
+    where = str(run_dir / "loads.parquet")
+    per_joint = {j: _joint_loads(loads, j, where) for j in sel}  # validate all before work
+    jrow = jt.set_index("joint")
+    rows: list[dict[str, Any]] = []
+    crit_info: dict[tuple[int, str], Any] = {}
+    for j in sel:
+        info = jrow.loc[j]
+        t, L, md = per_joint[j]
+        for loc in LOCATIONS:
+            od, idm = ((info["body_od_m"], info["body_id_m"]) if loc == "body"
+                       else (info["conn_od_m"], info["conn_id_m"]))
+            try:
+                section = Section(float(od), float(idm))
+            except InputError as exc:
+                raise InputError(f"joints.parquet: joint {j} {loc}", exc.problem,
+                                 exc.allowed) from None
+            s = getattr(cfg.scf[str(info["component_type"])], loc)
+            scf = SCF(s.axial, s.bending, s.torsion)
+            res = evaluate_location(
+                L, section, scf, curves[loc], crit, params, n_points=cfg.n_surface_points,
+                plane_step_deg=cfg.plane_step_deg, family_b=cfg.family_b,
+                n_shear_axes=cfg.n_shear_axes, n_refine=cfg.n_refine,
+                n_refine_points=cfg.n_refine_points,
+                residue=cfg.residue, mean_stress=cfg.mean_stress, ultimate_Pa=grade.tensile_Pa,
+                walker_gamma=cfg.walker_gamma, compressive_alpha=cfg.compressive_alpha)
+            uni = res.uniaxial_damage
+            if cfg.residue == "carry" or cfg.load_classes is not None:
+                uni = _uniaxial_streamed(t, L, section, scf, curves[loc], cfg, grade.tensile_Pa,
+                                         res.critical_point)
+                if crit == "uniaxial":
+                    res.damage = uni
+            D = res.damage
+            rows.append({
+                "joint": int(j), "md_m": md, "s_from_bit_m": float(info["s_from_bit_m"]),
+                "component": str(info["component"]),
+                "component_type": str(info["component_type"]), "location": loc,
+                "criterion": crit, "damage": D,
+                "damage_rate_per_h": D / (duration_s / HOUR_S),
+                "life_h": (duration_s / HOUR_S) / D if D > 0 else math.inf,
+                "life_windows": 1.0 / D if D > 0 else math.inf,
+                "critical_angle_deg": res.critical_angle_deg,
+                "critical_plane_deg": res.critical_plane_deg,
+                "uniaxial_damage": uni,
+            })
+            crit_info[(int(j), loc)] = (section, scf, res.critical_point)
+    df = pd.DataFrame(rows, columns=list(DAMAGE_COLUMNS))
+    if out_dir is not None:
+        _write_outputs(Path(out_dir), df, per_joint, crit_info, cfg, crit, duration_s, run_dir,
+                       curves)
+    return df
+
+
+def _uniaxial_streamed(t: np.ndarray, L: np.ndarray, section: Section, scf: SCF, curve: SNCurve,
+                       cfg: FatigueConfig, ultimate_Pa: float, point: int) -> float:
+    """Uniaxial damage at one point by chunks (residue 'carry') or load classes."""
+    cs, _, _ = surface_coefficients(section, scf, cfg.n_surface_points)
+    sig = L @ cs[point]
+    if cfg.residue == "carry":
+        dt = float(np.median(np.diff(t)))
+        n_chunk = sig.size if cfg.chunk_length_s is None else max(2, int(cfg.chunk_length_s / dt))
+        stream = RainflowStream("half")
+        parts = [stream.feed(sig[i:i + n_chunk]) for i in range(0, sig.size, n_chunk)]
+        parts.append(stream.finish())
+        S, Sm, cnt = (np.concatenate([p.ranges for p in parts]),
+                      np.concatenate([p.means for p in parts]),
+                      np.concatenate([p.count for p in parts]))
+    else:
+        c = find_cycles(sig, cfg.residue, cfg.load_classes)
+        S, Sm, cnt = c.ranges, c.means, c.count
+    if cnt.size == 0:
+        return 0.0
+    Seq = correct_mean_stress(S, Sm, cfg.mean_stress, ultimate_Pa, cfg.walker_gamma,
+                              cfg.compressive_alpha)
+    tf = curve.thickness_factor((section.od_m - section.id_m) / 2.0)
+    return float(np.sum(cnt / curve.cycles_to_failure(Seq * tf)))
+
+
+def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
+                   crit_info: dict[tuple[int, str], Any], cfg: FatigueConfig, crit: str,
+                   duration_s: float, run_dir: Path, curves: dict[str, SNCurve]) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    _atomic_write_parquet(df, out / "damage.parquet")
+    g = df.loc[df["damage"].idxmax()] if len(df) and df["damage"].max() > 0 else None
+    summary: dict[str, Any] = {
+        "run_dir": str(run_dir), "criterion": crit, "duration_s": duration_s,
+        "n_joints": int(df["joint"].nunique()), "grade": cfg.grade,
+        "environment": cfg.effective_environment, "residue": cfg.residue,
+        "mean_stress_uniaxial": cfg.mean_stress,
+        "sn_curves": {k: {"name": c.name, "reference": c.reference} for k, c in curves.items()},
+        "governing": None if g is None else {
+            "joint": int(g["joint"]), "location": str(g["location"]),
+            "md_m": float(g["md_m"]), "damage": float(g["damage"]),
+            "life_h": float(g["life_h"]), "life_windows": float(g["life_windows"]),
+            "critical_angle_deg": float(g["critical_angle_deg"]),
+            "critical_plane_deg": float(g["critical_plane_deg"])},
+        "max_damage": float(df["damage"].max()) if len(df) else 0.0,
+        "min_life_h": float(df["life_h"].min()) if len(df) else math.inf,
+    }
+    _atomic_write_bytes(out / "summary.json",
+                        json.dumps(summary, indent=2, default=float).encode("utf-8"))
+    if cfg.plots and g is not None:
+        _plots(out, df, per_joint, crit_info[(int(g["joint"]), str(g["location"]))],
+               int(g["joint"]), cfg)
+
+
+def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, joint: int,
+           cfg: FatigueConfig) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    section, scf, point = info
+    t, L, _ = per_joint[joint]
+    cs, ct, phi = surface_coefficients(section, scf, cfg.n_surface_points)
+    sig, tau = L @ cs[point], L @ ct[point]
+
+    def save(fig: Any, name: str) -> None:
+        fd, tmp = tempfile.mkstemp(dir=out, prefix=f".{name}.", suffix=".png")
+        os.close(fd)
+        fig.savefig(tmp, dpi=100)
+        plt.close(fig)
+        os.replace(tmp, out / name)
+
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    ax.plot(t, sig / 1e6, lw=0.6, label="sigma_z")
+    ax.plot(t, tau / 1e6, lw=0.6, label="tau_z-theta")
+    ax.set(xlabel="time (s)", ylabel="stress (MPa)",
+           title=f"joint {joint}, critical point {np.degrees(phi[point]):.0f} deg")
+    ax.legend()
+    fig.tight_layout()
+    save(fig, "stress_history.png")
+
+    mat, edges = rainflow_matrix(find_cycles(sig, "half"))
+    fig, ax = plt.subplots(figsize=(5, 4.5))
+    im = ax.imshow(mat, origin="lower", extent=[edges[0] / 1e6, edges[-1] / 1e6,
+                                                edges[0] / 1e6, edges[-1] / 1e6], cmap="viridis")
+    fig.colorbar(im, ax=ax, label="cycles")
+    ax.set(xlabel="to (MPa)", ylabel="from (MPa)", title="rainflow matrix of sigma_z")
+    fig.tight_layout()
+    save(fig, "rainflow_matrix.png")
+
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    for loc, grp in df.groupby("location"):
+        grp = grp.sort_values("s_from_bit_m")
+        ax.semilogy(grp["s_from_bit_m"], grp["damage"].clip(lower=1e-30), "o-", ms=3, label=loc)
+    ax.set(xlabel="distance from bit (m)", ylabel="damage per window", title="damage along string")
+    ax.legend()
+    fig.tight_layout()
+    save(fig, "damage_along_string.png")
