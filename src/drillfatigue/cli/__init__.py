@@ -18,6 +18,7 @@ from drillfatigue.errors import InputError
 
 # Command modules, imported for their registration side effect.
 COMMAND_MODULES: tuple[str, ...] = (
+    "drillfatigue.cli.fatigue",
     "drillfatigue.cli.well",
     "drillfatigue.cli.tnd",
     "drillfatigue.cli.query",
