@@ -10,3 +10,16 @@ and segmentation), ``dynamics`` (numba rigid-segment simulator), ``fatigue``
 from __future__ import annotations
 
 __version__ = "0.1.0"
+
+
+def __getattr__(name: str) -> object:
+    """Lazy top-level API: ``drillfatigue.simulate`` (keeps ``import drillfatigue`` fast)."""
+    if name == "simulate":
+        from drillfatigue.dynamics.api import simulate
+
+        return simulate
+    if name == "SimulationResult":
+        from drillfatigue.dynamics.api import SimulationResult
+
+        return SimulationResult
+    raise AttributeError(f"module 'drillfatigue' has no attribute {name!r}")

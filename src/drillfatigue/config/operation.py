@@ -21,7 +21,7 @@ class OperationConfig(StrictModel):
     """Settings of the ``operation`` section. Units: SI unless the field name says otherwise."""
 
     duration_s: float = Field(10.0, gt=0.0, le=1e6)
-    bit_md_m: float = Field(1100.0, gt=0.0, le=20000.0,
+    bit_md_m: float = Field(1000.0, gt=0.0, le=20000.0,
                             description="measured depth of the bit at t = 0")
     top_md_m: float = Field(0.0, ge=0.0, le=20000.0,
                             description="MD of the top of the string (the rig floor) at t = 0")

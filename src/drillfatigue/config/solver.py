@@ -20,7 +20,7 @@ class SolverConfig(StrictModel):
                                  description="fraction of the stable step 2/omega_max")
     joint_damping_ratio: float = Field(0.02, ge=0.0, le=1.0,
                                        description="zeta of every joint spring, c = 2 zeta sqrt(k m)")
-    boundary_damping_ratio: float = Field(0.5, ge=0.0, le=2.0,
+    boundary_damping_ratio: float = Field(0.3, ge=0.0, le=2.0,
                                           description="zeta of the top/bit boundary springs")
     top_axial_stiffness_N_per_m: float | None = Field(None, gt=0.0, le=1e13)
     top_torsional_stiffness_N_m_per_rad: float | None = Field(None, gt=0.0, le=1e12)

@@ -1,7 +1,9 @@
-"""Numerical kernels of the drill-string dynamics model.
+"""Numba rigid-segment drill-string dynamics (MODEL.md §1-4, §7).
 
-Each physical submodel lives in its own module (contact, friction, bit-rock,
-soft-string torque and drag, ...). Kernels are ``@njit(cache=True)`` functions
-on float64 arrays in SI units that import only numpy, numba and math; Python
-wrappers above them validate input and raise.
+Kernel modules (numpy/numba/math only): :mod:`rigid` (quaternions, Newton-Euler
+kick), :mod:`joints` (joint spring-dampers and loads), :mod:`forces` (force
+assembly, boundaries), :mod:`integrator` (velocity-Verlet chunk loop),
+:mod:`layout` (packed array columns). Python layer: :mod:`model` (build the
+arrays and the initial state). The run driver with outputs is
+:mod:`drillfatigue.simulate`.
 """

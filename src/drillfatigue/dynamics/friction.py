@@ -91,6 +91,14 @@ N_PARAMS = 10
 
 
 @njit(cache=True)
+def _tanh(x):
+    """tanh, skipping the libm call where it is 1.0 in float64 (x >= 19.1)."""
+    if x >= 19.1:
+        return 1.0
+    return math.tanh(x)
+
+
+@njit(cache=True)
 def slip_coefficient(model, p, speed):
     """Friction coefficient ``mu(|v|)`` of a sliding model at slip speed ``speed`` (m/s).
 
@@ -108,7 +116,7 @@ def slip_coefficient(model, p, speed):
             return mu_s
         return mu_d
     if model == TANH:
-        return mu_d * math.tanh(speed / p[I_V_T])
+        return mu_d * _tanh(speed / p[I_V_T])
     if model == VELOCITY_TRIG:
         vp = p[I_TRIG_PEAK]
         vw = p[I_TRIG_DECAY]
@@ -118,11 +126,11 @@ def slip_coefficient(model, p, speed):
             return mu_d + (mu_s - mu_d) * 0.5 * (1.0 + math.cos(math.pi * (speed - vp) / vw))
         return mu_d
     if model == TANH_EXP:
-        return math.tanh(speed / p[I_V_T]) * (mu_d + (mu_s - mu_d) * math.exp(-speed / p[I_V_S]))
+        return _tanh(speed / p[I_V_T]) * (mu_d + (mu_s - mu_d) * math.exp(-speed / p[I_V_S]))
     return -1.0  # unknown model: caller checks
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def friction_force(model, p, v_slip, N, f_other, dt, out):
     """Tangential wall-friction force on the string at one contact point.
 

@@ -1,0 +1,435 @@
+"""Python layer: pack a validated case into kernel arrays and the initial state.
+
+:func:`build_model` places the segments on the well path (parallel-transported
+frames, so no spurious twist), packs the parameters (:mod:`layout`), solves the
+hook load for the requested neutral point, pre-loads the joints axially and in
+torsion so the run starts in static equilibrium for a straight hole, and picks
+the step from :func:`stable_step`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from drillfatigue.config import CaseConfig
+from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics.forces import compute_forces, update_top
+from drillfatigue.well.kernels import path_point
+from drillfatigue.dynamics.rigid import quat_from_rot
+from drillfatigue.errors import InputError
+from drillfatigue.string import Segments, build_segments
+
+G = 9.80665
+RAD_S_PER_RPM = 2.0 * math.pi / 60.0
+#: TOB regularisation speed (rad/s): TOB(omega) = TOB tanh(omega / OMEGA_REF).
+OMEGA_REF_RAD_S = 0.5
+
+
+@dataclass(frozen=True)
+class WellPath:
+    """Well centre line as survey nodes: MD (m, shape (P,)), position (P, 3), unit tangent (P, 3)."""
+
+    node_md_m: np.ndarray
+    node_pos_m: np.ndarray
+    node_tan: np.ndarray
+
+    def point_at_md(self, md: float) -> tuple[np.ndarray, np.ndarray]:
+        """Position (m) and unit tangent of the path at ``md``."""
+        pos = np.zeros(3)
+        tan = np.zeros(3)
+        path_point(float(md), self.node_md_m, self.node_pos_m, self.node_tan, 0, pos, tan)
+        return pos, tan
+
+
+def straight_path(length_m: float, inclination_deg: float = 0.0, azimuth_deg: float = 0.0,
+                  n_nodes: int = 2) -> WellPath:
+    """A straight well from the origin (vertical when inclination is 0)."""
+    inc = math.radians(inclination_deg)
+    azi = math.radians(azimuth_deg)
+    t = np.array([math.sin(inc) * math.cos(azi), math.sin(inc) * math.sin(azi), math.cos(inc)])
+    md = np.linspace(0.0, length_m, n_nodes)
+    return WellPath(md, md[:, None] * t[None, :], np.tile(t, (n_nodes, 1)))
+
+
+def path_from_wellbore(wb: object) -> WellPath:
+    """Path nodes of a ``drillfatigue.well`` wellbore object."""
+    return WellPath(np.ascontiguousarray(wb.node_md_m, dtype=np.float64),  # type: ignore[attr-defined]
+                    np.ascontiguousarray(wb.node_pos_m, dtype=np.float64),  # type: ignore[attr-defined]
+                    np.ascontiguousarray(wb.node_tan, dtype=np.float64))  # type: ignore[attr-defined]
+
+
+@dataclass
+class State:
+    """Integrator state (all float64): x, v (n, 3); q (n, 4); w (n, 3) body frame;
+    forces Fw, Mw, Mb (n, 3) at the current state; scalars sc (N_SC,)."""
+
+    x: np.ndarray
+    v: np.ndarray
+    q: np.ndarray
+    w: np.ndarray
+    Fw: np.ndarray
+    Mw: np.ndarray
+    Mb: np.ndarray
+    sc: np.ndarray
+
+    def copy(self) -> State:
+        return State(*(a.copy() for a in (self.x, self.v, self.q, self.w, self.Fw, self.Mw,
+                                           self.Mb, self.sc)))
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        return {"x": self.x, "v": self.v, "q": self.q, "w": self.w, "Fw": self.Fw,
+                "Mw": self.Mw, "Mb": self.Mb, "sc": self.sc}
+
+
+@dataclass
+class Model:
+    """Packed parameters of one simulation (see :mod:`layout` for the columns)."""
+
+    segments: Segments
+    path: WellPath
+    seg: np.ndarray
+    jp: np.ndarray
+    bp: np.ndarray
+    topp: np.ndarray
+    anchor: np.ndarray
+    tab_t: np.ndarray
+    tab_w: np.ndarray
+    dt: float
+    hook_load_N: float
+    wob0_N: float
+    neutral_point_s_from_bit_m: float | None
+    top_length_m: float
+    work: dict[str, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return int(self.seg.shape[0])
+
+    def new_work(self) -> None:
+        """Allocate the work arrays of the kernels."""
+        n = self.n
+        self.work = {
+            "R": np.zeros((n, 3, 3)), "wW": np.zeros((n, 3)), "loads": np.zeros((n, 6)),
+            "ch": np.zeros(L.N_CH), "scq": np.zeros((5, 4)), "scm": np.zeros((2, 3, 3)),
+            "scv": np.zeros((8, 3)), "ed": np.zeros(2),
+        }
+
+
+def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> np.ndarray:
+    """Stiffness of two half-segments in series: 1 / (h1/k1 + h2/k2)."""
+    return 1.0 / (h1 / k1 + h2 / k2)
+
+
+def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray) -> float:
+    """Largest stable velocity-Verlet step (s) before the safety factor.
+
+    Gershgorin bound on the eigenvalues of M^-1/2 K M^-1/2 of the linearised
+    chain: per segment and per kind of DOF, the sum over its joints of
+    |K_ab| / sqrt(m_a m_b), including the shear lever arms h and the boundary
+    springs; omega_max^2 <= the largest row sum. dt = 2 / omega_max times
+    (sqrt(1 + zeta^2) - zeta) for the largest damping ratio.
+    """
+    n = seg.shape[0]
+    m = seg[:, L.S_M]
+    it = seg[:, L.S_IT]
+    ia = seg[:, L.S_IA]
+    h = seg[:, L.S_H]
+    rows = np.zeros((n, 4))  # lateral, axial, bending, torsion
+
+    def add(a: int, b: int, row: int) -> None:
+        ka, ks, kb, kt = jp[row, L.J_KA], jp[row, L.J_KS], jp[row, L.J_KB], jp[row, L.J_KT]
+        for p, o in ((a, b), (b, a)):
+            if o < 0:
+                rows[p, 0] += ks / m[p] + ks * h[p] / math.sqrt(m[p] * it[p])
+                rows[p, 1] += ka / m[p]
+                rows[p, 2] += (kb + ks * h[p] ** 2) / it[p] + ks * h[p] / math.sqrt(it[p] * m[p])
+                rows[p, 3] += kt / ia[p]
+                continue
+            if p < 0:
+                continue
+            rows[p, 0] += (ks / m[p] + ks / math.sqrt(m[p] * m[o])
+                           + ks * h[p] / math.sqrt(m[p] * it[p]) + ks * h[o] / math.sqrt(m[p] * it[o]))
+            rows[p, 1] += ka / m[p] + ka / math.sqrt(m[p] * m[o])
+            rows[p, 2] += ((kb + ks * h[p] ** 2) / it[p] + (kb + ks * h[p] * h[o]) / math.sqrt(it[p] * it[o])
+                           + ks * h[p] / math.sqrt(it[p] * m[p]) + ks * h[p] / math.sqrt(it[p] * m[o]))
+            rows[p, 3] += kt / ia[p] + kt / math.sqrt(ia[p] * ia[o])
+
+    for j in range(n - 1):
+        add(j, j + 1, j)
+    add(n - 1, -1, n - 1)
+    if bp[L.B_BITON] == 1.0:
+        kbit = bp[L.B_KBIT]
+        rows[0, 0] += kbit / m[0] + kbit * h[0] / math.sqrt(m[0] * it[0])
+        rows[0, 1] += kbit / m[0]
+        rows[0, 2] += kbit * h[0] ** 2 / it[0] + kbit * h[0] / math.sqrt(m[0] * it[0])
+    omega_max = math.sqrt(float(rows.max()))
+    zeta = max(bp[L.B_ZB], bp[L.B_ZJ])
+    return 2.0 / omega_max * (math.sqrt(1.0 + zeta * zeta) - zeta)
+
+
+def _frames(e3s: np.ndarray) -> np.ndarray:
+    """Parallel-transported body frames (n, 3, 3), columns e1, e2, e3."""
+    n = e3s.shape[0]
+    out = np.zeros((n, 3, 3))
+    e3 = e3s[0]
+    ref = np.array([1.0, 0.0, 0.0]) if abs(e3[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = ref - (ref @ e3) * e3
+    e1 /= np.linalg.norm(e1)
+    out[0] = np.column_stack([e1, np.cross(e3, e1), e3])
+    for i in range(1, n):
+        a, b = e3s[i - 1], e3s[i]
+        axis = np.cross(a, b)
+        s = np.linalg.norm(axis)
+        c = float(np.clip(a @ b, -1.0, 1.0))
+        if s < 1e-15:
+            rot = np.eye(3)
+        else:
+            k = axis / s
+            K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+            rot = np.eye(3) + s * K + (1.0 - c) * K @ K
+        out[i] = rot @ out[i - 1]
+    return out
+
+
+def _rotz(psi: float) -> np.ndarray:
+    c, s = math.cos(psi), math.sin(psi)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def rpm_table(cfg: CaseConfig) -> tuple[np.ndarray, np.ndarray]:
+    """Top-drive speed table: times (s) and speeds (rad/s)."""
+    op = cfg.operation
+    if op.rpm_table is not None:
+        t = np.array([p[0] for p in op.rpm_table], dtype=np.float64)
+        r = np.array([p[1] for p in op.rpm_table], dtype=np.float64)
+    elif op.rpm_ramp_s > 0.0:
+        t = np.array([0.0, op.rpm_ramp_s])
+        r = np.array([0.0, op.rpm])
+    else:
+        t = np.array([0.0])
+        r = np.array([op.rpm])
+    return t, r * RAD_S_PER_RPM
+
+
+def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
+    """Pack a case into kernel arrays and the initial (pre-loaded) state.
+
+    Parameters
+    ----------
+    config : CaseConfig
+        Validated case.
+    path : WellPath
+        Well centre line.
+
+    Returns
+    -------
+    (Model, State)
+    """
+    op = config.operation
+    sv = config.solver
+    segs = build_segments(config.string, op.mud_density_kg_per_m3)
+    n = segs.n_segments
+    s_top_end = np.cumsum(segs.length_m)
+    s_bot_end = s_top_end - segs.length_m
+    top_len = op.bit_md_m - op.top_md_m - s_bot_end[-1]
+    if top_len < 0.5 * segs.length_m[-1] or top_len <= 0.0:
+        raise InputError("operation.bit_md_m",
+                         f"the string below its top segment ({s_bot_end[-1]:.1f} m) leaves "
+                         f"{top_len:.1f} m for the top segment between bit_md_m and top_md_m",
+                         f"bit_md_m - top_md_m >= {s_bot_end[-1] + 0.5 * segs.length_m[-1]:.1f} m")
+    lengths = segs.length_m.copy()
+    lengths[-1] = top_len
+    s_top_end = np.cumsum(lengths)
+    s_bot_end = s_top_end - lengths
+    h = 0.5 * lengths
+    # --- place on the path -------------------------------------------------------------
+    md_lo = op.bit_md_m - s_bot_end
+    md_up = op.bit_md_m - s_top_end
+    p_lo = np.array([path.point_at_md(md)[0] for md in md_lo])
+    p_up = np.array([path.point_at_md(md)[0] for md in md_up])
+    chord = p_lo - p_up
+    e3s = chord / np.linalg.norm(chord, axis=1)[:, None]
+    centres = 0.5 * (p_lo + p_up)
+    frames = _frames(e3s)
+    # --- per-segment parameters --------------------------------------------------------
+    seg = np.zeros((n, L.N_SEG))
+    mpl = segs.mass_per_length_kg_per_m
+    m = mpl * lengths
+    ro2 = (0.5 * segs.od_m) ** 2 + (0.5 * segs.id_m) ** 2
+    wpl = segs.buoyed_weight_N / segs.length_m
+    seg[:, L.S_M] = m
+    seg[:, L.S_IA] = 0.5 * m * ro2
+    seg[:, L.S_IT] = m * (3.0 * ro2 + lengths ** 2) / 12.0
+    seg[:, L.S_H] = h
+    seg[:, L.S_W] = wpl * lengths
+    seg[:, L.S_CL] = op.mud_damping_lateral_N_s_per_m2 * lengths
+    seg[:, L.S_CA] = op.mud_damping_axial_N_s_per_m2 * lengths
+    seg[:, L.S_CRL] = op.mud_damping_torsional_N_m_s_per_m * lengths
+    seg[:, L.S_CRA] = op.mud_damping_torsional_N_m_s_per_m * lengths
+    # --- joints --------------------------------------------------------------------------
+    zj = sv.joint_damping_ratio
+    zb = sv.boundary_damping_ratio
+    jp = np.zeros((n, L.N_JP))
+    if n > 1:
+        a, b = slice(0, n - 1), slice(1, n)
+        jp[a, L.J_KA] = _series(h[a], segs.ea_N[a], h[b], segs.ea_N[b])
+        jp[a, L.J_KS] = _series(h[a], segs.kga_N[a], h[b], segs.kga_N[b])
+        jp[a, L.J_KB] = _series(h[a], segs.ei_Nm2[a], h[b], segs.ei_Nm2[b])
+        jp[a, L.J_KT] = _series(h[a], segs.gj_Nm2[a], h[b], segs.gj_Nm2[b])
+        me = m[a] * m[b] / (m[a] + m[b])
+        ite = seg[a, L.S_IT] * seg[b, L.S_IT] / (seg[a, L.S_IT] + seg[b, L.S_IT])
+        iae = seg[a, L.S_IA] * seg[b, L.S_IA] / (seg[a, L.S_IA] + seg[b, L.S_IA])
+        jp[a, L.J_CA] = 2 * zj * np.sqrt(jp[a, L.J_KA] * me)
+        jp[a, L.J_CS] = 2 * zj * np.sqrt(jp[a, L.J_KS] * me)
+        jp[a, L.J_CB] = 2 * zj * np.sqrt(jp[a, L.J_KB] * ite)
+        jp[a, L.J_CT] = 2 * zj * np.sqrt(jp[a, L.J_KT] * iae)
+        ks_ref, kb_ref, ka_ref = jp[a, L.J_KS].max(), jp[a, L.J_KB].max(), jp[a, L.J_KA].max()
+    else:
+        ks_ref = config.string.shear_coefficient * segs.kga_N[0] / h[0]
+        kb_ref = segs.ei_Nm2[0] / h[0]
+        ka_ref = segs.ea_N[0] / h[0]
+    # --- boundaries ------------------------------------------------------------------------
+    bp = np.zeros(L.N_BP)
+    fixed = op.top_axial == "fixed"
+    bp[L.B_AXMODE] = 1.0 if fixed else 0.0
+    bp[L.B_BITON] = 1.0 if op.bit_on_bottom else 0.0
+    bp[L.B_KBIT] = ka_ref
+    bp[L.B_CBIT] = 2.0 * zb * math.sqrt(ka_ref * m[0])
+    bp[L.B_TOB] = op.tob_Nm if op.bit_on_bottom else 0.0
+    bp[L.B_WREF] = OMEGA_REF_RAD_S
+    bp[L.B_ROP] = op.rop_m_per_s if op.bit_on_bottom else 0.0
+    bp[L.B_NLOBE] = op.lobe_count
+    bp[L.B_LOBE] = op.lobe_amplitude_m if op.bit_on_bottom else 0.0
+    bp[L.B_EXT] = op.rop_m_per_s if op.bit_on_bottom else op.trip_speed_m_per_s
+    bp[L.B_G] = G
+    bp[L.B_TOPAUTO_A] = 1.0 if sv.top_axial_stiffness_N_per_m is None else 0.0
+    bp[L.B_TOPAUTO_T] = 1.0 if sv.top_torsional_stiffness_N_m_per_rad is None else 0.0
+    bp[L.B_ZB] = zb
+    bp[L.B_ZJ] = zj
+    bp[L.B_MD0] = op.bit_md_m
+    topp = np.zeros(L.N_TOPP)
+    t_ = n - 1
+    topp[L.T_MPL] = mpl[t_]
+    topp[L.T_EA] = segs.ea_N[t_]
+    topp[L.T_EI] = segs.ei_Nm2[t_]
+    topp[L.T_GJ] = segs.gj_Nm2[t_]
+    topp[L.T_KGA] = segs.kga_N[t_]
+    topp[L.T_R2] = ro2[t_]
+    topp[L.T_WPL] = wpl[t_]
+    topp[L.T_CLPL] = op.mud_damping_lateral_N_s_per_m2
+    topp[L.T_CAPL] = op.mud_damping_axial_N_s_per_m2
+    topp[L.T_CRLPL] = op.mud_damping_torsional_N_m_s_per_m
+    topp[L.T_CRAPL] = op.mud_damping_torsional_N_m_s_per_m
+    topp[L.T_H0] = h[t_]
+    t2 = max(n - 2, 0)
+    topp[L.T_EA2] = segs.ea_N[t2]
+    topp[L.T_EI2] = segs.ei_Nm2[t2]
+    topp[L.T_GJ2] = segs.gj_Nm2[t2]
+    topp[L.T_KGA2] = segs.kga_N[t2]
+    topp[L.T_KPAR_S] = sv.parasitic_stiffness_scale * ks_ref
+    topp[L.T_KPAR_B] = sv.parasitic_stiffness_scale * kb_ref
+    topp[L.T_KA_TOP] = sv.top_axial_stiffness_N_per_m or 0.0
+    topp[L.T_KT_TOP] = sv.top_torsional_stiffness_N_m_per_rad or 0.0
+    update_top(h[t_], seg, jp, topp, bp)
+    # --- hook load and static pre-load ------------------------------------------------
+    w_ax = seg[:, L.S_W] * e3s[:, 2]  # axial (downhole) component of the buoyed weight
+    total_ax = float(w_ax.sum())
+    s_np: float | None = None
+    if not op.bit_on_bottom:
+        wob = 0.0
+        hook = total_ax
+    elif op.top_axial == "hook_load":
+        hook = op.hook_load_N
+        wob = total_ax - hook
+    elif op.top_axial == "neutral_point":
+        s_np = op.neutral_point_s_from_bit_m
+        if s_np is None:
+            collars = [k for k, c in enumerate(config.string.components) if c.type == "collar"]
+            if not collars:
+                raise InputError("operation.neutral_point_s_from_bit_m",
+                                 "no collar component to put the neutral point at the top of",
+                                 "a distance from the bit (m)")
+            s_np = float(sum(c.length_m for c in config.string.components[:collars[-1] + 1]))
+        if s_np >= s_top_end[-1]:
+            raise InputError("operation.neutral_point_s_from_bit_m",
+                             f"{s_np} m is above the top of the string",
+                             f"< {s_top_end[-1]:.1f} m")
+        cum = np.concatenate([[0.0], np.cumsum(w_ax)])
+        wob = float(np.interp(s_np, np.concatenate([[0.0], s_top_end]), cum))
+        hook = total_ax - wob
+    else:  # fixed top, bit on bottom: no preload target; start with zero WOB
+        wob = 0.0
+        hook = total_ax
+    if op.bit_on_bottom and wob < 0.0:
+        raise InputError("operation.hook_load_N", f"hook load {hook:.0f} N exceeds the buoyed "
+                         f"weight {total_ax:.0f} N (negative WOB)", f"<= {total_ax:.0f} N")
+    bp[L.B_HL] = hook
+    # tension at each joint (straight-hole statics) and axial shifts from the bit up
+    tension = np.cumsum(w_ax)[:-1] - wob if n > 1 else np.zeros(0)
+    shift = np.zeros(n)
+    shift[0] = wob / bp[L.B_KBIT] if op.bit_on_bottom else 0.0
+    for j in range(n - 1):
+        shift[j + 1] = shift[j] - tension[j] / jp[j, L.J_KA]
+    centres = centres + shift[:, None] * e3s
+    # torsional pre-load: the TOB at the start speed, transmitted to the top
+    tab_t, tab_w = rpm_table(config)
+    omega0 = float(tab_w[0])
+    tob0 = bp[L.B_TOB] * math.tanh(omega0 / OMEGA_REF_RAD_S)
+    torque0 = tob0 + float((seg[:, L.S_CRA] * omega0).sum())
+    psi = np.zeros(n)
+    for j in range(n - 1):
+        # the mud torque of the segments below joint j adds to the TOB
+        tq = tob0 + float((seg[: j + 1, L.S_CRA] * omega0).sum())
+        psi[j + 1] = psi[j] + tq / jp[j, L.J_KT]
+    kt_top = jp[n - 1, L.J_KT]
+    phi0 = psi[-1] + torque0 / kt_top
+    q = np.array([quat_from_rot(frames[i] @ _rotz(psi[i])) for i in range(n)])
+    # top anchor: the top end, offset by the top spring's stretch in fixed mode
+    b_top = centres[-1] - h[-1] * e3s[-1]
+    anchor = np.zeros(10)
+    ka_top = jp[n - 1, L.J_KA]
+    anchor[0:3] = b_top - (hook / ka_top * e3s[-1] if fixed and ka_top > 0 else 0.0)
+    anchor[3:7] = quat_from_rot(frames[-1])
+    anchor[7:10] = e3s[-1]
+    # --- state ---------------------------------------------------------------------------
+    v = bp[L.B_ROP] * e3s.copy()
+    w = np.zeros((n, 3))
+    w[:, 2] = omega0
+    sc = np.zeros(L.N_SC)
+    sc[L.C_PHID] = phi0
+    model = Model(segments=segs, path=path, seg=seg, jp=jp, bp=bp, topp=topp, anchor=anchor,
+                  tab_t=tab_t, tab_w=tab_w, dt=0.0, hook_load_N=hook, wob0_N=wob,
+                  neutral_point_s_from_bit_m=s_np, top_length_m=top_len)
+    dt_stable = stable_step(seg, jp, bp)
+    if sv.dt_s is not None:
+        dt = sv.dt_s
+        if dt > dt_stable:
+            raise InputError("solver.dt_s", f"{dt} s exceeds the stable step {dt_stable:.3g} s",
+                             f"<= {dt_stable:.3g} s")
+    else:
+        dt = sv.safety_factor * dt_stable
+    model.dt = dt
+    bp[L.B_DT] = dt
+    omega_max = float(np.abs(tab_w).max())
+    e_scale = (abs(total_ax) * s_top_end[-1] + 0.5 * float(seg[:, L.S_IA].sum()) * omega_max ** 2
+               + 0.5 * float(m.sum()) * (bp[L.B_ROP] ** 2) + 1.0)
+    bp[L.B_ESCALE] = sv.energy_blowup_factor * e_scale
+    state = State(x=np.ascontiguousarray(centres), v=v, q=q, w=w, Fw=np.zeros((n, 3)),
+                  Mw=np.zeros((n, 3)), Mb=np.zeros((n, 3)), sc=sc)
+    model.new_work()
+    evaluate_forces(model, state)
+    return model, state
+
+
+def evaluate_forces(model: Model, state: State) -> np.ndarray:
+    """Fill ``state.Fw/Mw/Mb`` and ``model.work['loads'/'ch']`` at the current state; return ch."""
+    wk = model.work
+    p = model.path
+    compute_forces(model.dt, state.x, state.v, state.q, state.w, model.seg, model.jp, model.bp,
+                   model.anchor, model.tab_t, model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan,
+                   state.sc, wk["R"], wk["wW"], state.Fw, state.Mw, state.Mb, wk["loads"], wk["ch"],
+                   wk["scq"], wk["scm"], wk["scv"], wk["ed"])
+    return wk["ch"]

@@ -1,0 +1,142 @@
+"""Rigid-body kinematics: unit quaternions and the Newton-Euler update (MODEL.md §1).
+
+Quaternions are stored scalar first, q = (w, x, y, z), and rotate body-frame
+vectors to the world frame (v_world = R(q) v_body). Orientation has no
+singularity in horizontal holes and is renormalised after every drift.
+Angular velocity is kept in the body frame; the Euler equations are
+I dw/dt + w x (I w) = M_body with the axisymmetric inertia diag(It, It, Ia).
+
+All functions are numba kernels on float64 arrays in SI units.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def quat_to_rot(q, out):
+    """Rotation matrix of a unit quaternion.
+
+    Parameters
+    ----------
+    q : ndarray, shape (4,)
+        Unit quaternion (w, x, y, z).
+    out : ndarray, shape (3, 3)
+        Written: R with v_world = R @ v_body.
+    """
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    out[0, 0] = 1.0 - 2.0 * (y * y + z * z)
+    out[0, 1] = 2.0 * (x * y - w * z)
+    out[0, 2] = 2.0 * (x * z + w * y)
+    out[1, 0] = 2.0 * (x * y + w * z)
+    out[1, 1] = 1.0 - 2.0 * (x * x + z * z)
+    out[1, 2] = 2.0 * (y * z - w * x)
+    out[2, 0] = 2.0 * (x * z - w * y)
+    out[2, 1] = 2.0 * (y * z + w * x)
+    out[2, 2] = 1.0 - 2.0 * (x * x + y * y)
+
+
+@njit(cache=True)
+def quat_mul(a, b, out):
+    """Hamilton product out = a * b (shapes (4,)); ``out`` must not alias a or b."""
+    out[0] = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3]
+    out[1] = a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2]
+    out[2] = a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1]
+    out[3] = a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]
+
+
+@njit(cache=True)
+def quat_conj_mul(a, b, out):
+    """out = conj(a) * b: the rotation of b relative to a, in a's body frame."""
+    out[0] = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+    out[1] = a[0] * b[1] - a[1] * b[0] - a[2] * b[3] + a[3] * b[2]
+    out[2] = a[0] * b[2] + a[1] * b[3] - a[2] * b[0] - a[3] * b[1]
+    out[3] = a[0] * b[3] - a[1] * b[2] + a[2] * b[1] - a[3] * b[0]
+
+
+@njit(cache=True)
+def quat_log(q, out):
+    """Rotation vector (axis x angle, rad) of a unit quaternion, shortest arc.
+
+    Parameters
+    ----------
+    q : ndarray, shape (4,)
+    out : ndarray, shape (3,)
+        Written: theta with |theta| <= pi.
+    """
+    w = q[0]
+    x, y, z = q[1], q[2], q[3]
+    if w < 0.0:
+        w, x, y, z = -w, -x, -y, -z
+    s = math.sqrt(x * x + y * y + z * z)
+    if s < 1e-12:
+        f = 2.0 / w if w > 0.0 else 2.0
+    else:
+        f = 2.0 * math.atan2(s, w) / s
+    out[0] = f * x
+    out[1] = f * y
+    out[2] = f * z
+
+
+@njit(cache=True)
+def quat_exp_mul(q, th0, th1, th2, tmp, out):
+    """out = q * exp(theta / 2), theta a body-frame rotation vector; renormalised."""
+    a = math.sqrt(th0 * th0 + th1 * th1 + th2 * th2)
+    tmp[0] = math.cos(0.5 * a)
+    if a < 1e-12:
+        s = 0.5
+    else:
+        s = math.sin(0.5 * a) / a
+    tmp[1] = s * th0
+    tmp[2] = s * th1
+    tmp[3] = s * th2
+    quat_mul(q, tmp, out)
+    n = math.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2 + out[3] ** 2)
+    for k in range(4):
+        out[k] /= n
+
+
+@njit(cache=True)
+def kick(v, w, F, Mb, m, It, Ia, h):
+    """Half kick of one body: v += h F / m; w += h I^-1 (M_b - w x I w).
+
+    Parameters
+    ----------
+    v : ndarray, shape (3,)   world velocity (m/s), updated in place
+    w : ndarray, shape (3,)   body angular velocity (rad/s), updated in place
+    F : ndarray, shape (3,)   world force (N)
+    Mb : ndarray, shape (3,)  body-frame moment (N m)
+    m, It, Ia : float         mass (kg), transverse and axial inertia (kg m^2)
+    h : float                 time increment (s)
+    """
+    for k in range(3):
+        v[k] += h * F[k] / m
+    # gyroscopic term w x (I w), I = diag(It, It, Ia)
+    g0 = w[1] * Ia * w[2] - w[2] * It * w[1]
+    g1 = w[2] * It * w[0] - w[0] * Ia * w[2]
+    w[0] += h * (Mb[0] - g0) / It
+    w[1] += h * (Mb[1] - g1) / It
+    w[2] += h * Mb[2] / Ia
+
+
+def quat_from_rot(R: np.ndarray) -> np.ndarray:
+    """Unit quaternion (w, x, y, z) of a rotation matrix (Python helper, shape (3, 3))."""
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    if tr > 0.0:
+        s = 2.0 * math.sqrt(tr + 1.0)
+        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
+    elif R[0, 0] > R[1, 1] and R[0, 0] > R[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2])
+        q = [(R[2, 1] - R[1, 2]) / s, 0.25 * s, (R[0, 1] + R[1, 0]) / s, (R[0, 2] + R[2, 0]) / s]
+    elif R[1, 1] > R[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2])
+        q = [(R[0, 2] - R[2, 0]) / s, (R[0, 1] + R[1, 0]) / s, 0.25 * s, (R[1, 2] + R[2, 1]) / s]
+    else:
+        s = 2.0 * math.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1])
+        q = [(R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s]
+    qa = np.asarray(q, dtype=np.float64)
+    return qa / np.linalg.norm(qa)
