@@ -111,8 +111,11 @@ def _case_rows(case_id: str, damage: pd.DataFrame) -> pd.DataFrame:
     keys = [k for k in KEY_COLUMNS if k in damage.columns]
     damage = damage.assign(criterion=damage["criterion"].map(_criterion_name))
     values = [v for v in PIVOT_VALUES if v in damage.columns]
-    wide = damage.pivot_table(index=keys, columns="criterion", values=values, aggfunc="first",
-                              dropna=False, sort=True)
+    long = damage.set_index([*keys, "criterion"])[values]
+    if not long.index.is_unique:
+        raise InputError(f"fatigue/{case_id}/damage.parquet", "repeated (location, criterion) rows",
+                         "one row per location and criterion")
+    wide = long.unstack("criterion")
     wide.columns = [f"{value}_{crit}" for value, crit in wide.columns]
     wide = wide.dropna(axis=1, how="all").reset_index()
     wide.insert(0, "case_id", case_id)

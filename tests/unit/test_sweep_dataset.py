@@ -1,0 +1,134 @@
+"""Dataset assembly from (synthetic) per-case outputs: schema, units in names, card, export."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from drillfatigue.errors import InputError
+from drillfatigue.sweep.cases import fatigue_tasks
+from drillfatigue.sweep.dataset import (
+    DYNAMICS_COLUMNS,
+    export_histories,
+    summary_dynamics,
+    unit_of,
+    write_dataset,
+)
+from drillfatigue.sweep.runner import Case, run_sweep
+from drillfatigue.sweep.synthetic import N_JOINT, synthetic_case, synthetic_fatigue
+
+DESIGN = {"method": "sobol", "seed": 1, "n_cases": 4, "window_s": 10.0,
+          "variables": {"operation.rpm": {"low": 60.0, "high": 180.0},
+                        "well.profile": {"choices": ["p1", "p2"]}}}
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory):
+    root = tmp_path_factory.mktemp("ds")
+    rows = []
+    for i, (rpm, prof) in enumerate([(60.0, "p1"), (90.0, "p2"), (120.0, "p1"), (150.0, "p2")]):
+        case = {"operation": {"rpm": rpm}, "well": {"profile": prof}}
+        rows.append({"case_id": f"c{i}", "design_index": i, "operation.rpm": rpm,
+                     "well.profile": prof, "case_json": json.dumps(case)})
+    cases = pd.DataFrame(rows)
+    run_sweep([Case(r["case_id"], json.loads(r["case_json"])) for r in rows], synthetic_case,
+              root / "sweep", scheduler="serial")
+    # case c3 "fails" fatigue (no damage.parquet): it must be missing from the dataset
+    tasks = [Case(cid, inputs) for cid, inputs in fatigue_tasks(
+        ["c0", "c1", "c2"], root / "sweep", {"criteria": "all"})]
+    run_sweep(tasks, synthetic_fatigue, root / "fatigue", scheduler="serial")
+    metrics = write_dataset(cases, root / "sweep", root / "fatigue", root / "dataset",
+                            design=DESIGN, base_case={"operation": {"rpm": 120.0}})
+    return root, cases, metrics
+
+
+def test_damage_table_schema(sweep):
+    root, cases, metrics = sweep
+    df = pd.read_parquet(root / "dataset" / "damage.parquet")
+    # one row per (case, component location): 3 cases x N_JOINT joints x 2 locations
+    assert len(df) == 3 * N_JOINT * 2 == metrics["n_rows"]
+    assert sorted(df["case_id"].unique()) == ["c0", "c1", "c2"]
+    assert not df.duplicated(["case_id", "joint", "location"]).any()
+    for col in ["operation.rpm", "well.profile", "md_m", "s_from_bit_m", "component",
+                "location", *DYNAMICS_COLUMNS, "damage_rate_per_h_uniaxial",
+                "damage_rate_per_h_matake", "damage_rate_per_h_api_rp7g", "life_h_matake"]:
+        assert col in df.columns, col
+    # inputs copied from the design table
+    merged = df.merge(cases, on="case_id", suffixes=("", "_design"))
+    assert (merged["operation.rpm"] == merged["operation.rpm_design"]).all()
+    # per-criterion values equal the long table's
+    long = pd.read_parquet(root / "fatigue" / "c1" / "damage.parquet")
+    want = long[(long.joint == 2) & (long.location == "body") & (long.criterion == "api_rp7g")]
+    got = df[(df.case_id == "c1") & (df.joint == 2) & (df.location == "body")]
+    assert got["damage_rate_per_h_api_rp7g"].item() == pytest.approx(want["damage_rate_per_h"].item())
+    # torque statistics from channels.parquet when the summary lacks them
+    torque = pd.read_parquet(root / "sweep" / "c1" / "channels.parquet")["surface_torque_Nm"]
+    assert got["rms_surface_torque_Nm"].iloc[0] == pytest.approx(np.sqrt(np.mean(torque**2)))
+    assert got["peak_surface_torque_Nm"].iloc[0] == pytest.approx(torque.abs().max())
+    # api_rp7g has no critical plane: its all-NaN column is dropped
+    assert "critical_angle_deg_api_rp7g" not in df.columns
+
+
+def test_units_in_names():
+    assert unit_of("damage_rate_per_h_matake") == "1/h"
+    assert unit_of("life_h_api_rp7g") == "h"
+    assert unit_of("critical_angle_deg_findley") == "deg"
+    assert unit_of("operation.rop_m_per_s") == "m/s"
+    assert unit_of("operation.rpm") == "rev/min"
+    assert unit_of("rms_surface_torque_Nm") == "N·m"
+    assert unit_of("max_contact_force_N") == "N"
+    assert unit_of("s_from_bit_m") == "m"
+    assert unit_of("well.dls_deg_per_30m") == "deg/30 m"
+    assert unit_of("stick_slip_severity") == "-"
+
+
+def test_card_and_metrics(sweep):
+    root, _, metrics = sweep
+    card = (root / "dataset" / "README.md").read_text()
+    df = pd.read_parquet(root / "dataset" / "damage.parquet")
+    for heading in ("## Purpose", "## Sampling design", "## Schema", "## Software versions",
+                    "## Loading", "torch.utils.data.TensorDataset"):
+        assert heading in card
+    # the card's loading snippets are valid Python; the pandas one runs on this dataset
+    blocks = [b.split("\n", 1)[1] for b in card.split("```python")[1:]]
+    blocks = [b.split("```", 1)[0] for b in blocks]
+    assert len(blocks) == 2
+    for code in blocks:
+        compile(code, "card", "exec")
+    exec(blocks[0].replace("data/dataset/damage.parquet", str(root / "dataset" / "damage.parquet")), {})
+    for col in df.columns:
+        assert f"| `{col}` |" in card
+    assert "| `operation.rpm` | 60.0 ... 180.0 | linear | float |" in card
+    assert "cases designed: 4" in card and "cases in the dataset: 3" in card
+    assert metrics["n_cases_designed"] == 4 and metrics["n_cases_in_dataset"] == 3
+    assert json.loads((root / "dataset" / "metrics.json").read_text()) == metrics
+    hist = pd.read_csv(root / "dataset" / "plots" / "damage_rate_hist.csv")
+    assert set(hist["criterion"]) == {"uniaxial", "matake", "api_rp7g"}
+    assert hist.groupby("criterion")["count"].sum().eq(len(df)).all()
+
+
+def test_missing_dynamics_are_nan(tmp_path):
+    (tmp_path / "summary.json").write_text(json.dumps({"status": "complete", "duration_s": 5}))
+    dyn = summary_dynamics(tmp_path)
+    assert dyn["duration_s"] == 5.0
+    assert math.isnan(dyn["max_contact_force_N"]) and math.isnan(dyn["rms_surface_torque_Nm"])
+    assert dyn["whirl_class"] is None
+
+
+def test_export_histories_partitioned_by_case(sweep, tmp_path):
+    root, _, _ = sweep
+    out = export_histories(root / "sweep", tmp_path / "hist")
+    loads = pd.read_parquet(out / "loads")
+    assert sorted(loads["case_id"].astype(str).unique()) == ["c0", "c1", "c2", "c3"]
+    one = pd.read_parquet(root / "sweep" / "c2" / "loads.parquet")
+    part = loads[loads["case_id"].astype(str) == "c2"].drop(columns="case_id").reset_index(drop=True)
+    pd.testing.assert_frame_equal(part, one)
+    assert (out / "channels" / "case_id=c0" / "part-0.parquet").is_file()
+    export_histories(root / "sweep", out, case_ids=["c1"])  # replaces the previous export
+    assert sorted(p.name for p in (out / "loads").iterdir()) == ["case_id=c1"]
+    with pytest.raises(InputError):
+        export_histories(tmp_path / "nothing", tmp_path / "h2")
