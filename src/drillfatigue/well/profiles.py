@@ -32,7 +32,7 @@ from drillfatigue.config.well import (
     VerticalProfile,
     WellConfig,
 )
-from drillfatigue.errors import InputError
+from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.well.survey import (
     Survey,
     dogleg_rad,
@@ -41,9 +41,12 @@ from drillfatigue.well.survey import (
     tangent_vectors,
 )
 
-__all__ = ["KeyPoint", "build_survey", "key_points", "profile_report", "resolve_profile"]
+__all__ = ["FAMILY_END_TOLERANCE_M", "KeyPoint", "build_survey", "family_end_point", "key_points", "profile_report", "resolve_profile"]
 
 _DEG_PER_30M_TO_RAD_PER_M = math.radians(1.0) / 30.0
+
+#: Every family member ends within this distance of the shared end point, m.
+FAMILY_END_TOLERANCE_M = 0.1
 
 
 @dataclass(frozen=True)
@@ -206,7 +209,19 @@ def _design(spec: object, cfg: WellConfig, field: str) -> tuple[Survey, list[Key
     if sum(leg.length_m for leg in legs) <= 0.0:
         raise InputError(field, "profile has zero length", "a total MD > 0")
     md, tan, keys = _stations(legs, cfg.station_spacing_m)
-    return _to_survey(md, tan, math.radians(azi_deg)), keys
+    sv = _to_survey(md, tan, math.radians(azi_deg))
+    if isinstance(spec, FamilyMemberProfile):
+        miss = float(np.linalg.norm(sv.pos_m[-1] - family_end_point(cfg.family)))
+        if miss >= FAMILY_END_TOLERANCE_M:  # pragma: no cover - guaranteed by the solve
+            raise SimulationError(f"{field}: family end point missed by {miss:.3g} m")
+    return sv, keys
+
+
+def family_end_point(fam: FamilySpec) -> np.ndarray:
+    """Shared end point [north, east, tvd] of the case-2 family, m, shape (3,)."""
+    az = math.radians(fam.azi_deg)
+    return np.array([fam.displacement_m * math.cos(az), fam.displacement_m * math.sin(az),
+                     fam.tvd_end_m])
 
 
 def resolve_profile(cfg: WellConfig, name: str | None = None) -> str:
