@@ -14,13 +14,22 @@ from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics.softstring import torque_drag_for_case
 from drillfatigue.string import build_segments
 
+# explicit string (the defaults may change): 180 m of collars in 20 segments, 900 m of DP
+STRING = {"components": [
+    {"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 180.0, "n_segments": 20},
+    {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 900.0,
+     "tool_joint_od_m": 0.1683, "tool_joint_id_m": 0.0826, "tool_joint_length_fraction": 0.05,
+     "n_segments": 100},
+]}
 VERTICAL = {
     "well": {"profiles": {"v": {"kind": "vertical", "td_m": 1200.0}}},
-    "operation": {"bit_md_m": 1080.3, "top_md_m": 0.0},
+    "string": STRING,
+    "operation": {"bit_md_m": 1080.0, "top_md_m": 0.0},
 }
 J_WELL = {
     "well": {"profiles": {"j": {"kind": "j", "kop_m": 300.0, "dls_deg_per_30m": 3.0,
                                 "inc_deg": 40.0, "td_m": 1500.0}}},
+    "string": STRING,
     "operation": {"bit_md_m": 1400.0},
 }
 
@@ -34,19 +43,19 @@ def write_case(tmp_path, data, name="case.yaml"):
 def test_vertical_hook_load_is_buoyed_weight_minus_wob():
     case = case_from_dict(VERTICAL)
     seg = build_segments(case.string, case.operation.mud_density_kg_per_m3)
-    assert seg.length_m.sum() == pytest.approx(1080.3)  # string exactly fills the span
+    assert seg.length_m.sum() == pytest.approx(1080.0)  # string exactly fills the span
     td = torque_drag_for_case(case, cell_m=7.0)
     s = td.summary()
     buoyed = float(seg.buoyed_weight_N.sum())
     assert s["hookload_rotating_N"] == pytest.approx(buoyed, rel=1e-10)
     assert s["hookload_pickup_N"] == pytest.approx(buoyed, rel=1e-10)
-    # WOB = buoyed weight below the neutral point at the top of the collars (bit + collars)
-    ncoll = 21
+    # WOB = buoyed weight below the neutral point at the top of the collars
+    ncoll = 20
     assert td.wob_N == pytest.approx(float(seg.buoyed_weight_N[:ncoll].sum()), rel=1e-10)
     assert s["hookload_drilling_N"] == pytest.approx(buoyed - td.wob_N, rel=1e-10)
     assert td.tob_Nm > 0.0  # from the bit law at that WOB and rpm
     # neutral point at the top of the collars: tension changes sign there
-    k = np.argmin(np.abs(td.md_m - (1080.3 - 180.3)))
+    k = np.argmin(np.abs(td.md_m - (1080.0 - 180.0)))
     assert abs(td.tension_drilling_N[k]) < 1e-6 * buoyed
 
 

@@ -1,0 +1,29 @@
+"""The kernel modules of issue 4 import only numpy, numba, math (STYLE.md habit 1).
+
+``typing``/``dataclasses``/``__future__`` are allowed, and imports guarded by
+``if TYPE_CHECKING`` (type hints of the config classes) are not executed.
+The check reads the module source, since numba itself imports yaml.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import drillfatigue.dynamics as dyn
+
+ALLOWED = {"numpy", "numba", "math", "__future__", "typing", "dataclasses"}
+
+
+@pytest.mark.parametrize("module", ["contact", "friction", "bitrock", "softstring"])
+def test_top_level_imports(module):
+    tree = ast.parse((Path(dyn.__file__).parent / f"{module}.py").read_text())
+    names = []
+    for node in tree.body:  # top level only; TYPE_CHECKING blocks are `if` nodes, skipped
+        if isinstance(node, ast.Import):
+            names += [a.name.split(".")[0] for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            names.append((node.module or "").split(".")[0])
+    assert set(names) <= ALLOWED, set(names) - ALLOWED
