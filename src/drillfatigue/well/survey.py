@@ -99,6 +99,9 @@ class Survey:
     dls_rad_per_m : ndarray, shape (n,)
         Dogleg severity of the interval ending at each station, rad/m
         (``dls[0] = 0``).
+
+    Arrays are float64, C-contiguous and writeable (numba specialises on
+    read-only arrays separately); treat them as read-only.
     """
 
     md_m: np.ndarray
@@ -188,8 +191,6 @@ def minimum_curvature(
     pos[1:] = pos[0] + np.cumsum(step, axis=0)
     dls = np.zeros(md.size)
     dls[1:] = beta / dmd
-    for a in (md, inc, azi, pos, dls):
-        a.flags.writeable = False
     return Survey(md_m=md, inc_rad=inc, azi_rad=azi, pos_m=pos, dls_rad_per_m=dls)
 
 

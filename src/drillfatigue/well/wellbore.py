@@ -150,6 +150,9 @@ class Wellbore:
         The survey the chain was built from.
     sagitta_limit_m : float
         The chord-error bound used for resampling, m.
+
+    All arrays are float64 and C-contiguous (ready for numba kernels); treat
+    them as read-only.
     """
 
     p0_m: np.ndarray
@@ -258,9 +261,8 @@ def build_wellbore(cfg: WellConfig, name: str | None = None, survey: Survey | No
     axis = d / length[:, None]
     mid = 0.5 * (node_md[:-1] + node_md[1:])
     radius = radii[np.searchsorted(tops, mid, side="right") - 1]
-    arrays = (p0, p1, axis, length, radius, node_md, node_pos, node_tan)
-    for a in arrays:
-        a.flags.writeable = False
+    # Arrays stay writeable on purpose: numba compiles a separate
+    # specialisation for read-only arrays, and kernels receive these directly.
     return Wellbore(p0_m=p0, p1_m=p1, axis=axis, length_m=length, radius_m=radius,
                     md0_m=node_md[:-1], node_md_m=node_md, node_pos_m=node_pos,
                     node_tan=node_tan, survey=sv, sagitta_limit_m=sagitta)
