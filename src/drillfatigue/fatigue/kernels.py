@@ -110,9 +110,9 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
             out_count[nc] = 0.5
             nc += 1
     elif residue_mode == RESIDUE_REPEAT:
-        m0 = m
-        for i in range(m0):
-            m = _push_index(y, stk, m, stk[i])
+        res = stk[:m].copy()
+        for i in range(res.shape[0]):
+            m = _push_index(y, stk, m, res[i])
             while m >= 4:
                 s0 = y[stk[m - 4]]
                 s1 = y[stk[m - 3]]

@@ -153,14 +153,25 @@ def _pass(reversals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return cyc, np.asarray(res, dtype=np.float64)
 
 
-def _concat_reversals(r1: np.ndarray, r2: np.ndarray) -> np.ndarray:
-    """``fatpack.concatenate_reversals`` with the short/flat cases handled."""
-    if r1.size >= 2 and r2.size >= 2:
+def concatenate_reversals(r1: np.ndarray, r2: np.ndarray) -> np.ndarray:
+    """Join two reversal sequences, keeping the true turning points at the junction.
+
+    Uses ``fatpack.concatenate_reversals`` when the end of ``r1`` and the start
+    of ``r2`` run in the same direction. fatpack 0.7.8 keeps the wrong point
+    when they run in opposite directions (e.g. [0, 5] + [6, 1] gives [0, 5, 1]
+    instead of [0, 6, 1]; [0, 5] + [4, 1] gives [0, 4, 1] instead of
+    [0, 5, 1]), so those cases, and sequences shorter than two points, are
+    joined by an exact peak-valley filter of the concatenation.
+    """
+    if r1.size >= 2 and r2.size >= 2 and (r1[-1] - r1[-2]) * (r2[1] - r2[0]) > 0.0:
         try:
             return fatpack.concatenate_reversals(r1, r2)
         except ValueError:
             pass
     return find_exact_reversals(np.concatenate([r1, r2]))[0]
+
+
+_concat_reversals = concatenate_reversals
 
 
 def _close_residue(residue: np.ndarray, mode: str) -> Cycles:

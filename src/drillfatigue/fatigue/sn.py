@@ -148,7 +148,8 @@ class SNCurve:
         N = np.full(S.shape, np.inf)
         pos = S > 0.0
         if np.any(pos):
-            N[pos] = self.fatpack_curve.get_endurance(S[pos])
+            with np.errstate(over="ignore", divide="ignore"):
+                N[pos] = self.fatpack_curve.get_endurance(S[pos])
         return N
 
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:

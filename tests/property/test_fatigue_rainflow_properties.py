@@ -1,0 +1,56 @@
+"""Hypothesis invariants of counting and Miner damage (fatigue)."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, find_exact_reversals
+from drillfatigue.fatigue.sn import get_curve
+
+CURVE = get_curve("D")  # bi-linear: the knee makes 1/N non-convex, a harder case
+
+
+def damage(y: np.ndarray, residue: str = "half") -> float:
+    c = find_cycles(y, residue)
+    return float(np.sum(c.count / CURVE.cycles_to_failure(c.ranges)))
+
+
+signals = st.lists(st.floats(-400e6, 400e6, allow_nan=False), min_size=5, max_size=200).map(
+    np.array)
+
+
+@settings(max_examples=40, deadline=None)
+@given(y=signals, where=st.floats(0.0, 1.0), frac=st.floats(0.05, 0.95))
+def test_inserting_a_cycle_never_decreases_damage(y: np.ndarray, where: float,
+                                                  frac: float) -> None:
+    rev, idx = find_exact_reversals(y)
+    if rev.size < 3:
+        return
+    k = 1 + int(where * (rev.size - 3))  # an interior reversal
+    h = frac * min(abs(rev[k] - rev[k - 1]), abs(rev[k + 1] - rev[k]))
+    back = rev[k] - np.sign(rev[k] - rev[k - 1]) * h  # small excursion inside both ranges
+    y2 = np.insert(y, idx[k] + 1, [back, rev[k]])
+    d1, d2 = damage(y), damage(y2)
+    extra = 1.0 / CURVE.cycles_to_failure(h)[0]
+    assert d2 >= d1
+    # the inserted excursion is closed as one full cycle; nothing else changes
+    assert abs(d2 - (d1 + extra)) <= 1e-9 * max(d2, 1e-300)
+
+
+@settings(max_examples=30, deadline=None)
+@given(y=signals, chunk=st.integers(2, 60))
+def test_carry_stream_damage_equals_whole_history(y: np.ndarray, chunk: int) -> None:
+    s = RainflowStream("half")
+    parts = [s.feed(y[i:i + chunk]) for i in range(0, y.size, chunk)] + [s.finish()]
+    d = sum(float(np.sum(p.count / CURVE.cycles_to_failure(p.ranges))) for p in parts)
+    ref = damage(y)
+    assert abs(d - ref) <= 1e-9 * max(ref, 1e-300)
+
+
+@settings(max_examples=30, deadline=None)
+@given(y=signals, scale=st.floats(0.1, 10.0))
+def test_miner_damage_scales_monotonically_with_stress(y: np.ndarray, scale: float) -> None:
+    d1, d2 = damage(y), damage(y * scale)
+    assert (d2 >= d1) if scale >= 1.0 else (d2 <= d1)
