@@ -35,6 +35,7 @@ _ADDRESS = re.compile(r"^(tcp|tls|ucx|inproc)://[^\s/]+(:\d{1,5})?$")
 _PATH = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\[\d+\])*(\.[A-Za-z_][A-Za-z0-9_]*(\[\d+\])*)+$")
 
 SCHEDULERS = ("serial", "processes", "local-cluster")
+FATIGUE_CRITERIA = ("matake", "findley", "fatemi_socie", "uniaxial")
 
 
 def check_path(path: str) -> str:
@@ -137,6 +138,12 @@ class SweepConfig(StrictModel):
     failure_threshold : float
         The sweep fails (exit code 1) if more than this fraction of cases
         finally fails, 0 ... 1.
+    fatigue_criteria : list of str
+        Criteria evaluated per case in the fatigue stage (each a column
+        ``damage_rate_per_h_<criterion>`` of the dataset); each costs one
+        evaluation, the critical-plane ones most.
+    api_rp7g : bool
+        Add the API RP7G (Lubinski) damage rate of each pipe body beside them.
     cases_path, sweep_dir, fatigue_dir, dataset_dir : str
         Output locations of the design, simulate, fatigue and dataset stages.
     """
@@ -152,6 +159,9 @@ class SweepConfig(StrictModel):
     n_workers: int = Field(default=2, ge=1, le=1024)
     max_retries: int = Field(default=1, ge=0, le=10)
     failure_threshold: float = Field(default=0.1, ge=0.0, le=1.0)
+    fatigue_criteria: list[str] = Field(default_factory=lambda: ["matake", "uniaxial"],
+                                        min_length=1)
+    api_rp7g: bool = True
     cases_path: str = "data/design/cases.parquet"
     sweep_dir: str = "data/sweep"
     fatigue_dir: str = "data/fatigue"
@@ -165,6 +175,17 @@ class SweepConfig(StrictModel):
             if path.split(".")[0].split("[")[0] == "fatigue":
                 raise ValueError(f"{path}: fatigue settings cannot vary per case "
                                  "(allowed: paths outside the fatigue section)")
+        return value
+
+    @field_validator("fatigue_criteria")
+    @classmethod
+    def _check_criteria(cls, value: list[str]) -> list[str]:
+        for name in value:
+            if name not in FATIGUE_CRITERIA:
+                raise ValueError(f"unknown fatigue criterion {name!r} "
+                                 f"(allowed: {', '.join(FATIGUE_CRITERIA)})")
+        if len(set(value)) != len(value):
+            raise ValueError("a criterion is listed twice (allowed: distinct criteria)")
         return value
 
     @field_validator("window_path")

@@ -89,12 +89,15 @@ def warmup() -> None:
         hook()
 
 
-def fatigue_tasks(case_ids: list[str], sweep_root: str | Path,
-                  fatigue_cfg: dict[str, Any]) -> list[tuple[str, dict[str, Any]]]:
+def fatigue_tasks(case_ids: list[str], sweep_root: str | Path, fatigue_cfg: dict[str, Any],
+                  criteria: list[str] | None = None, api_rp7g: bool = True,
+                  cases: dict[str, dict[str, Any]] | None = None
+                  ) -> list[tuple[str, dict[str, Any]]]:
     """Fatigue tasks ``(case_id, inputs)`` for the completed runs among ``case_ids``.
 
     The inputs hold the run folder, the run's DONE marker text (so a re-run
-    simulation re-evaluates) and the fatigue settings.
+    simulation re-evaluates), the fatigue settings, the criteria to evaluate
+    and, for the API RP7G baseline, the case (well and operation).
     """
     tasks = []
     for cid in case_ids:
@@ -102,16 +105,92 @@ def fatigue_tasks(case_ids: list[str], sweep_root: str | Path,
         done = run_dir / "DONE"
         if not done.is_file():
             continue
-        tasks.append((cid, {"run_dir": str(run_dir),
-                            "run_marker": done.read_text(encoding="utf-8"),
-                            "fatigue": fatigue_cfg}))
+        inputs: dict[str, Any] = {"run_dir": str(run_dir),
+                                  "run_marker": done.read_text(encoding="utf-8"),
+                                  "fatigue": fatigue_cfg, "criteria": list(criteria or []),
+                                  "api_rp7g": bool(api_rp7g)}
+        if cases is not None and cid in cases:
+            inputs["case"] = cases[cid]
+        tasks.append((cid, inputs))
     return tasks
 
 
+def api_rp7g_rows(run_dir: Path, case: dict[str, Any], cfg: Any) -> list[dict[str, Any]]:
+    """API RP7G (Lubinski) damage rate of each recorded joint's pipe body, as damage rows.
+
+    Per joint: hole curvature at its mean MD over the window (the case's well
+    survey), tension = its mean axial force (compression clipped to 0 by the
+    baseline), the case's rpm, body OD/ID from ``joints.parquet``, the body
+    S-N curve and SCF of the fatigue settings; one fully reversed cycle per
+    revolution while rotating (FATIGUE.md section 5). ``life_h`` follows from
+    the rate; there is no critical plane.
+    """
+    import numpy as np
+    import pandas as pd
+
+    from drillfatigue.config import case_from_dict
+    from drillfatigue.fatigue.rp7g import rp7g_damage_rate_profile
+    from drillfatigue.fatigue.run import build_curve
+    from drillfatigue.fatigue.sn import get_grade
+    from drillfatigue.well import build_survey
+
+    cc = case_from_dict(case)
+    survey = build_survey(cc.well)
+    loads = pd.read_parquet(run_dir / "loads.parquet", columns=["joint", "md_m", "axial_N"])
+    mean = loads.groupby("joint")[["md_m", "axial_N"]].mean()
+    joints = pd.read_parquet(run_dir / "joints.parquet").set_index("joint")
+    curve = build_curve(cfg.body.curve, cfg.effective_environment)
+    ultimate = get_grade(cfg.grade).tensile_Pa
+    rop = max(float(cc.operation.rop_m_per_s), 1e-9)  # the rate per hour does not use ROP
+    rows = []
+    for j, m in mean.iterrows():
+        info = joints.loc[j]
+        kappa = float(np.interp(m["md_m"], survey.md_m, survey.dls_rad_per_m))
+        scf = float(cfg.scf[str(info["component_type"])].body.bending)
+        res = rp7g_damage_rate_profile(
+            np.array([m["md_m"]]), np.array([kappa]), np.array([m["axial_N"]]),
+            abs(float(cc.operation.rpm)), rop, float(info["body_od_m"]), float(info["body_id_m"]),
+            curve, scf=scf, ultimate_Pa=ultimate)
+        rate = float(res["damage_rate_per_h"][0])
+        rows.append({"joint": int(j), "md_m": float(m["md_m"]),
+                     "s_from_bit_m": float(info["s_from_bit_m"]),
+                     "component": str(info["component"]),
+                     "component_type": str(info["component_type"]), "location": "body",
+                     "criterion": "api_rp7g", "damage_rate_per_h": rate,
+                     "life_h": 1.0 / rate if rate > 0 else float("inf"),
+                     "critical_angle_deg": float("nan")})
+    return rows
+
+
 def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
-    """Evaluate the fatigue of one finished run into ``case_dir``."""
+    """Evaluate the fatigue of one finished run into ``case_dir``.
+
+    Writes ``damage.parquet``: the rows of :func:`drillfatigue.fatigue.evaluate_run`
+    for every criterion in ``task['criteria']`` (default: the configured one),
+    plus the API RP7G rows (:func:`api_rp7g_rows`) when ``task['api_rp7g']``
+    and the case are given; and ``summary.json`` (rows, criteria, max damage rate).
+    """
+    import os
+
+    import pandas as pd
+
     from drillfatigue.config import FatigueConfig, validate
     from drillfatigue.fatigue import evaluate_run  # type: ignore[attr-defined]
 
     cfg = validate(FatigueConfig, task["fatigue"], "fatigue")
-    return evaluate_run(Path(task["run_dir"]), cfg, Path(case_dir))
+    run_dir = Path(task["run_dir"])
+    criteria = list(task.get("criteria") or [cfg.criterion])
+    parts = [evaluate_run(run_dir, cfg, None, criterion=c) for c in criteria]
+    if task.get("api_rp7g") and task.get("case") is not None:
+        parts.append(pd.DataFrame(api_rp7g_rows(run_dir, task["case"], cfg)))
+    frame = pd.concat(parts, ignore_index=True, sort=False)
+    out = Path(case_dir)
+    tmp = out / ".damage.parquet.tmp"
+    frame.to_parquet(tmp, index=False)
+    os.replace(tmp, out / "damage.parquet")
+    summary = {"criteria": sorted(frame["criterion"].unique().tolist()), "n_rows": len(frame),
+               "max_damage_rate_per_h": {str(k): float(v) for k, v in
+                                         frame.groupby("criterion")["damage_rate_per_h"].max().items()}}
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True),
+                                      encoding="utf-8")
+    return summary

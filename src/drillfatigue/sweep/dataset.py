@@ -8,8 +8,10 @@ the life in hours and the critical-plane angle. The API RP7G (Lubinski /
 Hansford-Lubinski) estimate is the criterion ``api_rp7g``, so its damage rate
 ``damage_rate_per_h_api_rp7g`` sits beside the dynamic criteria.
 
-Summary dynamics are read from the run's ``summary.json``; rms and peak
-surface torque fall back to ``channels.parquet`` when the summary lacks them.
+Summary dynamics are read from the run's ``summary.json`` (top level, or one
+level down, e.g. ``events.bit_bounce_count``; peak torque also from
+``figures.surface_torque_Nm`` min/max); rms and peak surface torque fall back
+to ``channels.parquet`` when the summary lacks them.
 A figure the simulator does not report is NaN (``whirl_class``: missing
 value), never zero.
 """
@@ -81,6 +83,16 @@ def _criterion_name(name: Any) -> str:
     return re.sub(r"[^a-z0-9]+", "_", str(name).lower()).strip("_")
 
 
+def _lookup(summary: Mapping[str, Any], name: str) -> Any:
+    """``summary[name]``, else the first ``summary[<section>][name]`` (events, figures ...)."""
+    if name in summary:
+        return summary[name]
+    for value in summary.values():
+        if isinstance(value, Mapping) and name in value:
+            return value[name]
+    return None
+
+
 def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
     """Summary dynamics of one run folder (see module doc for the fallbacks)."""
     run_dir = Path(run_dir)
@@ -89,8 +101,16 @@ def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
     except (OSError, ValueError):
         summary = {}
     out: dict[str, Any] = {}
+    torque = summary.get("figures", {}).get("surface_torque_Nm") if isinstance(
+        summary.get("figures"), dict) else None
+    if isinstance(torque, dict):  # the simulator's figures: {mean, min, max[, rms]}
+        if "rms" in torque:
+            summary.setdefault("rms_surface_torque_Nm", torque["rms"])
+        if "min" in torque and "max" in torque:
+            summary.setdefault("peak_surface_torque_Nm",
+                               max(abs(float(torque["min"])), abs(float(torque["max"]))))
     for name in DYNAMICS_COLUMNS:
-        value = summary.get(name)
+        value = _lookup(summary, name)
         if name == "whirl_class":
             out[name] = None if value is None else str(value)
         else:
@@ -101,14 +121,20 @@ def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
         torque = pd.read_parquet(channels, columns=["surface_torque_Nm"])["surface_torque_Nm"]
         values = torque.to_numpy(dtype=float)
         if values.size:
-            out["rms_surface_torque_Nm"] = float(np.sqrt(np.mean(values**2)))
-            out["peak_surface_torque_Nm"] = float(np.max(np.abs(values)))
+            stats = {"rms_surface_torque_Nm": float(np.sqrt(np.mean(values**2))),
+                     "peak_surface_torque_Nm": float(np.max(np.abs(values)))}
+            out.update({n: stats[n] for n in need})
     return out
 
 
 def _case_rows(case_id: str, damage: pd.DataFrame) -> pd.DataFrame:
-    """Pivot one case's long damage table to one row per location."""
-    keys = [k for k in KEY_COLUMNS if k in damage.columns]
+    """Pivot one case's long damage table to one row per location (joint, location).
+
+    Descriptive columns (MD, distance from bit, component) are taken from the
+    first criterion's row of each location, so criteria whose MD differs by
+    rounding still share one row.
+    """
+    keys = [k for k in ("joint", "location") if k in damage.columns]
     damage = damage.assign(criterion=damage["criterion"].map(_criterion_name))
     values = [v for v in PIVOT_VALUES if v in damage.columns]
     long = damage.set_index([*keys, "criterion"])[values]
@@ -117,7 +143,10 @@ def _case_rows(case_id: str, damage: pd.DataFrame) -> pd.DataFrame:
                          "one row per location and criterion")
     wide = long.unstack("criterion")
     wide.columns = [f"{value}_{crit}" for value, crit in wide.columns]
-    wide = wide.dropna(axis=1, how="all").reset_index()
+    wide = wide.dropna(axis=1, how="all")
+    info_cols = [k for k in KEY_COLUMNS if k in damage.columns and k not in keys]
+    info = damage.groupby(keys, sort=True, dropna=False)[info_cols].first()
+    wide = info.join(wide).reset_index()
     wide.insert(0, "case_id", case_id)
     return wide
 
