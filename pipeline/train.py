@@ -1,0 +1,60 @@
+"""DVC stage ``train``: fit the surrogate (deep ensemble + conformal + OOD) on the dataset.
+
+Reads the ``surrogate`` section of ``params.yaml`` and the damage table
+(``data/dataset/damage.parquet``, one row per case and component location);
+writes the model folder (``models/surrogate/``: weights, metadata, OOD
+reference, TorchScript export) and the dvclive training curves (per member
+train/val loss per epoch, ``metrics/surrogate_training/``).
+
+Usage: ``python pipeline/train.py [--params params.yaml] [--data data/dataset/damage.parquet]
+[--out models/surrogate] [--live metrics/surrogate_training] [--synthetic-cases N]``
+(``--synthetic-cases``: train on the documented synthetic table instead, for smoke tests.)
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import pandas as pd
+
+from drillfatigue.config import load_params
+from drillfatigue.errors import InputError
+
+
+def read_table(path: str | Path) -> pd.DataFrame:
+    """Read the dataset (parquet or CSV by suffix)."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(str(p), "dataset file not found", "run the dataset stage first")
+    return pd.read_csv(p) if p.suffix.lower() == ".csv" else pd.read_parquet(p)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--params", default="params.yaml")
+    parser.add_argument("--data", default="data/dataset/damage.parquet")
+    parser.add_argument("--out", default="models/surrogate")
+    parser.add_argument("--live", default="metrics/surrogate_training")
+    parser.add_argument("--synthetic-cases", type=int, default=0)
+    args = parser.parse_args(argv)
+    try:
+        from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
+
+        cfg = load_params(args.params).surrogate
+        frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
+                 if args.synthetic_cases > 0 else read_table(args.data))
+        model = fit_surrogate(frame, cfg, live_dir=args.live)
+        model.save(args.out)
+    except InputError as exc:
+        print(f"error: {exc.one_line()}", file=sys.stderr)
+        return 2
+    t = model.metadata["training"]
+    print(f"trained {len(cfg.seeds)} members on {t['n_train_rows']} rows "
+          f"({t['epochs']} epochs); conformal q = {model.conformal_quantile:.3f}; saved {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
