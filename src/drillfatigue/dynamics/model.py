@@ -433,3 +433,65 @@ def evaluate_forces(model: Model, state: State) -> np.ndarray:
                    state.sc, wk["R"], wk["wW"], state.Fw, state.Mw, state.Mb, wk["loads"], wk["ch"],
                    wk["scq"], wk["scm"], wk["scv"], wk["ed"])
     return wk["ch"]
+
+
+def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarray | None = None,
+                  every: int = 1, chunk: int = 100_000) -> dict[str, np.ndarray]:
+    """Advance ``state`` by ``n_steps`` steps in memory, recording every ``every`` steps.
+
+    A thin loop over :func:`drillfatigue.dynamics.integrator.advance` for tests,
+    benchmarks and the surrogate: returns ``time_s`` (n_rec,), ``loads``
+    (n_rec, n_joint, 6) of the selected ``joints`` (default all), ``channels``
+    (n_rec, N_CH + 4) = [time, ch..., kinetic energy, work in, dissipated] and
+    ``xv`` (n_rec, n, 6) positions and velocities.
+
+    Raises
+    ------
+    SimulationError
+        When the kernel reports a non-finite state or an energy blow-up.
+    """
+    from drillfatigue.dynamics.integrator import advance
+    from drillfatigue.errors import SimulationError
+
+    n = model.n
+    sel = np.arange(n - 1, dtype=np.int64) if joints is None else np.asarray(joints, dtype=np.int64)
+    wk = model.work
+    p = model.path
+    counts = np.zeros(3, dtype=np.int64)
+    info = np.zeros(3)
+    rows = min(chunk, n_steps) // every + 2
+    out_l, out_c, out_k = [], [], []
+    done = 0
+    while done < n_steps:
+        k = min(chunk, n_steps - done)
+        buf_l = np.zeros((rows, 1 + 6 * sel.size))
+        buf_c = np.zeros((rows, 4 + L.N_CH))
+        buf_k = np.zeros((rows, 1 + 6 * n))
+        counts[:] = 0
+        st = advance(k, model.dt, state.x, state.v, state.q, state.w, state.Fw, state.Mw, state.Mb,
+                     state.sc, model.seg, model.jp, model.bp, model.topp, model.anchor, model.tab_t,
+                     model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan, wk["R"], wk["wW"],
+                     wk["loads"], wk["ch"], sel, every, buf_l, every, buf_c, every, buf_k, counts,
+                     info, wk["scq"], wk["scm"], wk["scv"], wk["ed"])
+        if st != L.ST_OK:
+            raise SimulationError(f"diverged at t = {info[0] * model.dt:.6g} s, segment "
+                                  f"{int(info[1])} (status {st})")
+        out_l.append(buf_l[: counts[0]])
+        out_c.append(buf_c[: counts[1]])
+        out_k.append(buf_k[: counts[2]])
+        done += k
+    bl = np.concatenate(out_l)
+    bc = np.concatenate(out_c)
+    bk = np.concatenate(out_k)
+    return {"time_s": bl[:, 0], "loads": bl[:, 1:].reshape(-1, sel.size, 6), "channels": bc,
+            "xv": bk[:, 1:].reshape(-1, n, 6)}
+
+
+def total_energy(model: Model, state: State) -> float:
+    """Kinetic + spring + boundary + gravity potential energy (J) at the current state."""
+    from drillfatigue.dynamics.integrator import kinetic_energy
+
+    saved = state.sc.copy()
+    ch = evaluate_forces(model, state)
+    state.sc[...] = saved
+    return float(kinetic_energy(state.v, state.w, model.seg) + ch[L.H_PE] + ch[L.H_PG])

@@ -1,0 +1,38 @@
+"""``drillfatigue simulate CASE.yaml --out RUN_DIR [--resume]``: run one case."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import typer
+
+from drillfatigue.cli.app import app
+from drillfatigue.config import load_case
+from drillfatigue.errors import InputError, SimulationError
+
+
+@app.command("simulate")
+def simulate_cmd(
+    case: Path = typer.Argument(..., help="case YAML file (sections as in params.yaml)"),
+    out: Path = typer.Option(..., "--out", "-o", help="run directory to write"),
+    resume: bool = typer.Option(False, "--resume", help="continue from RUN_DIR/checkpoint.npz"),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="show a progress bar"),
+) -> None:
+    """Simulate the drill string of CASE and write loads, channels and a summary to RUN_DIR."""
+    cfg = load_case(case)
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", f"{str(out)!r} exists and is not a folder", "a folder path")
+    if resume and not (out / "checkpoint.npz").is_file():
+        raise InputError("--resume", f"no checkpoint in {str(out)!r}",
+                         "a run directory with checkpoint.npz (set solver.checkpoint_every_s)")
+    from drillfatigue.dynamics.api import simulate
+
+    try:
+        res = simulate(cfg, out, progress=progress, resume=resume)
+    except SimulationError as exc:
+        print(f"error: simulation failed: {exc}", file=sys.stderr)
+        raise typer.Exit(1) from None
+    s = res.summary
+    print(f"{s['status']}: {s['duration_s']:.3f} s simulated in {s['wall_time_s']:.1f} s "
+          f"({s['real_time_factor']:.3g}x real time) -> {out}")
