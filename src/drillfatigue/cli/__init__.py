@@ -23,6 +23,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.tnd",
     "drillfatigue.cli.query",
     "drillfatigue.cli.twin",
+    "drillfatigue.cli.simulate",
 )
 
 
