@@ -1,9 +1,11 @@
 # drillfatigue: `make repro` runs the DVC pipeline, `make test` runs the tests.
 # Both create .venv and install the pinned dependencies (requirements.lock) first.
-PYTHON ?= python3
+PYTHON ?= $(shell command -v python3)
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+# dvc runs stage commands with `python`: put the venv first on PATH.
+export PATH := $(CURDIR)/$(VENV)/bin:$(PATH)
 export NUMBA_CACHE_DIR ?= $(CURDIR)/.numba_cache
 
 .PHONY: install repro test bench bench-quick clean

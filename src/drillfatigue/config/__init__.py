@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from drillfatigue.config.base import StrictModel, read_yaml, validate
 from drillfatigue.config.bit import BitConfig
@@ -57,6 +57,20 @@ class CaseConfig(StrictModel):
     solver: SolverConfig = Field(default_factory=SolverConfig)
     recording: RecordingConfig = Field(default_factory=RecordingConfig)
     fatigue: FatigueConfig = Field(default_factory=FatigueConfig)
+
+    @model_validator(mode="after")
+    def _check_hole_clears_string(self) -> CaseConfig:
+        """Every component's contact radius must be smaller than the smallest hole radius."""
+        r_hole = 0.5 * min(h.diameter_m for h in self.well.hole)
+        for i, comp in enumerate(self.string.components):
+            r_c = comp.outer_contact_radius_m
+            if r_c >= r_hole:
+                raise ValueError(
+                    f"string.components[{i}]: contact radius {r_c:.4f} m does not fit the "
+                    f"hole (smallest hole radius {r_hole:.4f} m) "
+                    f"(allowed: contact radius < {r_hole:.4f} m)"
+                )
+        return self
 
 
 class Params(CaseConfig):

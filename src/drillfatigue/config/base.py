@@ -75,6 +75,11 @@ def input_error_from_validation(exc: ValidationError, prefix: str = "") -> Input
     if err.get("type") not in ("missing", "extra_forbidden") and not isinstance(inp, dict | list):
         msg = f"{msg}, got {inp!r}"
     allowed = None if "(allowed:" in msg else _allowed_from_ctx(err)
+    # A model-level validator names its own field path as "path: message".
+    head, sep, tail = msg.partition(": ")
+    if sep and " " not in head and (not loc or head.startswith(path.split(".")[-1])):
+        path = f"{prefix}.{head}" if prefix else head
+        msg = tail
     return InputError(path, msg, allowed)
 
 
