@@ -51,6 +51,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from drillfatigue.dynamics.friction import friction_force_split
+
 if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
     from drillfatigue.config.contact import ContactConfig
 
@@ -62,6 +64,9 @@ OUT_NZ = 3
 OUT_S = 4
 OUT_DIST = 5
 OUT_SIZE = 6
+
+#: Length of the ``info`` array of :func:`wall_force`.
+WALL_INFO_SIZE = 14
 
 #: Return value of :func:`find_contact` for a point beyond either end of the chain.
 OUTSIDE_CHAIN = -1
@@ -252,6 +257,103 @@ def normal_force(delta, delta_dot, k_c, c_c):
     if f < 0.0:
         return 0.0
     return f
+
+
+@njit(cache=True)
+def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hint,
+               k_c, c_c, fmodel, fp, f_other, dt, info, force, moment):
+    """Wall contact plus friction force on one segment at one of its contact points.
+
+    The string touches the wall at its surface point ``Y = X + r n`` (X on the
+    segment's centre line, n the outward hole normal), so the slip velocity
+    includes the surface speed ``r omega`` of a spinning pipe: friction torque,
+    whirl, and rolling without slip (zero slip at Y, i.e. backward whirl) all
+    come out of this one mechanism (MODEL.md section 6).
+
+    Parameters
+    ----------
+    X : ndarray, shape (3,)
+        Contact point on the segment's centre line (world frame), m.
+    xc, vc : ndarray, shape (3,)
+        Segment centre of mass position (m) and velocity (m/s).
+    omega : ndarray, shape (3,)
+        Segment angular velocity in the world frame, rad/s.
+    t_axis : ndarray, shape (3,)
+        Unit axis of the segment (world frame), for the axial drag coefficient.
+    r_contact : float
+        Contact radius at this point, m.
+    p0, axis, length, radius, hint
+        Hole cylinder chain and search hint, as in :func:`find_contact`.
+    k_c, c_c : float
+        Penalty stiffness (N/m) and damping (N s/m).
+    fmodel : int
+        Friction model id (:mod:`drillfatigue.dynamics.friction`).
+    fp : ndarray, shape (friction.N_PARAMS,)
+        Friction parameters.
+    f_other : ndarray, shape (3,)
+        Net other force on the segment at this point, N (Karnopp only; its
+        component along n is removed here).
+    dt : float
+        Integrator step, s (passed to the friction kernel).
+    info : ndarray, shape (WALL_INFO_SIZE,) = (14,)
+        Written: ``find_contact``'s six values, then the normal force N (N),
+        the slip speed at Y (m/s), the slip velocity vector at Y (3, m/s) and
+        the tangential part of ``f_other`` (3, N; scratch). No allocation.
+    force, moment : ndarray, shape (3,)
+        Written: wall force on the segment (normal plus friction), N, and its
+        moment about ``xc``, N m (world frame). Zero when not in contact.
+
+    Returns
+    -------
+    int
+        The cylinder index (the next ``hint``), or ``OUTSIDE_CHAIN`` (the
+        force is then computed on the prolonged end cylinder; keep the previous
+        hint); -2 for an unknown friction model.
+    """
+    ic = find_contact(X, r_contact, p0, axis, length, radius, hint, info[:6])
+    for k in range(3):
+        force[k] = 0.0
+        moment[k] = 0.0
+    for k in range(6, WALL_INFO_SIZE):
+        info[k] = 0.0
+    # beyond the chain's ends (ic = -1) the end cylinder is prolonged, so the
+    # bit drilling ahead of the last node still feels a wall; keep the old hint then
+    if info[OUT_DELTA] <= 0.0:
+        return ic
+    nx = info[OUT_NX]
+    ny = info[OUT_NY]
+    nz = info[OUT_NZ]
+    # lever arm from the centre of mass to the surface contact point Y = X + r n
+    ax_ = X[0] + r_contact * nx - xc[0]
+    ay_ = X[1] + r_contact * ny - xc[1]
+    az_ = X[2] + r_contact * nz - xc[2]
+    vx = vc[0] + omega[1] * az_ - omega[2] * ay_
+    vy = vc[1] + omega[2] * ax_ - omega[0] * az_
+    vz = vc[2] + omega[0] * ay_ - omega[1] * ax_
+    vn = vx * nx + vy * ny + vz * nz  # penetration rate (wall at rest)
+    N = normal_force(info[OUT_DELTA], vn, k_c, c_c)
+    info[6] = N
+    if N <= 0.0:
+        return ic
+    vs = info[8:11]
+    vs[0] = vx - vn * nx
+    vs[1] = vy - vn * ny
+    vs[2] = vz - vn * nz
+    info[7] = math.sqrt(vs[0] * vs[0] + vs[1] * vs[1] + vs[2] * vs[2])
+    fo = info[11:14]
+    fon = f_other[0] * nx + f_other[1] * ny + f_other[2] * nz
+    fo[0] = f_other[0] - fon * nx
+    fo[1] = f_other[1] - fon * ny
+    fo[2] = f_other[2] - fon * nz
+    if friction_force_split(fmodel, fp, vs, t_axis, N, fo, dt, force) != 0:
+        return -2
+    force[0] -= N * nx
+    force[1] -= N * ny
+    force[2] -= N * nz
+    moment[0] = ay_ * force[2] - az_ * force[1]
+    moment[1] = az_ * force[0] - ax_ * force[2]
+    moment[2] = ax_ * force[1] - ay_ * force[0]
+    return ic
 
 
 def stable_dt(k_c: float, m_min: float, zeta: float = 0.0) -> float:
