@@ -1,0 +1,52 @@
+"""DVC stage ``simulate``: run every designed case in parallel, resumably.
+
+Reads ``data/design/cases.parquet`` and the ``sweep`` section (scheduler,
+workers, retries, failure threshold); writes ``data/sweep/<case_id>/`` per
+finished case (loads, joints, channels, summary, DONE marker),
+``data/sweep/failures.parquet`` and ``data/sweep/sweep.json``. A rerun after
+a kill finishes only the missing cases (declare the output ``persist: true``
+so DVC keeps it). Exit code 1 when more than ``sweep.failure_threshold`` of
+the cases fail, 2 on bad input.
+
+Usage: ``python pipeline/simulate.py [--params params.yaml] [--cases PATH] [--out DIR]
+[--scheduler S] [--n-workers N] [--no-progress]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from drillfatigue.config import load_params
+from drillfatigue.errors import InputError
+from drillfatigue.sweep.runner import SweepFailedError
+from drillfatigue.sweep.stages import simulate_stage
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--params", default="params.yaml")
+    parser.add_argument("--cases", default=None, help="default: sweep.cases_path")
+    parser.add_argument("--out", default=None, help="default: sweep.sweep_dir")
+    parser.add_argument("--scheduler", default=None, help="override sweep.scheduler")
+    parser.add_argument("--n-workers", type=int, default=None, help="override sweep.n_workers")
+    parser.add_argument("--no-progress", action="store_true")
+    args = parser.parse_args(argv)
+    try:
+        params = load_params(args.params)
+        report = simulate_stage(params, cases_path=args.cases, sweep_dir=args.out,
+                                scheduler=args.scheduler, n_workers=args.n_workers,
+                                progress=not args.no_progress)
+    except InputError as exc:
+        print(f"error: {exc.one_line()}", file=sys.stderr)
+        return 2
+    except SweepFailedError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    print(f"simulate: {report.n_done} done, {report.n_skipped} already done, "
+          f"{report.n_failed} failed, {report.wall_s:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,105 @@
+"""The sweep's pipeline stages as library functions (the ``pipeline/*.py`` scripts call these).
+
+``design`` → ``data/design/cases.parquet`` (+ ``coverage.csv``, ``design.json``);
+``simulate`` → ``data/sweep/<case_id>/`` (+ ``failures.parquet``, ``sweep.json``);
+``fatigue`` → ``data/fatigue/<case_id>/`` (+ ``failures.parquet``, ``sweep.json``);
+``dataset`` → ``data/dataset/damage.parquet``, ``README.md``, ``metrics.json``,
+``plots/damage_rate_hist.csv``.
+
+Each takes the validated :class:`~drillfatigue.config.Params`; paths default
+to the ``sweep`` section's. The case functions can be replaced (tests and
+benchmarks pass the synthetic ones).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from drillfatigue.config import Params
+from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks, run_case
+from drillfatigue.sweep.dataset import write_dataset
+from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
+from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
+
+__all__ = ["dataset_stage", "design_stage", "fatigue_stage", "simulate_stage"]
+
+
+def _write_json(path: Path, data: Any) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n", encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def design_stage(params: Params, cases_path: str | Path | None = None) -> pd.DataFrame:
+    """Sample the design and write the case table, ``coverage.csv`` and ``design.json`` beside it."""
+    cfg = params.sweep
+    frame = design_cases(cfg, base_case_from_params(params))
+    path = write_cases(frame, cases_path or cfg.cases_path)
+    numeric = [c for c in frame.columns if c not in ("case_id", "design_index", "case_json")
+               and pd.api.types.is_numeric_dtype(frame[c])]
+    tmp = path.with_name(f".coverage.csv.{os.getpid()}.tmp")
+    frame[["case_id", *numeric]].to_csv(tmp, index=False)
+    os.replace(tmp, path.with_name("coverage.csv"))
+    _write_json(path.with_name("design.json"), {
+        "method": cfg.method, "seed": cfg.seed, "n_cases_requested": cfg.n_cases,
+        "n_cases": len(frame), "variables": list(cfg.variables)})
+    return frame
+
+
+def _runner_kwargs(params: Params, scheduler: str | None, n_workers: int | None,
+                   progress: bool) -> dict[str, Any]:
+    cfg = params.sweep
+    return {"scheduler": scheduler or cfg.scheduler, "n_workers": n_workers or cfg.n_workers,
+            "max_retries": cfg.max_retries, "failure_threshold": cfg.failure_threshold,
+            "progress": progress}
+
+
+def simulate_stage(params: Params, *, cases_path: str | Path | None = None,
+                   sweep_dir: str | Path | None = None, scheduler: str | None = None,
+                   n_workers: int | None = None, progress: bool = False,
+                   case_fn: CaseFn = run_case) -> SweepReport:
+    """Simulate every designed case not already done (resumable); see :func:`run_sweep`."""
+    cfg = params.sweep
+    cases = cases_from_frame(read_cases(cases_path or cfg.cases_path))
+    return run_sweep(cases, case_fn, sweep_dir or cfg.sweep_dir,
+                     **_runner_kwargs(params, scheduler, n_workers, progress))
+
+
+def fatigue_stage(params: Params, *, cases_path: str | Path | None = None,
+                  sweep_dir: str | Path | None = None, fatigue_dir: str | Path | None = None,
+                  scheduler: str | None = None, n_workers: int | None = None,
+                  progress: bool = False, fatigue_fn: CaseFn = fatigue_case) -> SweepReport:
+    """Evaluate fatigue of every simulated case (resumable; re-runs when the run or settings change).
+
+    Cases whose simulation failed have no run folder and no fatigue task;
+    they are counted as simulation failures in the dataset card.
+    """
+    cfg = params.sweep
+    frame = read_cases(cases_path or cfg.cases_path)
+    case_dicts = {cid: json.loads(t) for cid, t in zip(frame["case_id"], frame["case_json"],
+                                                       strict=True)}
+    tasks = fatigue_tasks(list(frame["case_id"]), sweep_dir or cfg.sweep_dir,
+                          params.fatigue.model_dump(mode="json"), list(cfg.fatigue_criteria),
+                          cfg.api_rp7g, case_dicts)
+    return run_sweep([Case(cid, inputs) for cid, inputs in tasks], fatigue_fn,
+                     fatigue_dir or cfg.fatigue_dir,
+                     **_runner_kwargs(params, scheduler, n_workers, progress))
+
+
+def dataset_stage(params: Params, *, cases_path: str | Path | None = None,
+                  sweep_dir: str | Path | None = None, fatigue_dir: str | Path | None = None,
+                  dataset_dir: str | Path | None = None) -> dict[str, Any]:
+    """Assemble ``damage.parquet``, the dataset card and metrics; return the metrics."""
+    cfg = params.sweep
+    frame = read_cases(cases_path or cfg.cases_path)
+    return write_dataset(frame, sweep_dir or cfg.sweep_dir, fatigue_dir or cfg.fatigue_dir,
+                         dataset_dir or cfg.dataset_dir,
+                         design=cfg.model_dump(mode="json"),
+                         base_case=base_case_from_params(params))
+

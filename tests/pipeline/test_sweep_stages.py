@@ -1,0 +1,114 @@
+"""Sweep stages on a tiny params file: design → simulate → fatigue → dataset.
+
+With the synthetic case functions (fast, checks the wiring and resume), and
+once with the real simulator and fatigue chain on a 2-case, 16-segment,
+0.3 s sweep (slow marker).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+
+from drillfatigue.config import load_params
+from drillfatigue.sweep.stages import dataset_stage, design_stage, fatigue_stage, simulate_stage
+from drillfatigue.sweep.synthetic import synthetic_case, synthetic_fatigue
+
+ROOT = Path(__file__).parents[2]
+
+TINY = {
+    "operation": {"duration_s": 0.3, "bit_md_m": 500.0, "rop_m_per_s": 0.005, "rpm": 60.0},
+    "string": {"components": [
+        {"type": "collar", "name": "DC", "od_m": 0.17145, "id_m": 0.0714, "length_m": 60.0,
+         "n_segments": 6},
+        {"type": "drill_pipe", "name": "DP", "od_m": 0.127, "id_m": 0.1086, "length_m": 440.0,
+         "tool_joint_od_m": 0.1683, "tool_joint_id_m": 0.0826,
+         "tool_joint_length_fraction": 0.05, "n_segments": 10}]},
+    "recording": {"joints": [2, 8], "loads_rate_hz": 100.0},
+    "fatigue": {"plots": False},
+}
+
+
+def _params(tmp_path: Path, **sweep) -> Path:
+    data = TINY | {"sweep": {
+        "method": "sobol", "n_cases": 4, "seed": 3, "scheduler": "serial",
+        "variables": {"operation.rpm": {"low": 40.0, "high": 120.0},
+                      "friction.mu_dynamic": {"low": 0.15, "high": 0.3}},
+        "cases_path": str(tmp_path / "design" / "cases.parquet"),
+        "sweep_dir": str(tmp_path / "sweep"), "fatigue_dir": str(tmp_path / "fatigue"),
+        "dataset_dir": str(tmp_path / "dataset")} | sweep}
+    path = tmp_path / "params.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def test_chain_with_synthetic_cases_and_rerun_is_noop(tmp_path):
+    params = load_params(_params(tmp_path))
+    cases = design_stage(params)
+    assert len(cases) == 4 and (tmp_path / "design" / "coverage.csv").is_file()
+    rep = simulate_stage(params, case_fn=synthetic_case)
+    assert rep.n_done == 4
+    rep = fatigue_stage(params, fatigue_fn=synthetic_fatigue)
+    assert rep.n_done == 4
+    metrics = dataset_stage(params)
+    df = pd.read_parquet(tmp_path / "dataset" / "damage.parquet")
+    assert metrics["n_cases_in_dataset"] == 4 and len(df) == metrics["n_rows"] > 0
+    assert {"operation.rpm", "friction.mu_dynamic"} <= set(df.columns)
+    # second pass: design identical, nothing re-run
+    again = design_stage(params)
+    assert again["case_id"].tolist() == cases["case_id"].tolist()
+    assert simulate_stage(params, case_fn=synthetic_case).n_skipped == 4
+    assert fatigue_stage(params, fatigue_fn=synthetic_fatigue).n_skipped == 4
+    # changed fatigue settings re-evaluate fatigue only
+    changed = params.model_copy(update={"fatigue": params.fatigue.model_copy(update={"grade": "E-75"})})
+    assert simulate_stage(changed, case_fn=synthetic_case).n_skipped == 4
+    assert fatigue_stage(changed, fatigue_fn=synthetic_fatigue).n_done == 4
+
+
+def _script(name: str):
+    spec = importlib.util.spec_from_file_location(f"pipeline_{name}", ROOT / "pipeline" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_bad_params_one_line_error_before_any_work(tmp_path, capsys):
+    path = _params(tmp_path, variables={"operation.rpmm": {"low": 1, "high": 2}})
+    assert _script("design").main(["--params", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0
+    assert err.startswith("error: sweep.variables.operation.rpmm: unknown configuration path")
+    assert not (tmp_path / "design").exists()
+    path = _params(tmp_path, variables={"operation.rpm": {"low": 1, "high": 500}})
+    assert _script("design").main(["--params", str(path)]) == 2
+    assert "sweep.variables.operation.rpm" in capsys.readouterr().err
+
+
+@pytest.mark.slow  # real simulator + fatigue on 2 tiny cases, ~15-30 s with numba compile
+def test_chain_with_real_simulator_and_fatigue(tmp_path):
+    path = _params(tmp_path, n_cases=2, method="lhs", fatigue_criteria=["uniaxial"])
+    assert _script("design").main(["--params", str(path)]) == 0
+    assert _script("simulate").main(["--params", str(path), "--no-progress"]) == 0
+    assert _script("fatigue").main(["--params", str(path), "--no-progress"]) == 0
+    assert _script("dataset").main(["--params", str(path)]) == 0
+    df = pd.read_parquet(tmp_path / "dataset" / "damage.parquet")
+    assert df["case_id"].nunique() == 2
+    assert len(df) == 2 * 2 * 2  # 2 cases x 2 recorded joints x (body, connection)
+    for col in ("damage_rate_per_h_uniaxial", "damage_rate_per_h_api_rp7g",
+                "peak_surface_torque_Nm", "rms_surface_torque_Nm", "md_m", "s_from_bit_m"):
+        assert col in df.columns, col
+    assert (df["damage_rate_per_h_uniaxial"] >= 0).all()
+    assert df["peak_surface_torque_Nm"].notna().all()
+    # API RP7G rows exist for pipe bodies only
+    body = df[df["location"] == "body"]
+    assert body["damage_rate_per_h_api_rp7g"].notna().all()
+    assert df.loc[df["location"] == "connection", "damage_rate_per_h_api_rp7g"].isna().all()
+    card = (tmp_path / "dataset" / "README.md").read_text()
+    assert "cases in the dataset: 2" in card
+    report = json.loads((tmp_path / "sweep" / "sweep.json").read_text())
+    assert report["n_failed"] == 0
