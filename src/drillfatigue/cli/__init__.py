@@ -24,6 +24,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.query",
     "drillfatigue.cli.twin",
     "drillfatigue.cli.simulate",
+    "drillfatigue.cli.sweep",
 )
 
 

@@ -1,0 +1,104 @@
+"""``drillfatigue sweep design|run`` and ``drillfatigue dataset build|card|export``.
+
+``sweep run`` runs the whole chain outside DVC (design, simulate, fatigue,
+dataset) with the same library functions as the pipeline stages; it is
+resumable. ``dataset export --histories`` writes the raw load histories as
+Parquet partitioned by case.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import typer
+
+from drillfatigue.cli.app import app
+from drillfatigue.config import load_params
+from drillfatigue.errors import InputError
+
+sweep_app = typer.Typer(help="Case design and parallel, resumable sweeps.", no_args_is_help=True)
+dataset_app = typer.Typer(help="The damage dataset: build, card, history export.",
+                          no_args_is_help=True)
+app.add_typer(sweep_app, name="sweep")
+app.add_typer(dataset_app, name="dataset")
+
+ParamsOpt = typer.Option(Path("params.yaml"), "--params", help="params.yaml to read")
+
+
+def _fail(exc: Exception) -> None:
+    print(f"error: {exc}", file=sys.stderr)
+    raise typer.Exit(1)
+
+
+@sweep_app.command("design")
+def design(params: Path = ParamsOpt,
+           out: Path | None = typer.Option(None, "--out", help="default: sweep.cases_path")) -> None:
+    """Sample the cases of params.yaml's sweep section into cases.parquet."""
+    from drillfatigue.sweep.stages import design_stage
+
+    p = load_params(params)
+    frame = design_stage(p, out)
+    print(f"{len(frame)} cases -> {out or p.sweep.cases_path}")
+
+
+@sweep_app.command("run")
+def run(params: Path = ParamsOpt,
+        scheduler: str | None = typer.Option(None, "--scheduler",
+                                             help="serial, processes, local-cluster or tcp://host:port"),
+        n_workers: int | None = typer.Option(None, "--n-workers", min=1),
+        progress: bool = typer.Option(True, "--progress/--no-progress")) -> None:
+    """Design, simulate, evaluate fatigue and assemble the dataset (resumable)."""
+    from drillfatigue.config import validate
+    from drillfatigue.config.sweep import SweepConfig
+    from drillfatigue.sweep.runner import SweepFailedError
+    from drillfatigue.sweep.stages import (dataset_stage, design_stage, fatigue_stage,
+                                           simulate_stage)
+
+    p = load_params(params)
+    if scheduler is not None:  # validate the override like the config field
+        validate(SweepConfig, {"scheduler": scheduler}, "sweep")
+    design_stage(p)
+    try:
+        sim = simulate_stage(p, scheduler=scheduler, n_workers=n_workers, progress=progress)
+        fat = fatigue_stage(p, scheduler=scheduler, n_workers=n_workers, progress=progress)
+    except SweepFailedError as exc:
+        _fail(exc)
+    metrics = dataset_stage(p)
+    print(f"simulate: {sim.n_done} done, {sim.n_skipped} already done, {sim.n_failed} failed; "
+          f"fatigue: {fat.n_done} done, {fat.n_skipped} already done, {fat.n_failed} failed; "
+          f"dataset: {metrics['n_rows']} rows -> {p.sweep.dataset_dir}")
+
+
+@dataset_app.command("build")
+def build(params: Path = ParamsOpt) -> None:
+    """Assemble damage.parquet, README.md and metrics.json from finished cases."""
+    from drillfatigue.sweep.stages import dataset_stage
+
+    p = load_params(params)
+    metrics = dataset_stage(p)
+    print(f"{metrics['n_rows']} rows from {metrics['n_cases_in_dataset']} cases -> "
+          f"{p.sweep.dataset_dir}")
+
+
+@dataset_app.command("card")
+def card(params: Path = ParamsOpt) -> None:
+    """Regenerate the dataset card (with the damage table and metrics)."""
+    build(params)
+
+
+@dataset_app.command("export")
+def export(histories: bool = typer.Option(False, "--histories",
+                                          help="export the raw load and channel histories"),
+           params: Path = ParamsOpt,
+           out: Path = typer.Option(Path("data/dataset/histories"), "--out"),
+           sweep_dir: Path | None = typer.Option(None, "--sweep-dir",
+                                                 help="default: sweep.sweep_dir")) -> None:
+    """Export raw histories to Parquet partitioned by case (OUT/loads, OUT/channels)."""
+    from drillfatigue.sweep.dataset import export_histories
+
+    if not histories:
+        raise InputError("dataset export", "nothing selected to export", "--histories")
+    root = sweep_dir if sweep_dir is not None else Path(load_params(params).sweep.sweep_dir)
+    path = export_histories(root, out)
+    print(f"histories -> {path}/loads, {path}/channels (partitioned by case_id)")
