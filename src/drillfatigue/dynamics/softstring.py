@@ -354,7 +354,9 @@ def torque_drag_for_case(
                     k -= 1
                 s_np = float(sum(c.length_m for c in comps[:k]))
             below = s_mid < s_np
-            tz = np.cos(0.5 * (inc[1:] + inc[:-1]))
+            t = _tangents(inc, azi)
+            tm = t[1:] + t[:-1]  # the march's mean cell tangent, so WOB matches it exactly
+            tz = tm[:, 2] / np.linalg.norm(tm, axis=1)
             wob_N = float(np.sum((w * np.diff(md) * tz)[below]))
         elif op.bit_on_bottom and op.top_axial == "hook_load":
             rot = soft_string_torque_drag(md, inc, azi, w, r, mu_t, mu_d)
