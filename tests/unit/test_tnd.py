@@ -130,3 +130,12 @@ def test_inclined_straight_case_matches_closed_form():
     for t, sign in ((td.tension_pickup_N[hold], 1), (td.tension_slackoff_N[hold], -1)):
         grad = -np.diff(t) / np.diff(md)
         np.testing.assert_allclose(grad, w_dp * (math.cos(inc) + sign * mu * math.sin(inc)), rtol=1e-9)
+
+
+def test_neutral_point_at_top_of_collars_in_deviated_well():
+    """Default WOB puts the drilling-mode neutral point at the top of the collars (MODEL.md 3)."""
+    td = torque_drag_for_case(case_from_dict(J_WELL), cell_m=5.0)
+    k = int(np.argmin(np.abs(td.md_m - (1400.0 - 180.0))))
+    assert td.md_m[k] == pytest.approx(1220.0)
+    assert abs(td.tension_drilling_N[k]) < 1e-9 * td.wob_N
+    assert td.tension_drilling_N[k - 1] > 0 > td.tension_drilling_N[k + 1]
