@@ -244,9 +244,14 @@ class LocationResult:
     param_max_Pa: float
 
 
-def _select(dmg: np.ndarray, sel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    j = np.argmax(sel, axis=1)
-    return dmg[np.arange(dmg.shape[0]), j], j
+def pick_planes(dmg: np.ndarray, sel: np.ndarray, rtol: float = 1e-9) -> np.ndarray:
+    """Governing candidate per row: the largest selection damage; among planes
+    tied with it (within ``rtol``, e.g. conjugate maximum-shear planes under
+    Matake) the one with the largest criterion damage (conservative, and
+    independent of rounding)."""
+    smax = sel.max(axis=1, keepdims=True)
+    near = sel >= smax * (1.0 - rtol)
+    return np.argmax(np.where(near, dmg, -np.inf), axis=1)
 
 
 def refine_plane(loads: np.ndarray, cs_row: np.ndarray, ct_row: np.ndarray, theta0: float,
@@ -269,10 +274,12 @@ def refine_plane(loads: np.ndarray, cs_row: np.ndarray, ct_row: np.ndarray, thet
         d, s, p = plane_damage(loads, cs_row[None], ct_row[None],
                                make_planes(ths, [beta, beta], [psi, psi]), curve, criterion,
                                params, residue, tf)
-        j = int(np.argmax(s[0]))
-        if s[0, j] > best[1]:
-            best_t = float(ths[j])
-            best = (float(d[0, j]), float(s[0, j]), float(p[0, j]))
+        dd = np.array([[best[0], d[0, 0], d[0, 1]]])
+        ss = np.array([[best[1], s[0, 0], s[0, 1]]])
+        j = int(pick_planes(dd, ss)[0])
+        if j > 0:
+            best_t = float(ths[j - 1])
+            best = (float(d[0, j - 1]), float(s[0, j - 1]), float(p[0, j - 1]))
     return best_t, best[0], best[1], best[2]
 
 
@@ -345,7 +352,7 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
                               float(uni[p]), float("nan"))
     planes = plane_grid(plane_step_deg, family_b, n_shear_axes)
     dmg, sel, par = plane_damage(loads, cs, ct, planes, curve, criterion, params, residue, tf)
-    jbest = np.argmax(sel, axis=1)
+    jbest = pick_planes(dmg, sel)
     rows = np.arange(dmg.shape[0])
     pdmg = dmg[rows, jbest].copy()
     psel = sel[rows, jbest].copy()
@@ -361,7 +368,7 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
             if s >= psel[p]:
                 pdmg[p], psel[p], theta[p], pmax[p] = d, s, t, pm
     # governing point: largest selection damage (= damage except for Matake)
-    p = int(np.argmax(psel))
+    p = int(pick_planes(pdmg[None], psel[None])[0])
     return LocationResult(float(pdmg[p]), float(np.degrees(phi[p])), float(theta[p]),
                           float(planes.beta_deg[jbest[p]]), p, pdmg,
                           float(uni.max()), float(pmax[p]))
