@@ -60,6 +60,8 @@ class SurrogateConfig(StrictModel):
     hidden_layers: tuple[int, ...] = Field((64, 64), min_length=1, max_length=8)
     activation: Literal["silu", "relu", "tanh", "gelu"] = "silu"
     loss: Literal["gaussian_nll", "mse"] = "gaussian_nll"
+    nll_beta: float = Field(0.5, ge=0.0, le=1.0)
+    stop_on: Literal["mse", "nll"] = "mse"
     learning_rate: float = Field(2e-3, gt=0.0, le=1.0)
     weight_decay: float = Field(0.0, ge=0.0, le=1.0)
     batch_size: int = Field(256, ge=1, le=1_000_000)

@@ -269,6 +269,16 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         Minibatch size; epochs at most; early stopping when the validation loss
         of a member has not improved for ``patience`` epochs (its best state is
         kept).
+    nll_beta : float
+        beta of the beta-NLL training loss (Seitzer et al., "On the pitfalls of
+        heteroscedastic uncertainty estimation with probabilistic neural
+        networks", ICLR 2022): the per-row NLL is weighted by sigma^(2 beta)
+        (no gradient through the weight). beta = 0 is the plain Gaussian NLL;
+        0.5 keeps the mean fit from being starved where the variance is large.
+    stop_on : {"mse", "nll"}
+        Validation metric of early stopping: the member's mean squared error
+        (default: the mean is what matters, sigma is recalibrated by split
+        conformal prediction afterwards) or its plain Gaussian NLL.
     validation_fraction : float
         Fraction of rows (of groups, if ``groups`` is given to ``fit``) held
         out for early stopping.
@@ -290,7 +300,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                  loss: str = "gaussian_nll", learning_rate: float = 2e-3,
                  weight_decay: float = 0.0, batch_size: int = 256, max_epochs: int = 300,
                  patience: int = 30, validation_fraction: float = 0.15,
-                 n_threads: int = 2) -> None:
+                 nll_beta: float = 0.5, stop_on: str = "mse", n_threads: int = 2) -> None:
         self.numeric_features = numeric_features
         self.categorical_features = categorical_features
         self.seeds = seeds
@@ -303,6 +313,8 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         self.max_epochs = max_epochs
         self.patience = patience
         self.validation_fraction = validation_fraction
+        self.nll_beta = nll_beta
+        self.stop_on = stop_on
         self.n_threads = n_threads
 
     # -- data ---------------------------------------------------------------
@@ -329,6 +341,8 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         """
         if self.loss not in ("gaussian_nll", "mse"):
             raise InputError("loss", f"unknown loss {self.loss!r}", "gaussian_nll, mse")
+        if self.stop_on not in ("mse", "nll"):
+            raise InputError("stop_on", f"unknown metric {self.stop_on!r}", "mse, nll")
         if self.activation not in ("silu", "relu", "tanh", "gelu"):
             raise InputError("activation", f"unknown activation {self.activation!r}",
                              "silu, relu, tanh, gelu")
@@ -386,10 +400,13 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         self.module_ = module
         return self
 
-    def _member_loss(self, module: EnsembleModule, z: Tensor, y: Tensor) -> Tensor:
+    def _member_loss(self, module: EnsembleModule, z: Tensor, y: Tensor,
+                     beta: float = 0.0) -> Tensor:
         mu, logvar = module.members(z)
         if module.gaussian:
             per = 0.5 * (logvar + (y - mu) ** 2 * torch.exp(-logvar))
+            if beta > 0.0:  # beta-NLL weight sigma^(2 beta), no gradient through it
+                per = per * torch.exp(beta * logvar.detach())
         else:
             per = (y - mu) ** 2
         return per.mean(dim=1)  # (M,)
@@ -423,14 +440,18 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                 idx = torch.as_tensor(perms[:, start:start + bs])
                 zb = z_tr[idx]  # (M, b, n_in)
                 yb = y_tr[idx]  # (M, b)
-                loss_m = self._member_loss(module, zb, yb)
+                loss_m = self._member_loss(module, zb, yb, float(self.nll_beta))
                 opt.zero_grad(set_to_none=True)
                 loss_m.sum().backward()
                 opt.step()
                 tot += loss_m.detach() * idx.shape[1]
             module.eval()
             with torch.no_grad():
-                val = self._member_loss(module, z_va, y_va).numpy().astype(np.float64)
+                if self.stop_on == "mse":
+                    mu_va, _ = module.members(z_va)
+                    val = ((mu_va - y_va) ** 2).mean(dim=1).numpy().astype(np.float64)
+                else:
+                    val = self._member_loss(module, z_va, y_va).numpy().astype(np.float64)
             tr = (tot / n_tr).numpy().astype(np.float64)
             train_hist.append(tr)
             val_hist.append(val)
