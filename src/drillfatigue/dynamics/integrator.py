@@ -6,10 +6,16 @@ The paper integrated with variable-step BDF (tol 1e-5, max step 1 ms) and ran
 120 segments at about 0.0175x real time. Here the model is integrated with the
 explicit, second-order, symplectic velocity-Verlet (kick-drift-kick) scheme:
 
-    w, v  += dt/2 * (I^-1 (M - w x I w), F / m)      half kick
-    x     += dt * v ;  q <- q exp(dt w / 2)           drift (quaternion renormalised)
+    w, v  += dt/2 * (I^-1 M_body, F / m)              half kick
+    x     += dt * v ;  (q, w) <- free rotor over dt    drift (exact symmetric top,
+                                                       quaternion renormalised)
     F, M   = forces(x, q, v, w)                       one force evaluation per step
     w, v  += dt/2 * (...)                             half kick
+
+The rotational part is the symplectic splitting of Dullweber, Leimkuhler &
+McLachlan (1997): the gyroscopic term w x I w is integrated exactly in the
+free-rotor drift, which removed an O(dt) energy drift of the explicit form
+(measured 1 % over 1e5 steps for a spinning string in an inclined hole).
 
 * The coupling is nearest-neighbour and the force evaluation is O(n) with no
   linear solves, so one step costs a few microseconds for 120 segments.
@@ -43,7 +49,7 @@ from drillfatigue.dynamics.layout import (
     B_EXT, C_DISS, C_PHIB, C_PHID, C_STEP, C_WIN, H_PDISS, H_PIN, N_CH, S_H, S_IA, S_IT, S_M,
     ST_BLOWUP, ST_NONFINITE, ST_OK, B_ESCALE, T_H0,
 )
-from drillfatigue.dynamics.rigid import kick, quat_exp_mul
+from drillfatigue.dynamics.rigid import free_rotation, kick
 
 
 @njit(cache=True)
@@ -99,9 +105,7 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
         for i in range(n):
             for k in range(3):
                 x[i, k] += dt * v[i, k]
-            quat_exp_mul(q[i], dt * w[i, 0], dt * w[i, 1], dt * w[i, 2], scq[0], scq[1])
-            for k in range(4):
-                q[i, k] = scq[1, k]
+            free_rotation(q[i], w[i], seg[i, S_IT], seg[i, S_IA], dt, scq[0], scq[1])
         sc[C_PHIB] += dt * w[0, 2]
         t0 = sc[C_STEP] * dt
         sc[C_STEP] += 1.0

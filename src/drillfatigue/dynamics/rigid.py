@@ -4,7 +4,8 @@ Quaternions are stored scalar first, q = (w, x, y, z), and rotate body-frame
 vectors to the world frame (v_world = R(q) v_body). Orientation has no
 singularity in horizontal holes and is renormalised after every drift.
 Angular velocity is kept in the body frame; the Euler equations are
-I dw/dt + w x (I w) = M_body with the axisymmetric inertia diag(It, It, Ia).
+I dw/dt + w x (I w) = M_body with the axisymmetric inertia diag(It, It, Ia),
+split into a kick by the moments and the exact free rotation of a symmetric top.
 
 All functions are numba kernels on float64 arrays in SI units.
 """
@@ -102,7 +103,10 @@ def quat_exp_mul(q, th0, th1, th2, tmp, out):
 
 @njit(cache=True)
 def kick(v, w, F, Mb, m, It, Ia, h):
-    """Half kick of one body: v += h F / m; w += h I^-1 (M_b - w x I w).
+    """Kick of one body: v += h F / m; w += h I^-1 M_b (body frame).
+
+    The gyroscopic term is not here: it is integrated exactly by
+    :func:`free_rotation` in the drift (symplectic splitting).
 
     Parameters
     ----------
@@ -115,12 +119,39 @@ def kick(v, w, F, Mb, m, It, Ia, h):
     """
     for k in range(3):
         v[k] += h * F[k] / m
-    # gyroscopic term w x (I w), I = diag(It, It, Ia)
-    g0 = w[1] * Ia * w[2] - w[2] * It * w[1]
-    g1 = w[2] * It * w[0] - w[0] * Ia * w[2]
-    w[0] += h * (Mb[0] - g0) / It
-    w[1] += h * (Mb[1] - g1) / It
+    w[0] += h * Mb[0] / It
+    w[1] += h * Mb[1] / It
     w[2] += h * Mb[2] / Ia
+
+
+@njit(cache=True)
+def free_rotation(q, w, It, Ia, dt, tmp, tmp2):
+    """Exact torque-free motion of an axisymmetric body over dt (in place).
+
+    With I = diag(It, It, Ia) the body angular velocity splits into
+    w = L_b / It + c e3, c = w_z (1 - Ia / It): a rotation about the fixed
+    angular momentum plus a rotation about the body axis, so
+    q <- q exp(dt L_b / It) exp(dt c e3) and (w_x, w_y) turn by -c dt about e3
+    (the symmetric Euler top; Dullweber, Leimkuhler & McLachlan, J. Chem. Phys.
+    107 (1997) 5840, used as the free-rotor flow of a symplectic splitting).
+
+    Parameters
+    ----------
+    q : ndarray, shape (4,)  orientation, updated and renormalised
+    w : ndarray, shape (3,)  body angular velocity (rad/s), updated
+    It, Ia : float           transverse and axial inertia (kg m^2)
+    dt : float               step (s)
+    tmp, tmp2 : ndarray, shape (4,)  scratch
+    """
+    c = w[2] * (1.0 - Ia / It)
+    quat_exp_mul(q, dt * w[0], dt * w[1], dt * w[2] * Ia / It, tmp, tmp2)
+    quat_exp_mul(tmp2, 0.0, 0.0, dt * c, tmp, q)
+    a = -c * dt
+    ca = math.cos(a)
+    sa = math.sin(a)
+    w0 = ca * w[0] - sa * w[1]
+    w[1] = sa * w[0] + ca * w[1]
+    w[0] = w0
 
 
 def quat_from_rot(R: np.ndarray) -> np.ndarray:
