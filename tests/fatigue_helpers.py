@@ -20,6 +20,8 @@ def synthetic_loads(n_t: int, dt: float = 1e-3, rpm: float = 120.0, seed: int = 
     """Drill-pipe-like loads, shape (n_t, 6): rotating bending in a dogleg
     (a constant moment seen in the rotating joint frame), axial bit-lobe
     vibration, torsional oscillation and a little smoothed noise."""
+    if n_t < 9:
+        return np.zeros((n_t, 6))
     rng = np.random.default_rng(seed)
     t = np.arange(n_t) * dt
     w = 2 * np.pi * rpm / 60.0
@@ -66,6 +68,7 @@ def write_run_dir(path: Path, *, n_joints: int = 3, n_t: int = 1500, dt: float =
         loads_df = loads_df.drop(columns=[drop_column])
     loads_df.to_parquet(path / "loads.parquet", index=False)
     pd.DataFrame(jrows).to_parquet(path / "joints.parquet", index=False)
-    (path / "summary.json").write_text(json.dumps({"duration_s": n_t * dt, "status": status}))
+    (path / "summary.json").write_text(json.dumps({"duration_s": n_t * dt if n_t else 1.0,
+                                                   "status": status}))
     (path / "case.yaml").write_text("fatigue:\n  plane_step_deg: 15.0\n  n_refine: 2\n")
     return path

@@ -1,0 +1,99 @@
+"""evaluate_run and the ``drillfatigue fatigue`` command on synthetic run directories."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from drillfatigue.cli import main
+from drillfatigue.config.fatigue import FatigueConfig
+from drillfatigue.fatigue.run import DAMAGE_COLUMNS, evaluate_run
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from fatigue_helpers import write_run_dir  # noqa: E402
+
+FAST = dict(plane_step_deg=15.0, n_refine=1)
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_run_dir(tmp_path_factory.mktemp("run") / "r", n_joints=3, n_t=1000)
+
+
+def test_evaluate_run_writes_one_row_per_joint_and_location(run_dir: Path, tmp_path: Path) -> None:
+    out = tmp_path / "fat"
+    df = evaluate_run(run_dir, FatigueConfig(**FAST), out)
+    assert list(df.columns) == list(DAMAGE_COLUMNS)
+    assert len(df) == 6 and set(df["location"]) == {"body", "connection"}
+    assert (df["damage"] > 0).all()
+    dur_h = 1.0 / 3600  # 1000 samples of 1 ms
+    np.testing.assert_allclose(df["damage_rate_per_h"], df["damage"] / dur_h, rtol=1e-12)
+    np.testing.assert_allclose(df["life_h"] * df["damage"], dur_h, rtol=1e-12)
+    np.testing.assert_allclose(df["life_windows"] * df["damage"], 1.0, rtol=1e-12)
+    back = pd.read_parquet(out / "damage.parquet")
+    pd.testing.assert_frame_equal(back, df)
+    summ = json.loads((out / "summary.json").read_text())
+    assert summ["governing"]["damage"] == pytest.approx(df["damage"].max())
+    for png in ("stress_history.png", "rainflow_matrix.png", "damage_along_string.png"):
+        assert (out / png).stat().st_size > 1000
+
+
+def test_joint_selection_and_criterion_override(run_dir: Path) -> None:
+    df = evaluate_run(run_dir, FatigueConfig(**FAST), joints=[1], criterion="uniaxial")
+    assert df["joint"].tolist() == [1, 1] and (df["criterion"] == "uniaxial").all()
+    np.testing.assert_allclose(df["damage"], df["uniaxial_damage"], rtol=1e-12)
+
+
+def test_carry_residue_streams_the_uniaxial_route(run_dir: Path) -> None:
+    half = evaluate_run(run_dir, FatigueConfig(criterion="uniaxial", residue="half", **FAST))
+    carry = evaluate_run(run_dir, FatigueConfig(criterion="uniaxial", residue="carry",
+                                                chunk_length_s=0.137, **FAST))
+    # streaming with carried residue = whole-history ASTM count (1e-9 relative)
+    np.testing.assert_allclose(carry["damage"], half["damage"], rtol=1e-9)
+
+
+def test_cli_writes_outputs(run_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+                            ) -> None:
+    out = tmp_path / "cli"
+    rc = main(["fatigue", str(run_dir), "--out", str(out), "--criterion", "findley",
+               "--joints", "0,2"])
+    assert rc == 0
+    df = pd.read_parquet(out / "damage.parquet")
+    assert sorted(df["joint"].unique()) == [0, 2] and (df["criterion"] == "findley").all()
+
+
+def _bad_runs(tmp: Path) -> dict[str, tuple[list[str], str]]:
+    ok = write_run_dir(tmp / "ok", n_joints=1, n_t=300)
+    params = tmp / "params.yaml"
+    params.write_text("fatigue:\n  body:\n    curve: Q9\n")
+    return {
+        "missing_column": ([str(write_run_dir(tmp / "m", n_joints=1, n_t=300,
+                                              drop_column="torque_Nm"))], "torque_Nm"),
+        "nan": ([str(write_run_dir(tmp / "n", n_joints=1, n_t=300, nan=True))], "NaN"),
+        "unknown_criterion": ([str(ok), "--criterion", "tresca"], "allowed"),
+        "unknown_curve": ([str(ok), "--params", str(params)], "Q9"),
+        "zero_length": ([str(write_run_dir(tmp / "z", n_joints=1, n_t=0))], "zero-length"),
+        "incomplete": ([str(write_run_dir(tmp / "i", n_joints=1, n_t=300,
+                                          status="incomplete"))], "incomplete"),
+        "unknown_joint": ([str(ok), "--joints", "7"], "joint 7"),
+    }
+
+
+@pytest.mark.parametrize("case", ["missing_column", "nan", "unknown_criterion", "unknown_curve",
+                                  "zero_length", "incomplete", "unknown_joint"])
+def test_bad_input_one_line_exit_2_nothing_written(case: str, tmp_path: Path,
+                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    args, needle = _bad_runs(tmp_path)[case]
+    out = tmp_path / "out"
+    rc = main(["fatigue", *args[:1], "--out", str(out), *args[1:]])
+    err = capsys.readouterr().err
+    assert rc == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0]
+    assert "Traceback" not in err
+    assert not out.exists()
