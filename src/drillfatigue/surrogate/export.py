@@ -16,6 +16,7 @@ which are not project dependencies.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -27,7 +28,11 @@ if TYPE_CHECKING:
 
 def export_torchscript(surrogate: Surrogate, path: str | Path) -> Path:
     """Script the surrogate's module and save it to ``path``."""
-    scripted = torch.jit.script(surrogate.module.eval())
+    with warnings.catch_warnings():
+        # torch 2.13 marks TorchScript deprecated in favour of torch.export;
+        # scripted modules still load in C++ (libtorch) without Python.
+        warnings.simplefilter("ignore", DeprecationWarning)
+        scripted = torch.jit.script(surrogate.module.eval())
     p = Path(path)
     scripted.save(str(p))
     return p

@@ -51,7 +51,8 @@ def regressor_from_config(cfg: SurrogateConfig) -> DeepEnsembleRegressor:
         activation=cfg.activation, loss=cfg.loss, learning_rate=cfg.learning_rate,
         weight_decay=cfg.weight_decay, batch_size=cfg.batch_size, max_epochs=cfg.max_epochs,
         patience=cfg.patience, validation_fraction=cfg.validation_fraction,
-        nll_beta=cfg.nll_beta, stop_on=cfg.stop_on, n_threads=cfg.n_threads)
+        nll_beta=cfg.nll_beta, stop_on=cfg.stop_on, random_state=cfg.split_seed,
+        n_threads=cfg.n_threads)
 
 
 class Surrogate:

@@ -282,6 +282,9 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
     validation_fraction : float
         Fraction of rows (of groups, if ``groups`` is given to ``fit``) held
         out for early stopping.
+    random_state : int
+        Seed of the validation split (shared by all members, so a member's
+        result does not depend on the other members).
     n_threads : int
         ``torch.set_num_threads`` during fit.
 
@@ -300,7 +303,8 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                  loss: str = "gaussian_nll", learning_rate: float = 2e-3,
                  weight_decay: float = 0.0, batch_size: int = 256, max_epochs: int = 300,
                  patience: int = 30, validation_fraction: float = 0.15,
-                 nll_beta: float = 0.5, stop_on: str = "mse", n_threads: int = 2) -> None:
+                 nll_beta: float = 0.5, stop_on: str = "mse", random_state: int = 0,
+                 n_threads: int = 2) -> None:
         self.numeric_features = numeric_features
         self.categorical_features = categorical_features
         self.seeds = seeds
@@ -315,6 +319,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         self.validation_fraction = validation_fraction
         self.nll_beta = nll_beta
         self.stop_on = stop_on
+        self.random_state = random_state
         self.n_threads = n_threads
 
     # -- data ---------------------------------------------------------------
@@ -361,7 +366,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         self.feature_names_in_ = np.asarray(nums + cats, dtype=object)
 
         seeds = [int(s) for s in self.seeds]
-        rng = np.random.default_rng(seeds[0])
+        rng = np.random.default_rng(int(self.random_state))
         n = len(yv)
         if groups is not None:
             g = np.asarray(groups)
