@@ -40,4 +40,6 @@ def export_torchscript(surrogate: Surrogate, path: str | Path) -> Path:
 
 def load_torchscript(path: str | Path) -> torch.jit.ScriptModule:
     """Load an exported module (CPU)."""
-    return torch.jit.load(str(path), map_location="cpu")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        return torch.jit.load(str(path), map_location="cpu")

@@ -1,0 +1,131 @@
+"""``drillfatigue query``: user units at the boundary, single and batch queries, bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from drillfatigue import units
+from drillfatigue.cli import main
+from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.errors import InputError
+from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
+from drillfatigue.surrogate.query import Vocabulary
+
+TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
+                       n_threads=1)
+EXAMPLES = Path(__file__).resolve().parents[2] / "data" / "examples"
+FLAGS = ["--rpm", "120", "--wob-kN", "80", "--rop-m-per-h", "20", "--mu-static", "0.35",
+         "--mu-dynamic", "0.28", "--mud-density-sg", "1.25", "--amplitude-mm", "1.0",
+         "--lobes", "3", "--kop-m", "500", "--dls-deg-per-30m", "5", "--md-m", "1400",
+         "--s-from-bit-m", "40", "--local-dls-deg-per-30m", "0", "--component-type", "collar",
+         "--location", "connection", "--profile", "build_hold"]
+
+
+@pytest.fixture(scope="module")
+def model_dir(tmp_path_factory) -> Path:
+    d = tmp_path_factory.mktemp("q") / "model"
+    fit_surrogate(make_synthetic_dataset(30, seed=3), TINY).save(d, export=False)
+    return d
+
+
+def test_vocabulary_converts_user_units() -> None:
+    v = Vocabulary(["operation.wob_N", "operation.rop_m_per_s", "operation.rpm",
+                    "operation.mud_density_kg_per_m3", "well.dls_deg_per_30m"], ["location"])
+    f = v.frame_from_mapping({"wob_kN": "80", "rop_m_per_h": 36, "rpm": 120,
+                              "mud_density_ppg": 10, "dls_deg_per_100ft": 3,
+                              "location": "body"})
+    assert f["operation.wob_N"].iloc[0] == pytest.approx(80e3)
+    assert f["operation.rop_m_per_s"].iloc[0] == pytest.approx(0.01)
+    assert f["operation.mud_density_kg_per_m3"].iloc[0] == pytest.approx(
+        10 * units.PPG_KG_PER_M3)
+    assert f["operation.mud_density_kg_per_m3"].iloc[0] == pytest.approx(1198.26, abs=0.01)
+    assert f["well.dls_deg_per_30m"].iloc[0] == pytest.approx(3 * 30 / 30.48)
+    # the SI column name itself is accepted; two names for one feature are not
+    g = v.frame_from_mapping({"operation.wob_N": 8e4, "rop_m_per_s": 0.01, "rpm": 1,
+                              "mud_density_sg": 1.2, "dls_deg_per_30m": 3, "location": "x"})
+    assert g["operation.wob_N"].iloc[0] == 8e4
+    with pytest.raises(InputError, match="given twice"):
+        v.frame_from_table(pd.DataFrame({"wob_kN": [1.0], "wob_N": [1.0]}), require=())
+
+
+def test_single_query_json(model_dir: Path, capsys) -> None:
+    assert main(["query", "--model", str(model_dir), *FLAGS, "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    lo, hi = res["damage_rate_per_h_interval"]
+    assert lo < res["damage_rate_per_h"] < hi
+    assert res["life_h"] == pytest.approx(1.0 / res["damage_rate_per_h"])
+    assert res["inputs_si"]["operation.wob_N"] == pytest.approx(80e3)
+    assert res["inputs_si"]["operation.rop_m_per_s"] == pytest.approx(20 / 3600)
+    # same number through the Python API on the SI frame
+    sur = Surrogate.load(model_dir)
+    frame = pd.DataFrame({k: [v] for k, v in res["inputs_si"].items()})
+    assert sur.predict(frame)["damage_rate_per_h"].iloc[0] == pytest.approx(
+        res["damage_rate_per_h"], rel=1e-12)
+    assert isinstance(res["out_of_domain"], bool)
+
+
+def test_text_output_and_ood(model_dir: Path, capsys) -> None:
+    flags = list(FLAGS)
+    flags[flags.index("--rpm") + 1] = "400"
+    assert main(["query", "--model", str(model_dir), *flags]) == 0
+    out = capsys.readouterr().out
+    assert "damage rate" in out and "OUT OF DOMAIN" in out and "operation.rpm=400" in out
+
+
+def test_batch_csv(model_dir: Path, tmp_path: Path, capsys) -> None:
+    out = tmp_path / "pred.csv"
+    assert main(["query", "--model", str(model_dir), "--csv", str(EXAMPLES / "conditions.csv"),
+                 "--out", str(out)]) == 0
+    p = pd.read_csv(out)
+    assert len(p) == 3
+    assert {"damage_rate_per_h", "life_h", "ood", "rpm"} <= set(p.columns)
+    assert np.all(p["damage_rate_per_h_lower"] <= p["damage_rate_per_h_upper"])
+
+
+@pytest.mark.parametrize("change, field", [
+    (("--rpm", None), "rpm"),                   # missing feature
+    (("--rpm", "fast"), "rpm"),                 # non-numeric
+    (("--rpm", "nan"), "rpm"),                  # NaN
+    (("--wob-kN", "--wob-tonnes"), "wob_tonnes"),  # unknown unit
+    (("--component-type", "jar"), "component_type"),  # unseen category
+])
+def test_bad_query_exits_2_one_line(model_dir: Path, capsys, change, field) -> None:
+    flags = list(FLAGS)
+    i = flags.index(change[0])
+    if change[1] is None:
+        del flags[i:i + 2]
+    elif change[1].startswith("--"):
+        flags[i] = change[1]
+    else:
+        flags[i + 1] = change[1]
+    assert main(["query", "--model", str(model_dir), *flags]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: ") and "\n" not in err and field in err
+    assert "Traceback" not in err
+
+
+def test_bad_batch_writes_nothing(model_dir: Path, tmp_path: Path, capsys) -> None:
+    table = pd.read_csv(EXAMPLES / "conditions.csv")
+    table.loc[1, "wob_kN"] = np.nan
+    bad = tmp_path / "bad.csv"
+    table.to_csv(bad, index=False)
+    out = tmp_path / "pred.csv"
+    assert main(["query", "--model", str(model_dir), "--csv", str(bad), "--out", str(out)]) == 2
+    assert "wob_kN" in capsys.readouterr().err
+    assert not out.exists()
+    table = pd.read_csv(EXAMPLES / "conditions.csv").rename(columns={"rpm": "rpm_hz"})
+    table.to_csv(bad, index=False)
+    assert main(["query", "--model", str(model_dir), "--csv", str(bad), "--out", str(out)]) == 2
+    assert "rpm_hz" in capsys.readouterr().err
+    assert not out.exists()
+    assert list(tmp_path.iterdir()) == [bad]
+
+
+def test_missing_model_folder(tmp_path: Path, capsys) -> None:
+    assert main(["query", "--model", str(tmp_path / "nope"), *FLAGS]) == 2
+    assert "--model" in capsys.readouterr().err

@@ -1,0 +1,116 @@
+"""Digital twin: operating-log replay accumulates rate x time per component."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from drillfatigue.cli import main
+from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.errors import InputError
+from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
+from drillfatigue.surrogate.twin import replay_log
+
+TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
+                       n_threads=1)
+EXAMPLES = Path(__file__).resolve().parents[2] / "data" / "examples"
+CONSTANTS = {"mu_static": 0.35, "mu_dynamic": 0.28, "mud_density_sg": 1.25,
+             "amplitude_mm": 1.0, "lobes": 3, "kop_m": 500, "dls_deg_per_30m": 5,
+             "profile": "build_hold", "local_dls_deg_per_30m": 0.0}
+
+
+@pytest.fixture(scope="module")
+def model() -> Surrogate:
+    return fit_surrogate(make_synthetic_dataset(30, seed=4), TINY)
+
+
+def _components() -> pd.DataFrame:
+    return pd.read_csv(EXAMPLES / "components.csv")
+
+
+def test_constant_conditions_give_rate_times_T(model: Surrogate) -> None:
+    # uneven steps over T = 7.3 h at constant rpm, WOB, ROP and bit depth
+    t = np.concatenate([[0.0], np.cumsum(np.random.default_rng(0).uniform(1, 600, 80))])
+    t *= 7.3 * 3600 / t[-1]
+    log = pd.DataFrame({"time_s": t, "bit_md_m": 1500.0, "rpm": 130.0, "wob_kN": 90.0,
+                        "rop_m_per_h": 15.0})
+    comps = _components()
+    res = replay_log(log, comps, model, CONSTANTS).components
+    # the same conditions asked directly, in SI columns
+    frame = pd.DataFrame({
+        "operation.rpm": 130.0, "operation.wob_N": 90e3, "operation.rop_m_per_s": 15 / 3600,
+        "friction.mu_static": 0.35, "friction.mu_dynamic": 0.28,
+        "operation.mud_density_kg_per_m3": 1250.0, "bit.amplitude_m": 1e-3, "bit.lobes": 3.0,
+        "well.kop_m": 500.0, "well.dls_deg_per_30m": 5.0, "well.profile": "build_hold",
+        "local_dls_deg_per_30m": 0.0, "s_from_bit_m": comps["s_from_bit_m"],
+        "md_m": 1500.0 - comps["s_from_bit_m"], "component_type": comps["component_type"],
+        "location": comps["location"]})
+    p = model.predict(frame)
+    T_h = 7.3
+    # exact bookkeeping: damage = rate x T at 1e-9 with the rate the twin used
+    rate = res["last_damage_rate_per_h"]
+    np.testing.assert_allclose(res["damage"], rate * T_h, rtol=1e-9)
+    np.testing.assert_allclose(res["remaining_life_h"], (1 - res["damage"]) / rate, rtol=1e-9)
+    # and that rate is the model's for these conditions: the float32 network
+    # gives batch-size dependent round-off (BLAS blocking) of ~1e-7 in log10,
+    # i.e. ~5e-7 relative in the rate; 1e-5 bounds it with margin
+    np.testing.assert_allclose(res["damage"], p["damage_rate_per_h"] * T_h, rtol=1e-5)
+    np.testing.assert_allclose(res["damage_lower"], p["damage_rate_per_h_lower"] * T_h, rtol=1e-5)
+    np.testing.assert_allclose(res["damage_upper"], p["damage_rate_per_h_upper"] * T_h, rtol=1e-5)
+    np.testing.assert_allclose(res["time_in_hole_s"], 7.3 * 3600, rtol=1e-12)
+    np.testing.assert_allclose(res["ood_time_s"], np.where(p["ood"], 7.3 * 3600, 0.0))
+
+
+def test_components_above_surface_accumulate_nothing(model: Surrogate) -> None:
+    # bit at 100 m for 1 h then 300 m for 1 h: components 200 m and 350 m
+    # behind the bit are out of the hole for part (all) of the log
+    log = pd.DataFrame({"time_s": [0.0, 3600.0, 7200.0], "bit_md_m": [100.0, 300.0, 300.0],
+                        "rpm": 120.0, "wob_kN": 80.0, "rop_m_per_h": 10.0})
+    res = replay_log(log, _components(), model, CONSTANTS).components.set_index("serial")
+    assert res.loc["DP-302-B", "damage"] == 0.0
+    assert res.loc["DP-302-B", "time_in_hole_s"] == 0.0
+    assert np.isnan(res.loc["DP-302-B", "last_damage_rate_per_h"])
+    assert res.loc["DP-301-C", "time_in_hole_s"] == 3600.0
+    assert res.loc["STB-001-B", "time_in_hole_s"] == 7200.0
+    assert res.loc["STB-001-B", "damage"] > 0
+
+
+def test_replay_input_errors(model: Surrogate) -> None:
+    log = pd.DataFrame({"time_s": [0.0, 10.0], "bit_md_m": 1000.0, "rpm": 120.0,
+                        "wob_kN": 80.0, "rop_m_per_h": 10.0})
+    with pytest.raises(InputError, match="mu_static"):
+        replay_log(log, _components(), model, {k: v for k, v in CONSTANTS.items()
+                                                if k != "mu_static"})
+    with pytest.raises(InputError, match="given twice"):
+        replay_log(log, _components(), model, dict(CONSTANTS, rpm=100))
+    with pytest.raises(InputError, match="time"):
+        replay_log(log.iloc[::-1], _components(), model, CONSTANTS)
+    with pytest.raises(InputError, match="serial"):
+        replay_log(log, _components().drop(columns="serial"), model, CONSTANTS)
+
+
+def test_cli_replay_example_log(model: Surrogate, tmp_path: Path, capsys) -> None:
+    model.save(tmp_path / "m", export=False)
+    out = tmp_path / "twin"
+    sets = [a for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"
+            for a in ("--set", f"{k}={v}")]
+    rc = main(["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model", str(tmp_path / "m"),
+               "--components", str(EXAMPLES / "components.csv"), "--survey",
+               str(EXAMPLES / "survey.csv"), *sets, "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    table = pd.read_csv(out / "components_damage.csv")
+    assert len(table) == 9 and (table["damage"] > 0).all()
+    assert (table["damage_lower"] <= table["damage"]).all()
+    assert (out / "damage_along_string.png").stat().st_size > 0
+    assert (out / "summary.json").is_file()
+    # a bad setting: exit 2, one line, nothing written
+    out2 = tmp_path / "twin2"
+    rc = main(["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model", str(tmp_path / "m"),
+               "--components", str(EXAMPLES / "components.csv"), "--survey",
+               str(EXAMPLES / "survey.csv"), *sets, "--set", "kop_m=deep", "--out", str(out2)])
+    assert rc == 2
+    assert "kop_m" in capsys.readouterr().err
+    assert not out2.exists()
