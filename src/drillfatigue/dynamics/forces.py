@@ -118,6 +118,74 @@ def update_top(h, seg, jp, topp, bp):
 
 
 @njit(cache=True)
+def top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv, loads_row, ed):
+    """Loads of the top boundary: the top segment's upper end tied to the top drive.
+
+    The drive is a virtual body at ``anchor[0:3]`` with orientation
+    ``anchor[3:7] * rot_z(phi_drive)`` turning at the table speed about the
+    downhole axis ``anchor[7:10]``. Writes scv[0] (force on the top segment),
+    scv[1] (its moment), scv[2] (moment on the drive), scv[3] (drive angular
+    velocity), ``loads_row`` and ``ed``. Returns the drive speed (rad/s).
+    """
+    top = x.shape[0] - 1
+    omega_d = drive_omega(t, tab_t, tab_w)
+    phid = sc[C_PHID]
+    qz = scq[3]
+    qz[0] = math.cos(0.5 * phid)
+    qz[1] = 0.0
+    qz[2] = 0.0
+    qz[3] = math.sin(0.5 * phid)
+    qa = scq[4]
+    quat_mul(anchor[3:7], qz, qa)
+    Ra = scm[1]
+    quat_to_rot(qa, Ra)
+    wa = scv[3]
+    va = scv[4]
+    for k in range(3):
+        wa[k] = omega_d * anchor[7 + k]
+        va[k] = 0.0
+    joint_force(x[top], v[top], R[top], q[top], wW[top], seg[top, S_H],
+                anchor[0:3], va, Ra, qa, wa, 0.0,
+                jp[top, J_KA], jp[top, J_KS], jp[top, J_KB], jp[top, J_KT],
+                jp[top, J_CA], jp[top, J_CS], jp[top, J_CB], jp[top, J_CT],
+                scq[0], scq[1], scq[2], scm[0], scv[0], scv[1], scv[2], loads_row, ed)
+    return omega_d
+
+
+@njit(cache=True)
+def top_energy(t, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW, scq, scm, scv,
+               loads, ed):
+    """Energy (J) held by the top segment: its kinetic and gravity energy and the
+    springs of the joint below it and of the top boundary.
+
+    Used to account for the work of feeding pipe when the top segment grows
+    (the difference before/after :func:`update_top`). Refreshes R and wW of the
+    two top segments.
+    """
+    n = x.shape[0]
+    top = n - 1
+    lo = max(n - 2, 0)
+    for i in range(lo, n):
+        quat_to_rot(q[i], R[i])
+        for k in range(3):
+            wW[i, k] = R[i, k, 0] * w[i, 0] + R[i, k, 1] * w[i, 1] + R[i, k, 2] * w[i, 2]
+    e = 0.5 * seg[top, S_M] * (v[top, 0] ** 2 + v[top, 1] ** 2 + v[top, 2] ** 2)
+    e += 0.5 * seg[top, S_IT] * (w[top, 0] ** 2 + w[top, 1] ** 2) + 0.5 * seg[top, S_IA] * w[top, 2] ** 2
+    e -= seg[top, S_W] * x[top, 2]
+    if n >= 2:
+        j = n - 2
+        joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
+                    x[top], v[top], R[top], q[top], wW[top], seg[top, S_H],
+                    jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
+                    jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
+                    scq[0], scq[1], scq[2], scm[0], scv[0], scv[1], scv[2], loads[j], ed)
+        e += ed[0]
+    top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv, loads[top], ed)
+    e += ed[0]
+    return e
+
+
+@njit(cache=True)
 def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
                    node_md, node_pos, node_tan, sc, R, wW, Fw, Mw, Mb, loads, ch,
                    scq, scm, scv, ed):
@@ -207,27 +275,9 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
     # -----------------------------------------------------------------------------------
     # --- top boundary: top drive and rig -------------------------------------------------
     top = n - 1
-    omega_d = drive_omega(t, tab_t, tab_w)
-    phid = sc[C_PHID]
-    qz = scq[3]
-    qz[0] = math.cos(0.5 * phid)
-    qz[1] = 0.0
-    qz[2] = 0.0
-    qz[3] = math.sin(0.5 * phid)
-    qa = scq[4]
-    quat_mul(anchor[3:7], qz, qa)
-    Ra = scm[1]
-    quat_to_rot(qa, Ra)
+    omega_d = top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv,
+                        loads[top], ed)
     wa = scv[3]
-    va = scv[4]
-    for k in range(3):
-        wa[k] = omega_d * anchor[7 + k]
-        va[k] = 0.0
-    joint_force(x[top], v[top], R[top], q[top], wW[top], seg[top, S_H],
-                anchor[0:3], va, Ra, qa, wa, 0.0,
-                jp[top, J_KA], jp[top, J_KS], jp[top, J_KB], jp[top, J_KT],
-                jp[top, J_CA], jp[top, J_CS], jp[top, J_CB], jp[top, J_CT],
-                scq[0], scq[1], scq[2], scm[0], Fl, Ml, Mu, loads[top], ed)
     pe += ed[0]
     pdiss += ed[1]
     # the drive works on the string: minus the reaction moment on the drive times its speed

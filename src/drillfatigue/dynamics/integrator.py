@@ -44,7 +44,7 @@ import math
 
 from numba import njit
 
-from drillfatigue.dynamics.forces import compute_forces, drive_omega, update_top
+from drillfatigue.dynamics.forces import compute_forces, drive_omega, top_energy, update_top
 from drillfatigue.dynamics.layout import (
     B_EXT, C_DISS, C_PHIB, C_PHID, C_STEP, C_WIN, H_PDISS, H_PIN, N_CH, S_H, S_IA, S_IT, S_M,
     ST_BLOWUP, ST_NONFINITE, ST_OK, B_ESCALE, T_H0,
@@ -112,12 +112,17 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
         t1 = sc[C_STEP] * dt
         sc[C_PHID] += 0.5 * dt * (drive_omega(t0, tab_t, tab_w) + drive_omega(t1, tab_t, tab_w))
         if ext != 0.0:
-            # the top segment grows downward from its fixed top end
+            # the top segment grows downward from its fixed top end; the energy
+            # this changes is booked as work put in (feeding pipe)
+            e_before = top_energy(t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW,
+                                  scq, scm, scv, loads, ed)
             h_new = topp[T_H0] + 0.5 * ext * t1
             dh = h_new - seg[top, S_H]
             for k in range(3):
                 x[top, k] += dh * R[top, k, 2]
             update_top(h_new, seg, jp, topp, bp)
+            sc[C_WIN] += top_energy(t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW,
+                                    scq, scm, scv, loads, ed) - e_before
         compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
                        node_md, node_pos, node_tan, sc, R, wW, Fw, Mw, Mb, loads, ch,
                        scq, scm, scv, ed)

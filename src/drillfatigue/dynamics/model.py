@@ -410,7 +410,9 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
             raise InputError("solver.dt_s", f"{dt} s exceeds the stable step {dt_stable:.3g} s",
                              f"<= {dt_stable:.3g} s")
     else:
-        dt = sv.safety_factor * dt_stable
+        # the largest step below safety x stable that divides the loads recording interval
+        t_rec = 1.0 / config.recording.loads_rate_hz
+        dt = t_rec / math.ceil(t_rec / (sv.safety_factor * dt_stable) - 1e-9)
     model.dt = dt
     bp[L.B_DT] = dt
     omega_max = float(np.abs(tab_w).max())

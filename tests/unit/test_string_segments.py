@@ -1,0 +1,77 @@
+"""build_segments and the string config section."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from drillfatigue.config import StringConfig, case_from_dict
+from drillfatigue.errors import InputError
+from drillfatigue.string import COMPONENT_TYPES, build_segments
+
+
+def test_default_string_is_the_papers_120_segments() -> None:
+    segs = build_segments(StringConfig(), 1200.0)
+    assert segs.n_segments == 120
+    assert segs.n_joints == 119
+    assert segs.component_type[:20] == ["collar"] * 20
+    assert segs.component_type[20:] == ["drill_pipe"] * 100
+    assert set(segs.component_type) <= set(COMPONENT_TYPES)
+
+
+def test_tube_properties_follow_the_formulas() -> None:
+    cfg = StringConfig(components=[{"type": "collar", "od_m": 0.2, "id_m": 0.1, "length_m": 30.0,
+                                    "n_segments": 3}])
+    segs = build_segments(cfg, 1000.0)
+    ro, ri, seg_len = 0.1, 0.05, 10.0
+    area = math.pi * (ro ** 2 - ri ** 2)
+    m = 7850.0 * area * seg_len
+    np.testing.assert_allclose(segs.mass_kg, m)
+    np.testing.assert_allclose(segs.inertia_axial_kg_m2, m * (ro ** 2 + ri ** 2) / 2)
+    np.testing.assert_allclose(segs.inertia_transverse_kg_m2,
+                               m * (3 * (ro ** 2 + ri ** 2) + seg_len ** 2) / 12)
+    np.testing.assert_allclose(segs.buoyed_weight_N, m * 9.80665 * (1 - 1000.0 / 7850.0))
+    np.testing.assert_allclose(segs.s_from_bit_m, [5.0, 15.0, 25.0])
+    np.testing.assert_allclose(segs.joint_s_from_bit_m, [10.0, 20.0])
+    np.testing.assert_allclose(segs.ea_N, 207e9 * area)
+    np.testing.assert_allclose(segs.contact_radius_m, 0.1)
+
+
+def test_tool_joints_add_mass_and_contact_radius_and_joint_sections() -> None:
+    cfg = StringConfig(components=[
+        {"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 18.0, "n_segments": 2},
+        {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 27.0, "n_segments": 3,
+         "tool_joint_od_m": 0.1683, "tool_joint_id_m": 0.0826, "tool_joint_length_fraction": 0.05}])
+    segs = build_segments(cfg, 0.0)
+    body = 7850 * math.pi / 4 * (0.127 ** 2 - 0.1086 ** 2)
+    tj = 7850 * math.pi / 4 * (0.1683 ** 2 - 0.0826 ** 2)
+    assert math.isclose(segs.mass_per_length_kg_per_m[-1], 0.95 * body + 0.05 * tj)
+    assert math.isclose(segs.contact_radius_m[-1], 0.1683 / 2)
+    # the joint between collar and pipe takes the weaker (pipe) section
+    assert segs.joint_component_type == ["collar", "drill_pipe", "drill_pipe", "drill_pipe"]
+    assert segs.conn_od_m[1] == pytest.approx(0.1683)
+    assert segs.body_od_m[0] == pytest.approx(0.17145)
+
+
+@pytest.mark.parametrize("bad, field", [
+    ({"type": "collar", "od_m": 0.1, "id_m": 0.12, "length_m": 9.0}, "id_m"),
+    ({"type": "collar", "od_m": 0.1, "id_m": 0.05, "length_m": -1.0}, "length_m"),
+    ({"type": "pipe", "od_m": 0.1, "id_m": 0.05, "length_m": 9.0}, "type"),
+    ({"type": "collar", "od_m": 0.1, "id_m": 0.05, "length_m": 9.0, "contact_radius_m": 0.01},
+     "contact_radius_m"),
+    ({"type": "collar", "od_m": 0.1, "id_m": 0.05, "length_m": 9.0, "n_segments": 0}, "n_segments"),
+    ({"type": "collar", "od_m": 0.1, "id_m": 0.05, "length_m": 9.0, "colour": "red"}, "colour"),
+])
+def test_bad_components_are_rejected_with_the_field(bad: dict, field: str) -> None:
+    with pytest.raises(InputError) as err:
+        case_from_dict({"string": {"components": [bad]}})
+    assert field in str(err.value) or "components[0]" in err.value.field
+
+
+def test_operation_rejects_inconsistent_top_and_bit() -> None:
+    with pytest.raises(InputError, match="top_md_m"):
+        case_from_dict({"operation": {"bit_md_m": 100.0, "top_md_m": 200.0}})
+    with pytest.raises(InputError, match="off-bottom"):
+        case_from_dict({"operation": {"bit_on_bottom": False, "top_axial": "hook_load"}})
