@@ -91,7 +91,7 @@ def test_bad_params_one_line_error_before_any_work(tmp_path, capsys):
 
 @pytest.mark.slow  # real simulator + fatigue on 2 tiny cases, ~15-30 s with numba compile
 def test_chain_with_real_simulator_and_fatigue(tmp_path):
-    path = _params(tmp_path, n_cases=2, method="lhs", fatigue_criteria=["uniaxial"])
+    path = _params(tmp_path, n_cases=2, method="lhs", fatigue_criteria=["matake", "uniaxial"])
     assert _script("design").main(["--params", str(path)]) == 0
     assert _script("simulate").main(["--params", str(path), "--no-progress"]) == 0
     assert _script("fatigue").main(["--params", str(path), "--no-progress"]) == 0
@@ -99,7 +99,7 @@ def test_chain_with_real_simulator_and_fatigue(tmp_path):
     df = pd.read_parquet(tmp_path / "dataset" / "damage.parquet")
     assert df["case_id"].nunique() == 2
     assert len(df) == 2 * 2 * 2  # 2 cases x 2 recorded joints x (body, connection)
-    for col in ("damage_rate_per_h_uniaxial", "damage_rate_per_h_api_rp7g",
+    for col in ("damage_rate_per_h_matake", "damage_rate_per_h_uniaxial", "damage_rate_per_h_api_rp7g",
                 "peak_surface_torque_Nm", "rms_surface_torque_Nm", "md_m", "s_from_bit_m"):
         assert col in df.columns, col
     assert (df["damage_rate_per_h_uniaxial"] >= 0).all()
@@ -108,6 +108,16 @@ def test_chain_with_real_simulator_and_fatigue(tmp_path):
     body = df[df["location"] == "body"]
     assert body["damage_rate_per_h_api_rp7g"].notna().all()
     assert df.loc[df["location"] == "connection", "damage_rate_per_h_api_rp7g"].isna().all()
+    # the uniaxial rows reused from the matake evaluation equal a direct uniaxial evaluation
+    from drillfatigue.fatigue import evaluate_run
+
+    cid = df["case_id"].iloc[0]
+    direct = evaluate_run(tmp_path / "sweep" / cid, load_params(path).fatigue, None,
+                          criterion="uniaxial").set_index(["joint", "location"])
+    mine = df[df["case_id"] == cid].set_index(["joint", "location"])
+    pd.testing.assert_series_equal(mine["damage_rate_per_h_uniaxial"].sort_index(),
+                                   direct["damage_rate_per_h"].sort_index(), check_names=False,
+                                   rtol=1e-12)
     card = (tmp_path / "dataset" / "README.md").read_text()
     assert "cases in the dataset: 2" in card
     report = json.loads((tmp_path / "sweep" / "sweep.json").read_text())

@@ -172,15 +172,37 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     """
     import os
 
+    import numpy as np
     import pandas as pd
 
     from drillfatigue.config import FatigueConfig, validate
     from drillfatigue.fatigue import evaluate_run  # type: ignore[attr-defined]
+    from drillfatigue.units import HOUR_S
 
     cfg = validate(FatigueConfig, task["fatigue"], "fatigue")
     run_dir = Path(task["run_dir"])
     criteria = list(task.get("criteria") or [cfg.criterion])
-    parts = [evaluate_run(run_dir, cfg, None, criterion=c) for c in criteria]
+    others = [c for c in criteria if c != "uniaxial"]
+    parts = [evaluate_run(run_dir, cfg, None, criterion=c) for c in others]
+    if "uniaxial" in criteria:
+        if parts and cfg.residue != "carry" and cfg.load_classes is None:
+            # evaluate_run's uniaxial_damage column is the uniaxial route's
+            # damage at the worst surface point (the same number a 'uniaxial'
+            # evaluation returns): reuse it instead of a second evaluation.
+            uni = parts[0].copy()
+            uni["criterion"] = "uniaxial"
+            uni["damage"] = uni["uniaxial_damage"]
+            summary = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+            duration_h = float(summary["duration_s"]) / HOUR_S
+            with np.errstate(divide="ignore"):
+                uni["damage_rate_per_h"] = uni["damage"] / duration_h
+                uni["life_h"] = duration_h / uni["damage"]
+                uni["life_windows"] = 1.0 / uni["damage"]
+            uni["critical_angle_deg"] = float("nan")
+            uni["critical_plane_deg"] = float("nan")
+            parts.append(uni)
+        else:
+            parts.append(evaluate_run(run_dir, cfg, None, criterion="uniaxial"))
     if task.get("api_rp7g") and task.get("case") is not None:
         parts.append(pd.DataFrame(api_rp7g_rows(run_dir, task["case"], cfg)))
     frame = pd.concat(parts, ignore_index=True, sort=False)
