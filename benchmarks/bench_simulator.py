@@ -1,0 +1,301 @@
+"""Simulator speed: real-time factor and peak memory vs a numpy + scipy BDF baseline.
+
+Usage: ``python benchmarks/bench_simulator.py [--quick]`` -> ``benchmarks/results/simulator.json``.
+
+* For 5, 30 and 120 segments (collars + 5 in drill pipe, ~9 m segments, vertical
+  hole, 150 rpm, TOB, ROP with the growing top segment, lobed bit motion, loads
+  of every joint recorded at 200 Hz): simulated seconds per wall second on one
+  core (``drillfatigue.simulate`` in memory, numba kernels compiled and cached
+  beforehand) and the peak resident memory of a fresh process per case.
+* Baseline: the same model's right-hand side written the usual way (numpy,
+  vectorised over joints and segments) integrated by ``scipy.integrate.solve_ivp``
+  (BDF, rtol 1e-5, max step 1 ms, as the paper) on the 30-segment case over a
+  short window; the numba run of the very same case (no ROP, no lobes) gives the
+  ratio. The numpy RHS is checked against the numba force kernel first.
+Goals (issue 3): 120 segments >= 1x real time; >= 50x the scipy baseline.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("MKL_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+from drillfatigue.config import case_from_dict  # noqa: E402
+from drillfatigue.dynamics import layout as L  # noqa: E402
+from drillfatigue.dynamics.model import build_model, evaluate_forces, straight_path  # noqa: E402
+
+RESULTS = Path(__file__).resolve().parent / "results" / "simulator.json"
+SPLIT = {5: (1, 4), 30: (5, 25), 120: (20, 100)}
+
+
+def case(n: int, duration: float, full: bool = True):
+    n_dc, n_dp = SPLIT[n]
+    return case_from_dict({
+        "string": {"components": [
+            {"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 9.0 * n_dc,
+             "n_segments": n_dc},
+            {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 9.0 * n_dp,
+             "tool_joint_od_m": 0.1683, "tool_joint_id_m": 0.0826,
+             "tool_joint_length_fraction": 0.05, "n_segments": n_dp}]},
+        "operation": {"bit_md_m": 9.0 * n + 5.0, "duration_s": duration, "rpm": 150.0,
+                      "rpm_ramp_s": 1.0 if full else 0.0, "tob_Nm": 3000.0,
+                      "rop_m_per_s": 0.01 if full else 0.0, "lobe_count": 3,
+                      "lobe_amplitude_m": 0.001 if full else 0.0, "top_axial": "neutral_point"},
+        "recording": {"loads_rate_hz": 200.0, "channels_rate_hz": 200.0,
+                      "kinematics_rate_hz": 10.0},
+    })
+
+
+def path_for(n: int):
+    return straight_path(9.0 * n + 200.0)
+
+
+def run_one(n: int, duration: float, full: bool = True) -> dict:
+    """Run one case in this process; return timings and peak RSS."""
+    from drillfatigue.dynamics.api import simulate
+
+    cfg = case(n, duration, full)
+    simulate(case(n, 0.05, full), None, progress=False, path=path_for(n))  # compile / load cache
+    t0 = time.perf_counter()
+    res = simulate(cfg, None, progress=False, path=path_for(n))
+    wall_total = time.perf_counter() - t0
+    s = res.summary
+    return {"n_segments": n, "simulated_s": s["duration_s"], "wall_s": s["wall_time_s"],
+            "wall_with_setup_s": wall_total, "real_time_factor": s["real_time_factor"],
+            "dt_s": s["dt_s"], "steps_per_s": s["n_steps"] / s["wall_time_s"],
+            "us_per_segment_step": 1e6 * s["wall_time_s"] / (s["n_steps"] * n),
+            "peak_rss_MiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+            "energy_balance_error_rel": s["energy_balance_error_rel"]}
+
+
+# --- the numpy baseline ------------------------------------------------------------------
+def _qmul(a, b):
+    return np.stack([
+        a[..., 0] * b[..., 0] - a[..., 1] * b[..., 1] - a[..., 2] * b[..., 2] - a[..., 3] * b[..., 3],
+        a[..., 0] * b[..., 1] + a[..., 1] * b[..., 0] + a[..., 2] * b[..., 3] - a[..., 3] * b[..., 2],
+        a[..., 0] * b[..., 2] - a[..., 1] * b[..., 3] + a[..., 2] * b[..., 0] + a[..., 3] * b[..., 1],
+        a[..., 0] * b[..., 3] + a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1] + a[..., 3] * b[..., 0],
+    ], axis=-1)
+
+
+def _qconj(a):
+    return a * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def _q2R(q):
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+    ], axis=-2)
+
+
+def _joints_np(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_up, k, c):
+    """Vectorised :func:`drillfatigue.dynamics.joints.joint_force` (same physics)."""
+    rl = -h_lo[:, None] * R_lo[:, :, 2]
+    ru = h_up[:, None] * R_up[:, :, 2]
+    d = (x_up + ru) - (x_lo + rl)
+    vd = (v_up + np.cross(wu, ru)) - (v_lo + np.cross(wl, rl))
+    qr = _qmul(_qconj(q_lo), q_up)
+    qr = np.where(qr[:, :1] < 0, -qr, qr)
+    s = np.linalg.norm(qr[:, 1:], axis=1)
+    f = np.where(s < 1e-12, 2.0 / qr[:, 0], 2.0 * np.arctan2(s, qr[:, 0]) / np.maximum(s, 1e-300))
+    th = f[:, None] * qr[:, 1:]
+    qh = np.concatenate([(1 + qr[:, :1]), qr[:, 1:]], axis=1)
+    qh /= np.linalg.norm(qh, axis=1)[:, None]
+    Rm = _q2R(_qmul(q_lo, qh))
+    dl = np.einsum("nki,nk->ni", Rm, d)
+    ul = np.einsum("nki,nk->ni", Rm, vd)
+    kt = np.stack([k[1], k[1], k[0]], 1)
+    ct = np.stack([c[1], c[1], c[0]], 1)
+    F = np.einsum("nik,nk->ni", Rm, kt * dl + ct * ul)
+    kr = np.stack([k[2], k[2], k[3]], 1) * th
+    a2 = (th * th).sum(1)
+    a = np.sqrt(a2)
+    with np.errstate(all="ignore"):
+        c2 = np.where(a2 < 1e-8, 1 / 12 + a2 / 720, 1 / a2 - (1 + np.cos(a)) / (2 * a * np.sin(a)))
+    xk = np.cross(th, kr)
+    m = kr + 0.5 * xk + c2[:, None] * np.cross(th, xk)
+    Mr = np.einsum("nik,nk->ni", R_lo, m)
+    ol = np.einsum("nki,nk->ni", Rm, wu - wl)
+    cr = np.stack([c[2], c[2], c[3]], 1)
+    Mr = Mr + np.einsum("nik,nk->ni", Rm, cr * ol)
+    hc = 0.5 * np.cross(d, F)
+    return F, np.cross(rl, F) + Mr + hc, -np.cross(ru, F) - Mr + hc
+
+
+class NumpyModel:
+    """The model's right-hand side in vectorised numpy (straight path, no growth, no lobes)."""
+
+    def __init__(self, model, omega_d: float, phi0: float) -> None:
+        self.m = model
+        self.omega_d = omega_d
+        self.phi0 = phi0
+        self.n = model.n
+        p = model.path
+        self.p0 = p.node_pos_m[0]
+        self.t_path = p.node_tan[0]
+        self.md0 = p.node_md_m[0]
+
+    def forces(self, t, x, q, v, w):
+        m = self.m
+        seg, jp, bp = m.seg, m.jp, m.bp
+        n = self.n
+        R = _q2R(q)
+        wW = np.einsum("nik,nk->ni", R, w)
+        e3 = R[:, :, 2]
+        vax = (v * e3).sum(1)
+        F = -seg[:, L.S_CL, None] * (v - vax[:, None] * e3) - (seg[:, L.S_CA] * vax)[:, None] * e3
+        F[:, 2] += seg[:, L.S_W]
+        Mw = np.zeros((n, 3))
+        Mb = -np.stack([seg[:, L.S_CRL] * w[:, 0], seg[:, L.S_CRL] * w[:, 1],
+                        seg[:, L.S_CRA] * w[:, 2]], 1)
+        a, b = slice(0, n - 1), slice(1, n)
+        k = [jp[a, c] for c in (L.J_KA, L.J_KS, L.J_KB, L.J_KT)]
+        c = [jp[a, cc] for cc in (L.J_CA, L.J_CS, L.J_CB, L.J_CT)]
+        Fj, Ml, Mu = _joints_np(x[a], v[a], R[a], q[a], wW[a], seg[a, L.S_H], x[b], v[b], R[b],
+                                q[b], wW[b], seg[b, L.S_H], k, c)
+        F[a] += Fj
+        F[b] -= Fj
+        Mw[a] += Ml
+        Mw[b] += Mu
+        # top drive
+        phi = self.phi0 + self.omega_d * t
+        qa = _qmul(m.anchor[3:7], np.array([math.cos(phi / 2), 0, 0, math.sin(phi / 2)]))[None]
+        wa = (self.omega_d * m.anchor[7:10])[None]
+        tp = slice(n - 1, n)
+        k = [jp[tp, cc] for cc in (L.J_KA, L.J_KS, L.J_KB, L.J_KT)]
+        c = [jp[tp, cc] for cc in (L.J_CA, L.J_CS, L.J_CB, L.J_CT)]
+        Ft, Mt, _ = _joints_np(x[tp], v[tp], R[tp], q[tp], wW[tp], seg[tp, L.S_H],
+                               m.anchor[None, 0:3], np.zeros((1, 3)), _q2R(qa), qa, wa,
+                               np.zeros(1), k, c)
+        F[tp] += Ft
+        Mw[tp] += Mt
+        if bp[L.B_AXMODE] == 0.0:
+            h = seg[n - 1, L.S_H]
+            fh = -bp[L.B_HL] * m.anchor[7:10]
+            F[n - 1] += fh
+            Mw[n - 1] += np.cross(-h * e3[n - 1], fh)
+        if bp[L.B_BITON] == 1.0:
+            h0 = seg[0, L.S_H]
+            r = h0 * e3[0]
+            tgt = self.p0 + (bp[L.B_MD0] - self.md0) * self.t_path
+            fb = -bp[L.B_KBIT] * (x[0] + r - tgt) - bp[L.B_CBIT] * (v[0] + np.cross(wW[0], r))
+            F[0] += fb
+            Mw[0] += np.cross(r, fb)
+            Mb[0, 2] -= bp[L.B_TOB] * math.tanh(w[0, 2] / bp[L.B_WREF])
+        Mb += np.einsum("nki,nk->ni", R, Mw)
+        return F, Mb
+
+    def rhs(self, t, y):
+        n = self.n
+        x = y[: 3 * n].reshape(n, 3)
+        q = y[3 * n: 7 * n].reshape(n, 4)
+        v = y[7 * n: 10 * n].reshape(n, 3)
+        w = y[10 * n:].reshape(n, 3)
+        qn = q / np.linalg.norm(q, axis=1)[:, None]
+        F, Mb = self.forces(t, x, qn, v, w)
+        seg = self.m.seg
+        it, ia = seg[:, L.S_IT], seg[:, L.S_IA]
+        dq = 0.5 * _qmul(qn, np.concatenate([np.zeros((n, 1)), w], 1))
+        Iw = np.stack([it * w[:, 0], it * w[:, 1], ia * w[:, 2]], 1)
+        dw = (Mb - np.cross(w, Iw)) / np.stack([it, it, ia], 1)
+        return np.concatenate([v.ravel(), dq.ravel(), (F / seg[:, L.S_M, None]).ravel(), dw.ravel()])
+
+
+def scipy_baseline(window: float) -> dict:
+    from scipy.integrate import solve_ivp
+
+    from drillfatigue.dynamics.model import advance_model
+
+    cfg = case(30, window, full=False)
+    model, state = build_model(cfg, path_for(30))
+    omega = float(model.tab_w[0])
+    nm = NumpyModel(model, omega, float(state.sc[L.C_PHID]))
+    # the numpy RHS is the same model: compare with the numba kernel at a disturbed state
+    rng = np.random.default_rng(0)
+    st = state.copy()
+    st.v += rng.normal(0, 0.01, st.v.shape)
+    st.w += rng.normal(0, 0.05, st.w.shape)
+    st.x += rng.normal(0, 1e-5, st.x.shape)
+    evaluate_forces(model, st)
+    F_np, Mb_np = nm.forces(0.0, st.x, st.q, st.v, st.w)
+    scale_f = np.abs(st.Fw).max()
+    rhs_err = max(np.abs(F_np - st.Fw).max() / scale_f,
+                  np.abs(Mb_np - st.Mb).max() / np.abs(st.Mb).max())
+    assert rhs_err < 1e-9, rhs_err
+    y0 = np.concatenate([state.x.ravel(), state.q.ravel(), state.v.ravel(), state.w.ravel()])
+    t0 = time.perf_counter()
+    sol = solve_ivp(nm.rhs, (0.0, window), y0, method="BDF", rtol=1e-5, atol=1e-8, max_step=1e-3)
+    wall_scipy = time.perf_counter() - t0
+    # numba on the same case and window
+    advance_model(model, state.copy(), 10)
+    s2 = state.copy()
+    n_steps = int(round(window / model.dt))
+    t0 = time.perf_counter()
+    advance_model(model, s2, n_steps, every=int(round(0.005 / model.dt)))
+    wall_numba = time.perf_counter() - t0
+    x_np = sol.y[: 90, -1].reshape(30, 3)
+    return {"case": "30 segments, 150 rpm, no ROP/lobes", "window_s": window,
+            "scipy_status": int(sol.status), "scipy_nfev": int(sol.nfev), "scipy_njev": int(sol.njev),
+            "scipy_wall_s": wall_scipy, "scipy_real_time_factor": window / wall_scipy,
+            "numba_wall_s": wall_numba, "numba_real_time_factor": n_steps * model.dt / wall_numba,
+            "speedup": (n_steps * model.dt / wall_numba) / (window / wall_scipy),
+            "rhs_max_rel_difference": rhs_err,
+            "final_position_difference_m": float(np.abs(x_np - s2.x).max())}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="short runs (CI smoke)")
+    ap.add_argument("--one", type=int, default=0, help=argparse.SUPPRESS)
+    ap.add_argument("--duration", type=float, default=0.0, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.one:
+        print(json.dumps(run_one(args.one, args.duration)))
+        return
+    durations = {5: 2.0, 30: 2.0, 120: 2.0} if args.quick else {5: 20.0, 30: 20.0, 120: 20.0}
+    cases = []
+    for n, dur in durations.items():
+        out = subprocess.run([sys.executable, __file__, "--one", str(n), "--duration", str(dur)],
+                             check=True, capture_output=True, text=True)
+        cases.append(json.loads(out.stdout.strip().splitlines()[-1]))
+        print(f"{n:4d} segments: {cases[-1]['real_time_factor']:.2f}x real time, "
+              f"{cases[-1]['peak_rss_MiB']:.0f} MiB peak", flush=True)
+    base = scipy_baseline(0.02 if args.quick else 0.1)
+    print(f"scipy BDF baseline (30 segments): {base['scipy_real_time_factor']:.2e}x real time; "
+          f"numba {base['speedup']:.0f}x faster", flush=True)
+    import platform
+
+    result = {
+        "benchmark": "simulator", "quick": args.quick, "cases": cases, "scipy_baseline": base,
+        "goals": {"rtf_120_segments_ge_1": cases[-1]["real_time_factor"] >= 1.0,
+                  "speedup_vs_scipy_ge_50": base["speedup"] >= 50.0},
+        "machine": {"python": platform.python_version(), "processor": platform.processor(),
+                    "cpu_count": os.cpu_count(), "threads": 1},
+        "note": "single thread; the machine may be shared with other jobs",
+    }
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    tmp = RESULTS.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(result, indent=2) + "\n")
+    os.replace(tmp, RESULTS)
+    print(f"wrote {RESULTS}")
+
+
+if __name__ == "__main__":
+    main()
