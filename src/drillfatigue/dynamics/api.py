@@ -277,7 +277,7 @@ class Runner:
             if meta["hash"] != self.hash:
                 raise InputError("--resume", "the checkpoint in the run directory belongs to a "
                                  "different configuration", "the same case file as the run")
-            for k in ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc"):
+            for k in ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint"):
                 getattr(self.state, k)[...] = z[k]
             self.model.work["R"][...] = z["R"]
             self.model.seg[...] = z["seg"]
@@ -343,8 +343,8 @@ class Runner:
                 counts[:] = 0
                 st = advance(k, m.dt, s.x, s.v, s.q, s.w, s.Fw, s.Mw, s.Mb, s.sc, m.seg, m.jp, m.bp,
                              m.topp, m.anchor, m.tab_t, m.tab_w, p.node_md_m, p.node_pos_m,
-                             p.node_tan, wk["R"], wk["wW"], wk["loads"], wk["ch"], self.sel,
-                             ev[0], buf_l, ev[1], buf_c, ev[2], buf_k, counts, info,
+                             p.node_tan, p.wall, m.cpar, s.hint, wk["R"], wk["wW"],
+                             wk["loads"], wk["ch"], self.sel, ev[0], buf_l, ev[1], buf_c, ev[2], buf_k, counts, info,
                              wk["scq"], wk["scm"], wk["scv"], wk["ed"])
                 bl = buf_l[: counts[0]]
                 bc = buf_c[: counts[1]]
@@ -488,6 +488,8 @@ def _divergence_error(st: int, info: np.ndarray, m: Model) -> SimulationError:
         if i >= 0 else "an unknown segment"
     if st == L.ST_NONFINITE:
         why = "non-finite state"
+    elif st == L.ST_FORCES:
+        why = f"the force evaluation failed (code {int(info[2])}: wall contact requested but unavailable)"
     else:
         why = f"kinetic energy {info[2]:.3g} J above the blow-up limit {m.bp[L.B_ESCALE]:.3g} J"
     return SimulationError(

@@ -31,7 +31,7 @@ from drillfatigue.dynamics.layout import (
     C_HINT, C_PHIB, C_PHID, C_STEP,
     H_BITMD, H_BITRPM, H_HOOK, H_PDISS, H_PE, H_PG, H_PIN, H_ROP, H_TOB, H_TOPRPM, H_TSURF,
     H_WOB,
-    J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT,
+    J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, P_ON,
     S_CA, S_CL, S_CRA, S_CRL, S_H, S_IA, S_IT, S_M, S_W,
     T_CAPL, T_CLPL, T_CRAPL, T_CRLPL, T_EA, T_EA2, T_EI, T_EI2, T_GJ, T_GJ2, T_H0, T_KA_TOP,
     T_KGA, T_KGA2, T_KPAR_B, T_KPAR_S, T_KT_TOP, T_MPL, T_R2, T_WPL,
@@ -187,7 +187,7 @@ def top_energy(t, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW, scq, scm
 
 @njit(cache=True)
 def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
-                   node_md, node_pos, node_tan, sc, R, wW, Fw, Mw, Mb, loads, ch,
+                   node_md, node_pos, node_tan, wall, cpar, hint, sc, R, wW, Fw, Mw, Mb, loads, ch,
                    scq, scm, scv, ed):
     """All forces at the current state.
 
@@ -202,6 +202,9 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
                                   downhole unit axis (3)
     tab_t, tab_w : ndarray, shape (K,)  top-drive speed table: time (s), speed (rad/s)
     node_md, node_pos, node_tan   well path nodes (see :func:`drillfatigue.well.kernels.path_point`)
+    wall : ndarray, shape (n_cyl, N_WALL)  hole cylinders (see :mod:`layout`)
+    cpar : ndarray, shape (>= 1,) contact / friction parameters; cpar[P_ON] == 0: no wall contact
+    hint : ndarray of int64, shape (n,)  per-segment cylinder hints (state, checkpointed)
     sc : ndarray, shape (N_SC,)   scalar state (sc[C_HINT] updated)
     R : ndarray, shape (n, 3, 3)  written: rotation matrices
     wW : ndarray, shape (n, 3)    written: angular velocities, world frame
@@ -214,7 +217,7 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
     Returns
     -------
     int
-        0 (status; reserved for contact search failures).
+        0, or 1 when wall contact is requested but not available.
     """
     n = x.shape[0]
     t = sc[C_STEP] * dt
@@ -265,13 +268,20 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
             Mw[j, k] += Ml[k]
             Mw[j + 1, k] += Mu[k]
     # --- wall contact and friction: ADD HERE (next issue) --------------------------------
-    # For each segment i and each of its contact points X (ends / tool joints):
-    #   ic = contact.find_contact(X, r_contact_i, p0, axis, length, radius, hint_i, out6)
+    # Inputs already passed in: wall (cylinders: p0 = wall[:, 0:3], axis = wall[:, 3:6],
+    # length = wall[:, 6], radius = wall[:, 7]), cpar (contact/friction parameters,
+    # cpar[P_ON] == 0 -> off), hint[i] (cylinder hint of segment i, kept in the state),
+    # seg[i, S_RC] (contact radius), dt. Outline:
+    # if cpar[P_ON] != 0.0: for each segment i and each of its contact points X:
+    #   ic = contact.find_contact(X, seg[i, S_RC], p0, axis, length, radius, hint[i], out6)
     #   if ic >= 0: normal force N = max(0, k_c delta + c_c delta_dot) along -n;
     #       slip velocity v_slip = v_i + wW_i x (X - x_i) minus its normal part;
     #       friction.friction_force(model, fparams, v_slip, N, f_other, dt, out3);
-    #   add the force to Fw[i] and (X - x_i) x force to Mw[i]; add the contact and
-    #   friction power to pdiss. Nothing else in the integrator changes.
+    #   hint[i] = ic; add the force to Fw[i] and (X - x_i) x force to Mw[i]; add the
+    #   contact damping and friction power to pdiss and the contact spring energy to pe.
+    #   Nothing else in the integrator changes.
+    if cpar[P_ON] != 0.0:
+        return 1  # wall contact requested but not implemented in this build
     # -----------------------------------------------------------------------------------
     # --- top boundary: top drive and rig -------------------------------------------------
     top = n - 1

@@ -47,7 +47,7 @@ from numba import njit
 from drillfatigue.dynamics.forces import compute_forces, drive_omega, top_energy, update_top
 from drillfatigue.dynamics.layout import (
     B_EXT, C_DISS, C_PHIB, C_PHID, C_STEP, C_WIN, H_PDISS, H_PIN, N_CH, S_H, S_IA, S_IT, S_M,
-    ST_BLOWUP, ST_NONFINITE, ST_OK, B_ESCALE, T_H0,
+    ST_BLOWUP, ST_FORCES, ST_NONFINITE, ST_OK, B_ESCALE, T_H0,
 )
 from drillfatigue.dynamics.rigid import free_rotation, kick
 
@@ -64,7 +64,7 @@ def kinetic_energy(v, w, seg):
 
 @njit(cache=True)
 def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, tab_t, tab_w,
-            node_md, node_pos, node_tan, R, wW, loads, ch,
+            node_md, node_pos, node_tan, wall, cpar, hint, R, wW, loads, ch,
             sel, every_l, buf_l, every_c, buf_c, every_k, buf_k, counts, info,
             scq, scm, scv, ed):
     """Advance the state by ``n_steps`` velocity-Verlet steps, recording on the way.
@@ -76,8 +76,9 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
     x, v, q, w                         state (see :func:`forces.compute_forces`), updated
     Fw, Mw, Mb                         forces at the current state (kept between calls)
     sc : ndarray, shape (N_SC,)        scalar state, updated
-    seg, jp, bp, topp, anchor, tab_t, tab_w, node_md, node_pos, node_tan
+    seg, jp, bp, topp, anchor, tab_t, tab_w, node_md, node_pos, node_tan, wall, cpar
                                        parameters (see :mod:`layout`)
+    hint : ndarray of int64, shape (n,)  contact cylinder hints (state)
     R, wW, loads, ch                   work arrays written by the force evaluation
     sel : ndarray of int64, shape (J,) joint rows recorded
     every_l, every_c, every_k : int    record loads / channels / kinematics every this many steps
@@ -91,8 +92,9 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
     Returns
     -------
     int
-        ST_OK, ST_NONFINITE (a non-finite state) or ST_BLOWUP (kinetic energy above
-        ``bp[B_ESCALE]``); on failure ``info`` says where.
+        ST_OK, ST_NONFINITE (a non-finite state), ST_BLOWUP (kinetic energy above
+        ``bp[B_ESCALE]``) or ST_FORCES (the force kernel failed, its code in info[2]);
+        on failure ``info`` says where.
     """
     n = x.shape[0]
     top = n - 1
@@ -123,9 +125,14 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
             update_top(h_new, seg, jp, topp, bp)
             sc[C_WIN] += top_energy(t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW,
                                     scq, scm, scv, loads, ed) - e_before
-        compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
-                       node_md, node_pos, node_tan, sc, R, wW, Fw, Mw, Mb, loads, ch,
-                       scq, scm, scv, ed)
+        fst = compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
+                             node_md, node_pos, node_tan, wall, cpar, hint, sc, R, wW, Fw, Mw, Mb,
+                             loads, ch, scq, scm, scv, ed)
+        if fst != 0:
+            info[0] = sc[C_STEP]
+            info[1] = -1.0
+            info[2] = fst
+            return ST_FORCES
         sc[C_WIN] += dt * ch[H_PIN]
         sc[C_DISS] += dt * ch[H_PDISS]
         for i in range(n):

@@ -14,7 +14,21 @@ S_CL = 5     # lateral mud damping (N s/m)
 S_CA = 6     # axial mud damping (N s/m)
 S_CRL = 7    # rotational mud damping about transverse axes (N m s)
 S_CRA = 8    # rotational mud damping about the axis (N m s)
-N_SEG = 9
+S_RC = 9     # contact radius (m), for the wall contact of the next issue
+N_SEG = 10
+
+# wall[c, :] -- the hole as a chain of straight cylinders (from drillfatigue.well)
+W_P0 = 0     # 0..2: start point of the axis (m, world)
+W_AX = 3     # 3..5: unit axis
+W_LEN = 6    # length (m)
+W_RAD = 7    # hole radius (m)
+N_WALL = 8
+
+# cpar -- wall contact and friction parameters, packed by the contact/friction layer.
+# cpar[P_ON] == 0 switches wall contact off (this issue); the remaining layout
+# is owned by the contact / friction modules.
+P_ON = 0
+N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;
 # row n-1: the top boundary (top segment <-> top drive / rig)
@@ -102,3 +116,4 @@ N_CH = 12
 ST_OK = 0
 ST_NONFINITE = 1
 ST_BLOWUP = 2
+ST_FORCES = 3

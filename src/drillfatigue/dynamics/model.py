@@ -30,11 +30,13 @@ OMEGA_REF_RAD_S = 0.5
 
 @dataclass(frozen=True)
 class WellPath:
-    """Well centre line as survey nodes: MD (m, shape (P,)), position (P, 3), unit tangent (P, 3)."""
+    """Well centre line as survey nodes: MD (m, shape (P,)), position (P, 3), unit tangent (P, 3),
+    and the hole as cylinders ``wall`` (shape (P - 1, N_WALL), see :mod:`layout`) for contact."""
 
     node_md_m: np.ndarray
     node_pos_m: np.ndarray
     node_tan: np.ndarray
+    wall: np.ndarray = field(default_factory=lambda: np.zeros((0, L.N_WALL)))
 
     def point_at_md(self, md: float) -> tuple[np.ndarray, np.ndarray]:
         """Position (m) and unit tangent of the path at ``md``."""
@@ -44,27 +46,43 @@ class WellPath:
         return pos, tan
 
 
+def _wall(p0: np.ndarray, axis: np.ndarray, length: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    wall = np.zeros((length.size, L.N_WALL))
+    wall[:, L.W_P0:L.W_P0 + 3] = p0
+    wall[:, L.W_AX:L.W_AX + 3] = axis
+    wall[:, L.W_LEN] = length
+    wall[:, L.W_RAD] = radius
+    return wall
+
+
 def straight_path(length_m: float, inclination_deg: float = 0.0, azimuth_deg: float = 0.0,
-                  n_nodes: int = 2) -> WellPath:
+                  n_nodes: int = 2, hole_diameter_m: float = 0.2159) -> WellPath:
     """A straight well from the origin (vertical when inclination is 0)."""
     inc = math.radians(inclination_deg)
     azi = math.radians(azimuth_deg)
     t = np.array([math.sin(inc) * math.cos(azi), math.sin(inc) * math.sin(azi), math.cos(inc)])
     md = np.linspace(0.0, length_m, n_nodes)
-    return WellPath(md, md[:, None] * t[None, :], np.tile(t, (n_nodes, 1)))
+    pos = md[:, None] * t[None, :]
+    seg_len = np.diff(md)
+    return WellPath(md, pos, np.tile(t, (n_nodes, 1)),
+                    _wall(pos[:-1], np.tile(t, (n_nodes - 1, 1)), seg_len,
+                          np.full(n_nodes - 1, 0.5 * hole_diameter_m)))
 
 
 def path_from_wellbore(wb: object) -> WellPath:
-    """Path nodes of a ``drillfatigue.well`` wellbore object."""
-    return WellPath(np.ascontiguousarray(wb.node_md_m, dtype=np.float64),  # type: ignore[attr-defined]
-                    np.ascontiguousarray(wb.node_pos_m, dtype=np.float64),  # type: ignore[attr-defined]
-                    np.ascontiguousarray(wb.node_tan, dtype=np.float64))  # type: ignore[attr-defined]
+    """Path nodes and cylinders of a :class:`drillfatigue.well.Wellbore`."""
+    def f(a: object) -> np.ndarray:
+        return np.ascontiguousarray(a, dtype=np.float64)
+
+    return WellPath(f(wb.node_md_m), f(wb.node_pos_m), f(wb.node_tan),  # type: ignore[attr-defined]
+                    _wall(f(wb.p0_m), f(wb.axis), f(wb.length_m), f(wb.radius_m)))  # type: ignore[attr-defined]
 
 
 @dataclass
 class State:
     """Integrator state (all float64): x, v (n, 3); q (n, 4); w (n, 3) body frame;
-    forces Fw, Mw, Mb (n, 3) at the current state; scalars sc (N_SC,)."""
+    forces Fw, Mw, Mb (n, 3) at the current state; scalars sc (N_SC,); contact
+    cylinder hints ``hint`` (n,) int64."""
 
     x: np.ndarray
     v: np.ndarray
@@ -74,14 +92,15 @@ class State:
     Mw: np.ndarray
     Mb: np.ndarray
     sc: np.ndarray
+    hint: np.ndarray
 
     def copy(self) -> State:
         return State(*(a.copy() for a in (self.x, self.v, self.q, self.w, self.Fw, self.Mw,
-                                           self.Mb, self.sc)))
+                                           self.Mb, self.sc, self.hint)))
 
     def arrays(self) -> dict[str, np.ndarray]:
         return {"x": self.x, "v": self.v, "q": self.q, "w": self.w, "Fw": self.Fw,
-                "Mw": self.Mw, "Mb": self.Mb, "sc": self.sc}
+                "Mw": self.Mw, "Mb": self.Mb, "sc": self.sc, "hint": self.hint}
 
 
 @dataclass
@@ -102,6 +121,7 @@ class Model:
     wob0_N: float
     neutral_point_s_from_bit_m: float | None
     top_length_m: float
+    cpar: np.ndarray = field(default_factory=lambda: np.zeros(L.N_CPAR_MIN))
     work: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
@@ -269,6 +289,7 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     seg[:, L.S_CA] = op.mud_damping_axial_N_s_per_m2 * lengths
     seg[:, L.S_CRL] = op.mud_damping_torsional_N_m_s_per_m * lengths
     seg[:, L.S_CRA] = op.mud_damping_torsional_N_m_s_per_m * lengths
+    seg[:, L.S_RC] = segs.contact_radius_m
     # --- joints --------------------------------------------------------------------------
     zj = sv.joint_damping_ratio
     zb = sv.boundary_damping_ratio
@@ -420,7 +441,8 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
                + 0.5 * float(m.sum()) * (bp[L.B_ROP] ** 2) + 1.0)
     bp[L.B_ESCALE] = sv.energy_blowup_factor * e_scale
     state = State(x=np.ascontiguousarray(centres), v=v, q=q, w=w, Fw=np.zeros((n, 3)),
-                  Mw=np.zeros((n, 3)), Mb=np.zeros((n, 3)), sc=sc)
+                  Mw=np.zeros((n, 3)), Mb=np.zeros((n, 3)), sc=sc,
+                  hint=np.zeros(n, dtype=np.int64))
     model.new_work()
     evaluate_forces(model, state)
     return model, state
@@ -432,8 +454,8 @@ def evaluate_forces(model: Model, state: State) -> np.ndarray:
     p = model.path
     compute_forces(model.dt, state.x, state.v, state.q, state.w, model.seg, model.jp, model.bp,
                    model.anchor, model.tab_t, model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan,
-                   state.sc, wk["R"], wk["wW"], state.Fw, state.Mw, state.Mb, wk["loads"], wk["ch"],
-                   wk["scq"], wk["scm"], wk["scv"], wk["ed"])
+                   p.wall, model.cpar, state.hint, state.sc, wk["R"], wk["wW"], state.Fw,
+                   state.Mw, state.Mb, wk["loads"], wk["ch"], wk["scq"], wk["scm"], wk["scv"], wk["ed"])
     return wk["ch"]
 
 
@@ -472,7 +494,8 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
         counts[:] = 0
         st = advance(k, model.dt, state.x, state.v, state.q, state.w, state.Fw, state.Mw, state.Mb,
                      state.sc, model.seg, model.jp, model.bp, model.topp, model.anchor, model.tab_t,
-                     model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan, wk["R"], wk["wW"],
+                     model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan, p.wall, model.cpar,
+                     state.hint, wk["R"], wk["wW"],
                      wk["loads"], wk["ch"], sel, every, buf_l, every, buf_c, every, buf_k, counts,
                      info, wk["scq"], wk["scm"], wk["scv"], wk["ed"])
         if st != L.ST_OK:
