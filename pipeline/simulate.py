@@ -9,7 +9,7 @@ so DVC keeps it). Exit code 1 when more than ``sweep.failure_threshold`` of
 the cases fail, 2 on bad input.
 
 Usage: ``python pipeline/simulate.py [--params params.yaml] [--cases PATH] [--out DIR]
-[--scheduler S] [--n-workers N] [--no-progress]``
+[--scheduler S] [--n-workers N] [--no-progress] [--metrics JSON]``
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import sys
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
 from drillfatigue.sweep.runner import SweepFailedError
-from drillfatigue.sweep.stages import simulate_stage
+from drillfatigue.sweep.stages import simulate_stage, write_report
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -31,6 +31,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scheduler", default=None, help="override sweep.scheduler")
     parser.add_argument("--n-workers", type=int, default=None, help="override sweep.n_workers")
     parser.add_argument("--no-progress", action="store_true")
+    parser.add_argument("--metrics", default=None, help="also write the sweep report here (JSON)")
     args = parser.parse_args(argv)
     try:
         params = load_params(args.params)
@@ -43,6 +44,8 @@ def main(argv: list[str] | None = None) -> int:
     except SweepFailedError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
+    if args.metrics:
+        write_report(report, args.metrics)
     print(f"simulate: {report.n_done} done, {report.n_skipped} already done, "
           f"{report.n_failed} failed, {report.wall_s:.1f} s")
     return 0

@@ -66,6 +66,7 @@ def test_chain_with_synthetic_cases_and_rerun_is_noop(tmp_path):
     assert fatigue_stage(params, fatigue_fn=synthetic_fatigue).n_skipped == 4
     # changed fatigue settings re-evaluate fatigue only
     changed = params.model_copy(update={"fatigue": params.fatigue.model_copy(update={"grade": "E-75"})})
+    assert design_stage(changed).equals(cases)
     assert simulate_stage(changed, case_fn=synthetic_case).n_skipped == 4
     assert fatigue_stage(changed, fatigue_fn=synthetic_fatigue).n_done == 4
 

@@ -323,7 +323,8 @@ def dataset_card(frame: pd.DataFrame, *, design: Mapping[str, Any], metrics: Map
         "Raw load histories (optional): `drillfatigue dataset export --histories OUT`, then",
         '`pd.read_parquet("OUT/loads", filters=[("case_id", "==", "<id>")])`.', ""]
     if base_case is not None:
-        lines += ["## Base case", "", "```json", json.dumps(dict(base_case), indent=1,
+        lines += ["## Base case", "", "The first case (the design variables above vary per case):",
+                  "", "```json", json.dumps(dict(base_case), indent=1,
                                                              sort_keys=True), "```", ""]
     return "\n".join(lines)
 

@@ -221,7 +221,8 @@ def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
         One row per distinct case: ``case_id`` (str), ``design_index`` (row of
         the unit sample), one column per variable named by its dotted path
         (the field name carries the unit), and ``case_json`` (the full,
-        validated case as canonical JSON).
+        validated case as canonical JSON, without the ``fatigue`` section,
+        which the fatigue stage applies to every case).
 
     Raises
     ------
@@ -263,7 +264,7 @@ def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
             continue
         seen[cid] = i
         rows.append({"case_id": cid, "design_index": i, **overrides,
-                     "case_json": canonical_json(case)})
+                     "case_json": canonical_json(simulation_inputs(case))})
     if len(rows) < unit.shape[0]:
         warnings.warn(f"{unit.shape[0] - len(rows)} design rows repeat an earlier case and "
                       f"were merged; {len(rows)} distinct cases", UserWarning, stacklevel=2)

@@ -26,7 +26,7 @@ from drillfatigue.sweep.dataset import write_dataset
 from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
 from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
 
-__all__ = ["dataset_stage", "design_stage", "fatigue_stage", "simulate_stage"]
+__all__ = ["dataset_stage", "design_stage", "fatigue_stage", "simulate_stage", "write_report"]
 
 
 def _write_json(path: Path, data: Any) -> None:
@@ -34,6 +34,11 @@ def _write_json(path: Path, data: Any) -> None:
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     tmp.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n", encoding="utf-8")
     os.replace(tmp, path)
+
+
+def write_report(report: SweepReport, path: str | Path) -> None:
+    """Write a sweep report as JSON (for ``dvc metrics``)."""
+    _write_json(Path(path), report.to_dict())
 
 
 def design_stage(params: Params, cases_path: str | Path | None = None) -> pd.DataFrame:
@@ -98,8 +103,10 @@ def dataset_stage(params: Params, *, cases_path: str | Path | None = None,
     """Assemble ``damage.parquet``, the dataset card and metrics; return the metrics."""
     cfg = params.sweep
     frame = read_cases(cases_path or cfg.cases_path)
+    # The card's base case comes from the case table (first case; the design
+    # variables are listed apart), so this stage reads no case section.
+    base = json.loads(frame["case_json"].iloc[0]) if len(frame) else None
     return write_dataset(frame, sweep_dir or cfg.sweep_dir, fatigue_dir or cfg.fatigue_dir,
                          dataset_dir or cfg.dataset_dir,
-                         design=cfg.model_dump(mode="json"),
-                         base_case=base_case_from_params(params))
+                         design=cfg.model_dump(mode="json"), base_case=base)
 
