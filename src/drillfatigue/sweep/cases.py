@@ -26,7 +26,8 @@ from typing import Any
 
 from drillfatigue.errors import SimulationError
 
-__all__ = ["fatigue_case", "fatigue_tasks", "run_case", "warmup"]
+__all__ = ["api_rp7g_rows", "fatigue_case", "fatigue_tasks", "run_case", "warmup_fatigue",
+           "warmup_simulation"]
 
 
 def _simulate_fn() -> Any:
@@ -73,20 +74,30 @@ def run_case(case: dict[str, Any], case_dir: Path) -> dict[str, Any]:
     return summary
 
 
-def warmup() -> None:
-    """Compile the simulator's kernels once (fills numba's on-disk cache).
+WARMUP_DURATION_S = 0.01
 
-    Uses the simulator's own ``warmup()`` hook when it provides one
-    (``drillfatigue.dynamics.warmup``); otherwise does nothing and the first
-    case of each worker compiles (safe only with a per-worker cache folder).
+
+def warmup_simulation(case: dict[str, Any]) -> None:
+    """Compile the simulator's kernels for ``case``'s options (fills numba's on-disk cache).
+
+    Simulates a copy of the case shortened to :data:`WARMUP_DURATION_S`,
+    writing nothing. Kernels are typed on float64 arrays, so the
+    string length does not matter; the options (friction model, bit model ...)
+    select the same code as the real cases. Errors are left to the cases
+    themselves (they are recorded per case), so a bad case cannot stop the sweep here.
     """
+    from drillfatigue.config import case_from_dict
+
+    short = json.loads(json.dumps(case))
+    short.setdefault("operation", {})["duration_s"] = WARMUP_DURATION_S
+    short.setdefault("solver", {})["checkpoint_every_s"] = 0.0
     try:
-        from drillfatigue import dynamics
-    except ImportError:  # pragma: no cover
+        _simulate_fn()(case_from_dict(short), None, progress=False, resume=False)  # no output
+    except Exception:  # noqa: BLE001 - the real run of this case reports the error
         return
-    hook = getattr(dynamics, "warmup", None)
-    if callable(hook):
-        hook()
+
+
+run_case.warmup = warmup_simulation  # type: ignore[attr-defined]
 
 
 def fatigue_tasks(case_ids: list[str], sweep_root: str | Path, fatigue_cfg: dict[str, Any],
@@ -216,3 +227,26 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True),
                                       encoding="utf-8")
     return summary
+
+
+def warmup_fatigue(task: dict[str, Any]) -> None:
+    """Compile the fatigue kernels: evaluate ``task``'s criteria at its run's first joint.
+
+    Errors are left to the real evaluation (recorded per case).
+    """
+    import pandas as pd
+
+    from drillfatigue.config import FatigueConfig, validate
+    from drillfatigue.fatigue import evaluate_run  # type: ignore[attr-defined]
+
+    try:
+        cfg = validate(FatigueConfig, task["fatigue"], "fatigue")
+        run_dir = Path(task["run_dir"])
+        joint = int(pd.read_parquet(run_dir / "joints.parquet", columns=["joint"])["joint"].iloc[0])
+        for crit in list(task.get("criteria") or [cfg.criterion]):
+            evaluate_run(run_dir, cfg, None, joints=[joint], criterion=crit)
+    except Exception:  # noqa: BLE001 - the real evaluation reports the error
+        return
+
+
+fatigue_case.warmup = warmup_fatigue  # type: ignore[attr-defined]

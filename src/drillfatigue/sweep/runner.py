@@ -14,12 +14,14 @@ time, and results are collected as they complete.
 Workers receive the case function by reference (a plain module-level function
 of an importable module, pickled by name), never a jitted object.
 
-numba cache: before any worker starts, the optional ``warmup()`` function of
-the case function's module is called once in this process, so numba's
-on-disk cache (``NUMBA_CACHE_DIR``, shared with local workers through the
-environment) is complete and workers only read it: concurrent cache writes
-can crash. On a remote Dask cluster ``warmup()`` is run on one worker at a
-time for the same reason.
+numba cache: before any worker starts, the warm-up hook (``case_fn.warmup``
+or else the module's ``warmup``) is called once in this process with the
+inputs of the first case to run (so it compiles the kernels that case's
+options select, e.g. on a shortened copy of it). numba's on-disk cache
+(``NUMBA_CACHE_DIR`` or ``__pycache__``, shared with local workers) is then
+complete and workers only read it: concurrent cache writes can crash. On a
+remote Dask cluster the hook runs on one worker at a time for the same
+reason. ``serial`` needs no warm-up.
 
 Resume: each case runs in ``out_root/.tmp/<id>.<pid>.<attempt>.<rand>/``; when
 the case function returns, a ``DONE`` marker holding the case id and the
@@ -200,19 +202,22 @@ class _SerialExecutor(Executor):
         return fut
 
 
-def _warmup_hook(case_fn: CaseFn) -> Callable[[], Any] | None:
-    module = sys.modules.get(case_fn.__module__) or importlib.import_module(case_fn.__module__)
-    hook = getattr(module, "warmup", None)
+def _warmup_hook(case_fn: CaseFn) -> Callable[[dict[str, Any]], Any] | None:
+    """``case_fn.warmup`` if set, else the module's ``warmup``; called with a case's inputs."""
+    hook = getattr(case_fn, "warmup", None)
+    if hook is None:
+        module = sys.modules.get(case_fn.__module__) or importlib.import_module(case_fn.__module__)
+        hook = getattr(module, "warmup", None)
     return hook if callable(hook) else None
 
 
 @contextlib.contextmanager
-def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn
+def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case
                    ) -> Iterator[tuple[Callable[[], Executor], int, Callable[[], None]]]:
     """Yield (make_executor, max_in_flight, close_current) for a scheduler."""
     hook = _warmup_hook(case_fn)
-    if scheduler in ("serial", "processes", "local-cluster") and hook is not None:
-        hook()  # fill numba's on-disk cache before any worker exists
+    if scheduler in ("processes", "local-cluster") and hook is not None:
+        hook(first.inputs)  # fill numba's on-disk cache before any worker exists
     if scheduler == "serial":
         yield (lambda: _SerialExecutor()), 1, (lambda: None)
         return
@@ -263,7 +268,7 @@ def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn
         slots = sum(int(w.get("nthreads", 1)) for w in workers.values()) or n_workers
         if cluster is None and hook is not None:
             for address in workers:  # one worker at a time: no concurrent cache writes
-                client.run(hook, workers=[address])
+                client.run(hook, first.inputs, workers=[address])
         executor = client.get_executor(pure=False)
         yield (lambda: executor), 2 * slots, (lambda: None)
     finally:
@@ -312,8 +317,9 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
         Unique ids. ``inputs`` must be JSON-ready (they are hashed).
     case_fn : callable ``(inputs: dict, case_dir: Path) -> Any``
         Module-level function of an importable module; writes its outputs
-        into ``case_dir``; raises on failure. Its module may define
-        ``warmup()`` (called once before workers start).
+        into ``case_dir``; raises on failure. A warm-up hook
+        ``warmup(inputs)`` (attribute of the function, or of its module)
+        is called once before workers start.
     out_root : path
         Sweep folder: ``<case_id>/`` per finished case, ``failures.parquet``
         and ``sweep.json`` (the report).
@@ -388,7 +394,8 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
                 "traceback_tail": _tail("".join(traceback.format_exception(exc)))}
 
     try:
-        with _open_executor(scheduler, n_workers, case_fn) as (make, in_flight, close), \
+        first = todo[0] if todo else Case("", {})
+        with _open_executor(scheduler, n_workers, case_fn, first) as (make, in_flight, close), \
                 _progress(progress and bool(todo), len(cases)) as bar:
             task = None
             if bar is not None:

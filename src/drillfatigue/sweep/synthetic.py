@@ -52,7 +52,7 @@ def _burn(n: int, x0: float) -> float:  # pragma: no cover - compiled
     return acc / max(n, 1)
 
 
-def warmup() -> None:
+def warmup(inputs: dict[str, Any] | None = None) -> None:
     """Compile :func:`_burn` once so workers only read numba's cache."""
     _burn(10, 0.5)
 
