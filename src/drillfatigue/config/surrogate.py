@@ -72,7 +72,7 @@ class SurrogateConfig(StrictModel):
     coverage: float = Field(0.90, gt=0.5, lt=1.0)
     ood_k: int = Field(5, ge=1, le=100)
     ood_quantile: float = Field(0.99, gt=0.5, le=1.0)
-    ood_reference_rows: int = Field(5000, ge=10, le=200_000)
+    ood_reference_rows: int = Field(2000, ge=10, le=200_000)
     # --- baselines ---
     gp_max_rows: int = Field(1000, ge=10, le=2000)
     hgb_max_iter: int = Field(300, ge=1, le=100_000)

@@ -34,6 +34,8 @@ from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, 
 from drillfatigue.surrogate.ood import DomainChecker
 
 FORMAT_VERSION = 1
+_CHUNK_ROWS = 2048  # rows per forward pass in predict_array
+_ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 
 #: output columns of :meth:`Surrogate.predict`
 PREDICTION_COLUMNS = (
@@ -183,9 +185,21 @@ class Surrogate:
         x_num = np.asarray(x_num, dtype=np.float64)
         if x_cat is None:
             x_cat = np.zeros((x_num.shape[0], len(self.categorical)), dtype=np.int64)
-        with torch.inference_mode():
-            out = self.module(torch.from_numpy(x_num.astype(np.float32)),
-                              torch.from_numpy(np.asarray(x_cat, dtype=np.int64))).numpy()
+        xt = torch.from_numpy(x_num.astype(np.float32))
+        ct = torch.from_numpy(np.ascontiguousarray(x_cat, dtype=np.int64))
+        out = np.empty((x_num.shape[0], 4), dtype=np.float32)
+        threads = torch.get_num_threads()
+        if x_num.shape[0] <= _ONE_THREAD_ROWS:
+            # a few rows: waking a thread pool costs more than the work (ms on a busy CPU)
+            torch.set_num_threads(1)
+        try:
+            with torch.inference_mode():
+                # chunks keep the (members, rows, width) activations in cache
+                for a in range(0, x_num.shape[0], _CHUNK_ROWS):
+                    out[a:a + _CHUNK_ROWS] = self.module(xt[a:a + _CHUNK_ROWS],
+                                                         ct[a:a + _CHUNK_ROWS]).numpy()
+        finally:
+            torch.set_num_threads(threads)
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
         if ood:

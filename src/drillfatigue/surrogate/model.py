@@ -83,19 +83,23 @@ class Preprocessor:
 
     def numeric_array(self, frame: pd.DataFrame) -> np.ndarray:
         """Numeric features as float64 array, shape (n, n_numeric); NaN/non-numeric raise."""
-        cols = []
         for col in self.numeric:
             self._require(frame, col)
-            try:
-                v = pd.to_numeric(frame[col], errors="raise").to_numpy(dtype=np.float64)
-            except (ValueError, TypeError):
-                raise InputError(col, "non-numeric value", "finite numbers") from None
-            if not np.all(np.isfinite(v)):
-                raise InputError(col, "NaN or infinite value", "finite numbers") from None
-            cols.append(v)
-        if not cols:
+        if not self.numeric:
             return np.zeros((len(frame), 0))
-        return np.column_stack(cols)
+        try:  # fast path (selecting a column block of a mixed frame is slow in pandas)
+            x = np.array([frame[c].to_numpy() for c in self.numeric], dtype=np.float64).T
+        except (ValueError, TypeError):
+            x = None
+        if x is None or not np.all(np.isfinite(x)):
+            for col in self.numeric:  # slow path only to name the offending column
+                try:
+                    v = pd.to_numeric(frame[col], errors="raise").to_numpy(dtype=np.float64)
+                except (ValueError, TypeError):
+                    raise InputError(col, "non-numeric value", "finite numbers") from None
+                if not np.all(np.isfinite(v)):
+                    raise InputError(col, "NaN or infinite value", "finite numbers")
+        return x
 
     def category_codes(self, frame: pd.DataFrame) -> np.ndarray:
         """Categorical codes, int64 array shape (n, n_categorical); unseen levels raise."""
@@ -211,13 +215,18 @@ class EnsembleModule(nn.Module):
         ``z``: (M, n, n_in) (each member its own rows) or (n, n_in) (shared).
         Returns two tensors of shape (M, n).
         """
-        if z.dim() == 2:
-            h = z.unsqueeze(0).expand(self.n_members, z.shape[0], z.shape[1])
-        else:
-            h = z
+        n = z.shape[-2]
+        h = z
         i = 0
         for w, b in zip(self.weights, self.biases):
-            h = torch.baddbmm(b, h, w)
+            if i == 0 and z.dim() == 2:
+                # shared rows: one (n, n_in) x (n_in, M*width) GEMM for all members
+                width = w.shape[2]
+                h = torch.addmm(b.permute(1, 0, 2).reshape(1, self.n_members * width), z,
+                                w.permute(1, 0, 2).reshape(w.shape[1], self.n_members * width))
+                h = h.view(n, self.n_members, width).transpose(0, 1)
+            else:
+                h = torch.baddbmm(b, h, w)
             if i < self.n_layers - 1:
                 h = self._act(h)
             i += 1

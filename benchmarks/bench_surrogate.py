@@ -1,0 +1,149 @@
+"""Surrogate query speed: batched predictions per second and single-query latency.
+
+A surrogate with the default architecture of ``params.yaml`` (5 members x
+[64, 64] SiLU MLPs, Gaussian heads) is fitted on the documented synthetic
+table (:func:`drillfatigue.surrogate.make_synthetic_dataset`) for a few epochs
+only: speed does not depend on how well it is trained. Measured on this CPU,
+``torch.set_num_threads(--threads)``:
+
+- batched throughput on 10^5-row batches (median of the repeats) through
+  ``Surrogate.predict_array`` without the OOD test (the network: mean, sigma,
+  interval), with the per-feature range test, with range + k-NN test, and
+  through the TorchScript export; goal >= 1e6 predictions/s;
+- single-query latency (p50, p90) through ``Surrogate.predict`` (one-row
+  DataFrame in and out: the public API, goal p50 < 2 ms) and through the
+  ``predict_array`` fast path;
+- the ratio against one simulator run of the same condition: ``--sim-seconds``
+  (a measured simulator wall time) if given, and the founding paper's figure
+  (three profiles x 800 s simulated in about 38 h, i.e. ~12.7 h per case) as
+  a reference.
+
+Usage: ``python benchmarks/bench_surrogate.py [--quick] [--threads 2] [--sim-seconds S]``
+-> ``benchmarks/results/surrogate.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
+from drillfatigue.surrogate.export import export_torchscript, load_torchscript
+from drillfatigue.surrogate.io import write_json
+
+RESULT = Path(__file__).parent / "results" / "surrogate.json"
+PAPER_SECONDS_PER_CASE = 38 * 3600.0 / 3.0  # Liyanarachchi & Rideout: 3 profiles in ~38 h
+
+
+def _median_rate(fn, n_rows: int, repeats: int) -> dict[str, float]:
+    fn()  # warm-up
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    med = float(np.median(times))
+    return {"median_s_per_batch": med, "predictions_per_s": n_rows / med,
+            "best_predictions_per_s": n_rows / float(np.min(times))}
+
+
+def _latency(fn, repeats: int) -> dict[str, float]:
+    for _ in range(5):
+        fn()
+    t = np.empty(repeats)
+    for i in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        t[i] = time.perf_counter() - t0
+    return {"p50_ms": float(np.percentile(t, 50) * 1e3), "p90_ms": float(np.percentile(t, 90) * 1e3),
+            "min_ms": float(t.min() * 1e3)}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer repeats (CI smoke run)")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--sim-seconds", type=float, default=None,
+                    help="wall time of one simulator run of a comparable case")
+    ap.add_argument("--out", default=str(RESULT))
+    args = ap.parse_args(argv)
+    repeats, n_single = (3, 200) if args.quick else (10, 2000)
+
+    cfg = SurrogateConfig(max_epochs=3, patience=3, n_threads=args.threads)
+    data = make_synthetic_dataset(60, seed=0)
+    t0 = time.perf_counter()
+    model = fit_surrogate(data, cfg)
+    fit_s = time.perf_counter() - t0
+    torch.set_num_threads(args.threads)
+
+    n = 100_000
+    big = make_synthetic_dataset(n // 16 + 1, seed=1).iloc[:n]
+    x_num, x_cat = model.encode(big)
+    res: dict[str, object] = {
+        "machine": {"cpu_count": os.cpu_count(), "torch_threads": args.threads,
+                    "load_avg_1min_start": os.getloadavg()[0], "python": platform.python_version(),
+                    "torch": torch.__version__, "processor": platform.processor()},
+        "model": {"members": len(cfg.seeds), "hidden_layers": list(cfg.hidden_layers),
+                  "n_numeric": len(model.features), "n_categorical": len(model.categorical),
+                  "ood_reference_rows": int(model.domain.reference_.shape[0]),
+                  "fit_s_3_epochs": fit_s},
+        "batch_rows": n,
+    }
+    batched = {
+        "network_only": _median_rate(lambda: model.predict_array(x_num, x_cat, ood=False), n, repeats),
+        "with_range_ood": _median_rate(lambda: model.predict_array(x_num, x_cat, knn=False), n, repeats),
+        "with_range_and_knn_ood": _median_rate(lambda: model.predict_array(x_num, x_cat), n,
+                                               max(1, repeats // 2)),
+        "predict_dataframe": _median_rate(lambda: model.predict(big), n, max(1, repeats // 2)),
+    }
+    ts_path = Path(os.environ.get("TMPDIR", "/tmp")) / f"bench_surrogate_{os.getpid()}.ts"
+    export_torchscript(model, ts_path)
+    ts = load_torchscript(ts_path)
+    xt, ct = torch.from_numpy(x_num.astype(np.float32)), torch.from_numpy(x_cat)
+
+    def run_ts() -> None:
+        with torch.inference_mode():
+            ts(xt, ct)
+
+    batched["torchscript"] = _median_rate(run_ts, n, repeats)
+    ts_path.unlink(missing_ok=True)
+    res["batched"] = batched
+
+    one = big.iloc[[123]]
+    xn1, xc1 = model.encode(one)
+    res["single_query"] = {
+        "predict_dataframe": _latency(lambda: model.predict(one), n_single),
+        "predict_array_with_ood": _latency(lambda: model.predict_array(xn1, xc1), n_single),
+        "predict_array_no_ood": _latency(lambda: model.predict_array(xn1, xc1, ood=False), n_single),
+    }
+    p50_s = res["single_query"]["predict_dataframe"]["p50_ms"] / 1e3
+    res["speedup_vs_simulator"] = {
+        "paper_seconds_per_case": PAPER_SECONDS_PER_CASE,
+        "paper_ratio_single_query": PAPER_SECONDS_PER_CASE / p50_s,
+        "sim_seconds": args.sim_seconds,
+        "ratio_single_query": (args.sim_seconds / p50_s) if args.sim_seconds else None,
+    }
+    res["goals"] = {
+        "batched_predictions_per_s_ge_1e6": batched["network_only"]["predictions_per_s"] >= 1e6,
+        "single_query_p50_lt_2ms": res["single_query"]["predict_dataframe"]["p50_ms"] < 2.0,
+    }
+    res["machine"]["load_avg_1min_end"] = os.getloadavg()[0]
+    write_json(res, args.out)
+    print(json.dumps({"batched_predictions_per_s": {k: round(v["predictions_per_s"])
+                                                    for k, v in batched.items()},
+                      "single_query_p50_ms": {k: round(v["p50_ms"], 3)
+                                              for k, v in res["single_query"].items()}}, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
