@@ -13,7 +13,6 @@ from pydantic import Field, model_validator
 
 from drillfatigue.config.base import StrictModel
 
-Criterion = Literal["matake", "findley", "uniaxial", "rp7g"]
 
 DEFAULT_FEATURES: tuple[str, ...] = (
     "operation.rpm",
@@ -46,7 +45,9 @@ class SurrogateConfig(StrictModel):
     # --- data ---
     features: tuple[str, ...] = Field(DEFAULT_FEATURES, min_length=1)
     categorical: tuple[str, ...] = DEFAULT_CATEGORICAL
-    criterion: Criterion = "matake"
+    # criterion name as in the dataset's target columns (matake, findley,
+    # uniaxial, fatemi_socie, api_rp7g, ...); the column must exist
+    criterion: str = Field("matake", pattern=r"^[A-Za-z0-9_]+$", min_length=1, max_length=64)
     target_prefix: str = Field("damage_rate_per_h_", min_length=1)
     group_column: str = Field("case_id", min_length=1)
     rate_floor_per_h: float = Field(1e-12, gt=0.0, le=1e-3)
