@@ -31,3 +31,24 @@ def test_local_cluster_matches_process_pool(tmp_path):
     f_pool = pd.read_parquet(tmp_path / "pool" / FAILURES_NAME)[cols]
     f_dask = pd.read_parquet(tmp_path / "dask" / FAILURES_NAME)[cols]
     pd.testing.assert_frame_equal(f_pool, f_dask)
+
+
+def test_scheduler_address(tmp_path):
+    """``tcp://host:port`` of a running scheduler: same outputs, warm-up run on each worker.
+
+    The cluster's workers are threads of this process (quick to start); the
+    sweep still connects through the TCP address like a remote cluster.
+    """
+    import logging
+
+    from distributed import LocalCluster
+
+    cases = [Case(f"case{i:03d}", {"operation": {"rpm": 50.0 + 7 * i}}) for i in range(3)]
+    run_sweep(cases, synthetic_case, tmp_path / "serial", scheduler="serial")
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp",
+                      dashboard_address=None, silence_logs=logging.ERROR) as cluster:
+        address = cluster.scheduler_address
+        assert address.startswith("tcp://")
+        report = run_sweep(cases, synthetic_case, tmp_path / "tcp", scheduler=address)
+    assert report.n_done == 3
+    assert _tree(tmp_path / "tcp") == _tree(tmp_path / "serial")
