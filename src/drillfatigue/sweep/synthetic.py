@@ -30,26 +30,14 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from numba import njit
-
 from drillfatigue.errors import SimulationError
+from drillfatigue.sweep.synthetic_kernels import burn as _burn
 
 __all__ = ["synthetic_case", "synthetic_fatigue", "warmup"]
 
 CRITERIA = ("uniaxial", "matake", "api_rp7g")
 N_TIME = 200
 N_JOINT = 3
-
-
-@njit(cache=True)
-def _burn(n: int, x0: float) -> float:  # pragma: no cover - compiled
-    """CPU-bound logistic-map loop, ``n`` iterations; returns the final value."""
-    x = x0
-    acc = 0.0
-    for _ in range(n):
-        x = 3.9 * x * (1.0 - x)
-        acc += x
-    return acc / max(n, 1)
 
 
 def warmup(inputs: dict[str, Any] | None = None) -> None:
