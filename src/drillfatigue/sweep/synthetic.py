@@ -2,7 +2,8 @@
 
 :func:`synthetic_case` writes a run folder with the same files and columns as
 the real simulator (``channels.parquet``, ``loads.parquet``, ``joints.parquet``,
-``summary.json``, ``case.json``), deterministically from the case inputs, after
+``summary.json``, ``case.json``; loads and joints with exactly the columns
+:func:`drillfatigue.fatigue.evaluate_run` reads), deterministically from the case inputs, after
 a CPU-bound numba loop of ``work`` iterations. :func:`synthetic_fatigue` writes
 a ``damage.parquet`` with the fatigue contract's columns. Neither has any
 physical meaning.
@@ -32,6 +33,7 @@ import numpy as np
 import pandas as pd
 from drillfatigue.errors import SimulationError
 from drillfatigue.sweep.synthetic_kernels import burn as _burn
+from drillfatigue.units import HOUR_S
 
 __all__ = ["synthetic_case", "synthetic_fatigue", "warmup"]
 
@@ -86,21 +88,27 @@ def synthetic_case(case: dict[str, Any], case_dir: Path) -> dict[str, Any]:
         time.sleep(float(opts["sleep_s"]))
     rng = np.random.default_rng(seed)
     t = np.linspace(0.0, 10.0, N_TIME)
-    torque = 1.0e4 * level * (1.0 + 0.3 * np.sin(2.0 * np.pi * 0.5 * t)) + rng.normal(0, 50, N_TIME)
+    torque = (1.0e4 * level * (1.0 + 0.3 * np.sin(2.0 * np.pi * 0.5 * t))
+              + rng.normal(0, 50, N_TIME))
     channels = pd.DataFrame({
         "time_s": t, "surface_torque_Nm": torque, "hook_load_N": 8.0e5 + 0.0 * t,
         "wob_N": 5.0e4 * level + 0.0 * t, "tob_Nm": 2.0e3 * level + 0.0 * t,
         "top_rpm": 120.0 + 0.0 * t, "bit_rpm": 120.0 + 40.0 * np.sin(t),
         "bit_md_m": 1000.0 + 0.01 * t, "rop_m_per_s": 0.01 + 0.0 * t})
-    md = 1000.0 - np.array([8.0, 40.0, 80.0])
-    joints = pd.DataFrame({"joint": np.arange(N_JOINT), "md_m": md, "s_from_bit_m": 1000.0 - md,
-                           "component": ["dc", "dp", "dp"], "component_type": ["collar", "pipe", "pipe"]})
+    s_bit = np.array([8.0, 40.0, 80.0])  # distance from the bit of the recorded joints, m
+    joints = pd.DataFrame({
+        "joint": np.arange(N_JOINT), "component": ["DC", "DP", "DP"],
+        "component_type": ["collar", "drill_pipe", "drill_pipe"], "s_from_bit_m": s_bit,
+        "body_od_m": [0.17145, 0.127, 0.127], "body_id_m": [0.0714, 0.1086, 0.1086],
+        "conn_od_m": [0.17145, 0.1683, 0.1683], "conn_id_m": [0.0714, 0.0826, 0.0826]})
     tt, jj = (a.ravel() for a in np.meshgrid(t, np.arange(N_JOINT), indexing="ij"))
-    loads = pd.DataFrame({"time_s": tt, "joint": jj,
-                          "axial_N": rng.normal(-1e4, 1e3, tt.size),
-                          "shear_x_N": rng.normal(0, 1e2, tt.size), "shear_y_N": rng.normal(0, 1e2, tt.size),
-                          "bending_x_Nm": level * 1e3 * np.sin(tt + jj), "bending_y_Nm": level * 1e3 * np.cos(tt + jj),
-                          "torque_Nm": np.repeat(torque, N_JOINT)})
+    bend = level * 1.0e3 * (1.0 + jj)
+    loads = pd.DataFrame({
+        "time_s": tt, "joint": jj, "md_m": 1000.0 + 0.01 * tt - s_bit[jj],
+        "axial_N": rng.normal(-1e4, 1e3, tt.size),
+        "shear_x_N": rng.normal(0, 1e2, tt.size), "shear_y_N": rng.normal(0, 1e2, tt.size),
+        "bending_x_Nm": bend * np.sin(tt + jj), "bending_y_Nm": bend * np.cos(tt + jj),
+        "torque_Nm": np.repeat(torque, N_JOINT)})
     case_dir = Path(case_dir)
     channels.to_parquet(case_dir / "channels.parquet", index=False)
     joints.to_parquet(case_dir / "joints.parquet", index=False)
@@ -122,19 +130,21 @@ def synthetic_fatigue(task: dict[str, Any], case_dir: Path) -> pd.DataFrame:
     loads = pd.read_parquet(run_dir / "loads.parquet")
     duration_s = float(json.loads((run_dir / "summary.json").read_text())["duration_s"])
     rows = []
+    md_end = loads.groupby("joint")["md_m"].last()
     for _, j in joints.iterrows():
         amp = float(loads.loc[loads["joint"] == j["joint"], "bending_x_Nm"].abs().max())
-        for location in ("body", "thread_root"):
+        for location in ("body", "connection"):
             for k, criterion in enumerate(CRITERIA):
-                damage = 1e-9 * amp * (1.0 + k) * (3.5 if location == "thread_root" else 1.0)
-                rows.append({"joint": int(j["joint"]), "md_m": j["md_m"],
+                damage = 1e-9 * amp * (1.0 + k) * (3.5 if location == "connection" else 1.0)
+                rows.append({"joint": int(j["joint"]), "md_m": float(md_end[j["joint"]]),
                              "s_from_bit_m": j["s_from_bit_m"], "component": j["component"],
                              "component_type": j["component_type"], "location": location,
                              "criterion": criterion, "damage": damage,
-                             "damage_rate_per_h": damage * 3600.0 / duration_s,
-                             "life_h": duration_s / 3600.0 / damage, "life_windows": 1.0 / damage,
+                             "damage_rate_per_h": damage * HOUR_S / duration_s,
+                             "life_h": duration_s / HOUR_S / damage, "life_windows": 1.0 / damage,
                              "critical_angle_deg": np.nan if criterion == "api_rp7g" else 10.0 * k})
     frame = pd.DataFrame(rows)
     frame.to_parquet(Path(case_dir) / "damage.parquet", index=False)
-    (Path(case_dir) / "summary.json").write_text(json.dumps({"n_rows": len(frame)}), encoding="utf-8")
+    summary = json.dumps({"n_rows": len(frame)})
+    (Path(case_dir) / "summary.json").write_text(summary, encoding="utf-8")
     return frame
