@@ -138,7 +138,9 @@ class FatigueConfig(StrictModel):
     findley_k: float = Field(0.25, ge=0.0, le=1.0)
     fatemi_socie_k: float = Field(0.6, ge=0.0, le=2.0)
     plane_step_deg: float = Field(10.0, ge=0.5, le=45.0)
-    family_b: bool = Field(True, description="also planes at 45 deg to the surface")
+    family_b: bool = Field(False, description="also planes at 45 deg to the surface (off by "
+                           "default: with sigma_theta = 0 the in-surface principal stresses have "
+                           "opposite signs, so the maximum-shear plane is perpendicular to it)")
     n_shear_axes: int = Field(2, ge=1, le=8)
     n_refine: int = Field(4, ge=0, le=8)
     n_refine_points: int = Field(2, ge=1, le=36)

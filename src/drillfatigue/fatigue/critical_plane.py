@@ -14,7 +14,11 @@ planes (FATIGUE.md section 4):
   projection of the shear path on axes).
 
 Both families are symmetric under t -> t + 180 deg (the stress has no radial
-components), so t runs over [0, 180). The coarse grid has ``plane_step_deg``;
+components), so t runs over [0, 180). Family B is off by default: with
+sigma_theta = 0 the in-surface principal stresses sigma/2 +- sqrt(sigma^2/4 +
+tau^2) have opposite signs, so the largest shear, (sigma_1 - sigma_2)/2, is
+always on a family-A plane (family B carries at most sigma_1/2); it can still
+be switched on for Findley/Fatemi-Socie studies. The coarse grid has ``plane_step_deg``;
 the governing plane of the most damaged surface points is refined by halving
 the step ``n_refine`` times around it (code_aster refines four times: 2, 1, 0.5,
 0.25 deg).
@@ -147,7 +151,7 @@ def make_planes(theta_deg: np.ndarray, beta_deg: np.ndarray, psi_deg: np.ndarray
                   np.asarray(psi_deg, float), np.ascontiguousarray(c), np.ascontiguousarray(n))
 
 
-def plane_grid(step_deg: float = 10.0, family_b: bool = True, n_shear_axes: int = 2) -> Planes:
+def plane_grid(step_deg: float = 10.0, family_b: bool = False, n_shear_axes: int = 2) -> Planes:
     """Coarse candidate grid: family A every ``step_deg`` over [0, 180) and,
     optionally, family B (45 deg to the surface) with ``n_shear_axes`` axes
     psi = 0, 180/n, ... deg."""
@@ -164,8 +168,12 @@ def plane_grid(step_deg: float = 10.0, family_b: bool = True, n_shear_axes: int 
     return make_planes(np.concatenate(thetas), np.concatenate(betas), np.concatenate(psis))
 
 
-def _boundaries(c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Sorted pseudo-angles where each candidate's shear increment changes sign."""
+N_LUT_BINS = 4096  # pseudo-angle bins of the sector look-up table
+
+
+def _boundaries(c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Sorted pseudo-angles where each candidate's shear increment changes sign,
+    their owners, and the look-up table (boundaries below each bin's start/end)."""
     nz = np.flatnonzero(np.hypot(c[:, 0], c[:, 1]) > 0.0)
     wx = np.concatenate([-c[nz, 1], c[nz, 1]])
     wy = np.concatenate([c[nz, 0], -c[nz, 0]])
@@ -173,12 +181,24 @@ def _boundaries(c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     K.pseudo_angles(wx, wy, pa)
     owner = np.concatenate([nz, nz]).astype(np.int64)
     order = np.argsort(pa, kind="stable")
-    return np.ascontiguousarray(pa[order]), np.ascontiguousarray(owner[order])
+    bpa = np.ascontiguousarray(pa[order])
+    edges = np.arange(N_LUT_BINS + 1) * (4.0 / N_LUT_BINS)
+    cnt = np.searchsorted(bpa, edges, side="left").astype(np.int64)
+    return bpa, np.ascontiguousarray(owner[order]), cnt[:-1].copy(), cnt[1:].copy()
+
+
+def loads_channels(loads: np.ndarray) -> np.ndarray:
+    """Loads (n_time, 6) as contiguous channels (6, n_time) for the kernel."""
+    L = np.asarray(loads, dtype=np.float64)
+    if L.ndim != 2 or L.shape[1] != 6:
+        raise InputError("loads", f"must have shape (n_time, 6), got {L.shape}", "(n_time, 6)")
+    return np.ascontiguousarray(L.T)
 
 
 def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray, planes: Planes,
                  curve: SNCurve, criterion: str, params: CriterionParams,
-                 residue: str = "half", thickness_factor: float = 1.0
+                 residue: str = "half", thickness_factor: float = 1.0,
+                 loads_are_channels: bool = False
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Damage of every candidate plane at every surface point (numba kernel).
 
@@ -194,6 +214,8 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
     residue : {'half', 'repeat', 'carry'} ('carry' closes as half)
     thickness_factor : float
         DNV thickness factor on the stress.
+    loads_are_channels : bool
+        ``loads`` is already (6, n_time) from :func:`loads_channels`.
 
     Returns
     -------
@@ -204,28 +226,28 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
     if criterion not in _CRIT_CODE:
         raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
                          ", ".join(CRITERIA))
-    loads = np.ascontiguousarray(loads, dtype=np.float64)
+    LT = loads if loads_are_channels else loads_channels(loads)
     ca, cb, cc = params.constants(criterion)
     crit = _CRIT_CODE[criterion]
     sel = K.CRIT_SHEAR if criterion == "matake" else crit
-    bpa, bown = _boundaries(planes.c)
+    bpa, bown, lut_lo, lut_hi = _boundaries(planes.c)
     seg = curve.kernel_arrays()
     n_p, n_c = coef_sigma.shape[0], len(planes)
     dmg = np.zeros((n_p, n_c))
     sel_d = np.zeros((n_p, n_c))
     par = np.zeros((n_p, n_c))
-    if bpa.size == 0 or loads.shape[0] < 2:
+    if bpa.size == 0 or LT.shape[1] < 2:
         return dmg, sel_d, par
     mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
     cap = 1024
     while True:
-        st = K.multiplane_damage(loads, np.ascontiguousarray(coef_sigma),
+        st = K.multiplane_damage(LT, np.ascontiguousarray(coef_sigma),
                                  np.ascontiguousarray(coef_tau), planes.c, planes.n, bpa, bown,
-                                 crit, ca, cb, cc, sel, thickness_factor / MPA_PA, seg[0], seg[1],
-                                 seg[2], seg[3], mode, cap, dmg, sel_d, par)
+                                 lut_lo, lut_hi, crit, ca, cb, cc, sel, thickness_factor / MPA_PA,
+                                 seg[0], seg[1], seg[2], seg[3], mode, cap, dmg, sel_d, par)
         if st == K.STATUS_OK:
             return dmg, sel_d, par
-        if cap > 4 * loads.shape[0] + 16:  # pragma: no cover - cannot happen
+        if cap > 4 * LT.shape[1] + 16:  # pragma: no cover - cannot happen
             raise RuntimeError("multiplane_damage: residue stack overflow")
         cap *= 8
 
@@ -254,33 +276,53 @@ def pick_planes(dmg: np.ndarray, sel: np.ndarray, rtol: float = 1e-9) -> np.ndar
     return np.argmax(np.where(near, dmg, -np.inf), axis=1)
 
 
-def refine_plane(loads: np.ndarray, cs_row: np.ndarray, ct_row: np.ndarray, theta0: float,
-                 beta: float, psi: float, step0: float, n_refine: int, curve: SNCurve,
-                 criterion: str, params: CriterionParams, residue: str, tf: float
-                 ) -> tuple[float, float, float, float]:
-    """Refine the governing plane of one point by halving the step ``n_refine`` times.
+def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
+                  theta0: np.ndarray, beta: np.ndarray, psi: np.ndarray, best_dmg: np.ndarray,
+                  best_sel: np.ndarray, best_par: np.ndarray, step0: float, n_refine: int,
+                  curve: SNCurve, criterion: str, params: CriterionParams, residue: str,
+                  tf: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Refine the governing plane of several points by halving the step ``n_refine`` times.
 
-    Returns (theta_deg, damage, selection_damage, param_max_Pa) of the best plane.
+    At each level every point tries theta +- step around its current best; all
+    points and their trial planes go through the kernel in one call (the points
+    run in parallel).
+
+    Parameters
+    ----------
+    loads_T : ndarray, shape (6, n_time)
+        Loads as channels (:func:`loads_channels`).
+    cs_rows, ct_rows : ndarray, shape (R, 6)
+        Stress coefficients of the R points.
+    theta0, beta, psi : ndarray, shape (R,)
+        Coarse governing plane of each point, deg.
+    best_dmg, best_sel, best_par : ndarray, shape (R,)
+        Its damage, selection damage and parameter (from the coarse pass).
+
+    Returns
+    -------
+    theta, dmg, sel, par : ndarray, shape (R,)
     """
-    best_t = theta0
-    d0, s0, p0 = plane_damage(loads, cs_row[None], ct_row[None],
-                              make_planes([theta0], [beta], [psi]), curve, criterion, params,
-                              residue, tf)
-    best = (float(d0[0, 0]), float(s0[0, 0]), float(p0[0, 0]))
+    R = cs_rows.shape[0]
+    th = np.asarray(theta0, dtype=float).copy()
+    bd, bs, bp = (np.asarray(best_dmg, float).copy(), np.asarray(best_sel, float).copy(),
+                  np.asarray(best_par, float).copy())
     step = step0
+    rows = np.arange(R)
     for _ in range(n_refine):
         step /= 2.0
-        ths = np.array([best_t - step, best_t + step]) % 180.0
-        d, s, p = plane_damage(loads, cs_row[None], ct_row[None],
-                               make_planes(ths, [beta, beta], [psi, psi]), curve, criterion,
-                               params, residue, tf)
-        dd = np.array([[best[0], d[0, 0], d[0, 1]]])
-        ss = np.array([[best[1], s[0, 0], s[0, 1]]])
-        j = int(pick_planes(dd, ss)[0])
-        if j > 0:
-            best_t = float(ths[j - 1])
-            best = (float(d[0, j - 1]), float(s[0, j - 1]), float(p[0, j - 1]))
-    return best_t, best[0], best[1], best[2]
+        trial = (np.stack([th - step, th + step], axis=1) % 180.0).ravel()  # (2R,)
+        pl = make_planes(trial, np.repeat(beta, 2), np.repeat(psi, 2))
+        d, s_, p_ = plane_damage(loads_T, cs_rows, ct_rows, pl, curve, criterion, params,
+                                 residue, tf, loads_are_channels=True)
+        own = np.stack([2 * rows, 2 * rows + 1], axis=1)  # each point's own two trials
+        dd = np.column_stack([bd, d[rows[:, None], own]])
+        ss = np.column_stack([bs, s_[rows[:, None], own]])
+        pp = np.column_stack([bp, p_[rows[:, None], own]])
+        k = pick_planes(dd, ss)
+        moved = k > 0
+        th[moved] = trial.reshape(R, 2)[rows[moved], k[moved] - 1]
+        bd, bs, bp = dd[rows, k], ss[rows, k], pp[rows, k]
+    return th, bd, bs, bp
 
 
 def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCurve,
@@ -294,13 +336,14 @@ def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCu
     ndarray, shape (n_points,)
         Damage per point.
     """
-    sig = coef_sigma @ np.asarray(loads, dtype=np.float64).T
-    out = np.zeros(sig.shape[0])
-    for p in range(sig.shape[0]):
-        i0, i1, cnt = find_cycles_indexed(sig[p], "repeat" if residue == "repeat" else "half")
+    L = np.asarray(loads, dtype=np.float64)
+    out = np.zeros(coef_sigma.shape[0])
+    for p in range(coef_sigma.shape[0]):
+        sig = L @ coef_sigma[p]  # one point at a time: memory O(n_time)
+        i0, i1, cnt = find_cycles_indexed(sig, "repeat" if residue == "repeat" else "half")
         if cnt.size == 0:
             continue
-        a, b = sig[p, i0], sig[p, i1]
+        a, b = sig[i0], sig[i1]
         S = correct_mean_stress(np.abs(b - a), 0.5 * (a + b), mean_stress, ultimate_Pa,
                                 walker_gamma, compressive_alpha)
         N = curve.cycles_to_failure(S * thickness_factor)
@@ -310,12 +353,12 @@ def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCu
 
 def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCurve,
                       criterion: str, params: CriterionParams, *, n_points: int = 36,
-                      plane_step_deg: float = 10.0, family_b: bool = True,
+                      plane_step_deg: float = 10.0, family_b: bool = False,
                       n_shear_axes: int = 2, n_refine: int = 4, n_refine_points: int = 2,
                       residue: str = "half", mean_stress: str = "none",
                       ultimate_Pa: float = 689e6, thickness_m: float | None = None,
-                      walker_gamma: float = 0.5, compressive_alpha: float = 0.6
-                      ) -> LocationResult:
+                      walker_gamma: float = 0.5, compressive_alpha: float = 0.6,
+                      with_uniaxial: bool = True) -> LocationResult:
     """Damage of one location of one joint over one load window.
 
     Parameters
@@ -331,6 +374,8 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
     plane_step_deg, family_b, n_shear_axes, n_refine, n_refine_points
         Plane grid and refinement (refinement at the ``n_refine_points`` most
         damaged points).
+    with_uniaxial : bool
+        Also run the uniaxial route (``uniaxial_damage``; NaN when False).
     residue, mean_stress, ultimate_Pa, thickness_m, walker_gamma, compressive_alpha
         Counting and uniaxial-route options.
 
@@ -344,14 +389,19 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
     cs, ct, phi = surface_coefficients(section, scf, n_points)
     tf = curve.thickness_factor(thickness_m if thickness_m is not None
                                 else (section.od_m - section.id_m) / 2.0)
-    uni = uniaxial_point_damage(loads, cs, curve, residue, mean_stress, ultimate_Pa, tf,
-                                walker_gamma, compressive_alpha)
+    if with_uniaxial or criterion == "uniaxial":
+        uni = uniaxial_point_damage(loads, cs, curve, residue, mean_stress, ultimate_Pa, tf,
+                                    walker_gamma, compressive_alpha)
+    else:
+        uni = np.full(n_points, np.nan)
     if criterion == "uniaxial":
         p = int(np.argmax(uni))
         return LocationResult(float(uni[p]), float(np.degrees(phi[p])), 0.0, 0.0, p, uni,
                               float(uni[p]), float("nan"))
     planes = plane_grid(plane_step_deg, family_b, n_shear_axes)
-    dmg, sel, par = plane_damage(loads, cs, ct, planes, curve, criterion, params, residue, tf)
+    LT = loads_channels(loads)
+    dmg, sel, par = plane_damage(LT, cs, ct, planes, curve, criterion, params, residue, tf,
+                                 loads_are_channels=True)
     jbest = pick_planes(dmg, sel)
     rows = np.arange(dmg.shape[0])
     pdmg = dmg[rows, jbest].copy()
@@ -359,14 +409,13 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
     theta = planes.theta_deg[jbest].copy()
     pmax = par[rows, jbest].copy()
     if n_refine > 0:
-        for p in np.argsort(-psel)[:max(1, n_refine_points)]:
-            j = jbest[p]
-            t, d, s, pm = refine_plane(loads, cs[p], ct[p], float(planes.theta_deg[j]),
-                                       float(planes.beta_deg[j]), float(planes.psi_deg[j]),
-                                       plane_step_deg, n_refine, curve, criterion, params,
-                                       residue, tf)
-            if s >= psel[p]:
-                pdmg[p], psel[p], theta[p], pmax[p] = d, s, t, pm
+        top = np.argsort(-psel, kind="stable")[:max(1, n_refine_points)]
+        jt = jbest[top]
+        t, d, s, pm = refine_planes(LT, cs[top], ct[top], planes.theta_deg[jt],
+                                    planes.beta_deg[jt], planes.psi_deg[jt], pdmg[top],
+                                    psel[top], pmax[top], plane_step_deg, n_refine, curve,
+                                    criterion, params, residue, tf)
+        pdmg[top], psel[top], theta[top], pmax[top] = d, s, t, pm
     # governing point: largest selection damage (= damage except for Matake)
     p = int(pick_planes(pdmg[None], psel[None])[0])
     return LocationResult(float(pdmg[p]), float(np.degrees(phi[p])), float(theta[p]),

@@ -202,7 +202,7 @@ def _equivalent(crit, dtau, sn1, sn2, ca, cb, cc):
         return 0.5 * dtau, dtau
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _pseudo_angle(x, y):
     """Monotone pseudo-angle of the direction (x, y) in [0, 4)."""
     ax = abs(x)
@@ -227,24 +227,32 @@ def _sector(pa, bnd):
     return lo
 
 
+CYCLE_BUFFER = 8192
+
+
 @njit(cache=True)
-def _close_cycle(j, v1, v2, n1, n2, count, crit, ca, cb, cc, s_scale, seg_S_low, seg_m,
-                 seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par, p):
-    dtau = abs(v2 - v1)
-    par, seq = _equivalent(crit, dtau, n1, n2, ca, cb, cc)
-    if seq > 0.0:
-        out_dmg[p, j] += count * sn_inverse_life(2.0 * seq * s_scale, seg_S_low, seg_m,
-                                                 seg_inv_a, S_cut)
-    if par > out_par[p, j]:
-        out_par[p, j] = par
-    if sel_crit != crit:
-        _, sq2 = _equivalent(sel_crit, dtau, n1, n2, ca, cb, cc)
-        if sq2 > 0.0:
-            out_sel[p, j] += count * sn_inverse_life(2.0 * sq2 * s_scale, seg_S_low, seg_m,
+def _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc, s_scale, seg_S_low,
+           seg_m, seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par):
+    """Damage of the buffered cycles of point p (equivalent stress, S-N, Miner)."""
+    for i in range(nbuf[0]):
+        j = buf_j[i]
+        dtau = buf_d[i]
+        count = buf_c[i]
+        par, seq = _equivalent(crit, dtau, buf_n1[i], buf_n2[i], ca, cb, cc)
+        if seq > 0.0:
+            out_dmg[p, j] += count * sn_inverse_life(2.0 * seq * s_scale, seg_S_low, seg_m,
                                                      seg_inv_a, S_cut)
+        if par > out_par[p, j]:
+            out_par[p, j] = par
+        if sel_crit != crit:
+            _, sq2 = _equivalent(sel_crit, dtau, buf_n1[i], buf_n2[i], ca, cb, cc)
+            if sq2 > 0.0:
+                out_sel[p, j] += count * sn_inverse_life(2.0 * sq2 * s_scale, seg_S_low, seg_m,
+                                                         seg_inv_a, S_cut)
+    nbuf[0] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _push_value(sv, sn, ms, j, v, nv):
     """Peak-valley filtered push of (shear v, normal nv) onto candidate j's stack."""
     m = ms[j]
@@ -262,9 +270,9 @@ def _push_value(sv, sn, ms, j, v, nv):
     return 0
 
 
-@njit(cache=True)
-def _four_point(sv, sn, ms, j, crit, ca, cb, cc, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut,
-                sel_crit, out_dmg, out_sel, out_par, p):
+@njit(cache=True, inline="always")
+def _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf):
+    """4-point rainflow on candidate j's stack; closed cycles go to the buffer."""
     m = ms[j]
     while m >= 4:
         s0 = sv[j, m - 4]
@@ -273,9 +281,13 @@ def _four_point(sv, sn, ms, j, crit, ca, cb, cc, s_scale, seg_S_low, seg_m, seg_
         s3 = sv[j, m - 1]
         d2 = abs(s2 - s1)
         if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
-            _close_cycle(j, s1, s2, sn[j, m - 3], sn[j, m - 2], 1.0, crit, ca, cb, cc, s_scale,
-                         seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit, out_dmg, out_sel,
-                         out_par, p)
+            k = nbuf[0]
+            buf_j[k] = j
+            buf_d[k] = d2
+            buf_n1[k] = sn[j, m - 3]
+            buf_n2[k] = sn[j, m - 2]
+            buf_c[k] = 1.0
+            nbuf[0] = k + 1
             sv[j, m - 3] = s3
             sn[j, m - 3] = sn[j, m - 1]
             m -= 2
@@ -284,38 +296,46 @@ def _four_point(sv, sn, ms, j, crit, ca, cb, cc, s_scale, seg_S_low, seg_m, seg_
     ms[j] = m
 
 
+BLOCK = 4096
+
+
 @njit(cache=True, parallel=True)
-def multiplane_damage(loads, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_cand, crit, ca, cb,
-                      cc, sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, residue_mode,
-                      stack_cap, out_dmg, out_sel, out_par):
+def multiplane_damage(loads_T, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_cand, lut_lo,
+                      lut_hi, crit, ca, cb, cc, sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a,
+                      S_cut, residue_mode, stack_cap, out_dmg, out_sel, out_par):
     """Miner damage on every candidate plane of every surface point.
 
-    For each surface point p the plane stress (sigma, tau) is formed on the fly
-    from the loads; the resolved shear on candidate j is ``cand_c[j] @ (sigma,
-    tau)`` and the normal stress ``cand_n[j] @ (sigma, tau)``. Instead of a
-    reversal search per plane, each increment's direction in the
-    (sigma, tau) plane is located among the sorted directions where some
-    candidate's shear increment changes sign (``bnd_pa``, pseudo-angles); a
-    sample is a reversal of exactly the candidates whose boundary lies on the
-    short arc between the previous and the new increment direction. Each
-    candidate keeps its own 4-point rainflow stack; each closed cycle gets the
-    criterion's equivalent stress from its shear range and the normal stress
-    at its two extreme instants, and Miner damage 1/N from the S-N curve.
-    The result equals a per-plane reversal search and rainflow (exact values,
-    no binning); the work is proportional to the number of reversals.
+    For each surface point p the plane stress (sigma, tau) is formed from the
+    loads; the resolved shear on candidate j is ``cand_c[j] @ (sigma, tau)`` and
+    the normal stress ``cand_n[j] @ (sigma, tau)``. Instead of a reversal search
+    per plane, each increment's direction in the (sigma, tau) plane is located
+    (pseudo-angle; while it stays inside the current sector nothing is done,
+    otherwise a look-up table ``lut_lo/lut_hi`` over pseudo-angle bins with an
+    exact search only in bins holding a boundary) among the sorted directions
+    ``bnd_pa`` where some candidate's shear increment changes sign; a sample is
+    a reversal of exactly the candidates whose boundary lies on the short arc
+    between the previous and the new increment direction. The per-sample stage
+    runs over blocks of ``BLOCK`` samples with contiguous per-channel loads;
+    only direction changes reach the sequential stage. Each candidate keeps its
+    own 4-point rainflow stack; each closed cycle gets the criterion's
+    equivalent stress from its shear range and the normal stress at its two
+    turning instants, and Miner damage 1/N from the S-N curve. The result
+    equals a per-plane reversal search and rainflow (exact values, no binning).
 
     Parameters
     ----------
-    loads : ndarray, shape (n_time, 6)
-        Internal loads, N and N m.
+    loads_T : ndarray, shape (6, n_time), C-contiguous
+        Internal loads, N and N m, one row per channel.
     coef_sig, coef_tau : ndarray, shape (n_points, 6)
         Load-to-stress maps (Pa per N or N m), from ``surface_coefficients``.
     cand_c, cand_n : ndarray, shape (n_cand, 2)
         Shear and normal stress coefficients of each candidate on (sigma, tau).
     bnd_pa : ndarray, shape (n_bnd,)
-        Sorted pseudo-angles of the sign-change directions.
+        Sorted pseudo-angles of the sign-change directions (n_bnd >= 1).
     bnd_cand : ndarray, shape (n_bnd,), int64
         Candidate owning each boundary.
+    lut_lo, lut_hi : ndarray, shape (n_bins,), int64
+        Number of boundaries below the start / end of each pseudo-angle bin.
     crit, sel_crit : int
         Criterion for damage and for plane selection (CRIT_*).
     ca, cb, cc : float
@@ -337,15 +357,27 @@ def multiplane_damage(loads, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_can
     int
         0 or STATUS_STACK_OVERFLOW.
     """
-    n_t = loads.shape[0]
+    n_t = loads_T.shape[1]
     n_p = coef_sig.shape[0]
     n_c = cand_c.shape[0]
     n_b = bnd_pa.shape[0]
+    n_bins = lut_lo.shape[0]
+    bin_scale = n_bins / 4.0
     status = np.zeros(n_p, dtype=np.int64)
     for p in prange(n_p):
         sv = np.empty((n_c, stack_cap))
         sn = np.empty((n_c, stack_cap))
         ms = np.zeros(n_c, dtype=np.int64)
+        sgb = np.empty(BLOCK + 1)
+        tab = np.empty(BLOCK + 1)
+        pab = np.empty(BLOCK)
+        bcap = CYCLE_BUFFER + stack_cap
+        buf_j = np.empty(bcap, dtype=np.int64)
+        buf_d = np.empty(bcap)
+        buf_n1 = np.empty(bcap)
+        buf_n2 = np.empty(bcap)
+        buf_c = np.empty(bcap)
+        nbuf = np.zeros(1, dtype=np.int64)
         for j in range(n_c):
             out_dmg[p, j] = 0.0
             out_sel[p, j] = 0.0
@@ -362,77 +394,132 @@ def multiplane_damage(loads, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_can
         b3 = coef_tau[p, 3]
         b4 = coef_tau[p, 4]
         b5 = coef_tau[p, 5]
-        L = loads
-        sg0 = a0 * L[0, 0] + a1 * L[0, 1] + a2 * L[0, 2] + a3 * L[0, 3] + a4 * L[0, 4] + a5 * L[0, 5]
-        ta0 = b0 * L[0, 0] + b1 * L[0, 1] + b2 * L[0, 2] + b3 * L[0, 3] + b4 * L[0, 4] + b5 * L[0, 5]
+        L0 = loads_T[0]
+        L1 = loads_T[1]
+        L2 = loads_T[2]
+        L3 = loads_T[3]
+        L4 = loads_T[4]
+        L5 = loads_T[5]
+        sgb[0] = a0 * L0[0] + a1 * L1[0] + a2 * L2[0] + a3 * L3[0] + a4 * L4[0] + a5 * L5[0]
+        tab[0] = b0 * L0[0] + b1 * L1[0] + b2 * L2[0] + b3 * L3[0] + b4 * L4[0] + b5 * L5[0]
         st = 0
         for j in range(n_c):
-            st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * sg0 + cand_c[j, 1] * ta0,
-                              cand_n[j, 0] * sg0 + cand_n[j, 1] * ta0)
-        sprev = -1
-        lo_pa = 0.0
-        hi_pa = 0.0
-        for k in range(1, n_t):
-            sg = a0 * L[k, 0] + a1 * L[k, 1] + a2 * L[k, 2] + a3 * L[k, 3] + a4 * L[k, 4] + a5 * L[k, 5]
-            ta = b0 * L[k, 0] + b1 * L[k, 1] + b2 * L[k, 2] + b3 * L[k, 3] + b4 * L[k, 4] + b5 * L[k, 5]
-            dx = sg - sg0
-            dy = ta - ta0
-            if dx == 0.0 and dy == 0.0:
-                continue
-            pa = _pseudo_angle(dx, dy)
-            if sprev >= 0 and pa > lo_pa and pa <= hi_pa:
-                sg0 = sg
-                ta0 = ta
-                continue
-            s = _sector(pa, bnd_pa)
-            if sprev >= 0 and s != sprev:
-                f = s - sprev
-                if f < 0:
-                    f += n_b
-                if 2 * f <= n_b:
-                    i0 = sprev
-                    cnt = f
+            st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * sgb[0] + cand_c[j, 1] * tab[0],
+                              cand_n[j, 0] * sgb[0] + cand_n[j, 1] * tab[0])
+        cur = -1
+        wrap = False
+        lo_pa = 1.0
+        hi_pa = 0.0  # empty interval: the first direction always goes to the search
+        b_first = bnd_pa[0]
+        b_last = bnd_pa[n_b - 1]
+        for k0 in range(1, n_t, BLOCK):
+            nb = min(BLOCK, n_t - k0)
+            # stage 1a: plane stress of the block (contiguous, vectorisable)
+            for i in range(nb):
+                k = k0 + i
+                sgb[i + 1] = (a0 * L0[k] + a1 * L1[k] + a2 * L2[k] + a3 * L3[k] + a4 * L4[k]
+                              + a5 * L5[k])
+                tab[i + 1] = (b0 * L0[k] + b1 * L1[k] + b2 * L2[k] + b3 * L3[k] + b4 * L4[k]
+                              + b5 * L5[k])
+            # stage 1b: pseudo-angle of each increment direction (-1: no change)
+            for i in range(nb):
+                dx = sgb[i + 1] - sgb[i]
+                dy = tab[i + 1] - tab[i]
+                den = abs(dx) + abs(dy)
+                if den == 0.0:
+                    pab[i] = -1.0
+                elif dy >= 0.0:
+                    pab[i] = 1.0 - dx / den
                 else:
-                    i0 = s
-                    cnt = n_b - f
-                for q in range(cnt):
-                    i = i0 + q
-                    if i >= n_b:
-                        i -= n_b
-                    j = bnd_cand[i]
-                    st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * sg0 + cand_c[j, 1] * ta0,
-                                      cand_n[j, 0] * sg0 + cand_n[j, 1] * ta0)
-                    _four_point(sv, sn, ms, j, crit, ca, cb, cc, s_scale, seg_S_low, seg_m,
-                                seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par, p)
-            sprev = s
-            # pseudo-angle interval of the current sector, for the fast path
-            lo_pa = bnd_pa[s - 1] if s > 0 else bnd_pa[n_b - 1] - 4.0
-            hi_pa = bnd_pa[s] if s < n_b else 4.0
-            if s == 0 and pa > bnd_pa[n_b - 1]:
-                lo_pa = bnd_pa[n_b - 1]
-                hi_pa = bnd_pa[0] + 4.0
-            sg0 = sg
-            ta0 = ta
+                    pab[i] = 3.0 + dx / den
+            # stage 2: direction changes -> reversals of the crossed candidates
+            for i in range(nb):
+                pa = pab[i]
+                if pa < 0.0:
+                    continue
+                if wrap:
+                    if pa <= b_first or pa > b_last:
+                        continue
+                elif pa > lo_pa and pa <= hi_pa:
+                    continue
+                b = int(pa * bin_scale)
+                if b >= n_bins:
+                    b = n_bins - 1
+                s = lut_lo[b]
+                hi = lut_hi[b]
+                while s < hi and bnd_pa[s] < pa:
+                    s += 1
+                if s >= n_b:
+                    s = 0
+                if cur >= 0 and s != cur:
+                    f = s - cur
+                    if f < 0:
+                        f += n_b
+                    if 2 * f <= n_b:
+                        i0 = cur
+                        cnt = f
+                    else:
+                        i0 = s
+                        cnt = n_b - f
+                    x = sgb[i]
+                    y = tab[i]
+                    for q in range(cnt):
+                        ib = i0 + q
+                        if ib >= n_b:
+                            ib -= n_b
+                        j = bnd_cand[ib]
+                        st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * x + cand_c[j, 1] * y,
+                                          cand_n[j, 0] * x + cand_n[j, 1] * y)
+                        _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf)
+                        if nbuf[0] >= CYCLE_BUFFER:
+                            _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc,
+                                   s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit,
+                                   out_dmg, out_sel, out_par)
+                cur = s
+                wrap = s == 0
+                if not wrap:
+                    lo_pa = bnd_pa[s - 1]
+                    hi_pa = bnd_pa[s]
+            sgb[0] = sgb[nb]
+            tab[0] = tab[nb]
         # last sample closes every candidate's sequence
+        x = sgb[0]
+        y = tab[0]
         for j in range(n_c):
-            st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * sg0 + cand_c[j, 1] * ta0,
-                              cand_n[j, 0] * sg0 + cand_n[j, 1] * ta0)
-            _four_point(sv, sn, ms, j, crit, ca, cb, cc, s_scale, seg_S_low, seg_m, seg_inv_a,
-                        S_cut, sel_crit, out_dmg, out_sel, out_par, p)
+            st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * x + cand_c[j, 1] * y,
+                              cand_n[j, 0] * x + cand_n[j, 1] * y)
+            _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf)
             m = ms[j]
             if residue_mode == RESIDUE_HALF:
                 for i in range(m - 1):
-                    _close_cycle(j, sv[j, i], sv[j, i + 1], sn[j, i], sn[j, i + 1], 0.5, crit, ca,
-                                 cb, cc, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit,
-                                 out_dmg, out_sel, out_par, p)
+                    k = nbuf[0]
+                    buf_j[k] = j
+                    buf_d[k] = abs(sv[j, i + 1] - sv[j, i])
+                    buf_n1[k] = sn[j, i]
+                    buf_n2[k] = sn[j, i + 1]
+                    buf_c[k] = 0.5
+                    nbuf[0] = k + 1
+                    if nbuf[0] >= CYCLE_BUFFER:
+                        _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc,
+                               s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit, out_dmg,
+                               out_sel, out_par)
             elif residue_mode == RESIDUE_REPEAT:
                 rv = sv[j, :m].copy()
                 rn = sn[j, :m].copy()
                 for i in range(m):
                     st |= _push_value(sv, sn, ms, j, rv[i], rn[i])
-                    _four_point(sv, sn, ms, j, crit, ca, cb, cc, s_scale, seg_S_low, seg_m,
-                                seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par, p)
-            if sel_crit == crit:
+                    _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf)
+                    if nbuf[0] >= CYCLE_BUFFER:
+                        _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc,
+                               s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit, out_dmg,
+                               out_sel, out_par)
+            if nbuf[0] >= CYCLE_BUFFER:
+                _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc, s_scale,
+                       seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par)
+        _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc, s_scale, seg_S_low,
+               seg_m, seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par)
+        if sel_crit == crit:
+            for j in range(n_c):
                 out_sel[p, j] = out_dmg[p, j]
         status[p] = st
     for p in range(n_p):
