@@ -33,7 +33,8 @@ def _fail(exc: Exception) -> None:
 
 @sweep_app.command("design")
 def design(params: Path = ParamsOpt,
-           out: Path | None = typer.Option(None, "--out", help="default: sweep.cases_path")) -> None:
+           out: Path | None = typer.Option(None, "--out",
+                                           help="default: sweep.cases_path")) -> None:
     """Sample the cases of params.yaml's sweep section into cases.parquet."""
     from drillfatigue.sweep.stages import design_stage
 
@@ -44,8 +45,8 @@ def design(params: Path = ParamsOpt,
 
 @sweep_app.command("run")
 def run(params: Path = ParamsOpt,
-        scheduler: str | None = typer.Option(None, "--scheduler",
-                                             help="serial, processes, local-cluster or tcp://host:port"),
+        scheduler: str | None = typer.Option(
+            None, "--scheduler", help="serial, processes, local-cluster or tcp://host:port"),
         n_workers: int | None = typer.Option(None, "--n-workers", min=1),
         progress: bool = typer.Option(True, "--progress/--no-progress")) -> None:
     """Design, simulate, evaluate fatigue and assemble the dataset (resumable)."""

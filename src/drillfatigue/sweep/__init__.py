@@ -10,7 +10,8 @@
 from __future__ import annotations
 
 from drillfatigue.sweep.design import design_cases, read_cases, write_cases
-from drillfatigue.sweep.runner import Case, SweepFailedError, SweepReport, cases_from_frame, run_sweep
+from drillfatigue.sweep.runner import (Case, SweepFailedError, SweepReport, cases_from_frame,
+                                       run_sweep)
 
 __all__ = [
     "Case",

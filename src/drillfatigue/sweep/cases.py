@@ -221,9 +221,9 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     tmp = out / ".damage.parquet.tmp"
     frame.to_parquet(tmp, index=False)
     os.replace(tmp, out / "damage.parquet")
+    worst = frame.groupby("criterion")["damage_rate_per_h"].max()
     summary = {"criteria": sorted(frame["criterion"].unique().tolist()), "n_rows": len(frame),
-               "max_damage_rate_per_h": {str(k): float(v) for k, v in
-                                         frame.groupby("criterion")["damage_rate_per_h"].max().items()}}
+               "max_damage_rate_per_h": {str(k): float(v) for k, v in worst.items()}}
     (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True),
                                       encoding="utf-8")
     return summary

@@ -406,9 +406,9 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
             while todo or pending:
                 while todo and len(pending) < in_flight:
                     case = todo.popleft()
-                    fut = executor.submit(execute_case, case_fn, case.case_id,  # type: ignore[union-attr]
-                                          case.inputs, str(root),
-                                          attempts.get(case.case_id, 0) + 1)
+                    fut = executor.submit(  # type: ignore[union-attr]
+                        execute_case, case_fn, case.case_id, case.inputs, str(root),
+                        attempts.get(case.case_id, 0) + 1)
                     pending[fut] = case
                 finished, _ = wait(list(pending), return_when=FIRST_COMPLETED)
                 broken = False

@@ -42,7 +42,7 @@ def write_report(report: SweepReport, path: str | Path) -> None:
 
 
 def design_stage(params: Params, cases_path: str | Path | None = None) -> pd.DataFrame:
-    """Sample the design and write the case table, ``coverage.csv`` and ``design.json`` beside it."""
+    """Sample the design; write the case table, ``coverage.csv`` and ``design.json`` beside it."""
     cfg = params.sweep
     frame = design_cases(cfg, base_case_from_params(params))
     path = write_cases(frame, cases_path or cfg.cases_path)
@@ -80,7 +80,7 @@ def fatigue_stage(params: Params, *, cases_path: str | Path | None = None,
                   sweep_dir: str | Path | None = None, fatigue_dir: str | Path | None = None,
                   scheduler: str | None = None, n_workers: int | None = None,
                   progress: bool = False, fatigue_fn: CaseFn = fatigue_case) -> SweepReport:
-    """Evaluate fatigue of every simulated case (resumable; re-runs when the run or settings change).
+    """Evaluate fatigue of every simulated case (resumable; redone if its run or settings change).
 
     Cases whose simulation failed have no run folder and no fatigue task;
     they are counted as simulation failures in the dataset card.
