@@ -414,13 +414,22 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_c
         b_last = bnd_pa[n_b - 1]
         for k0 in range(1, n_t, BLOCK):
             nb = min(BLOCK, n_t - k0)
-            # stage 1a: plane stress of the block (contiguous, vectorisable)
+            # stage 1a: plane stress of the block (channel-outer loops, vectorisable;
+            # only the channels with a non-zero coefficient are visited)
             for i in range(nb):
-                k = k0 + i
-                sgb[i + 1] = (a0 * L0[k] + a1 * L1[k] + a2 * L2[k] + a3 * L3[k] + a4 * L4[k]
-                              + a5 * L5[k])
-                tab[i + 1] = (b0 * L0[k] + b1 * L1[k] + b2 * L2[k] + b3 * L3[k] + b4 * L4[k]
-                              + b5 * L5[k])
+                sgb[i + 1] = 0.0
+                tab[i + 1] = 0.0
+            for c in range(6):
+                ac = coef_sig[p, c]
+                if ac != 0.0:
+                    Lc = loads_T[c]
+                    for i in range(nb):
+                        sgb[i + 1] += ac * Lc[k0 + i]
+                bc = coef_tau[p, c]
+                if bc != 0.0:
+                    Lc = loads_T[c]
+                    for i in range(nb):
+                        tab[i + 1] += bc * Lc[k0 + i]
             # stage 1b: pseudo-angle of each increment direction (-1: no change)
             for i in range(nb):
                 dx = sgb[i + 1] - sgb[i]

@@ -26,8 +26,8 @@ from typing import Any
 
 from drillfatigue.errors import SimulationError
 
-__all__ = ["api_rp7g_rows", "fatigue_case", "fatigue_tasks", "run_case", "warmup_fatigue",
-           "warmup_simulation"]
+__all__ = ["api_rp7g_rows", "fatigue_case", "fatigue_tasks", "local_dls_deg_per_30m", "run_case",
+           "warmup_fatigue", "warmup_simulation"]
 
 
 def _simulate_fn() -> Any:
@@ -126,6 +126,17 @@ def fatigue_tasks(case_ids: list[str], sweep_root: str | Path, fatigue_cfg: dict
     return tasks
 
 
+def local_dls_deg_per_30m(case: dict[str, Any], md_m: Any) -> Any:
+    """Dogleg severity of the case's well path at the given MDs, deg/30 m (linear interp)."""
+    import numpy as np
+
+    from drillfatigue.config import case_from_dict
+    from drillfatigue.well import build_survey
+
+    survey = build_survey(case_from_dict(case).well)
+    return np.interp(np.asarray(md_m, dtype=float), survey.md_m, survey.dls_deg_per_30m)
+
+
 def api_rp7g_rows(run_dir: Path, case: dict[str, Any], cfg: Any) -> list[dict[str, Any]]:
     """API RP7G (Lubinski) damage rate of each recorded joint's pipe body, as damage rows.
 
@@ -179,7 +190,9 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     Writes ``damage.parquet``: the rows of :func:`drillfatigue.fatigue.evaluate_run`
     for every criterion in ``task['criteria']`` (default: the configured one),
     plus the API RP7G rows (:func:`api_rp7g_rows`) when ``task['api_rp7g']``
-    and the case are given; and ``summary.json`` (rows, criteria, max damage rate).
+    and the case are given, and (with the case) the column
+    ``local_dls_deg_per_30m`` (hole DLS at each row's MD); and ``summary.json``
+    (rows, criteria, max damage rate).
     """
     import os
 
@@ -217,6 +230,8 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     if task.get("api_rp7g") and task.get("case") is not None:
         parts.append(pd.DataFrame(api_rp7g_rows(run_dir, task["case"], cfg)))
     frame = pd.concat(parts, ignore_index=True, sort=False)
+    if task.get("case") is not None:
+        frame["local_dls_deg_per_30m"] = local_dls_deg_per_30m(task["case"], frame["md_m"])
     out = Path(case_dir)
     tmp = out / ".damage.parquet.tmp"
     frame.to_parquet(tmp, index=False)

@@ -46,7 +46,9 @@ __all__ = [
     "write_dataset",
 ]
 
-KEY_COLUMNS = ("joint", "component", "component_type", "location", "md_m", "s_from_bit_m")
+KEY_COLUMNS = ("joint", "component", "component_type", "location", "md_m", "s_from_bit_m",
+               "local_dls_deg_per_30m")
+INPUT_SECTIONS = ("well", "operation", "friction", "bit")
 PIVOT_VALUES = ("damage_rate_per_h", "life_h", "critical_angle_deg")
 DYNAMICS_COLUMNS: dict[str, str] = {
     "rms_surface_torque_Nm": "rms of the surface (top-drive) torque over the window",
@@ -151,6 +153,24 @@ def _case_rows(case_id: str, damage: pd.DataFrame) -> pd.DataFrame:
     return wide
 
 
+def _input_table(cases: pd.DataFrame, variables: Sequence[str]) -> pd.DataFrame:
+    """Inputs per case (index case_id): the design variables, then every scalar field of
+    the operating-condition sections (:data:`INPUT_SECTIONS`) from the case JSON."""
+    rows = {}
+    for cid, text in zip(cases["case_id"], cases["case_json"], strict=True):
+        case = json.loads(text)
+        row: dict[str, Any] = {}
+        for section in INPUT_SECTIONS:
+            for key, value in (case.get(section) or {}).items():
+                if isinstance(value, bool | int | float | str):
+                    row[f"{section}.{key}"] = value
+        rows[cid] = row
+    extra = pd.DataFrame.from_dict(rows, orient="index")
+    table = cases.set_index("case_id")[list(variables)]
+    rest = [c for c in extra.columns if c not in table.columns]
+    return table.join(extra[rest]) if rest else table
+
+
 def build_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str | Path,
                   variables: Sequence[str] | None = None) -> pd.DataFrame:
     """One row per (case, component location) of every case with fatigue results.
@@ -162,8 +182,10 @@ def build_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
     sweep_root, fatigue_root : path
         ``<root>/<case_id>/`` folders of the simulate and fatigue passes.
     variables : sequence of str, optional
-        Input columns to carry; default: every column of ``cases`` but
-        ``case_id``, ``design_index`` and ``case_json``.
+        Design-variable columns of ``cases`` to carry first; default: every
+        column but ``case_id``, ``design_index`` and ``case_json``. Every
+        scalar field of the ``well``, ``operation``, ``friction`` and ``bit``
+        sections follows (constant ones included), named ``<section>.<field>``.
 
     Returns
     -------
@@ -176,7 +198,8 @@ def build_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
     """
     if variables is None:
         variables = [c for c in cases.columns if c not in ("case_id", "design_index", "case_json")]
-    inputs = cases.set_index("case_id")[list(variables)]
+    inputs = _input_table(cases, variables)
+    variables = list(inputs.columns)
     parts = []
     for cid in cases["case_id"]:
         damage_path = Path(fatigue_root) / cid / "damage.parquet"
@@ -212,13 +235,16 @@ def _describe(column: str, variables: Sequence[str]) -> str:
         return "case id: first 12 hex digits of SHA-256 of the case's simulation inputs"
     if column in variables:
         return f"design input `{column}` (case configuration path)"
+    if column.split(".")[0] in INPUT_SECTIONS and "." in column:
+        return f"case input `{column}` (constant unless a design variable)"
     if column in DYNAMICS_COLUMNS:
         return DYNAMICS_COLUMNS[column]
     fixed = {"joint": "recorded joint index (0 = nearest the bit)",
              "component": "string component name", "component_type": "component type",
              "location": "location on the component (pipe body, upset, thread root ...)",
              "md_m": "measured depth of the location at the end of the window",
-             "s_from_bit_m": "distance from the bit along the string"}
+             "s_from_bit_m": "distance from the bit along the string",
+             "local_dls_deg_per_30m": "hole dogleg severity at the location's MD"}
     if column in fixed:
         return fixed[column]
     for value, text in (("damage_rate_per_h_", "Miner damage per hour"),
