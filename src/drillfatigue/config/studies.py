@@ -1,0 +1,150 @@
+"""``case1``, ``case2``, ``case3``, ``plan`` and ``report`` sections: the paper's case studies.
+
+Each section configures one study of :mod:`drillfatigue.studies` (MODEL.md §8).
+Defaults are REDUCED versions that run in a few minutes on two cores; the
+paper-scale values are given in each field's description and collected in
+``pipeline/case_params.yaml`` (comment block) and ``data/report/README.md``.
+
+Reductions (documented, all switchable back to the paper's settings):
+
+* case 2: instead of one continuous 800 s window (bit 480 -> 880 m at
+  0.5 m/s), ``n_samples`` short windows of ``sample_s`` seconds at bit depths
+  spread evenly over 480 -> 880 m; the damage of each short window is scaled to
+  the share of the 800 s it stands for (quasi-stationary sampling of the
+  drilling window). Coarser string (``dp_segments``, ``dc_segments``).
+* case 3: a short trip (``trip_s``), a short ramp (``ramp_s``) and a short
+  window (``window_s``) instead of 800 s / 40 s / 60 s.
+* case 1: a shorter run (``duration_s``).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from drillfatigue.config.base import StrictModel
+
+_MD_MAX = 20000.0
+
+
+class StringSpec(StrictModel):
+    """The case-2/3 string: drill collars at the bit, drill pipe above (MODEL.md §1 sizes)."""
+
+    dc_length_m: float = Field(180.0, gt=0.0, le=2000.0, description="collar length, m")
+    dc_segments: int = Field(6, ge=1, le=1000, description="collar segments (paper: 20)")
+    dp_segments: int = Field(20, ge=1, le=5000, description="drill-pipe segments (paper: 100)")
+
+
+class Case1Config(StrictModel):
+    """Whirl of a 5 m pipe in a horizontal hole (paper case 1).
+
+    Four runs: ``models`` x ``mu_levels``. ``duration_s`` paper-scale: as long
+    as the paper's runs (not stated; 10-20 s shows the orbit clearly).
+    """
+
+    models: tuple[Literal["karnopp", "tanh_exp", "tanh", "coulomb", "benson_hallquist",
+                          "velocity_trig"], ...] = Field(("karnopp", "tanh_exp"), min_length=1)
+    mu_low: float = Field(0.05, ge=0.0, le=1.5, description="low dynamic friction coefficient")
+    mu_high: float = Field(0.4, ge=0.0, le=1.5, description="high dynamic friction coefficient")
+    static_over_dynamic: float = Field(1.2, ge=1.0, le=3.0, description="mu_static / mu_dynamic")
+    pipe_length_m: float = Field(5.0, gt=0.0, le=100.0)
+    n_segments: int = Field(5, ge=2, le=200)
+    top_torque_Nm: float = Field(3000.0, gt=0.0, le=1e6, description="constant top torque")
+    duration_s: float = Field(3.0, gt=0.0, le=1e4, description="paper-scale: 20")
+    kinematics_rate_hz: float = Field(200.0, gt=0.0, le=1e5)
+
+    @model_validator(mode="after")
+    def _check(self) -> Case1Config:
+        if self.mu_low >= self.mu_high:
+            raise ValueError(f"mu_low must be < mu_high, got {self.mu_low} >= {self.mu_high} "
+                             "(allowed: 0 <= mu_low < mu_high <= 1.5)")
+        return self
+
+
+class Case2Config(StrictModel):
+    """Three profiles, same start and end (paper case 2).
+
+    Paper scale: ``n_samples: 1, sample_s: 800, settle_s: 0, string.dc_segments:
+    20, string.dp_segments: 100`` (one continuous 800 s window).
+    """
+
+    profiles: tuple[str, ...] = Field(("profile_1", "profile_2", "profile_3"), min_length=1)
+    bit_md_start_m: float = Field(480.0, gt=0.0, le=_MD_MAX)
+    bit_md_end_m: float = Field(880.0, gt=0.0, le=_MD_MAX)
+    rpm: float = Field(150.0, gt=0.0, le=400.0)
+    rop_m_per_s: float = Field(0.5, gt=0.0, le=1.0)
+    n_samples: int = Field(4, ge=1, le=1000, description="short windows along the 800 s; paper 1")
+    sample_s: float = Field(3.0, gt=0.0, le=1e5, description="simulated length of each window")
+    settle_s: float = Field(1.0, ge=0.0, le=1e4,
+                            description="start of the recorded part of each window (ramp, "
+                                        "transient); paper-scale 0")
+    rpm_ramp_s: float = Field(0.5, ge=0.0, le=1e4)
+    target_s_from_bit_m: float = Field(40.0, gt=0.0, le=5000.0,
+                                       description="joint whose loads are reported")
+    string: StringSpec = Field(default_factory=StringSpec)
+    loads_rate_hz: float = Field(100.0, gt=0.0, le=1e5)
+    criterion: Literal["matake", "findley", "fatemi_socie", "uniaxial"] = "matake"
+
+    @model_validator(mode="after")
+    def _check(self) -> Case2Config:
+        if self.bit_md_end_m <= self.bit_md_start_m:
+            raise ValueError("bit_md_end_m must exceed bit_md_start_m "
+                             f"(allowed: > {self.bit_md_start_m})")
+        if self.settle_s >= self.sample_s:
+            raise ValueError(f"settle_s ({self.settle_s}) must be < sample_s ({self.sample_s}) "
+                             "(allowed: 0 <= settle_s < sample_s)")
+        if self.target_s_from_bit_m >= self.bit_md_start_m:
+            raise ValueError("target_s_from_bit_m must lie on the string "
+                             f"(allowed: < bit_md_start_m = {self.bit_md_start_m})")
+        return self
+
+    @property
+    def window_s(self) -> float:
+        """The drilling window the paper's life is counted in, s (800 s by default)."""
+        return (self.bit_md_end_m - self.bit_md_start_m) / self.rop_m_per_s
+
+
+class Case3Config(StrictModel):
+    """Horizontal section of profile 1 (paper case 3).
+
+    Paper scale: ``trip_s: 800, ramp_s: 40, window_s: 60, string.dc_segments:
+    20, string.dp_segments: 100``.
+    """
+
+    profile: str = "profile_1"
+    bit_md_end_m: float = Field(1000.0, gt=0.0, le=_MD_MAX,
+                                description="bit MD at the end of the run (horizontal)")
+    trip_speed_m_per_s: float = Field(0.1, gt=0.0, le=2.0)
+    trip_s: float = Field(1.0, ge=0.0, le=1e5, description="paper 800")
+    ramp_s: float = Field(1.0, gt=0.0, le=1e4, description="ramp 0 -> rpm; paper 40")
+    window_s: float = Field(3.0, gt=0.0, le=1e5, description="recorded window; paper 60")
+    rpm: float = Field(50.0, gt=0.0, le=400.0)
+    s_from_bit_m: tuple[float, ...] = Field((8.0, 40.0, 80.0), min_length=1)
+    string: StringSpec = Field(default_factory=lambda: StringSpec(dc_segments=20, dp_segments=20))
+    loads_rate_hz: float = Field(100.0, gt=0.0, le=1e5)
+    criterion: Literal["matake", "findley", "fatemi_socie", "uniaxial"] = "matake"
+
+    @property
+    def duration_s(self) -> float:
+        """Simulated time: trip, ramp, window."""
+        return self.trip_s + self.ramp_s + self.window_s
+
+
+class PlanConfig(StrictModel):
+    """Well-plan ranking (``drillfatigue plan rank``)."""
+
+    surrogate_dir: str = Field("data/surrogate", min_length=1)
+    confirm_top_k: int = Field(0, ge=0, le=50, description="simulator confirmation of the top k")
+    n_locations: int = Field(40, ge=2, le=2000, description="string positions evaluated")
+
+
+class ReportConfig(StrictModel):
+    """Report stage: where the study outputs are and where the README goes."""
+
+    out_dir: str = Field("data/report", min_length=1)
+    figure_dpi: int = Field(110, ge=50, le=600)
+
+
+__all__ = ["Case1Config", "Case2Config", "Case3Config", "PlanConfig", "ReportConfig",
+           "StringSpec"]

@@ -1,0 +1,146 @@
+"""Shared pieces of the case studies: the paper's string, case builders, fatigue helpers.
+
+String sizes are MODEL.md §1's typical values (the paper's Table 2 is not
+available): 6 3/4 in collars (OD 171.45 mm, ID 71.4 mm), 5 in 19.5 lb/ft drill
+pipe (OD 127.0 mm, ID 108.6 mm, tool joint 168.3 x 82.6 mm).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from drillfatigue.config import CaseConfig, FatigueConfig, case_from_dict
+from drillfatigue.config.studies import StringSpec
+from drillfatigue.units import HOUR_S
+
+COLLAR = {"type": "collar", "name": "6.75in DC", "od_m": 0.17145, "id_m": 0.0714}
+DRILL_PIPE = {"type": "drill_pipe", "name": "5in 19.5ppf DP", "od_m": 0.127, "id_m": 0.1086,
+              "tool_joint_od_m": 0.1683, "tool_joint_id_m": 0.0826,
+              "tool_joint_length_fraction": 0.05}
+
+
+def string_components(spec: StringSpec, total_length_m: float) -> list[dict[str, Any]]:
+    """Collars of ``spec.dc_length_m`` at the bit, drill pipe up to ``total_length_m``."""
+    dp_len = total_length_m - spec.dc_length_m
+    if dp_len <= 0:
+        from drillfatigue.errors import InputError
+        raise InputError("string.dc_length_m", f"collars ({spec.dc_length_m} m) longer than the "
+                         f"string ({total_length_m} m)", f"< {total_length_m}")
+    return [{**COLLAR, "length_m": spec.dc_length_m, "n_segments": spec.dc_segments},
+            {**DRILL_PIPE, "length_m": dp_len, "n_segments": spec.dp_segments}]
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_json(path: Path, data: Any) -> None:
+    """Atomic JSON write (sorted keys, NaN/inf as null)."""
+    atomic_write_text(path, json.dumps(_clean(data), indent=2, sort_keys=True) + "\n")
+
+
+def _clean(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {str(k): _clean(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [_clean(v) for v in x]
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, float | np.floating):
+        v = float(x)
+        return v if math.isfinite(v) else None
+    return x
+
+
+def write_csv(path: Path, frame: pd.DataFrame) -> None:
+    """Atomic CSV write."""
+    atomic_write_text(path, frame.to_csv(index=False))
+
+
+def save_figure(fig: Any, path: Path, dpi: int = 110) -> None:
+    """Save a matplotlib figure atomically as PNG and close it."""
+    import matplotlib.pyplot as plt
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.tmp.png")
+    fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def run_simulation(case: dict[str, Any], run_dir: Path) -> tuple[CaseConfig, dict[str, Any], float]:
+    """Validate ``case``, simulate into ``run_dir``; return (config, summary, wall seconds)."""
+    from drillfatigue.dynamics.api import simulate
+
+    cfg = case_from_dict(case)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    res = simulate(cfg, run_dir, progress=False)
+    wall = time.perf_counter() - t0
+    return cfg, res.summary, wall
+
+
+def nearest_joint(run_dir: Path, s_from_bit_m: float) -> tuple[int, float]:
+    """The recorded joint nearest ``s_from_bit_m`` behind the bit: (index, its distance)."""
+    joints = pd.read_parquet(run_dir / "joints.parquet")
+    k = int(np.argmin(np.abs(joints["s_from_bit_m"].to_numpy() - s_from_bit_m)))
+    return int(joints["joint"].iloc[k]), float(joints["s_from_bit_m"].iloc[k])
+
+
+def recorded_span_s(run_dir: Path) -> float:
+    """Length of the recorded loads history, s (last minus first sample plus one step)."""
+    t = np.unique(pd.read_parquet(run_dir / "loads.parquet", columns=["time_s"])["time_s"])
+    if t.size < 2:
+        return 0.0
+    return float(t[-1] - t[0] + (t[1] - t[0]))
+
+
+def joint_damage(run_dir: Path, joints: list[int], fatigue: FatigueConfig,
+                 criterion: str) -> pd.DataFrame:
+    """Damage rows (both locations) of ``joints`` over the recorded history of a run.
+
+    Adds ``recorded_s`` and ``damage_per_s`` (damage over the recorded span /
+    its length), the quantity that is scaled to the study's window.
+    """
+    from drillfatigue.fatigue.run import evaluate_run
+
+    df = evaluate_run(run_dir, fatigue, None, joints=joints, criterion=criterion)
+    span = recorded_span_s(run_dir)
+    df["recorded_s"] = span
+    df["damage_per_s"] = df["damage"] / span if span > 0 else math.nan
+    return df
+
+
+def rp7g_rates(run_dir: Path, case: dict[str, Any], fatigue: FatigueConfig) -> pd.DataFrame:
+    """API RP7G (Lubinski) damage rate per hour of every recorded joint's body."""
+    from drillfatigue.sweep.cases import api_rp7g_rows
+
+    return pd.DataFrame(api_rp7g_rows(run_dir, case, fatigue))
+
+
+def study_fatigue() -> FatigueConfig:
+    """Fatigue settings of the studies: project defaults (FATIGUE.md), plots off."""
+    return FatigueConfig(plots=False)
+
+
+def hours(seconds: float) -> float:
+    """Seconds to hours."""
+    return seconds / HOUR_S
