@@ -114,3 +114,68 @@ def test_cli_replay_example_log(model: Surrogate, tmp_path: Path, capsys) -> Non
     assert rc == 2
     assert "kop_m" in capsys.readouterr().err
     assert not out2.exists()
+
+
+STRING_YAML = """\
+string:
+  components:
+    - {type: stabilizer, name: STB, od_m: 0.17, id_m: 0.07, length_m: 2.0, n_segments: 1}
+    - {type: collar, name: DC, od_m: 0.17145, id_m: 0.0714, length_m: 60.0, n_segments: 3}
+    - {type: hwdp, name: HW, od_m: 0.127, id_m: 0.0762, length_m: 90.0, n_segments: 2}
+well:
+  profiles:
+    j:
+      kind: j
+      kop_m: 500.0
+      dls_deg_per_30m: 5.0
+      inc_deg: 60.0
+      td_m: 2500.0
+"""
+
+
+def test_components_and_survey_from_config_and_hook_load(model: Surrogate, tmp_path: Path,
+                                                          capsys) -> None:
+    from drillfatigue.config.base import read_yaml
+    from drillfatigue.config import StringConfig, WellConfig, validate
+    from drillfatigue.surrogate.twin import components_from_string, survey_from_well
+
+    case = tmp_path / "case.yaml"
+    case.write_text(STRING_YAML)
+    data = read_yaml(case)
+    comps = components_from_string(validate(StringConfig, data["string"], "string"))
+    # one body and one connection row per rigid segment, at the segment centres
+    assert len(comps) == 2 * 6 and comps["serial"].is_unique
+    np.testing.assert_allclose(sorted(set(comps["s_from_bit_m"])),
+                               [1.0, 12.0, 32.0, 52.0, 84.5, 129.5])
+    sv = survey_from_well(validate(WellConfig, data["well"], "well"))
+    inside = (sv["md_m"] > 510) & (sv["md_m"] < 800)
+    np.testing.assert_allclose(sv.loc[inside, "dls_deg_per_30m"], 5.0, rtol=1e-6)
+    # hook load channel instead of WOB: WOB = off-bottom - on-bottom hook load
+    log = pd.DataFrame({"time_s": [0.0, 1800.0, 3600.0], "bit_md_m": [1000.0, 1005.0, 1010.0],
+                        "rpm": 120.0, "hook_load_kN": 920.0, "rop_m_per_h": 10.0})
+    consts = {k: v for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"}
+    via_hook = replay_log(log, comps, model, dict(consts, off_bottom_hook_load_kN=1000.0),
+                          sv).components
+    direct = replay_log(log.drop(columns="hook_load_kN").assign(wob_kN=80.0), comps, model,
+                        consts, sv).components
+    np.testing.assert_allclose(via_hook["damage"], direct["damage"], rtol=1e-12)
+    with pytest.raises(InputError, match="off_bottom_hook_load"):
+        replay_log(log, comps, model, consts, sv)
+    # the CLI with --string/--well (a case file holds both sections)
+    model.save(tmp_path / "m", export=False)
+    sets = [a for k, v in consts.items() for a in ("--set", f"{k}={v}")]
+    out = tmp_path / "twin"
+    rc = main(["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model",
+               str(tmp_path / "m"), "--string", str(case), "--well", str(case), *sets,
+               "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    table = pd.read_csv(out / "components_damage.csv")
+    assert len(table) == 12 and (table["damage"] > 0).all()
+    # both a string and a component table: exit 2, one line, nothing written
+    out2 = tmp_path / "twin2"
+    rc = main(["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model",
+               str(tmp_path / "m"), "--string", str(case), "--components",
+               str(EXAMPLES / "components.csv"), *sets, "--out", str(out2)])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1 and "--string" in err
+    assert not out2.exists()

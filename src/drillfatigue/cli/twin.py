@@ -1,8 +1,15 @@
 """``drillfatigue twin replay LOG.csv``: the digital twin's operating-log replay.
 
+    drillfatigue twin replay LOG.csv --string STRING.yaml --well WELL.yaml \\
+        --model models/surrogate --set mu_static=0.35 ... --out runs/twin
     drillfatigue twin replay data/examples/operating_log.csv \\
         --model models/surrogate --components data/examples/components.csv \\
-        --set mu_static=0.35 --set mu_dynamic=0.28 ... --out runs/twin
+        --survey data/examples/survey.csv --set mu_static=0.35 ... --out runs/twin
+
+``--string``/``--well`` take a case or params file (its ``string``/``well``
+section) or the bare section; ``--components``/``--survey`` take CSV tables.
+The log may carry a hook-load channel instead of WOB (``hook_load_kN`` with
+``--set off_bottom_hook_load_kN=...``).
 
 Writes ``OUT/components_damage.csv`` (per component: accumulated damage with
 interval, remaining life at the last rate, time in hole, out-of-domain time),
@@ -52,27 +59,61 @@ def parse_settings(items: list[str]) -> dict[str, str]:
     return out
 
 
+def _section(path: Path, key: str, option: str, model: type) -> object:
+    """A config section from YAML: a file holding ``key:`` (a case or params file) or
+    the section itself."""
+    from drillfatigue.config.base import read_yaml, validate
+
+    if not path.is_file():
+        raise InputError(option, f"file {str(path)!r} not found", "an existing YAML file")
+    data = read_yaml(path)
+    if isinstance(data, dict) and isinstance(data.get(key), dict):
+        data = data[key]
+    return validate(model, data, key)
+
+
 @twin_app.command("replay")
 def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_md_m, rpm, "
-                                      "wob_kN, rop_m_per_h, ...)"),
+                                      "wob_kN or hook_load_kN, rop_m_per_h, ...)"),
            model: Path = typer.Option(..., "--model", help="surrogate model folder"),
-           components: Path = typer.Option(..., "--components", help="component list CSV "
-                                           "(serial, component_type, location, s_from_bit_m)"),
            out: Path = typer.Option(..., "--out", help="output folder"),
+           string: Path | None = typer.Option(None, "--string", help="string YAML (a case or "
+                                              "params file, or the string section): tracks "
+                                              "every segment's body and connection"),
+           well: Path | None = typer.Option(None, "--well", help="well YAML (a case or params "
+                                            "file, or the well section): local dogleg along "
+                                            "the hole"),
+           components: Path | None = typer.Option(None, "--components", help="component list "
+                                                  "CSV (serial, component_type, location, "
+                                                  "s_from_bit_m), instead of --string"),
            settings: list[str] = typer.Option([], "--set", help="constant feature NAME=VALUE "
                                               "(user units, e.g. mud_density_sg=1.2)"),
            survey: Path | None = typer.Option(None, "--survey", help="survey CSV (md_m, "
-                                              "dls_deg_per_30m) for the local dogleg")) -> None:
+                                              "dls_deg_per_30m), instead of --well")) -> None:
     """Accumulate fatigue damage per component over an operating log."""
+    from drillfatigue.config import StringConfig, WellConfig
     from drillfatigue.surrogate import Surrogate
     from drillfatigue.surrogate.io import write_csv, write_json
-    from drillfatigue.surrogate.twin import plot_damage_along_string, replay_log
+    from drillfatigue.surrogate.twin import (components_from_string, plot_damage_along_string,
+                                             replay_log, survey_from_well)
 
     if out.exists() and not out.is_dir():
         raise InputError("--out", f"{str(out)!r} exists and is not a folder", "a folder path")
+    if (string is None) == (components is None):
+        raise InputError("--string", "give exactly one of --string and --components",
+                         "--string STRING.yaml or --components FILE.csv")
+    if well is not None and survey is not None:
+        raise InputError("--well", "give at most one of --well and --survey",
+                         "--well WELL.yaml or --survey FILE.csv")
     log_t = _read_csv(log, "LOG")
-    comp_t = _read_csv(components, "--components")
-    survey_t = _read_csv(survey, "--survey") if survey is not None else None
+    if string is not None:
+        comp_t = components_from_string(_section(string, "string", "--string", StringConfig))
+    else:
+        comp_t = _read_csv(components, "--components")
+    if well is not None:
+        survey_t = survey_from_well(_section(well, "well", "--well", WellConfig))
+    else:
+        survey_t = _read_csv(survey, "--survey") if survey is not None else None
     consts = parse_settings(list(settings))
     if not (model / "metadata.json").is_file():
         raise InputError("--model", f"{str(model)!r} is not a surrogate model folder",

@@ -17,11 +17,14 @@ component spends at out-of-domain conditions is summed as well.
 Log columns: ``time_s`` (seconds) or ``time`` (date-time text or seconds),
 ``bit_md_m`` (or ``bit_md_ft``), and any model feature in user units
 (:mod:`drillfatigue.surrogate.query`), typically ``rpm``, ``wob_kN``,
-``rop_m_per_h``. Component columns: ``serial``, ``s_from_bit_m`` and the
+``rop_m_per_h``; instead of WOB a hook-load channel (``hook_load_kN``, ...)
+with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns: ``serial``, ``s_from_bit_m`` and the
 per-component features (``component_type``, ``location``). Features given by
 neither (friction, mud, well) come from ``constants``; the local dogleg
 severity at each component's depth comes from an optional survey table
-(md_m, dls_deg_per_30m), linearly interpolated.
+(md_m, dls_deg_per_30m), linearly interpolated. The component list and the
+survey can also be built from the string and well configuration
+(:func:`components_from_string`, :func:`survey_from_well`).
 """
 
 from __future__ import annotations
@@ -123,6 +126,119 @@ def _bit_md(log: pd.DataFrame) -> np.ndarray:
     return v * fac
 
 
+def components_from_string(string_cfg: Any,
+                           locations: tuple[str, ...] = ("body", "connection")) -> pd.DataFrame:
+    """Tracked locations of a string configuration: every rigid segment x location.
+
+    Parameters
+    ----------
+    string_cfg : drillfatigue.config.StringConfig
+        The ``string`` section (components from the bit up).
+    locations : tuple of str
+        Locations tracked per segment (the surrogate's ``location`` levels).
+
+    Returns
+    -------
+    DataFrame
+        Columns ``serial`` (``<component>-<segment>-<B|C>``, segment counted
+        from the bit within its component), ``component``, ``component_type``,
+        ``location`` and ``s_from_bit_m`` (segment centre, m), as
+        :func:`components_from_table` expects.
+    """
+    from drillfatigue.string.segments import build_segments
+
+    seg = build_segments(string_cfg, 1000.0)  # mud density only sets buoyancy: unused here
+    rows = []
+    counter: dict[int, int] = {}
+    for i in range(seg.n_segments):
+        ci = int(seg.component_index[i])
+        comp = string_cfg.components[ci]
+        label = (comp.name or f"{comp.type}{ci}").strip().replace(" ", "_")
+        k = counter.get(ci, 0)
+        counter[ci] = k + 1
+        for loc in locations:
+            rows.append({"serial": f"{label}-{k:03d}-{loc[:1].upper()}", "component": label,
+                         "component_type": seg.component_type[i], "location": loc,
+                         S_COLUMN: float(seg.s_from_bit_m[i])})
+    return pd.DataFrame(rows)
+
+
+def survey_from_well(well_cfg: Any, profile: str | None = None) -> pd.DataFrame:
+    """Survey table (``md_m``, ``dls_deg_per_30m``) of a well configuration.
+
+    Parameters
+    ----------
+    well_cfg : drillfatigue.config.WellConfig
+        The ``well`` section.
+    profile : str, optional
+        Profile name (default: the section's active profile).
+    """
+    from drillfatigue.well import build_survey
+
+    sv = build_survey(well_cfg, profile)
+    return pd.DataFrame({"md_m": sv.md_m, "dls_deg_per_30m": sv.dls_deg_per_30m})
+
+
+HOOK_LOAD_STEM = "hook_load"
+OFF_BOTTOM_STEM = "off_bottom_hook_load"
+
+
+def _force_column(names: Any, stem: str) -> tuple[str, float] | None:
+    """(name, factor to N) of the first ``<stem>_N|_kN|_klbf`` name in ``names``."""
+    from drillfatigue.surrogate.query import UNIT_FAMILIES
+
+    for name in names:
+        for suf, fac in UNIT_FAMILIES["_N"].items():
+            if str(name) == stem + suf:
+                return str(name), fac
+    return None
+
+
+def wob_from_hook_load(log: pd.DataFrame, constants: Mapping[str, Any] | None
+                       ) -> tuple[pd.DataFrame, dict[str, Any]]:
+    """Replace a hook-load channel by the weight on bit it implies.
+
+    WOB = off-bottom (free-rotating) hook load - on-bottom hook load, the
+    driller's definition; the off-bottom value comes from the constants
+    (``off_bottom_hook_load_kN`` etc.) or from a log column of that name.
+    A log that already has a WOB channel, or no hook-load channel, is
+    returned unchanged. Returns the log (with ``wob_N`` instead of the hook
+    load) and the constants without the off-bottom entry.
+    """
+    consts = dict(constants or {})
+    hl = _force_column(log.columns, HOOK_LOAD_STEM)
+    ob_c = _force_column(consts, OFF_BOTTOM_STEM)
+    ob_l = _force_column(log.columns, OFF_BOTTOM_STEM)
+    has_wob = any(str(c).startswith("wob_") or str(c) == "operation.wob_N" for c in log.columns)
+    if hl is None:
+        if ob_c is not None:
+            consts.pop(ob_c[0])
+        return log, consts
+    if has_wob:
+        raise InputError(hl[0], "given together with a WOB channel", "either WOB or hook load")
+    if ob_c is None and ob_l is None:
+        raise InputError(OFF_BOTTOM_STEM + "_kN", "needed to turn hook load into WOB",
+                         "--set off_bottom_hook_load_kN=VALUE (free-rotating hook load)")
+    h = pd.to_numeric(log[hl[0]], errors="coerce").to_numpy(dtype=np.float64) * hl[1]
+    if ob_c is not None:
+        try:
+            off = float(consts.pop(ob_c[0])) * ob_c[1]
+        except (TypeError, ValueError):
+            raise InputError(ob_c[0], "non-numeric value", "a finite number") from None
+    else:
+        off = pd.to_numeric(log[ob_l[0]], errors="coerce").to_numpy(dtype=np.float64) * ob_l[1]
+    wob = off - h
+    if not np.all(np.isfinite(wob)):
+        raise InputError(hl[0], "non-numeric or NaN value", "finite hook loads")
+    if np.any(wob < 0.0):
+        raise InputError(hl[0], "hook load above the off-bottom hook load (negative WOB)",
+                         f"hook load <= {OFF_BOTTOM_STEM}")
+    drop = [hl[0]] + ([ob_l[0]] if ob_l is not None else [])
+    out = log.drop(columns=drop)
+    out["wob_N"] = wob
+    return out, consts
+
+
 def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
                constants: Mapping[str, Any] | None = None,
                survey: pd.DataFrame | None = None) -> ReplayResult:
@@ -146,6 +262,7 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     ReplayResult
     """
     comps = components_from_table(components)
+    log, constants = wob_from_hook_load(log, constants)
     t = log_times_s(log)
     bit_md = _bit_md(log)
     vocab = Vocabulary(model.features, model.categorical)
