@@ -113,6 +113,10 @@ class Case3Config(StrictModel):
     """
 
     profile: str = "profile_1"
+    mode: Literal["on_bottom", "tripping"] = Field(
+        "on_bottom", description="on_bottom: drilling window after placement; tripping: the "
+                                 "string keeps sliding in off bottom while it rotates")
+    rop_m_per_s: float = Field(0.01, ge=0.0, le=1.0, description="on_bottom mode")
     bit_md_end_m: float = Field(1000.0, gt=0.0, le=_MD_MAX,
                                 description="bit MD at the end of the run (horizontal)")
     trip_speed_m_per_s: float = Field(0.1, gt=0.0, le=2.0)
@@ -129,6 +133,11 @@ class Case3Config(StrictModel):
     def duration_s(self) -> float:
         """Simulated time: trip, ramp, window."""
         return self.trip_s + self.ramp_s + self.window_s
+
+    @property
+    def advance_m_per_s(self) -> float:
+        """Bit advance rate of the chosen mode (ROP on bottom, trip speed off bottom), m/s."""
+        return self.rop_m_per_s if self.mode == "on_bottom" else self.trip_speed_m_per_s
 
 
 class PlanConfig(StrictModel):
