@@ -13,8 +13,11 @@ from drillfatigue.dynamics.bitrock import I_B0, bit_response, pack_bit_params
 from drillfatigue.errors import InputError
 
 
+YC = BitConfig(model="yigit_christoforou")
+
+
 def resp(wob, omega, cfg=None, rop=0.0):
-    mid, p = pack_bit_params(cfg or BitConfig(), rop)
+    mid, p = pack_bit_params(cfg or YC, rop)
     out = np.empty(2)
     assert bit_response(mid, p, wob, omega, out) == 0
     return out
@@ -48,7 +51,7 @@ def test_tob_odd_and_no_cutting_backward():
 
 
 def test_rop_law_and_thresholds():
-    cfg = BitConfig(threshold_band=0.0)
+    cfg = BitConfig(model="yigit_christoforou", threshold_band=0.0)
     wob, om = 1e5, 150 * 2 * math.pi / 60
     assert resp(wob, om, cfg)[1] == pytest.approx(1.4e-8 * wob * math.sqrt(om))
     # below the WOB threshold: no penetration, TOB is friction only

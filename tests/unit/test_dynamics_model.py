@@ -33,13 +33,13 @@ def test_top_segment_grows_with_the_drilled_length() -> None:
     cfg = case_from_dict({"string": STRING, "operation": {
         "bit_md_m": 70.0, "rop_m_per_s": 0.05, "rpm": 60.0, "rpm_ramp_s": 0.2, "tob_Nm": 500.0}})
     model, state = build_model(cfg, straight_path(200.0))
-    h0 = model.seg[-1, L.S_H]
+    h0 = model.seg[model.n0 - 1, L.S_H]
     assert 2 * h0 == pytest.approx(20.0)  # 70 m of hole minus the 50 m below the top segment
-    m0 = model.seg[-1, L.S_M]
+    m0 = model.seg[model.n0 - 1, L.S_M]
     n_steps = int(round(1.0 / model.dt))
     out = advance_model(model, state, n_steps, every=n_steps)
-    assert 2 * model.seg[-1, L.S_H] == pytest.approx(20.0 + 0.05 * 1.0, rel=1e-9)
-    assert model.seg[-1, L.S_M] == pytest.approx(m0 * (20.05 / 20.0), rel=1e-9)
+    assert 2 * model.seg[model.n0 - 1, L.S_H] == pytest.approx(20.0 + 0.05 * 1.0, rel=1e-9)
+    assert model.seg[model.n0 - 1, L.S_M] == pytest.approx(m0 * (20.05 / 20.0), rel=1e-9)
     ch = out["channels"][-1]
     assert ch[1 + L.H_BITMD] == pytest.approx(70.05, rel=1e-12)
     # the string follows the bit down: the lowest segment moved ~5 cm

@@ -73,5 +73,15 @@ def test_bad_components_are_rejected_with_the_field(bad: dict, field: str) -> No
 def test_operation_rejects_inconsistent_top_and_bit() -> None:
     with pytest.raises(InputError, match="top_md_m"):
         case_from_dict({"operation": {"bit_md_m": 100.0, "top_md_m": 200.0}})
+    # off bottom there is no neutral point to solve for; a given hook load or a
+    # fixed top are the documented choices (hook_load carries a free top, e.g. whirl)
     with pytest.raises(InputError, match="off-bottom"):
-        case_from_dict({"operation": {"bit_on_bottom": False, "top_axial": "hook_load"}})
+        case_from_dict({"operation": {"bit_on_bottom": False, "top_axial": "neutral_point"}})
+    assert case_from_dict({"operation": {"bit_on_bottom": False,
+                                         "top_axial": "hook_load"}}).operation.top_axial == "hook_load"
+    # tripping needs the bit off bottom and the top fixed
+    with pytest.raises(InputError, match="tripping"):
+        case_from_dict({"operation": {"bit_on_bottom": True, "trip_speed_m_per_s": 0.5}})
+    with pytest.raises(InputError, match="tripping"):
+        case_from_dict({"operation": {"bit_on_bottom": False, "top_axial": "hook_load",
+                                      "trip_speed_m_per_s": -0.5}})

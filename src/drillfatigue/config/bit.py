@@ -31,7 +31,10 @@ class BitConfig(StrictModel):
     model : str
         ``yigit_christoforou``: TOB and ROP from the bit-rock law;
         ``prescribed_rop``: TOB from the same law, ROP given by
-        ``operation.rop_m_per_s``.
+        ``operation.rop_m_per_s``; ``given_tob``: TOB = operation.tob_Nm
+        tanh(Omega / 0.5 rad/s) and the prescribed ROP (the simple mode of the
+        simulator core). In all modes WOB is the axial rock contact force at the
+        bit and the bit bounces (WOB = 0) when it lifts off.
     bit_radius_m : float
         Bit radius r_b, m (0.02..0.5). Default 8.5 in / 2.
     mu0 : float
@@ -52,7 +55,7 @@ class BitConfig(StrictModel):
         (smoothstep), 0..1; 0 is the sharp switch of Sarker et al.
     """
 
-    model: Literal["yigit_christoforou", "prescribed_rop"] = "yigit_christoforou"
+    model: Literal["yigit_christoforou", "prescribed_rop", "given_tob"] = "prescribed_rop"
     bit_radius_m: float = Field(DEFAULT_BIT_RADIUS_M, ge=0.02, le=0.5)
     mu0: float = Field(DEFAULT_RB_MU0_M / DEFAULT_BIT_RADIUS_M, ge=0.0, le=5.0)
     tob_b1_s_per_rad: float = Field(1.91, gt=0.0, le=1e3)

@@ -36,7 +36,14 @@ class OperationConfig(StrictModel):
     neutral_point_s_from_bit_m: float | None = Field(
         None, gt=0.0, le=20000.0, description="default: the top of the collars")
     trip_speed_m_per_s: float = Field(0.0, ge=-10.0, le=10.0,
-                                      description="top speed along the hole, fixed mode only")
+                                      description="string length change rate off bottom: "
+                                                  "> 0 tripping in, < 0 tripping out")
+    top_mode: Literal["rpm", "torque"] = Field(
+        "rpm", description="rpm: the top drive imposes the speed profile; torque: a constant "
+                           "torque top_torque_Nm (ramped over rpm_ramp_s) drives a free top")
+    top_torque_Nm: float = Field(0.0, ge=-1e6, le=1e6, description="applied top torque, torque mode")
+    top_lateral: Literal["held", "free"] = Field(
+        "held", description="held: stiff lateral/tilt springs at the top; free: none")
     # bit
     bit_on_bottom: bool = True
     rop_m_per_s: float = Field(0.0, ge=0.0, le=1.0)
@@ -62,7 +69,11 @@ class OperationConfig(StrictModel):
                                  "(allowed: [[t0, rpm0], [t1, rpm1], ...] with t0 < t1 < ...)")
             if any(abs(r) > 400.0 for _, r in self.rpm_table):
                 raise ValueError("rpm_table speeds must be within +-400 (allowed: -400 <= rpm <= 400)")
-        if self.top_axial != "fixed" and not self.bit_on_bottom:
-            raise ValueError("an off-bottom string needs top_axial: fixed "
-                             "(allowed: top_axial fixed when bit_on_bottom is false)")
+        if self.top_axial == "neutral_point" and not self.bit_on_bottom:
+            raise ValueError("an off-bottom string has no neutral point to place "
+                             "(allowed: top_axial fixed or hook_load when bit_on_bottom is false)")
+        if self.trip_speed_m_per_s != 0.0 and (self.bit_on_bottom or self.top_axial != "fixed"):
+            raise ValueError("tripping needs the bit off bottom and the top fixed "
+                             "(allowed: trip_speed_m_per_s != 0 with bit_on_bottom false and "
+                             "top_axial fixed)")
         return self

@@ -15,3 +15,7 @@ class RecordingConfig(StrictModel):
     kinematics_rate_hz: float = Field(10.0, gt=0.0, le=1e5)
     joints: list[int] | None = Field(None, description="joint indices from the bit; None = all")
     start_s: float = Field(0.0, ge=0.0, le=1e6, description="record from this simulated time")
+    events_start_s: float | None = Field(
+        None, ge=0.0, le=1e6,
+        description="start of the event window (stick-slip, whirl, torque figures); "
+                    "default: the end of the rpm ramp")

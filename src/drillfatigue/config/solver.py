@@ -28,5 +28,9 @@ class SolverConfig(StrictModel):
                                              description="top lateral/tilt springs vs the joint springs")
     chunk_steps: int = Field(2000, ge=1, le=10_000_000, description="steps per kernel call")
     checkpoint_every_s: float = Field(0.0, ge=0.0, le=1e6, description="0 = no checkpoints")
+    max_segments: int | None = Field(None, ge=1, le=100_000,
+                                     description="cap on the rows allocated for drilling growth")
+    relax_s: float = Field(0.0, ge=0.0, le=1e4,
+                           description="damped pre-run settling the string in the hole before t = 0")
     energy_blowup_factor: float = Field(1e3, gt=1.0, le=1e12,
                                         description="divergence when energy exceeds this x its scale")

@@ -16,8 +16,20 @@ histories to Parquet and writes, in ``out_dir``:
     ``time_s, surface_torque_Nm, hook_load_N, wob_N, tob_Nm, top_rpm, bit_rpm,
     bit_md_m, rop_m_per_s`` and the energy terms.
 ``kinematics.parquet``
-    ``time_s, segment, s_from_bit_m, x_m, y_m, z_m, vx_m_per_s, vy_m_per_s, vz_m_per_s``.
-``case.yaml``, ``summary.json`` (written last).
+    ``time_s, segment, s_from_bit_m, x_m, y_m, z_m, vx_m_per_s, vy_m_per_s, vz_m_per_s,
+    normal_N, dist_from_centre_m`` (active segments only; segments added by drilling
+    appear when they are created).
+``contacts.parquet``
+    The compact contact history, at the kinematics rate: one row per (time,
+    segment in wall contact): ``time_s, segment, normal_N`` (sum over the
+    segment's contact points), ``dist_from_centre_m`` (largest distance of its
+    contact points from the hole centre line).
+``case.yaml``, ``summary.json`` (written last). The summary's ``events`` (also
+copied to the top level for the dataset): ``stick_slip_severity`` ((max - min) /
+mean bit rpm over the window after the rpm ramp), ``whirl_class`` (dominant
+class over the segments that orbit), ``whirl_per_segment``, ``bit_bounce_count``,
+``max_contact_force_N``, ``rms_surface_torque_Nm``, ``peak_surface_torque_Nm``,
+``contact_onset`` (per segment in contact: time, bit MD and the segment's MD).
 
 Histories are written as parts (one Parquet file per checkpoint interval, in
 ``.parts/``) and merged into the final files at the end; every file is written
@@ -60,7 +72,7 @@ LOAD_COLUMNS = ("axial_N", "shear_x_N", "shear_y_N", "bending_x_Nm", "bending_y_
 CHANNEL_COLUMNS = ("surface_torque_Nm", "hook_load_N", "wob_N", "tob_Nm", "top_rpm", "bit_rpm",
                    "bit_md_m", "rop_m_per_s")
 _CH_INDEX = (L.H_TSURF, L.H_HOOK, L.H_WOB, L.H_TOB, L.H_TOPRPM, L.H_BITRPM, L.H_BITMD, L.H_ROP)
-FILES = ("loads", "channels", "kinematics")
+FILES = ("loads", "channels", "kinematics", "contacts")
 
 
 @dataclass
@@ -155,7 +167,7 @@ class Runner:
         self.model, self.state = build_model(config, self.path)
         m = self.model
         rec = config.recording
-        n_j = m.n - 1
+        n_j = m.n0 - 1
         if rec.joints is None:
             self.sel = np.arange(n_j, dtype=np.int64)
         else:
@@ -173,6 +185,8 @@ class Runner:
         self.ck_steps = int(round(ck / dt)) if ck > 0 else 0
         self.start_step = int(round(rec.start_s / dt))
         self.stats = _Stats()
+        self.wstats = _Stats()
+        self.t_window = float(m.bp[L.B_TWIN])
         self.e0 = self._energy_now()
         self.energy_err_max = 0.0
         self.energy_ref = 1.0
@@ -202,7 +216,10 @@ class Runner:
         if bl.shape[0]:
             t = bl[:, 0]
             ld = bl[:, 1:].reshape(bl.shape[0], nsel, 6)
-            md_bit = m.bp[L.B_MD0] + m.bp[L.B_ROP] * t
+            if bc.shape[0]:
+                md_bit = np.interp(t, bc[:, 0], bc[:, 1 + L.H_BITMD])
+            else:
+                md_bit = float(self.state.sc[L.C_MDROCK]) + 0.0 * t
             cols: dict[str, Any] = {
                 "time_s": np.repeat(t, nsel),
                 "joint": np.tile(self.sel, t.size).astype(np.int32),
@@ -219,17 +236,29 @@ class Runner:
             cols["potential_energy_J"] = bc[:, 1 + L.H_PE] + bc[:, 1 + L.H_PG]
             cols["work_in_J"] = bc[:, 2 + L.N_CH]
             cols["dissipated_J"] = bc[:, 3 + L.N_CH]
+            cols["segments_in_contact"] = bc[:, 1 + L.H_NCON]
+            cols["max_contact_force_N"] = bc[:, 1 + L.H_FCMAX]
+            cols["n_segments"] = bc[:, 1 + L.H_NSEG]
             out["channels"] = pa.table(cols)
         if bk.shape[0]:
             n = m.n
             t = bk[:, 0]
-            xv = bk[:, 1:].reshape(t.size, n, 6)
-            s_mid = np.cumsum(np.r_[0.0, 2.0 * m.seg[:-1, L.S_H]]) + m.seg[:, L.S_H]
-            cols = {"time_s": np.repeat(t, n), "segment": np.tile(np.arange(n, dtype=np.int32), t.size),
-                    "s_from_bit_m": np.tile(s_mid, t.size)}
-            for k, name in enumerate(("x_m", "y_m", "z_m", "vx_m_per_s", "vy_m_per_s", "vz_m_per_s")):
-                cols[name] = xv[:, :, k].ravel()
+            kv = bk[:, 1:].reshape(t.size, n, 8)
+            h = m.seg[:, L.S_H]
+            s_mid = np.cumsum(np.r_[0.0, 2.0 * h[:-1]]) + h
+            tt = np.repeat(t, n)
+            sg = np.tile(np.arange(n, dtype=np.int32), t.size)
+            flat = kv.reshape(-1, 8)
+            act = np.isfinite(flat[:, 0])
+            cols = {"time_s": tt[act], "segment": sg[act], "s_from_bit_m": np.tile(s_mid, t.size)[act]}
+            for k, name in enumerate(("x_m", "y_m", "z_m", "vx_m_per_s", "vy_m_per_s", "vz_m_per_s",
+                                      "normal_N", "dist_from_centre_m")):
+                cols[name] = flat[act, k]
             out["kinematics"] = pa.table(cols)
+            con = act & (np.nan_to_num(flat[:, 6]) > 0.0)
+            out["contacts"] = pa.table({"time_s": tt[con], "segment": sg[con],
+                                        "normal_N": flat[con, 6],
+                                        "dist_from_centre_m": flat[con, 7]})
         return out
 
     def _write(self, tables: dict[str, pa.Table]) -> None:
@@ -260,11 +289,13 @@ class Runner:
     def _checkpoint(self, wall: float) -> None:
         assert self.out_dir is not None
         self._close_part()
-        meta = {"hash": self.hash, "part": self.part, "stats": self.stats.state(), "e0": self.e0,
+        meta = {"hash": self.hash, "part": self.part, "stats": self.stats.state(),
+                "wstats": self.wstats.state(), "e0": self.e0,
                 "emax": self.energy_err_max, "eref": self.energy_ref, "wall": wall}
         tmp = self.out_dir / ".checkpoint.tmp.npz"
         np.savez(tmp, meta=np.array(json.dumps(meta)), R=self.model.work["R"],
-                 seg=self.model.seg, jp=self.model.jp, **self.state.arrays())
+                 seg=self.model.seg, jp=self.model.jp, topp=self.model.topp,
+                 **self.state.arrays())
         os.replace(tmp, self.out_dir / "checkpoint.npz")
 
     def _restore(self) -> bool:
@@ -277,13 +308,15 @@ class Runner:
             if meta["hash"] != self.hash:
                 raise InputError("--resume", "the checkpoint in the run directory belongs to a "
                                  "different configuration", "the same case file as the run")
-            for k in ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint"):
+            for k in ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint", "cst"):
                 getattr(self.state, k)[...] = z[k]
             self.model.work["R"][...] = z["R"]
             self.model.seg[...] = z["seg"]
             self.model.jp[...] = z["jp"]
+            self.model.topp[...] = z["topp"]
         self.part = int(meta["part"])
         self.stats.load(meta["stats"])
+        self.wstats.load(meta["wstats"])
         self.e0 = float(meta["e0"])
         self.energy_err_max = float(meta["emax"])
         self.energy_ref = float(meta["eref"])
@@ -323,7 +356,7 @@ class Runner:
         rows = [self.chunk // e + 2 for e in self.every]
         buf_l = np.zeros((rows[0], 1 + 6 * self.sel.size))
         buf_c = np.zeros((rows[1], 4 + L.N_CH))
-        buf_k = np.zeros((rows[2], 1 + 6 * n))
+        buf_k = np.zeros((rows[2], 1 + 8 * n))
         status = "incomplete"
         error: SimulationError | None = None
         t_wall0 = time.perf_counter()
@@ -343,9 +376,9 @@ class Runner:
                 counts[:] = 0
                 st = advance(k, m.dt, s.x, s.v, s.q, s.w, s.Fw, s.Mw, s.Mb, s.sc, m.seg, m.jp, m.bp,
                              m.topp, m.anchor, m.tab_t, m.tab_w, p.node_md_m, p.node_pos_m,
-                             p.node_tan, p.wall, m.cpar, s.hint, wk["R"], wk["wW"],
+                             p.node_tan, p.wall, m.cpar, s.hint, s.cst, wk["R"], wk["wW"],
                              wk["loads"], wk["ch"], self.sel, ev[0], buf_l, ev[1], buf_c, ev[2], buf_k, counts, info,
-                             wk["scq"], wk["scm"], wk["scv"], wk["ed"])
+                             wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
                 bl = buf_l[: counts[0]]
                 bc = buf_c[: counts[1]]
                 bk = buf_k[: counts[2]]
@@ -383,6 +416,12 @@ class Runner:
                            (L.H_TSURF, L.H_HOOK, L.H_WOB, L.H_BITRPM), strict=True):
             self.stats.add(name, bc[:, 1 + k])
         self.stats.n += bc.shape[0]
+        win = bc[bc[:, 0] >= self.t_window - 1e-12]
+        if win.shape[0]:
+            for name, k in (("surface_torque_Nm", L.H_TSURF), ("bit_rpm", L.H_BITRPM)):
+                self.wstats.add(name, win[:, 1 + k])
+                self.wstats.add(name + "_sq", win[:, 1 + k] ** 2)
+            self.wstats.n += win.shape[0]
         ke = bc[:, 1 + L.N_CH]
         e = ke + bc[:, 1 + L.H_PE] + bc[:, 1 + L.H_PG]
         bal = e - self.e0 - bc[:, 2 + L.N_CH] + bc[:, 3 + L.N_CH]
@@ -417,7 +456,7 @@ class Runner:
             "real_time_factor": sim_t / wall if wall > 0 else None,
             "dt_s": m.dt,
             "n_steps": int(self.state.sc[L.C_STEP]),
-            "n_segments": m.n,
+            "n_segments": m.n0,
             "n_joints_recorded": int(self.sel.size),
             "hook_load_setpoint_N": m.hook_load_N,
             "wob_initial_N": m.wob0_N,
@@ -428,7 +467,17 @@ class Runner:
             "energy_balance_error_rel": self.energy_err_max / self.energy_ref,
             "work_in_J": float(self.state.sc[L.C_WIN]),
             "dissipated_J": float(self.state.sc[L.C_DISS]),
+            "n_segments_initial": m.n0,
+            "n_segments_final": self.state.n_active,
+            "segments_added": int(self.state.sc[L.C_NSPLIT]),
+            "segments_merged": int(self.state.sc[L.C_NMERGE]),
+            "bit_md_final_m": float(self.state.sc[L.C_MDROCK]),
+            "trip_out_stopped_at_minimum": bool(self.state.sc[L.C_GUARD] == 1.0),
         }
+        ev = events_summary(m, self.state, self.wstats)
+        summary["events"] = ev
+        for k in EVENT_KEYS:
+            summary[k] = ev[k]
         res = SimulationResult(status=status, summary=summary, out_dir=self.out_dir, model=m,
                                state=self.state, joints=self.sel)
         if self.out_dir is None:
@@ -454,6 +503,74 @@ class Runner:
             shutil.rmtree(self._parts_dir(), ignore_errors=True)
         _atomic_write_text(self.out_dir / "summary.json", json.dumps(summary, indent=2) + "\n")
         return res
+
+
+#: Event figures copied to the top level of summary.json (read by the sweep's dataset).
+EVENT_KEYS = ("stick_slip_severity", "whirl_class", "bit_bounce_count", "max_contact_force_N",
+              "rms_surface_torque_Nm", "peak_surface_torque_Nm")
+
+
+def classify_whirl(orbit_rad: float, orbit_abs_rad: float, spin_rad: float) -> str:
+    """Whirl class of one segment from its orbit and spin angles over the window.
+
+    ``none``: the centre orbits less than one turn in total (|orbit| and the
+    summed |d orbit| both < 2 pi); ``chaotic``: the orbit reverses so much that
+    the net angle is less than half the summed |d angle|; otherwise ``forward``
+    when the orbit turns the same way as the spin, ``backward`` when opposite.
+    """
+    if orbit_abs_rad < 2.0 * math.pi:
+        return "none"
+    if abs(orbit_rad) < 0.5 * orbit_abs_rad:
+        return "chaotic"
+    if spin_rad == 0.0:
+        return "chaotic"
+    return "forward" if orbit_rad * spin_rad > 0.0 else "backward"
+
+
+def events_summary(m: Model, s: State, wstats: _Stats) -> dict[str, Any]:
+    """Events of a run for summary.json (see the module docstring)."""
+    n = s.n_active
+    cst = s.cst[:n]
+    h = m.seg[:n, L.S_H]
+    s_mid = np.cumsum(np.r_[0.0, 2.0 * h[:-1]]) + h
+    per_seg = [classify_whirl(float(c[L.CS_ORB]), float(c[L.CS_ORBABS]), float(c[L.CS_SPIN]))
+               for c in cst]
+    whirling = [c for c in per_seg if c != "none"]
+    if whirling:
+        vals, counts = np.unique(whirling, return_counts=True)
+        dominant = str(vals[int(np.argmax(counts))])
+    else:
+        dominant = "none"
+    onset = [{"segment": i, "time_s": float(c[L.CS_ONT]), "bit_md_m": float(c[L.CS_ONMD]),
+              "md_m": float(c[L.CS_ONMD] - s_mid[i])}
+             for i, c in enumerate(cst) if c[L.CS_ONT] >= 0.0]
+    ws = wstats.as_dict(wstats.n)
+    sev = None
+    rms = None
+    peak = None
+    if "bit_rpm" in ws:
+        b = ws["bit_rpm"]
+        sev = (b["max"] - b["min"]) / b["mean"] if abs(b["mean"]) > 1e-9 else None
+        t = ws["surface_torque_Nm"]
+        rms = math.sqrt(max(ws["surface_torque_Nm_sq"]["mean"], 0.0))
+        peak = max(abs(t["max"]), abs(t["min"]))
+    orbit_rate = [float(c[L.CS_ORB]) for c in cst]
+    return {
+        "window_start_s": float(m.bp[L.B_TWIN]),
+        "stick_slip_severity": sev,
+        "whirl_class": dominant,
+        "whirl_per_segment": per_seg,
+        "orbit_angle_rad": orbit_rate,
+        "spin_angle_rad": [float(c[L.CS_SPIN]) for c in cst],
+        "bit_bounce_count": int(s.sc[L.C_BOUNCE]),
+        "max_contact_force_N": float(cst[:, L.CS_FMAX].max()) if n else 0.0,
+        "max_contact_force_per_segment_N": [float(c[L.CS_FMAX]) for c in cst],
+        "contact_time_s_per_segment": [float(c[L.CS_TCON]) for c in cst],
+        "rms_surface_torque_Nm": rms,
+        "peak_surface_torque_Nm": peak,
+        "contact_onset": onset,
+        "segments_in_contact_ever": len(onset),
+    }
 
 
 def _atomic_write_table(path: Path, parts: list[Any]) -> None:
@@ -489,7 +606,7 @@ def _divergence_error(st: int, info: np.ndarray, m: Model) -> SimulationError:
     if st == L.ST_NONFINITE:
         why = "non-finite state"
     elif st == L.ST_FORCES:
-        why = f"the force evaluation failed (code {int(info[2])}: wall contact requested but unavailable)"
+        why = f"the force evaluation failed (code {int(info[2])}: unknown friction or bit model)"
     else:
         why = f"kinetic energy {info[2]:.3g} J above the blow-up limit {m.bp[L.B_ESCALE]:.3g} J"
     return SimulationError(

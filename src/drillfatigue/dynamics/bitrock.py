@@ -49,7 +49,10 @@ if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
 YIGIT_CHRISTOFOROU = 0
 PRESCRIBED_ROP = 1
 
-MODEL_IDS: dict[str, int] = {"yigit_christoforou": YIGIT_CHRISTOFOROU, "prescribed_rop": PRESCRIBED_ROP}
+#: ``given_tob`` (the simulator's given-torque mode) maps to the prescribed-ROP law
+#: wherever a law is still needed (e.g. the soft-string TOB estimate).
+MODEL_IDS: dict[str, int] = {"yigit_christoforou": YIGIT_CHRISTOFOROU, "prescribed_rop": PRESCRIBED_ROP,
+                             "given_tob": PRESCRIBED_ROP}
 
 I_B0 = 0  # r_b mu0, m
 I_B1 = 1  # s/rad

@@ -18,8 +18,11 @@ COLLAR_ID_M = 0.0714
 def uniform_chain_case(n: int, length_m: float, *, od_m: float = COLLAR_OD_M,
                        id_m: float = COLLAR_ID_M, damping: bool = False,
                        chain_top_spring: bool = False, mud_density_kg_per_m3: float = 0.0,
+                       contact: bool = False,
                        extra: dict[str, Any] | None = None) -> CaseConfig:
     """A uniform string of ``n`` segments, total ``length_m``, top fixed, bit off bottom.
+
+    Wall contact is off unless ``contact`` (the textbook chain has no wall).
 
     ``chain_top_spring`` sets the top axial and torsional springs to EA/L and
     GJ/L (L = length / n), the wall spring of the discrete-chain formula;
@@ -50,6 +53,7 @@ def uniform_chain_case(n: int, length_m: float, *, od_m: float = COLLAR_OD_M,
                                    "length_m": length_m, "n_segments": n}]},
         "operation": op,
         "solver": solver,
+        "contact": {"enabled": contact},
     }
     for key, val in (extra or {}).items():
         data.setdefault(key, {}).update(val)

@@ -24,8 +24,16 @@ import math
 
 from numba import njit
 
+from drillfatigue.dynamics.bitrock import bit_response
+from drillfatigue.dynamics.contact import find_contact, wall_force
+from drillfatigue.dynamics.friction import KARNOPP
 from drillfatigue.dynamics.joints import joint_force
 from drillfatigue.dynamics.layout import (
+    B_LNOM, B_TOPLAT, B_TOPMODE, B_TOPTQ, B_TRAMP, B_TWIN,
+    C_BOUNCE, C_MDROCK, C_NACT, C_OFFB, C_ROPNOW,
+    CS_D, CS_FMAX, CS_IMP, CS_N, CS_ONMD, CS_ONT, CS_ORB, CS_ORBABS, CS_SPIN, CS_TCON, CS_TH,
+    CS_THOK, H_FCMAX, H_NCON, H_NSEG, P_BITLAW, P_BITMODEL, P_BP, P_FMODEL, P_FP, P_KC, P_NPTS,
+    S_CC, S_RB, S_RC,
     B_AXMODE, B_BITON, B_CBIT, B_HL, B_KBIT, B_LOBE, B_MD0, B_NLOBE, B_ROP, B_TOB,
     B_TOPAUTO_A, B_TOPAUTO_T, B_WREF, B_ZB, B_ZJ,
     C_HINT, C_PHIB, C_PHID, C_STEP,
@@ -58,14 +66,15 @@ def drive_omega(t, tab_t, tab_w):
 
 
 @njit(cache=True)
-def update_top(h, seg, jp, topp, bp):
+def update_top(h, n, seg, jp, topp, bp):
     """Rebuild the parameters of the extensible top segment for half length h (m).
 
     Mass, inertia, weight and mud damping scale with the length; the stiffness of
     the joint below it and (when automatic) of the top boundary follow 1/length.
-    Writes seg[n-1, :], jp[n-2, :] and jp[n-1, :].
+    Writes seg[n-1, :], jp[n-2, :] and jp[n-1, :] (n active segments). Top
+    mode 1 (applied torque) has no torsion spring; lateral restraint off
+    (``bp[B_TOPLAT] == 0``) no parasitic springs.
     """
-    n = seg.shape[0]
     top = n - 1
     L = 2.0 * h
     m = topp[T_MPL] * L
@@ -107,6 +116,11 @@ def update_top(h, seg, jp, topp, bp):
     kt = topp[T_GJ] / h if bp[B_TOPAUTO_T] == 1.0 else topp[T_KT_TOP]
     ks = topp[T_KPAR_S]
     kb = topp[T_KPAR_B]
+    if bp[B_TOPMODE] == 1.0:
+        kt = 0.0
+    if bp[B_TOPLAT] == 0.0:
+        ks = 0.0
+        kb = 0.0
     jp[top, J_KA] = ka
     jp[top, J_KS] = ks
     jp[top, J_KB] = kb
@@ -118,7 +132,7 @@ def update_top(h, seg, jp, topp, bp):
 
 
 @njit(cache=True)
-def top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv, loads_row, ed):
+def top_joint(t, top, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv, loads_row, ed):
     """Loads of the top boundary: the top segment's upper end tied to the top drive.
 
     The drive is a virtual body at ``anchor[0:3]`` with orientation
@@ -126,8 +140,8 @@ def top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, sc
     downhole axis ``anchor[7:10]``. Writes scv[0] (force on the top segment),
     scv[1] (its moment), scv[2] (moment on the drive), scv[3] (drive angular
     velocity), ``loads_row`` and ``ed``. Returns the drive speed (rad/s).
+    ``top`` is the row of the top segment.
     """
-    top = x.shape[0] - 1
     omega_d = drive_omega(t, tab_t, tab_w)
     phid = sc[C_PHID]
     qz = scq[3]
@@ -156,39 +170,50 @@ def top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, sc
 def top_energy(t, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW, scq, scm, scv,
                loads, ed):
     """Energy (J) held by the top segment: its kinetic and gravity energy and the
-    springs of the joint below it and of the top boundary.
+    springs of the joint below it and of the top boundary (:func:`tail_energy`
+    from the top segment)."""
+    n = int(sc[C_NACT])
+    return tail_energy(n - 1, t, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW, scq, scm,
+                       scv, loads, ed)
 
-    Used to account for the work of feeding pipe when the top segment grows
-    (the difference before/after :func:`update_top`). Refreshes R and wW of the
-    two top segments.
+
+@njit(cache=True)
+def tail_energy(lo, t, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW, scq, scm, scv,
+                loads, ed):
+    """Energy (J) of segments lo..n-1 (kinetic + gravity), the joints lo-1..n-2 and the top boundary.
+
+    Used to book the work of feeding pipe when the top segment grows, is split
+    (drilling) or merged (tripping out): the difference before/after. Refreshes
+    R and wW of segments lo-1..n-1.
     """
-    n = x.shape[0]
+    n = int(sc[C_NACT])
     top = n - 1
-    lo = max(n - 2, 0)
-    for i in range(lo, n):
+    first = max(lo - 1, 0)
+    for i in range(first, n):
         quat_to_rot(q[i], R[i])
         for k in range(3):
             wW[i, k] = R[i, k, 0] * w[i, 0] + R[i, k, 1] * w[i, 1] + R[i, k, 2] * w[i, 2]
-    e = 0.5 * seg[top, S_M] * (v[top, 0] ** 2 + v[top, 1] ** 2 + v[top, 2] ** 2)
-    e += 0.5 * seg[top, S_IT] * (w[top, 0] ** 2 + w[top, 1] ** 2) + 0.5 * seg[top, S_IA] * w[top, 2] ** 2
-    e -= seg[top, S_W] * x[top, 2]
-    if n >= 2:
-        j = n - 2
+    e = 0.0
+    for i in range(lo, n):
+        e += 0.5 * seg[i, S_M] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+        e += 0.5 * seg[i, S_IT] * (w[i, 0] ** 2 + w[i, 1] ** 2) + 0.5 * seg[i, S_IA] * w[i, 2] ** 2
+        e -= seg[i, S_W] * x[i, 2]
+    for j in range(first, n - 1):
         joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
-                    x[top], v[top], R[top], q[top], wW[top], seg[top, S_H],
+                    x[j + 1], v[j + 1], R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
                     jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
                     jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
                     scq[0], scq[1], scq[2], scm[0], scv[0], scv[1], scv[2], loads[j], ed)
         e += ed[0]
-    top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv, loads[top], ed)
+    top_joint(t, top, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv, loads[top], ed)
     e += ed[0]
     return e
 
 
 @njit(cache=True)
 def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
-                   node_md, node_pos, node_tan, wall, cpar, hint, sc, R, wW, Fw, Mw, Mb, loads, ch,
-                   scq, scm, scv, ed):
+                   node_md, node_pos, node_tan, wall, cpar, hint, cst, sc, R, wW, Fw, Mw, Mb,
+                   loads, ch, scq, scm, scv, ed, cw):
     """All forces at the current state.
 
     Parameters
@@ -203,23 +228,45 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
     tab_t, tab_w : ndarray, shape (K,)  top-drive speed table: time (s), speed (rad/s)
     node_md, node_pos, node_tan   well path nodes (see :func:`drillfatigue.well.kernels.path_point`)
     wall : ndarray, shape (n_cyl, N_WALL)  hole cylinders (see :mod:`layout`)
-    cpar : ndarray, shape (>= 1,) contact / friction parameters; cpar[P_ON] == 0: no wall contact
-    hint : ndarray of int64, shape (n,)  per-segment cylinder hints (state, checkpointed)
-    sc : ndarray, shape (N_SC,)   scalar state (sc[C_HINT] updated)
+    cpar : ndarray, shape (N_CPAR,) contact / friction / bit-law parameters; cpar[P_ON] == 0: no wall
+    hint : ndarray of int64, shape (3 n,)  cylinder hint of contact point p of segment i at 3 i + p
+    cst : ndarray, shape (n, N_CST)  contact and whirl statistics (state), updated
+    sc : ndarray, shape (N_SC,)   scalar state (path hint, bit-bounce state, ROP) updated
     R : ndarray, shape (n, 3, 3)  written: rotation matrices
     wW : ndarray, shape (n, 3)    written: angular velocities, world frame
     Fw, Mw : ndarray, shape (n, 3)  written: world force (N), world moment about the centre (N m)
     Mb : ndarray, shape (n, 3)    written: total body-frame moment (N m)
     loads : ndarray, shape (n, 6) written: joint loads, rows 0..n-2 joints, row n-1 top boundary
     ch : ndarray, shape (N_CH,)   written: channels and energy terms
-    scq, scm, scv, ed             scratch, shapes (5, 4), (2, 3, 3), (8, 3), (2,)
+    scq, scm, scv, ed, cw         scratch, shapes (5, 4), (2, 3, 3), (12, 3), (2,), (32,)
 
     Returns
     -------
     int
-        0, or 1 when wall contact is requested but not available.
+        0; 2 for an unknown friction model; 3 for an unknown bit model.
+
+    Notes
+    -----
+    Karnopp needs the "other" tangential force at a contact point. In this
+    explicit scheme it is estimated in a first pass: the acceleration the
+    contact point would have from all non-wall forces and moments on the
+    segment (gravity, mud, joints, boundaries), times the share of the
+    segment's mass carried by the point (m / points). Friction is then computed
+    point by point against that estimate.
+
+    Slip cap (smooth models, all but Karnopp). Near zero slip a regularised
+    friction law is a viscous damper of slope mu N / v_reg, which an explicit
+    step resolves only for dt < 2 m_eff v_reg / (mu N) -- far below the joint
+    step at large normal forces. Instead, the tangential force at a point is
+    capped at m_eff |v_slip| / dt with m_eff = m / (3 points) (translation, spin
+    and tilt of the segment all move the surface point; the factor 3 keeps the
+    combined velocity change of one step below the slip, so friction can stop
+    a slip within a step but never reverse it). Where the cap binds the point
+    is effectively stuck (creep ~ F_other dt / m_eff), as it would be with the
+    true law; elsewhere the law is untouched. Karnopp keeps its own stick band
+    and the step limit of :func:`drillfatigue.dynamics.model.stable_step`.
     """
-    n = x.shape[0]
+    n = int(sc[C_NACT])
     t = sc[C_STEP] * dt
     pe = 0.0
     pg = 0.0
@@ -267,34 +314,30 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
             Fw[j + 1, k] -= Fl[k]
             Mw[j, k] += Ml[k]
             Mw[j + 1, k] += Mu[k]
-    # --- wall contact and friction: ADD HERE (next issue) --------------------------------
-    # Inputs already passed in: wall (cylinders: p0 = wall[:, 0:3], axis = wall[:, 3:6],
-    # length = wall[:, 6], radius = wall[:, 7]), cpar (contact/friction parameters,
-    # cpar[P_ON] == 0 -> off), hint[i] (cylinder hint of segment i, kept in the state),
-    # seg[i, S_RC] (contact radius), dt. Outline:
-    # if cpar[P_ON] != 0.0: for each segment i and each of its contact points X:
-    #   ic = contact.find_contact(X, seg[i, S_RC], p0, axis, length, radius, hint[i], out6)
-    #   if ic >= 0: normal force N = max(0, k_c delta + c_c delta_dot) along -n;
-    #       slip velocity v_slip = v_i + wW_i x (X - x_i) minus its normal part;
-    #       friction.friction_force(model, fparams, v_slip, N, f_other, dt, out3);
-    #   hint[i] = ic; add the force to Fw[i] and (X - x_i) x force to Mw[i]; add the
-    #   contact damping and friction power to pdiss and the contact spring energy to pe.
-    #   Nothing else in the integrator changes.
-    if cpar[P_ON] != 0.0:
-        return 1  # wall contact requested but not implemented in this build
-    # -----------------------------------------------------------------------------------
     # --- top boundary: top drive and rig -------------------------------------------------
     top = n - 1
-    omega_d = top_joint(t, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv,
+    omega_d = top_joint(t, top, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, scm, scv,
                         loads[top], ed)
     wa = scv[3]
     pe += ed[0]
     pdiss += ed[1]
-    # the drive works on the string: minus the reaction moment on the drive times its speed
-    pin -= Mu[0] * wa[0] + Mu[1] * wa[1] + Mu[2] * wa[2]
     for k in range(3):
         Fw[top, k] += Fl[k]
         Mw[top, k] += Ml[k]
+    if bp[B_TOPMODE] == 1.0:
+        # applied torque about the top segment's axis (no drive spring)
+        tq = bp[B_TOPTQ]
+        if bp[B_TRAMP] > 0.0 and t < bp[B_TRAMP]:
+            tq *= t / bp[B_TRAMP]
+        Mb[top, 2] += tq
+        pin += tq * w[top, 2]
+        ch[H_TSURF] = tq
+        ch[H_TOPRPM] = w[top, 2] * RPM_PER_RAD_S
+    else:
+        # the drive works on the string: minus the reaction moment on the drive times its speed
+        pin -= Mu[0] * wa[0] + Mu[1] * wa[1] + Mu[2] * wa[2]
+        ch[H_TSURF] = loads[top, 5]
+        ch[H_TOPRPM] = omega_d * RPM_PER_RAD_S
     h = seg[top, S_H]
     if bp[B_AXMODE] == 0.0:
         hl = bp[B_HL]
@@ -318,14 +361,11 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
         ch[H_HOOK] = hl
     else:
         ch[H_HOOK] = loads[top, 0]
-    ch[H_TSURF] = loads[top, 5]
-    ch[H_TOPRPM] = omega_d * RPM_PER_RAD_S
     # --- bit boundary ----------------------------------------------------------------------
-    md_bit = bp[B_MD0] + bp[B_ROP] * t
+    md_bit = sc[C_MDROCK]
     ch[H_BITMD] = md_bit
     ch[H_BITRPM] = w[0, 2] * RPM_PER_RAD_S
     if bp[B_BITON] == 1.0:
-        ch[H_ROP] = bp[B_ROP]
         pos = scv[5]
         tan = scv[6]
         sc[C_HINT] = path_point(md_bit, node_md, node_pos, node_tan, int(sc[C_HINT]), pos, tan)
@@ -333,53 +373,238 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
         s0 = bp[B_LOBE]
         phib = sc[C_PHIB]
         lob = s0 * math.sin(nl * phib)
-        vl = bp[B_ROP] + s0 * nl * math.cos(nl * phib) * w[0, 2]
+        vl = sc[C_ROPNOW] + s0 * nl * math.cos(nl * phib) * w[0, 2]
         h0 = seg[0, S_H]
         kb = bp[B_KBIT]
         cb = bp[B_CBIT]
-        wob_f = 0.0
-        fb0 = 0.0
-        fb1 = 0.0
-        fb2 = 0.0
-        dd = 0.0
+        # bit face A = x0 + h0 e3 relative to the rock target (face + lobe), and its velocity
+        dx = scv[7]
+        dv = scv[8]
         for k in range(3):
             r = h0 * R[0, k, 2]
-            xa = x[0, k] + r
-            tgt = pos[k] + lob * tan[k]
-            va_k = v[0, k] + (wW[0, (k + 1) % 3] * h0 * R[0, (k + 2) % 3, 2]
-                              - wW[0, (k + 2) % 3] * h0 * R[0, (k + 1) % 3, 2])
-            vt = vl * tan[k]
-            f = -kb * (xa - tgt) - cb * (va_k - vt)
-            dd += (xa - tgt) ** 2
-            pdiss += cb * (va_k - vt) ** 2
-            pin += f * vt
-            wob_f -= f * tan[k]
-            if k == 0:
-                fb0 = f
-            elif k == 1:
-                fb1 = f
-            else:
-                fb2 = f
-        pe += 0.5 * kb * dd
+            dx[k] = x[0, k] + r - (pos[k] + lob * tan[k])
+            dv[k] = v[0, k] + (wW[0, (k + 1) % 3] * h0 * R[0, (k + 2) % 3, 2]
+                               - wW[0, (k + 2) % 3] * h0 * R[0, (k + 1) % 3, 2]) - vl * tan[k]
+        s_ax = dx[0] * tan[0] + dx[1] * tan[1] + dx[2] * tan[2]
+        sdot = dv[0] * tan[0] + dv[1] * tan[1] + dv[2] * tan[2]
+        # lateral guide: the bit in its own pilot hole (stiff spring-damper)
+        fb = scv[9]
+        for k in range(3):
+            dp = dx[k] - s_ax * tan[k]
+            dvp = dv[k] - sdot * tan[k]
+            fb[k] = -kb * dp - cb * dvp
+            pe += 0.5 * kb * dp * dp
+            pdiss += cb * dvp * dvp
+        # axial: unilateral rock contact; WOB >= 0, zero is bit bounce
+        wob_f = 0.0
+        if s_ax > 0.0:
+            wob_f = kb * s_ax + cb * sdot
+            if wob_f < 0.0:
+                wob_f = 0.0
+            pe += 0.5 * kb * s_ax * s_ax
+            pdiss += (wob_f - kb * s_ax) * sdot
+        pin -= wob_f * vl
+        if wob_f <= 0.0:
+            if sc[C_OFFB] == 0.0:
+                sc[C_BOUNCE] += 1.0
+                sc[C_OFFB] = 1.0
+        elif s_ax > 1e-6:  # re-armed once the bit is back on bottom by > 1 micron
+            sc[C_OFFB] = 0.0
+        for k in range(3):
+            fb[k] -= wob_f * tan[k]
         r0 = h0 * R[0, 0, 2]
         r1 = h0 * R[0, 1, 2]
         r2 = h0 * R[0, 2, 2]
-        Fw[0, 0] += fb0
-        Fw[0, 1] += fb1
-        Fw[0, 2] += fb2
-        Mw[0, 0] += r1 * fb2 - r2 * fb1
-        Mw[0, 1] += r2 * fb0 - r0 * fb2
-        Mw[0, 2] += r0 * fb1 - r1 * fb0
+        Fw[0, 0] += fb[0]
+        Fw[0, 1] += fb[1]
+        Fw[0, 2] += fb[2]
+        Mw[0, 0] += r1 * fb[2] - r2 * fb[1]
+        Mw[0, 1] += r2 * fb[0] - r0 * fb[2]
+        Mw[0, 2] += r0 * fb[1] - r1 * fb[0]
         ch[H_WOB] = wob_f
-        # torque on bit, opposing the bit rotation (bit-rock law plugs in here)
-        tob = bp[B_TOB] * math.tanh(w[0, 2] / bp[B_WREF])
+        # torque on bit, opposing the bit rotation
+        if cpar.size > P_BITLAW and cpar[P_BITLAW] == 1.0:
+            out2 = cw[20:22]
+            if bit_response(int(cpar[P_BITMODEL]), cpar[P_BP:P_BP + 10], wob_f, w[0, 2], out2) != 0:
+                return 3
+            tob = out2[0]
+            sc[C_ROPNOW] = out2[1]
+        else:
+            tob = bp[B_TOB] * math.tanh(w[0, 2] / bp[B_WREF])
+            sc[C_ROPNOW] = bp[B_ROP]
         Mb[0, 2] -= tob
         pdiss += tob * w[0, 2]
         ch[H_TOB] = tob
+        ch[H_ROP] = sc[C_ROPNOW]
     else:
         ch[H_ROP] = 0.0
         ch[H_WOB] = 0.0
         ch[H_TOB] = 0.0
+    # --- wall contact and friction ---------------------------------------------------------
+    ncon = 0
+    fcmax = 0.0
+    if cpar[P_ON] != 0.0:
+        kc = cpar[P_KC]
+        fmodel = int(cpar[P_FMODEL])
+        npts = int(cpar[P_NPTS])
+        fp = cpar[P_FP:P_FP + 10]
+        p0 = wall[:, 0:3]
+        axc = wall[:, 3:6]
+        lnc = wall[:, 6]
+        rad = wall[:, 7]
+        info = cw[0:14]
+        X = scv[7]
+        tax = scv[8]
+        fo = scv[9]
+        force = scv[10]
+        moment = scv[11]
+        alin = scq[3]
+        alpha = scq[4]
+        t_win = bp[B_TWIN]
+        for i in range(n):
+            h = seg[i, S_H]
+            m = seg[i, S_M]
+            for k in range(3):
+                tax[k] = R[i, k, 2]
+                fo[k] = 0.0
+            karn = fmodel == KARNOPP
+            if karn:
+                # acceleration from the non-wall loads (first pass, see Notes)
+                mb0 = R[i, 0, 0] * Mb[i, 0] + R[i, 0, 1] * Mb[i, 1] + R[i, 0, 2] * Mb[i, 2] + Mw[i, 0]
+                mb1 = R[i, 1, 0] * Mb[i, 0] + R[i, 1, 1] * Mb[i, 1] + R[i, 1, 2] * Mb[i, 2] + Mw[i, 1]
+                mb2 = R[i, 2, 0] * Mb[i, 0] + R[i, 2, 1] * Mb[i, 1] + R[i, 2, 2] * Mb[i, 2] + Mw[i, 2]
+                max_ = mb0 * tax[0] + mb1 * tax[1] + mb2 * tax[2]
+                it = seg[i, S_IT]
+                ia = seg[i, S_IA]
+                alpha[0] = (mb0 - max_ * tax[0]) / it + max_ * tax[0] / ia
+                alpha[1] = (mb1 - max_ * tax[1]) / it + max_ * tax[1] / ia
+                alpha[2] = (mb2 - max_ * tax[2]) / it + max_ * tax[2] / ia
+                for k in range(3):
+                    alin[k] = Fw[i, k] / m
+            nsum = 0.0
+            dmax = 0.0
+            m_cap = m / (3.0 * npts)
+            for p in range(npts):
+                if p == 0:
+                    off = h
+                    rc = seg[i, S_RC]
+                elif p == 1:
+                    off = -h
+                    rc = seg[i, S_RC]
+                else:
+                    off = 0.0
+                    rc = seg[i, S_RB]
+                for k in range(3):
+                    X[k] = x[i, k] + off * tax[k]
+                if karn:
+                    share = m / npts
+                    fo[0] = share * (alin[0] + alpha[1] * off * tax[2] - alpha[2] * off * tax[1])
+                    fo[1] = share * (alin[1] + alpha[2] * off * tax[0] - alpha[0] * off * tax[2])
+                    fo[2] = share * (alin[2] + alpha[0] * off * tax[1] - alpha[1] * off * tax[0])
+                ih = 3 * i + p
+                ic = wall_force(X, x[i], v[i], wW[i], tax, rc, p0, axc, lnc, rad, hint[ih],
+                                kc, seg[i, S_CC], fmodel, fp, fo, dt, info, force, moment)
+                if ic == -2:
+                    return 2
+                if ic >= 0:
+                    hint[ih] = ic
+                d = info[5]
+                if d > dmax:
+                    dmax = d
+                delta = info[0]
+                if delta > 0.0:
+                    nrm = info[6]
+                    nsum += nrm
+                    nx = info[1]
+                    ny = info[2]
+                    nz = info[3]
+                    # velocity of the surface contact point Y = X + r n
+                    ax_ = X[0] + rc * nx - x[i, 0]
+                    ay_ = X[1] + rc * ny - x[i, 1]
+                    az_ = X[2] + rc * nz - x[i, 2]
+                    vy0 = v[i, 0] + wW[i, 1] * az_ - wW[i, 2] * ay_
+                    vy1 = v[i, 1] + wW[i, 2] * ax_ - wW[i, 0] * az_
+                    vy2 = v[i, 2] + wW[i, 0] * ay_ - wW[i, 1] * ax_
+                    vn = vy0 * nx + vy1 * ny + vy2 * nz
+                    if not karn and nrm > 0.0:
+                        # slip cap (see Notes): |F_t| <= m_eff |v_slip| / dt
+                        ft0 = force[0] + nrm * nx
+                        ft1 = force[1] + nrm * ny
+                        ft2 = force[2] + nrm * nz
+                        ftm = math.sqrt(ft0 * ft0 + ft1 * ft1 + ft2 * ft2)
+                        cap = m_cap * info[7] / dt
+                        if ftm > cap:
+                            sf = cap / ftm
+                            force[0] = sf * ft0 - nrm * nx
+                            force[1] = sf * ft1 - nrm * ny
+                            force[2] = sf * ft2 - nrm * nz
+                            moment[0] = ay_ * force[2] - az_ * force[1]
+                            moment[1] = az_ * force[0] - ax_ * force[2]
+                            moment[2] = ax_ * force[1] - ay_ * force[0]
+                    pe += 0.5 * kc * delta * delta
+                    pdiss += -(force[0] * vy0 + force[1] * vy1 + force[2] * vy2) - kc * delta * vn
+                    for k in range(3):
+                        Fw[i, k] += force[k]
+                        Mw[i, k] += moment[k]
+            cst[i, CS_N] = nsum
+            cst[i, CS_D] = dmax
+            if nsum > 0.0:
+                ncon += 1
+                if cst[i, CS_ONT] < 0.0:
+                    cst[i, CS_ONT] = t
+                    cst[i, CS_ONMD] = md_bit
+                if nsum > cst[i, CS_FMAX]:
+                    cst[i, CS_FMAX] = nsum
+                if nsum > fcmax:
+                    fcmax = nsum
+                cst[i, CS_IMP] += nsum * dt
+                cst[i, CS_TCON] += dt
+            # whirl: orbit angle of the centre about the hole axis, after the ramp
+            if t >= t_win:
+                out6 = cw[22:28]
+                ic = find_contact(x[i], 0.0, p0, axc, lnc, rad, hint[3 * i], out6)
+                if ic < 0:
+                    ic = hint[3 * i]
+                a0 = wall[ic, 3]
+                a1 = wall[ic, 4]
+                a2 = wall[ic, 5]
+                spin = wW[i, 0] * a0 + wW[i, 1] * a1 + wW[i, 2] * a2
+                cst[i, CS_SPIN] += spin * dt
+                clr = rad[ic] - seg[i, S_RC]
+                if out6[5] > 0.25 * clr:
+                    # reference u: the world z (or x in a vertical hole) normal to the axis
+                    if abs(a2) < 0.9:
+                        u0 = -a2 * a0
+                        u1 = -a2 * a1
+                        u2 = 1.0 - a2 * a2
+                    else:
+                        u0 = 1.0 - a0 * a0
+                        u1 = -a0 * a1
+                        u2 = -a0 * a2
+                    un = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+                    u0 /= un
+                    u1 /= un
+                    u2 /= un
+                    w0 = a1 * u2 - a2 * u1
+                    w1 = a2 * u0 - a0 * u2
+                    w2 = a0 * u1 - a1 * u0
+                    th = math.atan2(out6[1] * w0 + out6[2] * w1 + out6[3] * w2,
+                                    out6[1] * u0 + out6[2] * u1 + out6[3] * u2)
+                    if cst[i, CS_THOK] == 1.0:
+                        dth = th - cst[i, CS_TH]
+                        if dth > math.pi:
+                            dth -= 2.0 * math.pi
+                        elif dth < -math.pi:
+                            dth += 2.0 * math.pi
+                        cst[i, CS_ORB] += dth
+                        cst[i, CS_ORBABS] += abs(dth)
+                    cst[i, CS_TH] = th
+                    cst[i, CS_THOK] = 1.0
+                else:
+                    cst[i, CS_THOK] = 0.0
+    ch[H_NCON] = ncon
+    ch[H_FCMAX] = fcmax
+    ch[H_NSEG] = n
     # --- world moments to the body frame -------------------------------------------------
     for i in range(n):
         m0 = Mw[i, 0]
@@ -393,3 +618,146 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
     ch[H_PDISS] = pdiss
     ch[H_PIN] = pin
     return 0
+
+
+@njit(cache=True)
+def _seg_row(i, h, seg, topp):
+    """Fill seg[i] for a segment of the top section (per-length properties ``topp``), half length h."""
+    L = 2.0 * h
+    m = topp[T_MPL] * L
+    seg[i, S_M] = m
+    seg[i, S_H] = h
+    seg[i, S_IA] = 0.5 * m * topp[T_R2]
+    seg[i, S_IT] = m * (3.0 * topp[T_R2] + L * L) / 12.0
+    seg[i, S_W] = topp[T_WPL] * L
+    seg[i, S_CL] = topp[T_CLPL] * L
+    seg[i, S_CA] = topp[T_CAPL] * L
+    seg[i, S_CRL] = topp[T_CRLPL] * L
+    seg[i, S_CRA] = topp[T_CRAPL] * L
+
+
+@njit(cache=True)
+def _rigid_point_velocity(v, wW, r, out):
+    out[0] = v[0] + wW[1] * r[2] - wW[2] * r[1]
+    out[1] = v[1] + wW[2] * r[0] - wW[0] * r[2]
+    out[2] = v[2] + wW[0] * r[1] - wW[1] * r[0]
+
+
+@njit(cache=True)
+def split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv):
+    """Drilling: split a segment of length ``bp[B_LNOM]`` off the bottom of the top segment.
+
+    The top segment (row n-1) is cut rigidly into a lower piece of the nominal
+    length (kept in row n-1, now an ordinary segment) and a new, shorter top
+    segment (row n). Both parts keep the rigid-body motion of the whole (velocity
+    of each centre = v + omega x r), so momentum and kinetic energy are
+    unchanged; the new joint between them starts undeformed. The stiffness of
+    the joint below changes with the half lengths; the caller books the energy
+    difference as work put in (as for the growing top segment).
+    Requires n < the allocated rows. Returns the new active count.
+    """
+    n = int(sc[C_NACT])
+    top = n - 1
+    new = n
+    h = seg[top, S_H]
+    ln = bp[B_LNOM]
+    quat_to_rot(q[top], R[top])
+    wv = scv[0]
+    r = scv[1]
+    vel = scv[2]
+    for k in range(3):
+        wv[k] = R[top, k, 0] * w[top, 0] + R[top, k, 1] * w[top, 1] + R[top, k, 2] * w[top, 2]
+    h1 = 0.5 * ln
+    h2 = h - h1
+    xc = scv[3]
+    for k in range(3):
+        xc[k] = x[top, k]
+    # lower piece: centre at (h - h1) below the old centre; new top: h1 above it... along e3
+    for k in range(3):
+        r[k] = (h - h1) * R[top, k, 2]
+    _rigid_point_velocity(v[top], wv, r, vel)
+    vnew = scv[4]
+    for k in range(3):
+        r[k] = -(h - h2) * R[top, k, 2]
+    _rigid_point_velocity(v[top], wv, r, vnew)
+    for k in range(3):
+        x[new, k] = xc[k] - (h - h2) * R[top, k, 2]
+        v[new, k] = vnew[k]
+        w[new, k] = w[top, k]
+        x[top, k] = xc[k] + (h - h1) * R[top, k, 2]
+        v[top, k] = vel[k]
+    for k in range(4):
+        q[new, k] = q[top, k]
+    seg[new, S_RC] = seg[top, S_RC]
+    seg[new, S_RB] = seg[top, S_RB]
+    m_old = seg[top, S_M]
+    cc_old = seg[top, S_CC]
+    _seg_row(top, h1, seg, topp)
+    for p in range(3):
+        hint[3 * new + p] = hint[3 * top + p]
+    for k in range(cst.shape[1]):
+        cst[new, k] = 0.0
+    cst[new, CS_ONT] = -1.0
+    # joint below the piece: section of segment n-2 and the piece (top section)
+    sc[C_NACT] = n + 1.0
+    # the joint top-1 (below the piece) is rebuilt by update_top on an n-active string
+    # whose top is the piece; then the piece becomes an ordinary segment
+    update_top(h1, n, seg, jp, topp, bp)
+    # from now on the segment below the top has the top section
+    topp[T_EA2] = topp[T_EA]
+    topp[T_EI2] = topp[T_EI]
+    topp[T_GJ2] = topp[T_GJ]
+    topp[T_KGA2] = topp[T_KGA]
+    update_top(h2, n + 1, seg, jp, topp, bp)
+    # the per-point contact dash-pot scales with sqrt(mass carried)
+    seg[top, S_CC] = cc_old * math.sqrt(seg[top, S_M] / m_old)
+    seg[new, S_CC] = cc_old * math.sqrt(seg[new, S_M] / m_old)
+    return n + 1
+
+
+@njit(cache=True)
+def merge_top(x, v, q, w, seg, jp, topp, bp, sc, R, scv):
+    """Tripping out: merge the (short) top segment with the segment below it.
+
+    The merged body takes the orientation of the lower one, spans from its lower
+    end to the old top end along its axis, and the momentum-weighted velocities
+    (the relative motion of the two parts is lost: an inelastic merge; the
+    caller books the energy change). The merged segment gets the top section's
+    per-length properties. Returns the new active count.
+    """
+    n = int(sc[C_NACT])
+    top = n - 1
+    lo = n - 2
+    quat_to_rot(q[lo], R[lo])
+    quat_to_rot(q[top], R[top])
+    m1 = seg[lo, S_M]
+    m2 = seg[top, S_M]
+    i1 = seg[lo, S_IT]
+    i2 = seg[top, S_IT]
+    lowend = scv[0]
+    topend = scv[1]
+    for k in range(3):
+        lowend[k] = x[lo, k] + seg[lo, S_H] * R[lo, k, 2]
+        topend[k] = x[top, k] - seg[top, S_H] * R[top, k, 2]
+    L = 0.0
+    for k in range(3):
+        L += (lowend[k] - topend[k]) * R[lo, k, 2]
+    h = 0.5 * L
+    for k in range(3):
+        v[lo, k] = (m1 * v[lo, k] + m2 * v[top, k]) / (m1 + m2)
+        x[lo, k] = lowend[k] - h * R[lo, k, 2]
+    w[lo, 0] = (i1 * w[lo, 0] + i2 * w[top, 0]) / (i1 + i2)
+    w[lo, 1] = (i1 * w[lo, 1] + i2 * w[top, 1]) / (i1 + i2)
+    w[lo, 2] = (seg[lo, S_IA] * w[lo, 2] + seg[top, S_IA] * w[top, 2]) / (seg[lo, S_IA] + seg[top, S_IA])
+    for k in range(3):
+        x[top, k] = 0.0
+        v[top, k] = 0.0
+        w[top, k] = 0.0
+    for k in range(seg.shape[1]):
+        seg[top, k] = 0.0
+    for k in range(jp.shape[1]):
+        jp[top, k] = 0.0
+    sc[C_NACT] = n - 1.0
+    _seg_row(lo, h, seg, topp)
+    update_top(h, n - 1, seg, jp, topp, bp)
+    return n - 1

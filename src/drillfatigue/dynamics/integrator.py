@@ -29,8 +29,20 @@ free-rotor drift, which removed an O(dt) energy drift of the explicit form
   shear springs kappa G A / L are what bounds the step; no mass scaling is used.
 * Damping forces use the half-step velocity (first order in the damping, which
   is small); convergence is tested by halving the step (< 1 % change).
-* Penalty contact and regularised friction (next issue) enter the force
-  evaluation only; their stiffness enters the stable-step bound.
+* Penalty contact and regularised friction enter the force evaluation only;
+  the contact stiffness enters the stable-step bound (a mass m / points on k_c).
+
+Drilling and tripping (MODEL.md §3). Each step the string length changes by
+dL = ROP dt (bit on bottom: the ROP of the bit law or the prescribed one; the
+rock face MD advances by the same amount) or trip_speed dt (off bottom). The
+top segment grows (or shrinks) from its fixed top end. When it is longer than
+``bp[B_LSPLIT]`` a segment of ``bp[B_LNOM]`` is split off its bottom
+(:func:`forces.split_top`), so a 480 -> 880 m run keeps its resolution; when a
+tripping-out top segment is shorter than ``bp[B_LMIN]`` it merges with the one
+below (:func:`forces.merge_top`); with only two segments left tripping out stops
+(``sc[C_GUARD] = 1``). Arrays are allocated to the largest size the run can
+reach; the kernels use the first ``sc[C_NACT]`` rows (no reallocation). Energy
+changed by growth, splits and merges is booked as work put in (feeding pipe).
 
 The loop runs a chunk of steps per call in one numba kernel; Python handles
 progress, recording buffers and checkpoints between chunks. The time is
@@ -44,17 +56,20 @@ import math
 
 from numba import njit
 
-from drillfatigue.dynamics.forces import compute_forces, drive_omega, top_energy, update_top
+from drillfatigue.dynamics.forces import (
+    compute_forces, drive_omega, merge_top, split_top, tail_energy, update_top,
+)
 from drillfatigue.dynamics.layout import (
-    B_EXT, C_DISS, C_PHIB, C_PHID, C_STEP, C_WIN, H_PDISS, H_PIN, N_CH, S_H, S_IA, S_IT, S_M,
-    ST_BLOWUP, ST_FORCES, ST_NONFINITE, ST_OK, B_ESCALE, T_H0,
+    B_BITON, B_EXT, B_LMIN, B_LSPLIT, C_DISS, C_GUARD, C_MDROCK, C_NACT, C_NMERGE, C_NSPLIT,
+    C_PHIB, C_PHID, C_ROPNOW, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, S_H, S_IA, S_IT,
+    S_M, ST_BLOWUP, ST_FORCES, ST_NONFINITE, ST_OK, B_ESCALE,
 )
 from drillfatigue.dynamics.rigid import free_rotation, kick
 
 
 @njit(cache=True)
 def kinetic_energy(v, w, seg):
-    """Translational + rotational kinetic energy (J) of all segments."""
+    """Translational + rotational kinetic energy (J) of all segments (inactive rows are zero)."""
     e = 0.0
     for i in range(v.shape[0]):
         e += 0.5 * seg[i, S_M] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
@@ -64,9 +79,9 @@ def kinetic_energy(v, w, seg):
 
 @njit(cache=True)
 def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, tab_t, tab_w,
-            node_md, node_pos, node_tan, wall, cpar, hint, R, wW, loads, ch,
+            node_md, node_pos, node_tan, wall, cpar, hint, cst, R, wW, loads, ch,
             sel, every_l, buf_l, every_c, buf_c, every_k, buf_k, counts, info,
-            scq, scm, scv, ed):
+            scq, scm, scv, ed, cw):
     """Advance the state by ``n_steps`` velocity-Verlet steps, recording on the way.
 
     Parameters
@@ -78,16 +93,18 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
     sc : ndarray, shape (N_SC,)        scalar state, updated
     seg, jp, bp, topp, anchor, tab_t, tab_w, node_md, node_pos, node_tan, wall, cpar
                                        parameters (see :mod:`layout`)
-    hint : ndarray of int64, shape (n,)  contact cylinder hints (state)
+    hint : ndarray of int64, shape (3 n,)  contact cylinder hints per contact point (state)
+    cst : ndarray, shape (n, N_CST)  contact / whirl statistics (state)
     R, wW, loads, ch                   work arrays written by the force evaluation
     sel : ndarray of int64, shape (J,) joint rows recorded
     every_l, every_c, every_k : int    record loads / channels / kinematics every this many steps
     buf_l : ndarray, shape (>= rows, 1 + 6 J)    written rows: time_s, then the 6 loads per joint
     buf_c : ndarray, shape (>= rows, 1 + N_CH + 3)  time_s, ch, kinetic energy, W_in, dissipated
-    buf_k : ndarray, shape (>= rows, 1 + 6 n)    time_s, then x, v per segment
+    buf_k : ndarray, shape (>= rows, 1 + 8 n)    time_s, then x, v, normal force, distance from
+                                                 the hole centre per segment (NaN: inactive)
     counts : ndarray of int64, shape (3,)  rows written to each buffer (reset by the caller)
     info : ndarray, shape (3,)         written on failure: [step, segment, kinetic energy]
-    scq, scm, scv, ed                  scratch
+    scq, scm, scv, ed, cw              scratch
 
     Returns
     -------
@@ -96,10 +113,11 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
         ``bp[B_ESCALE]``) or ST_FORCES (the force kernel failed, its code in info[2]);
         on failure ``info`` says where.
     """
-    n = x.shape[0]
-    top = n - 1
+    nmax = x.shape[0]
+    n = int(sc[C_NACT])
     hdt = 0.5 * dt
     ext = bp[B_EXT]
+    biton = bp[B_BITON] == 1.0
     nsel = sel.size
     for _s in range(n_steps):
         for i in range(n):
@@ -113,21 +131,44 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
         sc[C_STEP] += 1.0
         t1 = sc[C_STEP] * dt
         sc[C_PHID] += 0.5 * dt * (drive_omega(t0, tab_t, tab_w) + drive_omega(t1, tab_t, tab_w))
-        if ext != 0.0:
+        if biton:
+            dL = sc[C_ROPNOW] * dt
+            sc[C_MDROCK] += dL
+        else:
+            dL = ext * dt
+            if sc[C_GUARD] == 1.0 and dL < 0.0:
+                dL = 0.0
+        if dL != 0.0:
+            top = n - 1
             # the top segment grows downward from its fixed top end; the energy
             # this changes is booked as work put in (feeding pipe)
-            e_before = top_energy(t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW,
-                                  scq, scm, scv, loads, ed)
-            h_new = topp[T_H0] + 0.5 * ext * t1
+            e_before = tail_energy(top, t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW,
+                                   scq, scm, scv, loads, ed)
+            h_new = seg[top, S_H] + 0.5 * dL
+            if 2.0 * h_new < bp[B_LMIN] and n <= 2:
+                # tripping out: keep a minimum string
+                sc[C_GUARD] = 1.0
+                h_new = seg[top, S_H]
             dh = h_new - seg[top, S_H]
             for k in range(3):
                 x[top, k] += dh * R[top, k, 2]
-            update_top(h_new, seg, jp, topp, bp)
-            sc[C_WIN] += top_energy(t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW,
-                                    scq, scm, scv, loads, ed) - e_before
+            update_top(h_new, n, seg, jp, topp, bp)
+            if 2.0 * h_new > bp[B_LSPLIT] and n < nmax:
+                n = split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv)
+                sc[C_NSPLIT] += 1.0
+            elif 2.0 * h_new < bp[B_LMIN] and n > 2:
+                e_before = tail_energy(n - 2, t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R,
+                                       wW, scq, scm, scv, loads, ed) - tail_energy(
+                    top, t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW, scq, scm, scv,
+                    loads, ed) + e_before
+                n = merge_top(x, v, q, w, seg, jp, topp, bp, sc, R, scv)
+                sc[C_NMERGE] += 1.0
+                top = n - 1
+            sc[C_WIN] += tail_energy(top, t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R, wW,
+                                     scq, scm, scv, loads, ed) - e_before
         fst = compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
-                             node_md, node_pos, node_tan, wall, cpar, hint, sc, R, wW, Fw, Mw, Mb,
-                             loads, ch, scq, scm, scv, ed)
+                             node_md, node_pos, node_tan, wall, cpar, hint, cst, sc, R, wW, Fw, Mw,
+                             Mb, loads, ch, scq, scm, scv, ed, cw)
         if fst != 0:
             info[0] = sc[C_STEP]
             info[1] = -1.0
@@ -157,10 +198,16 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
         if step % every_k == 0:
             r = counts[2]
             buf_k[r, 0] = t1
-            for i in range(n):
-                for k in range(3):
-                    buf_k[r, 1 + 6 * i + k] = x[i, k]
-                    buf_k[r, 4 + 6 * i + k] = v[i, k]
+            for i in range(nmax):
+                if i < n:
+                    for k in range(3):
+                        buf_k[r, 1 + 8 * i + k] = x[i, k]
+                        buf_k[r, 4 + 8 * i + k] = v[i, k]
+                    buf_k[r, 7 + 8 * i] = cst[i, CS_N]
+                    buf_k[r, 8 + 8 * i] = cst[i, CS_D]
+                else:
+                    for k in range(8):
+                        buf_k[r, 1 + 8 * i + k] = math.nan
             counts[2] = r + 1
         if step % 32 == 0 or _s == n_steps - 1:
             ke = kinetic_energy(v, w, seg)

@@ -14,8 +14,10 @@ S_CL = 5     # lateral mud damping (N s/m)
 S_CA = 6     # axial mud damping (N s/m)
 S_CRL = 7    # rotational mud damping about transverse axes (N m s)
 S_CRA = 8    # rotational mud damping about the axis (N m s)
-S_RC = 9     # contact radius (m), for the wall contact of the next issue
-N_SEG = 10
+S_RC = 9     # contact radius at the segment ends (m): tool joints / stabilizer blades
+S_RB = 10    # body contact radius (m): the middle contact point
+S_CC = 11    # contact dash-pot per contact point (N s/m)
+N_SEG = 12
 
 # wall[c, :] -- the hole as a chain of straight cylinders (from drillfatigue.well)
 W_P0 = 0     # 0..2: start point of the axis (m, world)
@@ -28,6 +30,14 @@ N_WALL = 8
 # cpar[P_ON] == 0 switches wall contact off (this issue); the remaining layout
 # is owned by the contact / friction modules.
 P_ON = 0
+P_KC = 1         # penalty stiffness k_c (N/m)
+P_FMODEL = 2     # friction model id (drillfatigue.dynamics.friction)
+P_NPTS = 3       # contact points per segment: 2 (ends) or 3 (ends and middle)
+P_BITLAW = 4     # 0: given TOB tanh(omega/WREF), prescribed ROP; 1: bit_response law
+P_BITMODEL = 5   # bit law id (drillfatigue.dynamics.bitrock)
+P_FP = 6         # 6..15: friction parameters (friction.N_PARAMS = 10)
+P_BP = 16        # 16..25: bit parameters (bitrock.N_PARAMS = 10)
+N_CPAR = 26
 N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;
@@ -62,7 +72,15 @@ B_ZB = 15        # boundary damping ratio
 B_ZJ = 16        # joint damping ratio
 B_MD0 = 17       # bit MD at t = 0 (m)
 B_DT = 18        # step (s)
-N_BP = 19
+B_TOPMODE = 19   # 0: top drive imposes the rpm table; 1: constant torque B_TOPTQ at the top
+B_TOPTQ = 20     # applied top torque (N m), mode 1 (ramped over B_TRAMP)
+B_TOPLAT = 21    # 1: top held laterally and in tilt (parasitic springs); 0: free
+B_LSPLIT = 22    # top segment length (m) at which a segment is split off (drilling)
+B_LNOM = 23      # length (m) of a split-off segment
+B_LMIN = 24      # top segment length (m) below which it merges with the one below (tripping out)
+B_TWIN = 25      # start of the event window (s): after the rpm ramp
+B_TRAMP = 26     # top torque ramp time (s), mode 1
+N_BP = 27
 
 # topp -- per-length properties of the extensible top segment (index n-1) and
 # section of segment n-2, to rebuild the top rows as the top grows
@@ -95,7 +113,30 @@ C_PHIB = 2      # bit rotation angle (rad)
 C_WIN = 3       # cumulative work put in by the boundaries (J)
 C_DISS = 4      # cumulative dissipated energy (J)
 C_HINT = 5      # path search hint
-N_SC = 6
+C_MDROCK = 6    # MD of the rock face / bit reference (m)
+C_NACT = 7      # active segments (float holding an integer); arrays are sized to the maximum
+C_BOUNCE = 8    # bit-bounce count (WOB reaching zero)
+C_OFFB = 9      # 1 while the bit is off bottom (bounce), 0 in contact
+C_ROPNOW = 10   # current ROP (m/s) from the bit law
+C_NSPLIT = 11   # segments added (split off the top)
+C_NMERGE = 12   # segments merged (tripping out)
+C_GUARD = 13    # 1 once tripping out stopped at the minimum string length
+N_SC = 14
+
+# cst[i, :] -- per-segment contact / whirl statistics (state, checkpointed)
+CS_ONT = 0      # contact onset time (s), -1 if never
+CS_FMAX = 1     # largest normal force (N), sum over the segment's points
+CS_IMP = 2      # time integral of the normal force (N s)
+CS_TCON = 3     # time in contact (s)
+CS_N = 4        # current normal force (N), sum over points
+CS_D = 5        # current largest distance of a contact point from the hole centre (m)
+CS_ORB = 6      # orbit angle of the centre about the hole axis, summed over the window (rad)
+CS_ORBABS = 7   # sum of |d orbit angle| over the window (rad)
+CS_TH = 8       # previous orbit angle (rad)
+CS_THOK = 9     # 1 when CS_TH is valid
+CS_SPIN = 10    # spin angle about the hole axis, summed over the window (rad)
+CS_ONMD = 11    # bit MD at contact onset (m)
+N_CST = 12
 
 # ch -- channels computed with the forces
 H_TSURF = 0     # surface torque (N m)
@@ -110,7 +151,10 @@ H_PE = 8        # spring + boundary potential energy (J)
 H_PG = 9        # gravity potential energy (J)
 H_PDISS = 10    # dissipated power (W)
 H_PIN = 11      # power put in by the boundaries (W)
-N_CH = 12
+H_NCON = 12     # segments in wall contact
+H_FCMAX = 13    # largest segment normal force now (N)
+H_NSEG = 14     # active segments
+N_CH = 15
 
 # status codes returned by the kernels
 ST_OK = 0

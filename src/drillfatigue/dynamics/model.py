@@ -5,6 +5,18 @@ frames, so no spurious twist), packs the parameters (:mod:`layout`), solves the
 hook load for the requested neutral point, pre-loads the joints axially and in
 torsion so the run starts in static equilibrium for a straight hole, and picks
 the step from :func:`stable_step`.
+
+Wall contact, friction and the bit law are packed into ``cpar``
+(:func:`pack_contact`). The per-segment arrays are allocated to the largest
+size the run can reach (:func:`max_segments`: the initial count plus the
+segments drilling or tripping in can add) and padded with inactive rows.
+
+Initial state in curved wells: the segments are placed as chords of the well
+path, which is where the hole keeps them; the joints then carry the bending
+of the path (physical). With ``solver.relax_s > 0`` a damped pre-run (no
+rotation, no ROP, lateral mud damping x ``RELAX_DAMPING``) lets the string
+settle onto the low side of the hole before t = 0; time, energy counters and
+contact statistics are reset after it.
 """
 
 from __future__ import annotations
@@ -93,14 +105,20 @@ class State:
     Mb: np.ndarray
     sc: np.ndarray
     hint: np.ndarray
+    cst: np.ndarray = field(default_factory=lambda: np.zeros((0, L.N_CST)))
 
     def copy(self) -> State:
         return State(*(a.copy() for a in (self.x, self.v, self.q, self.w, self.Fw, self.Mw,
-                                           self.Mb, self.sc, self.hint)))
+                                           self.Mb, self.sc, self.hint, self.cst)))
 
     def arrays(self) -> dict[str, np.ndarray]:
         return {"x": self.x, "v": self.v, "q": self.q, "w": self.w, "Fw": self.Fw,
-                "Mw": self.Mw, "Mb": self.Mb, "sc": self.sc, "hint": self.hint}
+                "Mw": self.Mw, "Mb": self.Mb, "sc": self.sc, "hint": self.hint, "cst": self.cst}
+
+    @property
+    def n_active(self) -> int:
+        """Active segments now."""
+        return int(self.sc[L.C_NACT])
 
 
 @dataclass
@@ -121,11 +139,14 @@ class Model:
     wob0_N: float
     neutral_point_s_from_bit_m: float | None
     top_length_m: float
-    cpar: np.ndarray = field(default_factory=lambda: np.zeros(L.N_CPAR_MIN))
+    cpar: np.ndarray = field(default_factory=lambda: np.zeros(L.N_CPAR))
     work: dict[str, np.ndarray] = field(default_factory=dict)
+    n0: int = 0
+    segment_length_m: float = 0.0
 
     @property
     def n(self) -> int:
+        """Allocated segment rows (the largest count the run can reach)."""
         return int(self.seg.shape[0])
 
     def new_work(self) -> None:
@@ -134,7 +155,7 @@ class Model:
         self.work = {
             "R": np.zeros((n, 3, 3)), "wW": np.zeros((n, 3)), "loads": np.zeros((n, 6)),
             "ch": np.zeros(L.N_CH), "scq": np.zeros((5, 4)), "scm": np.zeros((2, 3, 3)),
-            "scv": np.zeros((8, 3)), "ed": np.zeros(2),
+            "scv": np.zeros((12, 3)), "ed": np.zeros(2), "cw": np.zeros(32),
         }
 
 
@@ -143,7 +164,8 @@ def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> n
     return 1.0 / (h1 / k1 + h2 / k2)
 
 
-def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray) -> float:
+def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
+                cpar: np.ndarray | None = None) -> float:
     """Largest stable velocity-Verlet step (s) before the safety factor.
 
     Gershgorin bound on the eigenvalues of M^-1/2 K M^-1/2 of the linearised
@@ -151,6 +173,15 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray) -> float:
     |K_ab| / sqrt(m_a m_b), including the shear lever arms h and the boundary
     springs; omega_max^2 <= the largest row sum. dt = 2 / omega_max times
     (sqrt(1 + zeta^2) - zeta) for the largest damping ratio.
+
+    With wall contact (``cpar[P_ON] != 0``) every contact point adds its
+    penalty spring k_c (translation, and tilt through the lever arm h), and the
+    Karnopp friction adds the limit dt < 2 m_eff v_min / (mu_s N) (a slip
+    overshoot in one step must land inside the stick band; m_eff = m / 3 for
+    rolling/spinning), with N estimated as twice the segment's buoyed weight;
+    the smaller step is taken. The smooth friction laws need no such limit:
+    the force kernel caps their tangential force so one step cannot reverse
+    the slip (:func:`drillfatigue.dynamics.forces.compute_forces`, Notes).
     """
     n = seg.shape[0]
     m = seg[:, L.S_M]
@@ -185,9 +216,28 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray) -> float:
         rows[0, 0] += kbit / m[0] + kbit * h[0] / math.sqrt(m[0] * it[0])
         rows[0, 1] += kbit / m[0]
         rows[0, 2] += kbit * h[0] ** 2 / it[0] + kbit * h[0] / math.sqrt(m[0] * it[0])
+    dt_f = math.inf
+    zc = 0.0
+    if cpar is not None and cpar[L.P_ON] != 0.0:
+        from drillfatigue.dynamics import friction as fr
+        kc = cpar[L.P_KC]
+        npts = cpar[L.P_NPTS]
+        rows[:, 0] += npts * kc / m + 2.0 * kc * h / np.sqrt(m * it)
+        rows[:, 2] += 2.0 * kc * h ** 2 / it + 2.0 * kc * h / np.sqrt(m * it)
+        fp = cpar[L.P_FP:L.P_FP + fr.N_PARAMS]
+        vmin = {fr.COULOMB: fp[fr.I_V_REG], fr.BENSON_HALLQUIST: fp[fr.I_V_REG],
+                fr.KARNOPP: fp[fr.I_DV], fr.TANH: fp[fr.I_V_T],
+                fr.VELOCITY_TRIG: fp[fr.I_TRIG_PEAK] * 2.0 / math.pi,
+                fr.TANH_EXP: fp[fr.I_V_T]}[int(cpar[L.P_FMODEL])]
+        mu = max(fp[fr.I_MU_S], fp[fr.I_MU_D] * max(fp[fr.I_AX_RATIO], 1.0))
+        w_seg = np.abs(seg[:, L.S_W]) + 1e-12
+        if mu > 0.0 and int(cpar[L.P_FMODEL]) == fr.KARNOPP:
+            dt_f = float((2.0 * (m / 3.0) * vmin / (mu * 2.0 * w_seg)).min())
+        cc = seg[:, L.S_CC]
+        zc = float((cc / (2.0 * np.sqrt(kc * m / npts))).max())
     omega_max = math.sqrt(float(rows.max()))
-    zeta = max(bp[L.B_ZB], bp[L.B_ZJ])
-    return 2.0 / omega_max * (math.sqrt(1.0 + zeta * zeta) - zeta)
+    zeta = max(bp[L.B_ZB], bp[L.B_ZJ], zc)
+    return min(2.0 / omega_max * (math.sqrt(1.0 + zeta * zeta) - zeta), dt_f)
 
 
 def _frames(e3s: np.ndarray) -> np.ndarray:
@@ -354,7 +404,22 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     topp[L.T_KPAR_B] = sv.parasitic_stiffness_scale * kb_ref
     topp[L.T_KA_TOP] = sv.top_axial_stiffness_N_per_m or 0.0
     topp[L.T_KT_TOP] = sv.top_torsional_stiffness_N_m_per_rad or 0.0
-    update_top(h[t_], seg, jp, topp, bp)
+    bp[L.B_TOPMODE] = 1.0 if op.top_mode == "torque" else 0.0
+    bp[L.B_TOPTQ] = op.top_torque_Nm
+    bp[L.B_TRAMP] = op.rpm_ramp_s
+    bp[L.B_TOPLAT] = 1.0 if op.top_lateral == "held" else 0.0
+    comp_top = config.string.components[-1]
+    lnom = comp_top.length_m / comp_top.n_segments
+    bp[L.B_LNOM] = lnom
+    bp[L.B_LSPLIT] = max(2.0 * lnom, top_len + lnom)
+    bp[L.B_LMIN] = min(0.5 * lnom, 0.5 * top_len)
+    if op.rpm_table is not None:
+        bp[L.B_TWIN] = float(op.rpm_table[-1][0]) if len(op.rpm_table) > 1 else 0.0
+    else:
+        bp[L.B_TWIN] = op.rpm_ramp_s
+    if config.recording.events_start_s is not None:
+        bp[L.B_TWIN] = config.recording.events_start_s
+    update_top(h[t_], n, seg, jp, topp, bp)
     # --- hook load and static pre-load ------------------------------------------------
     w_ax = seg[:, L.S_W] * e3s[:, 2]  # axial (downhole) component of the buoyed weight
     total_ax = float(w_ax.sum())
@@ -406,7 +471,7 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
         tq = tob0 + float((seg[: j + 1, L.S_CRA] * omega0).sum())
         psi[j + 1] = psi[j] + tq / jp[j, L.J_KT]
     kt_top = jp[n - 1, L.J_KT]
-    phi0 = psi[-1] + torque0 / kt_top
+    phi0 = psi[-1] + (torque0 / kt_top if kt_top > 0.0 else 0.0)
     q = np.array([quat_from_rot(frames[i] @ _rotz(psi[i])) for i in range(n)])
     # top anchor: the top end, offset by the top spring's stretch in fixed mode
     b_top = centres[-1] - h[-1] * e3s[-1]
@@ -424,7 +489,16 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     model = Model(segments=segs, path=path, seg=seg, jp=jp, bp=bp, topp=topp, anchor=anchor,
                   tab_t=tab_t, tab_w=tab_w, dt=0.0, hook_load_N=hook, wob0_N=wob,
                   neutral_point_s_from_bit_m=s_np, top_length_m=top_len)
-    dt_stable = stable_step(seg, jp, bp)
+    cpar = pack_contact(config)
+    seg[:, L.S_RB] = 0.5 * segs.od_m
+    if not config.contact.tool_joints:
+        seg[:, L.S_RC] = 0.5 * segs.od_m
+    if cpar[L.P_ON] != 0.0:
+        from drillfatigue.dynamics.contact import contact_damping
+        npts = cpar[L.P_NPTS]
+        seg[:, L.S_CC] = [contact_damping(config.contact, float(mi) / npts) for mi in m]
+    model.cpar = cpar
+    dt_stable = stable_step(seg, jp, bp, cpar)
     if sv.dt_s is not None:
         dt = sv.dt_s
         if dt > dt_stable:
@@ -437,12 +511,35 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     model.dt = dt
     bp[L.B_DT] = dt
     omega_max = float(np.abs(tab_w).max())
+    if op.top_mode == "torque":
+        # steady spin under the applied torque against the mud: omega = T / sum(c_rot)
+        c_rot = float(seg[:, L.S_CRA].sum()) + 1e-9
+        omega_max = max(omega_max, abs(op.top_torque_Nm) / c_rot)
     e_scale = (abs(total_ax) * s_top_end[-1] + 0.5 * float(seg[:, L.S_IA].sum()) * omega_max ** 2
                + 0.5 * float(m.sum()) * (bp[L.B_ROP] ** 2) + 1.0)
     bp[L.B_ESCALE] = sv.energy_blowup_factor * e_scale
-    state = State(x=np.ascontiguousarray(centres), v=v, q=q, w=w, Fw=np.zeros((n, 3)),
-                  Mw=np.zeros((n, 3)), Mb=np.zeros((n, 3)), sc=sc,
-                  hint=np.zeros(n, dtype=np.int64))
+    sc[L.C_NACT] = n
+    sc[L.C_MDROCK] = op.bit_md_m
+    sc[L.C_ROPNOW] = bp[L.B_ROP]
+    nmax = max_segments(config, n, lnom, float(np.abs(tab_w).max()), total_ax)
+
+    def pad(a: np.ndarray, fill: float = 0.0) -> np.ndarray:
+        out = np.full((nmax,) + a.shape[1:], fill, dtype=a.dtype)
+        out[: a.shape[0]] = a
+        return np.ascontiguousarray(out)
+
+    model.seg = pad(seg)
+    model.jp = pad(jp)
+    model.n0 = n
+    model.segment_length_m = lnom
+    qp = pad(q)
+    qp[n:, 0] = 1.0
+    cst = np.zeros((nmax, L.N_CST))
+    cst[:, L.CS_ONT] = -1.0
+    state = State(x=pad(np.ascontiguousarray(centres)), v=pad(v), q=qp, w=pad(w),
+                  Fw=np.zeros((nmax, 3)), Mw=np.zeros((nmax, 3)), Mb=np.zeros((nmax, 3)), sc=sc,
+                  hint=np.zeros(3 * nmax, dtype=np.int64), cst=cst)
+    _init_hints(model, state)
     model.new_work()
     evaluate_forces(model, state)
     return model, state
@@ -452,11 +549,80 @@ def evaluate_forces(model: Model, state: State) -> np.ndarray:
     """Fill ``state.Fw/Mw/Mb`` and ``model.work['loads'/'ch']`` at the current state; return ch."""
     wk = model.work
     p = model.path
-    compute_forces(model.dt, state.x, state.v, state.q, state.w, model.seg, model.jp, model.bp,
-                   model.anchor, model.tab_t, model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan,
-                   p.wall, model.cpar, state.hint, state.sc, wk["R"], wk["wW"], state.Fw,
-                   state.Mw, state.Mb, wk["loads"], wk["ch"], wk["scq"], wk["scm"], wk["scv"], wk["ed"])
+    st = compute_forces(model.dt, state.x, state.v, state.q, state.w, model.seg, model.jp,
+                        model.bp, model.anchor, model.tab_t, model.tab_w, p.node_md_m,
+                        p.node_pos_m, p.node_tan, p.wall, model.cpar, state.hint, state.cst,
+                        state.sc, wk["R"], wk["wW"], state.Fw, state.Mw, state.Mb, wk["loads"],
+                        wk["ch"], wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
+    if st != 0:
+        from drillfatigue.errors import SimulationError
+        raise SimulationError(f"force evaluation failed (code {st})")
     return wk["ch"]
+
+
+def pack_contact(config: CaseConfig) -> np.ndarray:
+    """``cpar`` (shape (N_CPAR,)): wall contact, friction and bit-law parameters (see :mod:`layout`)."""
+    from drillfatigue.dynamics import bitrock, friction
+
+    cpar = np.zeros(L.N_CPAR)
+    c = config.contact
+    cpar[L.P_ON] = 1.0 if c.enabled else 0.0
+    cpar[L.P_KC] = c.k_c_N_per_m
+    fid, fp = friction.pack_friction_params(config.friction)
+    cpar[L.P_FMODEL] = fid
+    cpar[L.P_FP:L.P_FP + friction.N_PARAMS] = fp
+    cpar[L.P_NPTS] = 3.0 if c.points == "ends_and_middle" else 2.0
+    b = config.bit
+    if b.model == "given_tob":
+        cpar[L.P_BITLAW] = 0.0
+    else:
+        cpar[L.P_BITLAW] = 1.0
+        bid, bpar = bitrock.pack_bit_params(b, config.operation.rop_m_per_s)
+        cpar[L.P_BITMODEL] = bid
+        cpar[L.P_BP:L.P_BP + bitrock.N_PARAMS] = bpar
+    return cpar
+
+
+def max_segments(config: CaseConfig, n0: int, lnom: float, omega_max: float,
+                 weight_N: float) -> int:
+    """Rows to allocate: n0 plus the segments drilling / tripping in can add over the run.
+
+    Growth rate bound: the prescribed ROP, the trip speed, or for the computed
+    ROP the Sarker law at the whole buoyed weight and the largest speed; capped
+    by ``solver.max_segments`` when set.
+    """
+    op = config.operation
+    if op.bit_on_bottom:
+        rate = op.rop_m_per_s
+        if config.bit.model == "yigit_christoforou":
+            b = config.bit
+            rate = max(rate, b.rop_c1_m_per_N_sqrt_s * abs(weight_N) * math.sqrt(omega_max)
+                       + max(b.rop_c2_m_per_s, 0.0))
+    else:
+        rate = max(op.trip_speed_m_per_s, 0.0)
+    extra = int(math.ceil(rate * op.duration_s / max(lnom, 1e-6))) + 2 if rate > 0 else 0
+    cap = config.solver.max_segments
+    nmax = n0 + extra
+    if cap is not None:
+        nmax = max(n0, min(nmax, cap))
+    return nmax
+
+
+def _init_hints(model: Model, state: State) -> None:
+    """Cylinder hints of every contact point: the nearest cylinder start (O(n_cyl) once)."""
+    wall = model.path.wall
+    if wall.shape[0] == 0:
+        return
+    p0 = wall[:, L.W_P0:L.W_P0 + 3]
+    n = model.n0
+    R = np.zeros((3, 3))
+    from drillfatigue.dynamics.rigid import quat_to_rot
+    for i in range(n):
+        quat_to_rot(state.q[i], R)
+        h = model.seg[i, L.S_H]
+        for p, off in enumerate((h, -h, 0.0)):
+            X = state.x[i] + off * R[:, 2]
+            state.hint[3 * i + p] = int(np.argmin(((p0 - X) ** 2).sum(axis=1)))
 
 
 def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarray | None = None,
@@ -478,7 +644,7 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     from drillfatigue.errors import SimulationError
 
     n = model.n
-    sel = np.arange(n - 1, dtype=np.int64) if joints is None else np.asarray(joints, dtype=np.int64)
+    sel = np.arange(model.n0 - 1, dtype=np.int64) if joints is None else np.asarray(joints, dtype=np.int64)
     wk = model.work
     p = model.path
     counts = np.zeros(3, dtype=np.int64)
@@ -490,14 +656,14 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
         k = min(chunk, n_steps - done)
         buf_l = np.zeros((rows, 1 + 6 * sel.size))
         buf_c = np.zeros((rows, 4 + L.N_CH))
-        buf_k = np.zeros((rows, 1 + 6 * n))
+        buf_k = np.zeros((rows, 1 + 8 * n))
         counts[:] = 0
         st = advance(k, model.dt, state.x, state.v, state.q, state.w, state.Fw, state.Mw, state.Mb,
                      state.sc, model.seg, model.jp, model.bp, model.topp, model.anchor, model.tab_t,
                      model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan, p.wall, model.cpar,
-                     state.hint, wk["R"], wk["wW"],
+                     state.hint, state.cst, wk["R"], wk["wW"],
                      wk["loads"], wk["ch"], sel, every, buf_l, every, buf_c, every, buf_k, counts,
-                     info, wk["scq"], wk["scm"], wk["scv"], wk["ed"])
+                     info, wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
         if st != L.ST_OK:
             raise SimulationError(f"diverged at t = {info[0] * model.dt:.6g} s, segment "
                                   f"{int(info[1])} (status {st})")
@@ -508,8 +674,9 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     bl = np.concatenate(out_l)
     bc = np.concatenate(out_c)
     bk = np.concatenate(out_k)
+    k8 = bk[:, 1:].reshape(-1, n, 8)
     return {"time_s": bl[:, 0], "loads": bl[:, 1:].reshape(-1, sel.size, 6), "channels": bc,
-            "xv": bk[:, 1:].reshape(-1, n, 6)}
+            "xv": k8[:, :, :6], "contact": k8[:, :, 6:]}
 
 
 def total_energy(model: Model, state: State) -> float:
