@@ -1,0 +1,187 @@
+"""Case study 1 of the founding paper: whirl of a short pipe and the friction models.
+
+MODEL.md §8.1 and §6: a 5 m pipe cut into 5 segments, free ends, in a
+horizontal hole, driven by a constant torque at the top; Karnopp against the
+hybrid tanh-exponential friction model, at low and high friction. The paper
+saw the pipe climb the wall and slide back at low friction, and continuous
+contact with backward whirl at high friction; tanh-exponential reproduced
+Karnopp 2.6x faster (47 vs 18 min).
+
+Set-up (documented choices): the hole is a straight horizontal 8 1/2 in hole
+along north (a two-station survey written to the run folder); the pipe is the
+5 in drill-pipe body without tool joints (r_p = 63.5 mm, R_h = 107.95 mm, so
+rolling without slip is Omega_w = -r_p/(R_h - r_p) omega = -1.43 omega); top
+lateral springs off (``top_lateral: free``), bit off bottom, top held axially
+only; the top torque is ramped over 0.2 s.
+
+Whirl analysis from ``kinematics.parquet``: the orbit angle of each segment
+centre in the hole cross-section, theta = atan2(z, y) (right-handed about the
+hole axis +x, the same sense as positive rpm), unwrapped; whirl rate =
+d theta/dt (least squares over the second half of the run), compared with the
+rolling value from the mean spin rate over the same interval.
+
+Outputs: ``case1_whirl.csv``, ``case1_summary.json``, ``case1_orbits.png``,
+``case1_whirl_rate.png``, runs in ``runs/<model>_<level>``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from drillfatigue.config.studies import Case1Config
+from drillfatigue.studies.common import (
+    atomic_write_text,
+    run_simulation,
+    save_figure,
+    write_csv,
+    write_json,
+)
+
+PIPE_OD_M = 0.127
+PIPE_ID_M = 0.1086
+HOLE_D_M = 0.2159
+#: The paper's wall times of the whirl runs, minutes (MODEL.md §8).
+PAPER_WALL_MIN: dict[str, float] = {"karnopp": 47.0, "tanh_exp": 18.0}
+
+
+def rolling_ratio() -> float:
+    """Omega_w / omega of rolling without slip: -r_p / (R_h - r_p) (MODEL.md §6)."""
+    r_p, r_h = PIPE_OD_M / 2, HOLE_D_M / 2
+    return -r_p / (r_h - r_p)
+
+
+def case_dict(cfg: Case1Config, model: str, mu_dynamic: float, survey_csv: Path
+              ) -> dict[str, Any]:
+    """The simulator case of one whirl run."""
+    return {
+        "well": {"profiles": {"horizontal": {"kind": "survey_file", "path": str(survey_csv)}},
+                 "profile": "horizontal"},
+        "string": {"components": [{"type": "drill_pipe", "name": "5in DP body",
+                                   "od_m": PIPE_OD_M, "id_m": PIPE_ID_M,
+                                   "length_m": cfg.pipe_length_m,
+                                   "n_segments": cfg.n_segments}]},
+        "friction": {"model": model, "mu_dynamic": mu_dynamic,
+                     "mu_static": min(mu_dynamic * cfg.static_over_dynamic, 1.5)},
+        "operation": {"duration_s": cfg.duration_s, "bit_md_m": cfg.pipe_length_m + 1.0,
+                      "top_md_m": 1.0, "top_mode": "torque",
+                      "top_torque_Nm": cfg.top_torque_Nm, "rpm_ramp_s": 0.2,
+                      "top_lateral": "free", "top_axial": "fixed", "bit_on_bottom": False},
+        "recording": {"loads_rate_hz": 50.0, "channels_rate_hz": cfg.kinematics_rate_hz,
+                      "kinematics_rate_hz": cfg.kinematics_rate_hz},
+    }
+
+
+def orbit_angles(kin: pd.DataFrame) -> pd.DataFrame:
+    """Unwrapped orbit angle theta = atan2(z, y) per segment and time (hole along +x at y=z=0)."""
+    kin = kin.sort_values(["segment", "time_s"]).copy()
+    kin["theta_rad"] = np.arctan2(kin["z_m"], kin["y_m"])
+    kin["theta_rad"] = kin.groupby("segment")["theta_rad"].transform(
+        lambda a: np.unwrap(a.to_numpy()))
+    return kin
+
+
+def whirl_rate(kin: pd.DataFrame, t_from: float) -> float:
+    """Mean orbit rate of the segment centres after ``t_from``, rad/s (slope of theta(t))."""
+    rates = []
+    for _, g in kin[kin["time_s"] >= t_from].groupby("segment"):
+        if len(g) >= 3:
+            rates.append(np.polyfit(g["time_s"], g["theta_rad"], 1)[0])
+    return float(np.mean(rates)) if rates else math.nan
+
+
+def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, Any]:
+    """Run the four whirl cases and write the table and figures."""
+    out_dir = Path(out_dir)
+    survey = out_dir / "runs" / "horizontal_survey.csv"
+    atomic_write_text(survey, f"md_m,inc_deg,azi_deg\n0.0,90.0,0.0\n"
+                              f"{cfg.pipe_length_m + 20.0},90.0,0.0\n")
+    rows = []
+    orbits: dict[str, pd.DataFrame] = {}
+    for model in cfg.models:
+        for level, mu in (("low", cfg.mu_low), ("high", cfg.mu_high)):
+            name = f"{model}_{level}"
+            run_dir = out_dir / "runs" / name
+            _, summary, wall = run_simulation(case_dict(cfg, model, mu, survey), run_dir)
+            kin = orbit_angles(pd.read_parquet(run_dir / "kinematics.parquet"))
+            ch = pd.read_parquet(run_dir / "channels.parquet")
+            t_from = 0.5 * cfg.duration_s
+            late = ch[ch["time_s"] >= t_from]
+            omega = float(np.mean(late["top_rpm"])) * 2 * math.pi / 60.0
+            rate = whirl_rate(kin, t_from)
+            orbits[name] = kin
+            contact = kin[kin["time_s"] >= t_from]
+            rows.append({
+                "model": model, "friction": level, "mu_dynamic": mu,
+                "spin_rpm": omega * 60 / (2 * math.pi),
+                "whirl_rate_rad_per_s": rate,
+                "whirl_ratio": rate / omega if omega != 0 else math.nan,
+                "rolling_ratio": rolling_ratio(),
+                "rolling_whirl_rate_rad_per_s": rolling_ratio() * omega,
+                "direction": ("none" if not np.isfinite(rate) or abs(rate) < 0.05 * abs(omega)
+                              else ("forward" if rate * omega > 0 else "backward")),
+                "simulator_whirl_class": summary.get("events", {}).get("whirl_class"),
+                "contact_fraction": float((contact["normal_N"] > 0).mean()),
+                "wall_s": wall, "simulated_s": float(summary["duration_s"]),
+                "paper_wall_min": PAPER_WALL_MIN.get(model, math.nan),
+            })
+    table = pd.DataFrame(rows)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    write_csv(out_dir / "case1_whirl.csv", table)
+    walls = table.groupby("model")["wall_s"].sum().to_dict()
+    speedup = (walls["karnopp"] / walls["tanh_exp"]
+               if "karnopp" in walls and "tanh_exp" in walls and walls["tanh_exp"] > 0
+               else math.nan)
+    summ = {"config": cfg.model_dump(mode="json"), "rolling_ratio": rolling_ratio(),
+            "wall_s_by_model": walls, "speedup_karnopp_over_tanh_exp": speedup,
+            "paper_speedup": 47.0 / 18.0, "rows": table.to_dict(orient="records")}
+    _figures(out_dir, orbits, dpi)
+    write_json(out_dir / "case1_summary.json", summ)
+    return summ
+
+
+def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame], dpi: int) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(orbits)
+    ncol = min(len(names), 2)
+    nrow = math.ceil(len(names) / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 4.2 * nrow), squeeze=False)
+    r_h = HOLE_D_M / 2
+    clear = r_h - PIPE_OD_M / 2
+    ang = np.linspace(0, 2 * np.pi, 200)
+    for ax, name in zip(axes.ravel(), names, strict=False):
+        kin = orbits[name]
+        for seg, g in kin.groupby("segment"):
+            ax.plot(g["y_m"] * 1e3, g["z_m"] * 1e3, lw=0.5, label=f"segment {seg}")
+        ax.plot(clear * 1e3 * np.cos(ang), clear * 1e3 * np.sin(ang), "k--", lw=0.8,
+                label="centre at wall contact")
+        ax.set_aspect("equal")
+        ax.invert_yaxis()
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel("east, mm")
+        ax.set_ylabel("down, mm")
+    axes.ravel()[0].legend(fontsize=6)
+    fig.suptitle("Case 1: orbits of the segment centres in the hole cross-section")
+    save_figure(fig, out_dir / "case1_orbits.png", dpi)
+
+    fig, ax = plt.subplots(figsize=(8, 4))
+    for name in names:
+        kin = orbits[name]
+        g = kin.groupby("time_s")["theta_rad"].mean()
+        rate = np.gradient(g.to_numpy(), g.index.to_numpy())
+        k = max(1, len(rate) // 50)
+        smooth = np.convolve(rate, np.ones(k) / k, mode="same")
+        ax.plot(g.index, smooth, lw=0.8, label=name)
+    ax.set_xlabel("time, s")
+    ax.set_ylabel("whirl rate dθ/dt, rad/s\n(< 0 backward)")
+    ax.legend(fontsize=8)
+    ax.set_title("Case 1: whirl rate (mean over segments, moving average)")
+    save_figure(fig, out_dir / "case1_whirl_rate.png", dpi)
