@@ -97,3 +97,51 @@ def test_bad_input_one_line_exit_2_nothing_written(case: str, tmp_path: Path,
     assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0]
     assert "Traceback" not in err
     assert not out.exists()
+
+
+def test_api_rp7g_side_by_side_from_the_run_case(tmp_path: Path) -> None:
+    import yaml
+
+    from drillfatigue.fatigue.rp7g import lubinski_bending_stress_Pa
+    from drillfatigue.fatigue.sn import get_curve
+
+    run = write_run_dir(tmp_path / "r", n_joints=3, n_t=600)  # joints at 500, 491, 482 m MD
+    case = yaml.safe_load((Path(__file__).resolve().parents[2] / "data" / "cases"
+                           / "vertical_quick.yaml").read_text())
+    case["well"] = {"profiles": {"j": {"kind": "j", "kop_m": 400.0, "dls_deg_per_30m": 6.0,
+                                       "inc_deg": 60.0, "td_m": 1500.0}}}
+    case["operation"]["bit_md_m"] = 520.0
+    case["operation"]["rpm"] = 90.0
+    case["fatigue"] = dict(FAST)
+    (run / "case.yaml").write_text(yaml.safe_dump(case))
+    out = tmp_path / "fat"
+    df = evaluate_run(run, FatigueConfig(**FAST), out)
+    rp = pd.read_parquet(out / "api_rp7g.parquet")
+    assert rp["joint"].tolist() == [0, 1, 2] and (rp["location"] == "body").all()
+    # all three joints sit in the 6 deg/30 m build (400 m to 700 m MD)
+    np.testing.assert_allclose(rp["hole_dls_deg_per_30m"], 6.0, rtol=1e-6)
+    # joint 1 by hand: Lubinski stress, fully reversed range 2 sigma_b with Goodman on
+    # the mean tension stress, B1 curve, one cycle per revolution at 90 rpm
+    ld = pd.read_parquet(run / "loads.parquet")
+    T = ld.loc[ld["joint"] == 1, "axial_N"].mean()
+    od, idm = 0.127, 0.1086
+    A, I = np.pi * (od**2 - idm**2) / 4, np.pi * (od**4 - idm**4) / 64
+    kappa = np.radians(6.0) / 30.0
+    sb = lubinski_bending_stress_Pa(207e9, od, kappa, T, I, 4.572)
+    su = 145_000 * 6894.757293168
+    S = 2 * sb / (1 - (T / A) / su)
+    rate = 90 * 60 / get_curve("B1").cycles_to_failure(S)[0]
+    assert rp.loc[1, "rp7g_damage_rate_per_h"] == pytest.approx(rate, rel=1e-9)
+    body = df[df["location"] == "body"].set_index("joint")["damage_rate_per_h"]
+    np.testing.assert_allclose(rp["dynamic_damage_rate_per_h"], body.loc[[0, 1, 2]], rtol=1e-12)
+    np.testing.assert_allclose(rp["dynamic_to_rp7g_ratio"],
+                               rp["dynamic_damage_rate_per_h"] / rp["rp7g_damage_rate_per_h"])
+    # S-135 endurance line: a finite permissible dogleg, lower for more tension
+    assert np.all(np.isfinite(rp["max_permissible_dls_deg_per_30m"]))
+    summ = json.loads((out / "summary.json").read_text())
+    assert summ["api_rp7g"]["max_damage_rate_per_h"] == pytest.approx(
+        rp["rp7g_damage_rate_per_h"].max())
+    # without a full case (only a fatigue section) there is no baseline file
+    out2 = tmp_path / "fat2"
+    evaluate_run(write_run_dir(tmp_path / "r2", n_joints=1, n_t=300), FatigueConfig(**FAST), out2)
+    assert not (out2 / "api_rp7g.parquet").exists()

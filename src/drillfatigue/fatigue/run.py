@@ -133,9 +133,104 @@ def _joint_loads(loads: pd.DataFrame, j: int, where: str) -> tuple[np.ndarray, n
     return t, sub[list(LOAD_COLUMNS)].to_numpy(dtype=np.float64), float(sub["md_m"].iloc[-1])
 
 
+RP7G_COLUMNS: tuple[str, ...] = (
+    "joint", "md_m", "s_from_bit_m", "component", "component_type", "location",
+    "hole_dls_deg_per_30m", "tension_N", "sigma_b_Pa", "rp7g_damage_rate_per_h", "rp7g_life_h",
+    "max_permissible_dls_deg_per_30m", "dynamic_damage_rate_per_h", "dynamic_to_rp7g_ratio")
+_RAD_PER_M_TO_DEG_PER_30M = 30.0 * 180.0 / math.pi
+
+
+def api_rp7g_baseline(loads: pd.DataFrame, joints: pd.DataFrame, case: Any,
+                      cfg: FatigueConfig, sel: Sequence[int]) -> pd.DataFrame:
+    """API RP7G / Lubinski baseline of each selected joint's pipe body, same run.
+
+    The same well, string and operating point as the dynamic run: hole
+    curvature at the joint's mean MD over the window (the case's well survey),
+    tension = the joint's mean axial force (compression clipped to 0, the
+    baseline's plain-beam limit), the case's rpm, the body section of
+    ``joints.parquet``, the body S-N curve, body bending SCF and Goodman
+    correction of ``cfg``; one fully reversed cycle per revolution
+    (FATIGUE.md section 5, :func:`drillfatigue.fatigue.rp7g.rp7g_damage_rate_profile`).
+    The maximum permissible dogleg (RP7G endurance line) is given for grades
+    E-75 and S-135 only (NaN otherwise); joint spacing 30 ft (L = 180 in).
+
+    Parameters
+    ----------
+    loads, joints : DataFrame
+        ``loads.parquet`` and ``joints.parquet`` of the run.
+    case : drillfatigue.config.CaseConfig
+        The run's case (``case.yaml``).
+    cfg : FatigueConfig
+    sel : sequence of int
+        Joints to evaluate.
+
+    Returns
+    -------
+    DataFrame
+        :data:`RP7G_COLUMNS` (the ``dynamic_*`` columns are NaN here; filled by
+        :func:`evaluate_run`).
+    """
+    from drillfatigue.fatigue.rp7g import (E_RP7G_PA, RP7G_GRADES, max_permissible_dogleg,
+                                           rp7g_damage_rate_profile)
+    from drillfatigue.well import build_survey
+
+    survey = build_survey(case.well)
+    sub = loads[loads["joint"].isin(list(sel))]
+    mean = sub.groupby("joint")[["md_m", "axial_N"]].mean()
+    jrow = joints.set_index("joint")
+    curve = build_curve(cfg.body.curve, cfg.effective_environment)
+    grade = get_grade(cfg.grade)
+    rpm = abs(float(case.operation.rpm))
+    rop = max(float(case.operation.rop_m_per_s), 1e-9)  # the rate per hour does not use ROP
+    rows = []
+    for j in sel:
+        md, axial = float(mean.loc[j, "md_m"]), float(mean.loc[j, "axial_N"])
+        info = jrow.loc[j]
+        od, idm = float(info["body_od_m"]), float(info["body_id_m"])
+        kappa = float(np.interp(md, survey.md_m, survey.dls_rad_per_m))
+        scf = float(cfg.scf[str(info["component_type"])].body.bending)
+        res = rp7g_damage_rate_profile(np.array([md]), np.array([kappa]), np.array([axial]), rpm,
+                                       rop, od, idm, curve, scf=scf, ultimate_Pa=grade.tensile_Pa)
+        rate = float(res["damage_rate_per_h"][0])
+        dl_max = float("nan")
+        if cfg.grade in RP7G_GRADES:
+            sec = Section(od, idm)
+            dl_max = max_permissible_dogleg(cfg.grade, max(axial, 0.0), od, sec.inertia_m4,
+                                            sec.area_m2, 4.572, E_RP7G_PA) \
+                * _RAD_PER_M_TO_DEG_PER_30M
+        rows.append({"joint": int(j), "md_m": md, "s_from_bit_m": float(info["s_from_bit_m"]),
+                     "component": str(info["component"]),
+                     "component_type": str(info["component_type"]), "location": "body",
+                     "hole_dls_deg_per_30m": kappa * _RAD_PER_M_TO_DEG_PER_30M,
+                     "tension_N": max(axial, 0.0), "sigma_b_Pa": float(res["sigma_b_Pa"][0]),
+                     "rp7g_damage_rate_per_h": rate,
+                     "rp7g_life_h": 1.0 / rate if rate > 0 else math.inf,
+                     "max_permissible_dls_deg_per_30m": dl_max,
+                     "dynamic_damage_rate_per_h": math.nan, "dynamic_to_rp7g_ratio": math.nan})
+    return pd.DataFrame(rows, columns=list(RP7G_COLUMNS))
+
+
+def _run_case(run_dir: Path) -> Any:
+    """The run's case (``case.yaml``) when it states its well, string and operation,
+    else None (then there is no API RP7G column)."""
+    from drillfatigue.config import case_from_dict
+    from drillfatigue.config.base import read_yaml
+
+    p = run_dir / "case.yaml"
+    if not p.is_file():
+        return None
+    data = read_yaml(p)
+    if not isinstance(data, dict) or not all(k in data for k in ("well", "string", "operation")):
+        return None
+    try:
+        return case_from_dict(data)
+    except InputError as exc:
+        raise InputError(f"{p}: {exc.field}", exc.problem, exc.allowed) from None
+
+
 def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None, *,
-                 joints: Sequence[int] | None = None, criterion: str | None = None
-                 ) -> pd.DataFrame:
+                 joints: Sequence[int] | None = None, criterion: str | None = None,
+                 rp7g_baseline: bool = True) -> pd.DataFrame:
     """Fatigue damage of every selected joint and location of a run.
 
     Parameters
@@ -150,6 +245,11 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
         Joints to evaluate (default ``cfg.joints``, else all).
     criterion : str, optional
         Overrides ``cfg.criterion``.
+    rp7g_baseline : bool
+        With ``out_dir``, and when the run's ``case.yaml`` states its well,
+        string and operation: also write ``api_rp7g.parquet``
+        (:func:`api_rp7g_baseline`, beside the dynamic body damage rate) and
+        put both in ``summary.json`` and the damage-along-string plot.
 
     Returns
     -------
@@ -177,6 +277,7 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                              grade.yield_Pa)
     where = str(run_dir / "loads.parquet")
     per_joint = {j: _joint_loads(loads, j, where) for j in sel}  # validate all before work
+    case = _run_case(run_dir) if (out_dir is not None and rp7g_baseline) else None
     jrow = jt.set_index("joint")
     rows: list[dict[str, Any]] = []
     crit_info: dict[tuple[int, str], Any] = {}
@@ -222,8 +323,16 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
             crit_info[(int(j), loc)] = (section, scf, res.critical_point)
     df = pd.DataFrame(rows, columns=list(DAMAGE_COLUMNS))
     if out_dir is not None:
+        rp7g = None
+        if rp7g_baseline and case is not None:
+            rp7g = api_rp7g_baseline(loads, jt, case, cfg, sel)
+            body = df[df["location"] == "body"].set_index("joint")["damage_rate_per_h"]
+            rp7g["dynamic_damage_rate_per_h"] = rp7g["joint"].map(body).to_numpy(dtype=float)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rp7g["dynamic_to_rp7g_ratio"] = (rp7g["dynamic_damage_rate_per_h"]
+                                                 / rp7g["rp7g_damage_rate_per_h"])
         _write_outputs(Path(out_dir), df, per_joint, crit_info, cfg, crit, duration_s, run_dir,
-                       curves)
+                       curves, rp7g)
     return df
 
 
@@ -254,9 +363,12 @@ def _uniaxial_streamed(t: np.ndarray, L: np.ndarray, section: Section, scf: SCF,
 
 def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
                    crit_info: dict[tuple[int, str], Any], cfg: FatigueConfig, crit: str,
-                   duration_s: float, run_dir: Path, curves: dict[str, SNCurve]) -> None:
+                   duration_s: float, run_dir: Path, curves: dict[str, SNCurve],
+                   rp7g: pd.DataFrame | None = None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     _atomic_write_parquet(df, out / "damage.parquet")
+    if rp7g is not None:
+        _atomic_write_parquet(rp7g, out / "api_rp7g.parquet")
     g = df.loc[df["damage"].idxmax()] if len(df) and df["damage"].max() > 0 else None
     summary: dict[str, Any] = {
         "run_dir": str(run_dir), "criterion": crit, "duration_s": duration_s,
@@ -273,15 +385,31 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
         "max_damage": float(df["damage"].max()) if len(df) else 0.0,
         "min_life_h": float(df["life_h"].min()) if len(df) else math.inf,
     }
+    if rp7g is not None and len(rp7g):
+        w = rp7g.loc[rp7g["rp7g_damage_rate_per_h"].idxmax()]
+        dyn_body = df[df["location"] == "body"]
+        summary["api_rp7g"] = {
+            "method": "API RP7G / Lubinski tool-joint bending, Hansford-Lubinski damage "
+                      "(one reversed cycle per revolution), pipe body",
+            "max_damage_rate_per_h": float(w["rp7g_damage_rate_per_h"]),
+            "min_life_h": float(w["rp7g_life_h"]), "joint": int(w["joint"]),
+            "md_m": float(w["md_m"]),
+            "dynamic_body_max_damage_rate_per_h": float(dyn_body["damage_rate_per_h"].max())
+            if len(dyn_body) else math.nan,
+            "min_max_permissible_dls_deg_per_30m":
+                float(rp7g["max_permissible_dls_deg_per_30m"].min()),
+            "max_hole_dls_deg_per_30m": float(rp7g["hole_dls_deg_per_30m"].max()),
+        }
     _atomic_write_bytes(out / "summary.json",
                         json.dumps(summary, indent=2, default=float).encode("utf-8"))
     if cfg.plots and g is not None:
         _plots(out, df, per_joint, crit_info[(int(g["joint"]), str(g["location"]))],
-               int(g["joint"]), cfg)
+               int(g["joint"]), cfg, rp7g, duration_s)
 
 
 def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, joint: int,
-           cfg: FatigueConfig) -> None:
+           cfg: FatigueConfig, rp7g: pd.DataFrame | None = None,
+           duration_s: float = 1.0) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -321,6 +449,11 @@ def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, jo
     for loc, grp in df.groupby("location"):
         grp = grp.sort_values("s_from_bit_m")
         ax.semilogy(grp["s_from_bit_m"], grp["damage"].clip(lower=1e-30), "o-", ms=3, label=loc)
+    if rp7g is not None and len(rp7g):
+        r = rp7g.sort_values("s_from_bit_m")
+        per_window = r["rp7g_damage_rate_per_h"] * (duration_s / HOUR_S)
+        ax.semilogy(r["s_from_bit_m"], per_window.clip(lower=1e-30), "k--", lw=1,
+                    label="API RP7G (body)")
     ax.set(xlabel="distance from bit (m)", ylabel="damage per window", title="damage along string")
     ax.legend()
     fig.tight_layout()
