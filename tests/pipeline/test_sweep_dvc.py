@@ -1,6 +1,6 @@
 """The sweep stages under DVC: ``dvc repro`` in a temporary git+DVC repo, then a no-op rerun.
 
-Uses the proposed stage definitions (``sweep_dvc_stages.yaml``) with the
+Uses the sweep stages of the project's ``dvc.yaml`` with the
 repository's pipeline scripts, the installed package and a tiny params file
 (2 cases, 16 segments, 0.3 s window).
 """
@@ -44,12 +44,17 @@ def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
 
 
 def _stages() -> dict:
-    spec = yaml.safe_load((Path(__file__).parent / "sweep_dvc_stages.yaml").read_text())
-    for stage in spec["stages"].values():
-        stage["cmd"] = stage["cmd"].replace(".venv/bin/python", sys.executable)
-        # the temporary repo holds the scripts, not the package sources
-        stage["deps"] = [d for d in stage["deps"] if not str(d).startswith("src/")]
-    return spec
+    """The sweep stages of the project's own dvc.yaml, runnable in the temporary repo."""
+    spec = yaml.safe_load((ROOT / "dvc.yaml").read_text())
+    names = ("design", "simulate", "fatigue", "dataset")
+    stages = {name: spec["stages"][name] for name in names}
+    for stage in stages.values():
+        assert stage["cmd"].startswith("python ")
+        stage["cmd"] = f"{sys.executable} " + stage["cmd"][len("python "):]
+        # the temporary repo holds the scripts, not the package sources or the well inputs
+        stage["deps"] = [d for d in stage["deps"] if str(d).startswith(("pipeline/", "data/design",
+                                                                       "data/sweep", "data/fatigue"))]
+    return {"stages": stages}
 
 
 @pytest.mark.slow  # several dvc invocations (~3 s start each) and two real cases
