@@ -21,6 +21,8 @@ from drillfatigue.config.operation import OperationConfig
 from drillfatigue.config.recording import RecordingConfig
 from drillfatigue.config.solver import SolverConfig
 from drillfatigue.config.string import StringConfig
+from drillfatigue.config.studies import (Case1Config, Case2Config, Case3Config, PlanConfig,
+                                         ReportConfig)
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.config.sweep import SweepConfig
 from drillfatigue.config.well import WellConfig
@@ -78,6 +80,11 @@ class Params(CaseConfig):
 
     sweep: SweepConfig = Field(default_factory=SweepConfig)
     surrogate: SurrogateConfig = Field(default_factory=SurrogateConfig)
+    case1: Case1Config = Field(default_factory=Case1Config)
+    case2: Case2Config = Field(default_factory=Case2Config)
+    case3: Case3Config = Field(default_factory=Case3Config)
+    plan: PlanConfig = Field(default_factory=PlanConfig)
+    report: ReportConfig = Field(default_factory=ReportConfig)
 
 
 def load_params(path: str | Path = "params.yaml") -> Params:
