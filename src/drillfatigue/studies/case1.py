@@ -7,12 +7,13 @@ saw the pipe climb the wall and slide back at low friction, and continuous
 contact with backward whirl at high friction; tanh-exponential reproduced
 Karnopp 2.6x faster (47 vs 18 min).
 
-Set-up (documented choices): the hole is a straight horizontal 8 1/2 in hole
-along north (a two-station survey written to the run folder); the pipe is the
-5 in drill-pipe body without tool joints (r_p = 63.5 mm, R_h = 107.95 mm, so
-rolling without slip is Omega_w = -r_p/(R_h - r_p) omega = -1.43 omega); top
-lateral springs off (``top_lateral: free``), bit off bottom, top held axially
-only; the top torque is ramped over 0.2 s.
+Set-up: the named case ``data/cases/case1_whirl.yaml`` (its comments give the
+choices: 8 1/2 in horizontal hole along north, 5 in drill-pipe body without tool
+joints, r_p = 63.5 mm, R_h = 107.95 mm, so rolling without slip is
+Omega_w = -r_p/(R_h - r_p) omega = -1.43 omega; free top, bit off bottom,
+constant torque applied at once), with this study's friction model and level,
+torque and duration. Wall times are measured after a short warm-up run, so
+they exclude numba compilation.
 
 Whirl analysis from ``kinematics.parquet``: the orbit angle of each segment
 centre in the hole cross-section, theta = atan2(z, y) (right-handed about the
@@ -35,13 +36,15 @@ import pandas as pd
 
 from drillfatigue.config.studies import Case1Config
 from drillfatigue.studies.common import (
-    atomic_write_text,
     run_simulation,
     save_figure,
+    warm_up,
     write_csv,
     write_json,
 )
 
+#: The named reference case this study varies (pipe, hole, torque, free top).
+CASE_FILE = Path(__file__).resolve().parents[3] / "data" / "cases" / "case1_whirl.yaml"
 PIPE_OD_M = 0.127
 PIPE_ID_M = 0.1086
 HOLE_D_M = 0.2159
@@ -55,31 +58,51 @@ def rolling_ratio() -> float:
     return -r_p / (r_h - r_p)
 
 
-def case_dict(cfg: Case1Config, model: str, mu_dynamic: float, survey_csv: Path
-              ) -> dict[str, Any]:
-    """The simulator case of one whirl run."""
-    return {
-        "well": {"profiles": {"horizontal": {"kind": "survey_file", "path": str(survey_csv)}},
-                 "profile": "horizontal"},
-        "string": {"components": [{"type": "drill_pipe", "name": "5in DP body",
-                                   "od_m": PIPE_OD_M, "id_m": PIPE_ID_M,
-                                   "length_m": cfg.pipe_length_m,
-                                   "n_segments": cfg.n_segments}]},
-        "friction": {"model": model, "mu_dynamic": mu_dynamic,
-                     "mu_static": min(mu_dynamic * cfg.static_over_dynamic, 1.5)},
-        "operation": {"duration_s": cfg.duration_s, "bit_md_m": cfg.pipe_length_m + 1.0,
-                      "top_md_m": 1.0, "top_mode": "torque",
-                      "top_torque_Nm": cfg.top_torque_Nm, "rpm_ramp_s": 0.2,
-                      "top_lateral": "free", "top_axial": "fixed", "bit_on_bottom": False},
-        "recording": {"loads_rate_hz": 50.0, "channels_rate_hz": cfg.kinematics_rate_hz,
-                      "kinematics_rate_hz": cfg.kinematics_rate_hz},
-    }
+def case_dict(cfg: Case1Config, model: str, mu_dynamic: float) -> dict[str, Any]:
+    """One whirl run: the named case ``data/cases/case1_whirl.yaml`` with this study's
+    friction model, friction level, pipe, torque and duration."""
+    from drillfatigue.config.base import read_yaml
+
+    case = read_yaml(CASE_FILE)
+    comp = dict(case["string"]["components"][0])
+    comp.update(length_m=cfg.pipe_length_m, n_segments=cfg.n_segments)
+    case["string"] = {"components": [comp]}
+    op = dict(case["operation"])
+    op.update(duration_s=cfg.duration_s, top_torque_Nm=cfg.top_torque_Nm,
+              top_md_m=op["bit_md_m"] - cfg.pipe_length_m)
+    case["operation"] = op
+    case["friction"] = {**case.get("friction", {}), "model": model, "mu_dynamic": mu_dynamic,
+                        "mu_static": min(mu_dynamic * cfg.static_over_dynamic, 1.5)}
+    rec = dict(case.get("recording", {}))
+    rec.update(kinematics_rate_hz=cfg.kinematics_rate_hz,
+               events_start_s=min(rec.get("events_start_s", 0.0), 0.5 * cfg.duration_s))
+    case["recording"] = rec
+    return case
 
 
-def orbit_angles(kin: pd.DataFrame) -> pd.DataFrame:
-    """Unwrapped orbit angle theta = atan2(z, y) per segment and time (hole along +x at y=z=0)."""
+def hole_centre(case: dict[str, Any], x_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Hole centre (east, TVD) at the given north coordinates (horizontal section along north)."""
+    from drillfatigue.config import case_from_dict
+    from drillfatigue.well import build_survey
+
+    sv = build_survey(case_from_dict(case).well)
+    pos = np.asarray(sv.pos_m)
+    north, east, tvd = pos[:, 0], pos[:, 1], pos[:, 2]
+    order = np.argsort(north)
+    return (np.interp(x_m, north[order], east[order]), np.interp(x_m, north[order], tvd[order]))
+
+
+def orbit_angles(kin: pd.DataFrame, case: dict[str, Any]) -> pd.DataFrame:
+    """Orbit of each segment centre about the hole axis (horizontal, along north).
+
+    Adds ``dy_m``, ``dz_m`` (east and down offsets from the hole centre) and the
+    unwrapped orbit angle ``theta_rad = atan2(dz, dy)`` (right-handed about +x).
+    """
     kin = kin.sort_values(["segment", "time_s"]).copy()
-    kin["theta_rad"] = np.arctan2(kin["z_m"], kin["y_m"])
+    yc, zc = hole_centre(case, kin["x_m"].to_numpy())
+    kin["dy_m"] = kin["y_m"] - yc
+    kin["dz_m"] = kin["z_m"] - zc
+    kin["theta_rad"] = np.arctan2(kin["dz_m"], kin["dy_m"])
     kin["theta_rad"] = kin.groupby("segment")["theta_rad"].transform(
         lambda a: np.unwrap(a.to_numpy()))
     return kin
@@ -97,17 +120,16 @@ def whirl_rate(kin: pd.DataFrame, t_from: float) -> float:
 def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, Any]:
     """Run the four whirl cases and write the table and figures."""
     out_dir = Path(out_dir)
-    survey = out_dir / "runs" / "horizontal_survey.csv"
-    atomic_write_text(survey, f"md_m,inc_deg,azi_deg\n0.0,90.0,0.0\n"
-                              f"{cfg.pipe_length_m + 20.0},90.0,0.0\n")
     rows = []
     orbits: dict[str, pd.DataFrame] = {}
     for model in cfg.models:
         for level, mu in (("low", cfg.mu_low), ("high", cfg.mu_high)):
             name = f"{model}_{level}"
             run_dir = out_dir / "runs" / name
-            _, summary, wall = run_simulation(case_dict(cfg, model, mu, survey), run_dir)
-            kin = orbit_angles(pd.read_parquet(run_dir / "kinematics.parquet"))
+            case = case_dict(cfg, model, mu)
+            warm_up(case)
+            _, summary, wall = run_simulation(case, run_dir)
+            kin = orbit_angles(pd.read_parquet(run_dir / "kinematics.parquet"), case)
             ch = pd.read_parquet(run_dir / "channels.parquet")
             t_from = 0.5 * cfg.duration_s
             late = ch[ch["time_s"] >= t_from]
@@ -160,7 +182,7 @@ def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame], dpi: int) -> None:
     for ax, name in zip(axes.ravel(), names, strict=False):
         kin = orbits[name]
         for seg, g in kin.groupby("segment"):
-            ax.plot(g["y_m"] * 1e3, g["z_m"] * 1e3, lw=0.5, label=f"segment {seg}")
+            ax.plot(g["dy_m"] * 1e3, g["dz_m"] * 1e3, lw=0.5, label=f"segment {seg}")
         ax.plot(clear * 1e3 * np.cos(ang), clear * 1e3 * np.sin(ang), "k--", lw=0.8,
                 label="centre at wall contact")
         ax.set_aspect("equal")

@@ -38,6 +38,7 @@ from drillfatigue.studies.common import (
     save_figure,
     string_components,
     study_fatigue,
+    warm_up,
     write_csv,
     write_json,
 )
@@ -94,6 +95,7 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
     picks = joints_behind_bit(cfg, bit0)
     case, _ = case_dict(cfg, [j for j, _ in picks])
     run_dir = out_dir / "runs" / cfg.profile
+    warm_up(case)  # the wall time below excludes numba compilation
     _, summary, wall = run_simulation(case, run_dir)
     loads = pd.read_parquet(run_dir / "loads.parquet")
     t = np.unique(loads["time_s"].to_numpy())

@@ -98,6 +98,21 @@ def run_simulation(case: dict[str, Any], run_dir: Path) -> tuple[CaseConfig, dic
     return cfg, res.summary, wall
 
 
+def warm_up(case: dict[str, Any], duration_s: float = 0.02) -> None:
+    """Compile the simulator kernels for ``case`` with a very short run kept in memory.
+
+    Wall times measured afterwards exclude numba compilation (cached on disk after
+    the first process, but loading still costs ~1 s).
+    """
+    from drillfatigue.dynamics.api import simulate
+
+    short = {**case, "operation": {**case["operation"], "duration_s": duration_s},
+             "recording": {**case.get("recording", {}), "start_s": 0.0}}
+    if "rpm_table" in short["operation"]:
+        short["operation"]["rpm_table"] = [[0.0, 0.0]]
+    simulate(case_from_dict(short), None, progress=False)
+
+
 def nearest_joint(run_dir: Path, s_from_bit_m: float) -> tuple[int, float]:
     """The recorded joint nearest ``s_from_bit_m`` behind the bit: (index, its distance)."""
     joints = pd.read_parquet(run_dir / "joints.parquet")

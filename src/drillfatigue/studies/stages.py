@@ -1,0 +1,76 @@
+"""Stage entry points of the case studies (thin ``pipeline/*.py`` scripts call these).
+
+Each study reads its own ``params.yaml`` section (``case1``, ``case2``,
+``case3``, ``plan``, ``report``; models in :mod:`drillfatigue.config.studies`),
+runs, and writes its folder plus a small metrics JSON.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+from drillfatigue.config.base import read_yaml, validate
+from drillfatigue.config.studies import (
+    Case1Config,
+    Case2Config,
+    Case3Config,
+    PlanConfig,
+    ReportConfig,
+)
+from drillfatigue.errors import InputError
+from drillfatigue.studies.common import write_json
+
+SECTIONS: dict[str, type] = {"case1": Case1Config, "case2": Case2Config, "case3": Case3Config,
+                             "plan": PlanConfig, "report": ReportConfig}
+
+
+def load_section(params_path: str | Path, name: str) -> Any:
+    """Validate section ``name`` of a params file (absent section: defaults)."""
+    if name not in SECTIONS:
+        raise InputError("study", f"unknown study {name!r}", ", ".join(SECTIONS))
+    data = read_yaml(params_path)
+    section = data.get(name) or {}
+    if not isinstance(section, dict):
+        raise InputError(name, "section must be a mapping", "a mapping of the section's keys")
+    return validate(SECTIONS[name], section, name)
+
+
+def run_study(name: str, params_path: str | Path, out_dir: str | Path,
+              metrics_path: str | Path | None = None, dpi: int = 110) -> dict[str, Any]:
+    """Run study ``case1``, ``case2`` or ``case3`` into ``out_dir``; return its summary."""
+    if name not in ("case1", "case2", "case3"):
+        raise InputError("study", f"unknown study {name!r}", "case1, case2, case3")
+    cfg = load_section(params_path, name)
+    t0 = time.perf_counter()
+    if name == "case1":
+        from drillfatigue.studies.case1 import run_case1
+        summary = run_case1(cfg, Path(out_dir), dpi=dpi)
+    elif name == "case2":
+        from drillfatigue.studies.case2 import run_case2
+        summary = run_case2(cfg, Path(out_dir), dpi=dpi)
+    else:
+        from drillfatigue.studies.case3 import run_case3
+        summary = run_case3(cfg, Path(out_dir), dpi=dpi)
+    wall = time.perf_counter() - t0
+    if metrics_path is not None:
+        write_json(Path(metrics_path), _metrics(name, summary, wall))
+    return summary
+
+
+def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
+    m: dict[str, Any] = {"stage_wall_s": wall}
+    if name == "case2":
+        for r in s["rows"]:
+            m[f"life_windows_{r['profile']}"] = r["life_windows_critical_plane"]
+            m[f"life_windows_api_rp7g_{r['profile']}"] = r["life_windows_api_rp7g"]
+        m["order_agrees_with_paper"] = s["order_agrees"]
+    elif name == "case3":
+        for r in s["rows"]:
+            m[f"life_h_{r['s_from_bit_m']:g}m"] = r["life_h"]
+    else:
+        for r in s["rows"]:
+            m[f"whirl_ratio_{r['model']}_{r['friction']}"] = r["whirl_ratio"]
+            m[f"wall_s_{r['model']}_{r['friction']}"] = r["wall_s"]
+    return m
