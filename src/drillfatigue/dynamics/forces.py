@@ -29,7 +29,7 @@ from drillfatigue.dynamics.contact import find_contact, wall_force
 from drillfatigue.dynamics.friction import KARNOPP
 from drillfatigue.dynamics.joints import joint_force
 from drillfatigue.dynamics.layout import (
-    B_LNOM, B_TOPLAT, B_TOPMODE, B_TOPTQ, B_TRAMP, B_TWIN,
+    B_FREEZE, B_LNOM, B_TOPLAT, B_TOPMODE, B_TOPTQ, B_TRAMP, B_TWIN,
     C_BOUNCE, C_MDROCK, C_NACT, C_OFFB, C_ROPNOW,
     CS_D, CS_FMAX, CS_IMP, CS_N, CS_ONMD, CS_ONT, CS_ORB, CS_ORBABS, CS_SPIN, CS_TCON, CS_TH,
     CS_THOK, H_FCMAX, H_NCON, H_NSEG, P_BITLAW, P_BITMODEL, P_BP, P_FMODEL, P_FP, P_KC, P_NPTS,
@@ -373,7 +373,7 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
         s0 = bp[B_LOBE]
         phib = sc[C_PHIB]
         lob = s0 * math.sin(nl * phib)
-        vl = sc[C_ROPNOW] + s0 * nl * math.cos(nl * phib) * w[0, 2]
+        vl = (0.0 if bp[B_FREEZE] == 1.0 else sc[C_ROPNOW]) + s0 * nl * math.cos(nl * phib) * w[0, 2]
         h0 = seg[0, S_H]
         kb = bp[B_KBIT]
         cb = bp[B_CBIT]

@@ -189,10 +189,15 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
             fz *= sc
         fv = fx * vx + fy * vy + fz * vz
         if fv > 0.0:  # would push along the slip: drop that component
-            inv = fv / (speed * speed)
-            fx -= inv * vx
-            fy -= inv * vy
-            fz -= inv * vz
+            # direction from the scaled slip (its squares may underflow)
+            s = max(abs(vx), abs(vy), abs(vz))
+            ux = vx / s
+            uy = vy / s
+            uz = vz / s
+            inv = (fx * ux + fy * uy + fz * uz) / (ux * ux + uy * uy + uz * uz)
+            fx -= inv * ux
+            fy -= inv * uy
+            fz -= inv * uz
         out[0] = fx
         out[1] = fy
         out[2] = fz

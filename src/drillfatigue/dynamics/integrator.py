@@ -60,7 +60,7 @@ from drillfatigue.dynamics.forces import (
     compute_forces, drive_omega, merge_top, split_top, tail_energy, update_top,
 )
 from drillfatigue.dynamics.layout import (
-    B_BITON, B_EXT, B_LMIN, B_LSPLIT, C_DISS, C_GUARD, C_MDROCK, C_NACT, C_NMERGE, C_NSPLIT,
+    B_BITON, B_EXT, B_FREEZE, B_LMIN, B_LSPLIT, C_DISS, C_GUARD, C_MDROCK, C_NACT, C_NMERGE, C_NSPLIT,
     C_PHIB, C_PHID, C_ROPNOW, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, S_H, S_IA, S_IT,
     S_M, ST_BLOWUP, ST_FORCES, ST_NONFINITE, ST_OK, B_ESCALE,
 )
@@ -131,7 +131,9 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
         sc[C_STEP] += 1.0
         t1 = sc[C_STEP] * dt
         sc[C_PHID] += 0.5 * dt * (drive_omega(t0, tab_t, tab_w) + drive_omega(t1, tab_t, tab_w))
-        if biton:
+        if bp[B_FREEZE] == 1.0:
+            dL = 0.0
+        elif biton:
             dL = sc[C_ROPNOW] * dt
             sc[C_MDROCK] += dL
         else:

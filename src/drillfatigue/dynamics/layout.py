@@ -80,7 +80,8 @@ B_LNOM = 23      # length (m) of a split-off segment
 B_LMIN = 24      # top segment length (m) below which it merges with the one below (tripping out)
 B_TWIN = 25      # start of the event window (s): after the rpm ramp
 B_TRAMP = 26     # top torque ramp time (s), mode 1
-N_BP = 27
+B_FREEZE = 27    # 1 during the relaxation pre-run: no ROP / trip, the rock face stays put
+N_BP = 28
 
 # topp -- per-length properties of the extensible top segment (index n-1) and
 # section of segment n-2, to rebuild the top rows as the top grows
