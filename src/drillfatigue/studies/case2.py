@@ -71,17 +71,23 @@ def sample_bit_md(cfg: Case2Config) -> list[float]:
             for k in range(n)]
 
 
-def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int) -> dict[str, Any]:
-    """The simulator case of one sample window of one profile."""
+def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None,
+              well: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The simulator case of one sample window of one profile.
+
+    ``joint``: the only joint recorded (None: all). ``well``: a ``well`` section
+    defining ``profile`` (default: the project's case-2 family).
+    """
     return {
-        "well": {"profile": profile},
+        "well": {**(well or {}), "profile": profile},
         "string": {"components": string_components(cfg.string, bit_md_m)},
         "operation": {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
                       "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",
                       "rop_m_per_s": cfg.rop_m_per_s, "bit_on_bottom": True,
                       "lobe_count": 3, "lobe_amplitude_m": cfg.lobe_amplitude_m},
         "recording": {"loads_rate_hz": cfg.loads_rate_hz, "channels_rate_hz": cfg.loads_rate_hz,
-                      "kinematics_rate_hz": 10.0, "joints": [joint], "start_s": cfg.settle_s},
+                      "kinematics_rate_hz": 10.0, "joints": None if joint is None else [joint],
+                      "start_s": cfg.settle_s},
         "solver": {"relax_s": cfg.relax_s},
     }
 

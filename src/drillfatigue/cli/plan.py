@@ -1,0 +1,69 @@
+"""``drillfatigue plan rank`` and ``drillfatigue study``: well-plan ranking and the paper's cases.
+
+::
+
+    drillfatigue plan rank CANDIDATES.yaml [--surrogate DIR] [--confirm K] [--out DIR]
+    drillfatigue study case1|case2|case3 [--params params.yaml] [--out DIR]
+
+The candidates file format is in :mod:`drillfatigue.studies.plan`. Bad input
+(file, candidates, surrogate folder) is one line on stderr, exit code 2, and
+nothing is written.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from drillfatigue.cli.app import app
+from drillfatigue.errors import InputError
+
+plan_app = typer.Typer(help="Well-plan ranking by predicted fatigue life.", no_args_is_help=True)
+app.add_typer(plan_app, name="plan")
+
+
+@plan_app.command("rank")
+def rank(
+    candidates: Path = typer.Argument(..., help="candidates YAML (profiles with shared end "
+                                                "points, drilling window)"),
+    surrogate: Path = typer.Option(Path("data/surrogate"), "--surrogate",
+                                   help="surrogate model folder (train stage output)"),
+    confirm: int = typer.Option(0, "--confirm", help="simulate the top K candidates"),
+    out: Path = typer.Option(Path("data/plan"), "--out", help="output folder"),
+) -> None:
+    """Rank candidate well plans by the predicted life of the critical component."""
+    from drillfatigue.studies.plan import load_candidates, rank_plans
+
+    if confirm < 0 or confirm > 50:
+        raise InputError("--confirm", f"got {confirm}", "0 <= K <= 50")
+    cset = load_candidates(candidates)
+    if not surrogate.is_dir():
+        raise InputError("--surrogate", f"folder {str(surrogate)!r} not found",
+                         "a model folder written by the train stage")
+    from drillfatigue.surrogate import Surrogate
+
+    model = Surrogate.load(surrogate)
+    table = rank_plans(cset, model, out, confirm=confirm)
+    cols = [c for c in ("rank_surrogate", "candidate", "life_windows_surrogate",
+                        "life_windows_surrogate_lower", "life_windows_surrogate_upper",
+                        "critical_component", "life_windows_simulator", "rank_simulator")
+            if c in table.columns]
+    typer.echo(table[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    typer.echo(f"wrote {out / 'ranking.csv'}, {out / 'ranking.png'}")
+
+
+@app.command("study")
+def study(
+    name: str = typer.Argument(..., help="case1, case2 or case3"),
+    params: Path = typer.Option(Path("params.yaml"), "--params"),
+    out: Path = typer.Option(None, "--out", help="default: data/<name>"),
+) -> None:
+    """Run one of the founding paper's case studies (reduced by default, see params)."""
+    from drillfatigue.studies.stages import load_section, run_study
+
+    if name not in ("case1", "case2", "case3"):
+        raise InputError("study", f"unknown study {name!r}", "case1, case2, case3")
+    load_section(params, name)  # validate before anything is written
+    run_study(name, params, out or Path("data") / name)
+    typer.echo(f"wrote {out or Path('data') / name}")

@@ -1,0 +1,287 @@
+"""Well-plan ranking: which candidate profile gives the string the longest fatigue life.
+
+What the founding paper motivates, made a tool (``drillfatigue plan rank``).
+A candidates file lists profiles with shared end points (KOP, DLS varied; the
+``family_member`` kind solves the build rate so each lands horizontal at the
+shared end point) and the drilling window they are compared on::
+
+    family: {tvd_end_m: 650.0, displacement_m: 500.0, azi_deg: 0.0}   # shared end point
+    window:                      # a case2 section: drilling window, string, sampling
+      bit_md_start_m: 480.0
+      bit_md_end_m: 880.0
+      n_samples: 4
+    candidates:
+      early_gentle: {kind: family_member, member: 1, kop_m: 350.0}
+      late_steep:   {kind: family_member, member: 2, kop_m: 450.0}
+      two_builds:   {kind: family_member, member: 3, kop_m: 350.0}
+
+Surrogate prediction (fast): for each candidate, the string is placed at
+``surrogate_bit_positions`` bit depths over the window; every joint of the
+string x location (body, connection) at each depth is one query row whose
+features (``operation.*``, ``friction.*``, ``md_m``, ``s_from_bit_m``,
+``local_dls_deg_per_30m``, component type, location) are taken from the same
+simulator case the confirmation would run. A component's damage over the
+window is the time-weighted sum of its predicted rates; the critical
+component is the one with the largest damage; its life is given in
+repetitions of the window, with the interval from summing the rows' interval
+bounds the same way (each bound is a calibrated per-row bound; the summed
+bound is conservative, not a calibrated joint interval). Out-of-domain rows
+are counted and reported.
+
+Simulator confirmation (slow, top-k by the surrogate): the case-2 machinery
+(:mod:`drillfatigue.studies.case2`) on the candidate's profile, all joints
+recorded, the critical component's life in windows by the configured
+criterion.
+
+Outputs: ``ranking.csv``, ``ranking.json``, ``ranking.png`` in the output folder.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from pydantic import Field, field_validator
+
+from drillfatigue.config.base import StrictModel, read_yaml, validate
+from drillfatigue.config.studies import Case2Config
+from drillfatigue.config.well import FamilySpec, ProfileSpec
+from drillfatigue.errors import InputError
+from drillfatigue.studies.common import save_figure, write_csv, write_json
+
+#: Tolerance on the shared end point, m.
+END_POINT_TOL_M = 1.0
+INPUT_SECTIONS = ("well", "operation", "friction", "bit")
+
+
+class CandidateFile(StrictModel):
+    """A candidates file (see the module docstring)."""
+
+    family: FamilySpec = Field(default_factory=FamilySpec)
+    window: Case2Config = Field(default_factory=lambda: Case2Config(n_samples=4))
+    surrogate_bit_positions: int = Field(17, ge=2, le=1000)
+    candidates: dict[str, ProfileSpec] = Field(min_length=1)
+
+    @field_validator("candidates")
+    @classmethod
+    def _names(cls, v: dict[str, Any]) -> dict[str, Any]:
+        for name in v:
+            if not name or not all(c.isalnum() or c in "_-." for c in name):
+                raise ValueError(f"bad candidate name {name!r} "
+                                 "(allowed: letters, digits, _ - .)")
+        return v
+
+
+def load_candidates(path: str | Path) -> CandidateFile:
+    """Read and validate a candidates file; check the shared end point."""
+    cset = validate(CandidateFile, read_yaml(path), "candidates")
+    check_end_points(cset)
+    return cset
+
+
+def well_section(cset: CandidateFile) -> dict[str, Any]:
+    """The ``well`` section holding every candidate as a named profile."""
+    return {"profiles": {k: v.model_dump(mode="json") for k, v in cset.candidates.items()},
+            "family": cset.family.model_dump(mode="json")}
+
+
+def check_end_points(cset: CandidateFile) -> None:
+    """Every candidate must end at the same point (the first candidate's end), within 1 m,
+    and be long enough for the window."""
+    from drillfatigue.config import WellConfig
+    from drillfatigue.well import build_survey
+
+    ends = {}
+    for name in cset.candidates:
+        wc = validate(WellConfig, {**well_section(cset), "profile": name}, "candidates")
+        try:
+            sv = build_survey(wc)
+        except InputError as exc:
+            raise InputError(f"candidates.{name}", exc.problem, exc.allowed) from None
+        ends[name] = (np.asarray(sv.pos_m[-1]), float(sv.md_m[-1]))
+        if sv.md_m[-1] < cset.window.bit_md_end_m:
+            raise InputError(f"candidates.{name}", f"total depth {sv.md_m[-1]:.0f} m is "
+                             f"shorter than the window's end ({cset.window.bit_md_end_m} m)",
+                             f"TD >= {cset.window.bit_md_end_m} m")
+    first = next(iter(ends))
+    for name, (p, _) in ends.items():
+        gap = float(np.linalg.norm(p - ends[first][0]))
+        if gap > END_POINT_TOL_M:
+            raise InputError(f"candidates.{name}", f"ends {gap:.1f} m away from "
+                             f"{first}'s end point", f"the same end point within "
+                             f"{END_POINT_TOL_M} m")
+
+
+def _flat_inputs(case: dict[str, Any]) -> dict[str, Any]:
+    """Scalar ``<section>.<field>`` inputs of a validated case (as the dataset has them)."""
+    from drillfatigue.config import case_from_dict
+
+    full = case_from_dict(case).model_dump(mode="json")
+    row = {}
+    for section in INPUT_SECTIONS:
+        for key, value in (full.get(section) or {}).items():
+            if isinstance(value, bool | int | float | str):
+                row[f"{section}.{key}"] = value
+    return row
+
+
+def candidate_rows(cset: CandidateFile, name: str) -> pd.DataFrame:
+    """Surrogate query rows of one candidate (see the module docstring)."""
+    from drillfatigue.config import WellConfig
+    from drillfatigue.studies.case2 import case_dict
+    from drillfatigue.well import build_survey
+
+    w = cset.window
+    well = well_section(cset)
+    sv = build_survey(validate(WellConfig, {**well, "profile": name}, "candidates"))
+    bits = np.linspace(w.bit_md_start_m, w.bit_md_end_m, cset.surrogate_bit_positions)
+    n_dc, n_dp = w.string.dc_segments, w.string.dp_segments
+    parts = []
+    for b in bits:
+        case = case_dict(w, name, float(b), None, well)
+        base = _flat_inputs(case)
+        dc_len = w.string.dc_length_m
+        seg = [dc_len / n_dc] * n_dc + [(b - dc_len) / n_dp] * n_dp
+        s = np.cumsum(seg)[:-1]
+        ctype = np.where(s < dc_len - 1e-9, "collar", "drill_pipe")
+        md = b - s
+        dls = np.interp(md, sv.md_m, sv.dls_deg_per_30m)
+        for loc in ("body", "connection"):
+            f = pd.DataFrame({"s_from_bit_m": s, "md_m": md, "local_dls_deg_per_30m": dls,
+                              "component_type": ctype, "location": loc, "joint": np.arange(s.size)})
+            for k, v in base.items():
+                f[k] = v
+            f["bit_position_md_m"] = b
+            parts.append(f)
+    out = pd.concat(parts, ignore_index=True)
+    out["candidate"] = name
+    return out
+
+
+def predict_candidates(cset: CandidateFile, surrogate: Any) -> pd.DataFrame:
+    """Surrogate life (windows) of each candidate's critical component, with bounds."""
+    rows = []
+    w = cset.window
+    dt_h = (w.window_s / (cset.surrogate_bit_positions - 1)) / 3600.0
+    for name in cset.candidates:
+        q = candidate_rows(cset, name)
+        missing = [c for c in list(surrogate.features) + list(surrogate.categorical)
+                   if c not in q.columns]
+        if missing:
+            raise InputError("surrogate", f"model needs column(s) {', '.join(missing)} that a "
+                             "well-plan query cannot supply", "a surrogate trained on case, "
+                             "location and well-curvature features")
+        pred = surrogate.predict(q)
+        # trapezoid weights over the bit positions
+        wts = np.full(cset.surrogate_bit_positions, dt_h)
+        wts[[0, -1]] *= 0.5
+        pos = np.searchsorted(np.unique(q["bit_position_md_m"]), q["bit_position_md_m"])
+        q = q.assign(wt=wts[pos], rate=pred["damage_rate_per_h"].to_numpy(),
+                     lo=pred["damage_rate_per_h_lower"].to_numpy(),
+                     hi=pred["damage_rate_per_h_upper"].to_numpy(),
+                     ood=pred["ood"].to_numpy(dtype=bool))
+        q["d"], q["d_lo"], q["d_hi"] = q["rate"] * q["wt"], q["lo"] * q["wt"], q["hi"] * q["wt"]
+        comp = q.groupby(["joint", "location"]).agg(
+            d=("d", "sum"), d_lo=("d_lo", "sum"), d_hi=("d_hi", "sum"),
+            s_from_bit_m=("s_from_bit_m", "mean"), component_type=("component_type", "first"))
+        k = comp["d"].idxmax()
+        c = comp.loc[k]
+        rows.append({
+            "candidate": name, "critical_s_from_bit_m": float(c["s_from_bit_m"]),
+            "critical_component": f"{c['component_type']} {k[1]}",
+            "life_windows_surrogate": 1.0 / c["d"] if c["d"] > 0 else math.inf,
+            "life_windows_surrogate_lower": 1.0 / c["d_hi"] if c["d_hi"] > 0 else math.inf,
+            "life_windows_surrogate_upper": 1.0 / c["d_lo"] if c["d_lo"] > 0 else math.inf,
+            "ood_fraction": float(q["ood"].mean()),
+        })
+    return pd.DataFrame(rows)
+
+
+def confirm_candidate(cset: CandidateFile, name: str, out_dir: Path) -> dict[str, Any]:
+    """Simulator life (windows) of a candidate's critical component (case-2 machinery)."""
+    from drillfatigue.fatigue.run import evaluate_run
+    from drillfatigue.studies.case2 import case_dict, sample_bit_md
+    from drillfatigue.studies.common import recorded_span_s, run_simulation, study_fatigue
+
+    w = cset.window
+    fat = study_fatigue()
+    well = well_section(cset)
+    total: pd.Series | None = None
+    wall = 0.0
+    info = None
+    for k, b in enumerate(sample_bit_md(w)):
+        run_dir = out_dir / name / f"sample_{k}"
+        _, _, t = run_simulation(case_dict(w, name, b, None, well), run_dir)
+        wall += t
+        df = evaluate_run(run_dir, fat, None, criterion=w.criterion)
+        span = recorded_span_s(run_dir)
+        d = df.set_index(["joint", "location"])["damage"] / span * (w.window_s / w.n_samples)
+        total = d if total is None else total.add(d, fill_value=0.0)
+        info = df.set_index(["joint", "location"])[["s_from_bit_m", "component_type"]]
+    assert total is not None and info is not None
+    k = total.idxmax()
+    return {"candidate": name, "life_windows_simulator": 1.0 / total[k] if total[k] > 0
+            else math.inf, "simulator_critical_s_from_bit_m": float(info.loc[k, "s_from_bit_m"]),
+            "simulator_critical_component": f"{info.loc[k, 'component_type']} {k[1]}",
+            "simulator_wall_s": wall}
+
+
+def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int = 0,
+               dpi: int = 110) -> pd.DataFrame:
+    """Rank the candidates by surrogate life, confirm the top ``confirm`` by simulation.
+
+    Writes ``ranking.csv``, ``ranking.json`` and ``ranking.png`` in ``out_dir``;
+    returns the table (best first).
+    """
+    out_dir = Path(out_dir)
+    table = predict_candidates(cset, surrogate)
+    table = table.sort_values("life_windows_surrogate", ascending=False, kind="stable")
+    table["rank_surrogate"] = np.arange(1, len(table) + 1)
+    table = table.reset_index(drop=True)
+    k = min(confirm, len(table))
+    if k:
+        conf = pd.DataFrame([confirm_candidate(cset, n, out_dir / "runs")
+                             for n in table["candidate"].iloc[:k]])
+        table = table.merge(conf, on="candidate", how="left")
+        ranks = table["life_windows_simulator"].rank(ascending=False, method="min")
+        table["rank_simulator"] = ranks.astype("Int64")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    write_csv(out_dir / "ranking.csv", table)
+    agree = None
+    if k:
+        sub = table.iloc[:k]
+        agree = bool(list(sub.sort_values("life_windows_simulator", ascending=False)["candidate"])
+                     == list(sub["candidate"]))
+    write_json(out_dir / "ranking.json", {"best": table["candidate"].iloc[0],
+                                          "order_surrogate": list(table["candidate"]),
+                                          "confirmed": k, "simulator_agrees": agree,
+                                          "window_s": cset.window.window_s,
+                                          "rows": table.to_dict(orient="records")})
+    _plot(table, out_dir / "ranking.png", dpi)
+    return table
+
+
+def _plot(table: pd.DataFrame, path: Path, dpi: int) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.2 * len(table)), 4))
+    x = np.arange(len(table))
+    y = table["life_windows_surrogate"].to_numpy()
+    lo = y - table["life_windows_surrogate_lower"].to_numpy()
+    hi = table["life_windows_surrogate_upper"].to_numpy() - y
+    ax.errorbar(x - 0.1, y, yerr=[np.clip(lo, 0, None), np.clip(hi, 0, None)], fmt="o",
+                capsize=4, label="surrogate (interval)")
+    if "life_windows_simulator" in table:
+        ax.plot(x + 0.1, table["life_windows_simulator"], "s", label="simulator")
+    ax.set_xticks(x, table["candidate"], rotation=20)
+    ax.set_yscale("log")
+    ax.set_ylabel("life of the critical component,\nrepetitions of the drilling window")
+    ax.legend(fontsize=8)
+    ax.set_title("Well-plan ranking (best first)")
+    save_figure(fig, path, dpi)
