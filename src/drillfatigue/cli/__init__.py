@@ -25,6 +25,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.twin",
     "drillfatigue.cli.simulate",
     "drillfatigue.cli.sweep",
+    "drillfatigue.cli.plan",
 )
 
 
