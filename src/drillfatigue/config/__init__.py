@@ -92,9 +92,22 @@ def load_params(path: str | Path = "params.yaml") -> Params:
     return validate(Params, read_yaml(path))
 
 
+#: Sections of params.yaml that configure the pipeline, not one simulation.
+PIPELINE_SECTIONS = ("sweep", "surrogate", "case1", "case2", "case3", "plan", "report")
+
+
 def load_case(path: str | Path) -> CaseConfig:
-    """Load and validate a standalone case YAML file."""
-    return validate(CaseConfig, read_yaml(path))
+    """Load and validate a standalone case YAML file.
+
+    A whole ``params.yaml`` is accepted too: it is validated as :class:`Params`
+    (so its pipeline sections are checked, not ignored) and its case sections
+    form the case.
+    """
+    data = read_yaml(path)
+    if isinstance(data, dict) and any(k in data for k in PIPELINE_SECTIONS):
+        params = validate(Params, data)
+        return CaseConfig.model_validate(params.model_dump(include=set(CaseConfig.model_fields)))
+    return validate(CaseConfig, data)
 
 
 def case_from_dict(data: dict[str, Any]) -> CaseConfig:
