@@ -106,6 +106,8 @@ def main() -> None:
     Lw = bench_loads(2000, 0, 2)
     evaluate_location(Lw, BODY, SCF_BODY, curve, "matake", prm, with_uniaxial=False)
 
+    load_start = os.getloadavg()
+    load_max_1min = load_start[0]
     t_kernel = 0.0
     t_gen = 0.0
     worst = (0.0, -1, "")
@@ -120,6 +122,7 @@ def main() -> None:
             t_kernel += time.perf_counter() - k0
             if r.damage > worst[0]:
                 worst = (r.damage, j, loc)
+        load_max_1min = max(load_max_1min, os.getloadavg()[0])
         print(f"joint {j + 1}/{n_joints}: {t_kernel:.1f} s", flush=True)
 
     L = bench_loads(n_t, 0, n_joints)
@@ -145,7 +148,11 @@ def main() -> None:
         "load_generation_s (not timed)": round(t_gen, 2),
         "governing": {"damage": worst[0], "joint": worst[1], "location": worst[2]},
         "threads": numba.get_num_threads(), "cpu_count": os.cpu_count(),
+        "load_average_at_start": load_start,
+        "load_average_1min_max_during_kernel": load_max_1min,
         "load_average_at_end": os.getloadavg(),
+        "note": "the machine is shared (2 cores): a 1-min load average above 2 means other "
+                "processes took CPU from the timed kernel",
         "python": platform.python_version(), "numba": numba.__version__,
     }
     args.out.parent.mkdir(parents=True, exist_ok=True)
