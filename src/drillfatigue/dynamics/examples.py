@@ -58,3 +58,36 @@ def uniform_chain_case(n: int, length_m: float, *, od_m: float = COLLAR_OD_M,
     for key, val in (extra or {}).items():
         data.setdefault(key, {}).update(val)
     return case_from_dict(data)
+
+
+def j_well_rotating_case(*, kop_m: float = 60.0, dls_deg_per_30m: float = 3.0,
+                         inc_deg: float = 30.0, top_md_m: float = 0.0, bit_md_m: float = 300.0,
+                         n_segments: int = 30, rpm: float = 60.0, duration_s: float = 3.0,
+                         extra: dict[str, Any] | None = None) -> CaseConfig:
+    """5 in drill pipe (no tool joints) rotating off bottom in a J-well, top held.
+
+    The stiff-string vs soft-string check of MODEL.md §9: vertical to
+    ``kop_m``, build at ``dls_deg_per_30m`` to ``inc_deg``, hold to 500 m; the
+    string spans ``top_md_m`` .. ``bit_md_m`` in ``n_segments`` segments,
+    rotates at ``rpm`` (ramped over 0.5 s) after a 0.5 s relaxation, wall
+    contact with the default penalty and tanh-exponential friction. With
+    ``kop_m`` ~ 0 and a 60 deg/30 m build the string from 50 m down lies in a
+    straight hole at ``inc_deg`` (closed forms of MODEL.md §9). Sizes: 5 in
+    19.5 ppf pipe body (OD 127 mm, ID 108.6 mm) in an 8 1/2 in hole.
+    """
+    data: dict[str, Any] = {
+        "well": {"profiles": {"j": {"kind": "j", "kop_m": kop_m,
+                                    "dls_deg_per_30m": dls_deg_per_30m, "inc_deg": inc_deg,
+                                    "td_m": 500.0}}},
+        "string": {"components": [{"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086,
+                                   "length_m": bit_md_m - top_md_m, "n_segments": n_segments}]},
+        "operation": {"duration_s": duration_s, "bit_md_m": bit_md_m, "top_md_m": top_md_m,
+                      "bit_on_bottom": False, "top_axial": "fixed", "rpm": rpm,
+                      "rpm_ramp_s": 0.5},
+        "solver": {"relax_s": 0.5},
+        "recording": {"channels_rate_hz": 100.0, "kinematics_rate_hz": 20.0,
+                      "loads_rate_hz": 10.0},
+    }
+    for key, val in (extra or {}).items():
+        data.setdefault(key, {}).update(val)
+    return case_from_dict(data)
