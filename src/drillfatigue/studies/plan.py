@@ -10,6 +10,7 @@ shared end point) and the drilling window they are compared on::
       bit_md_start_m: 480.0
       bit_md_end_m: 880.0
       n_samples: 4
+    fatigue: {n_refine: 4}       # a fatigue section for the confirmation runs
     candidates:
       early_gentle: {kind: family_member, member: 1, kop_m: 350.0}
       late_steep:   {kind: family_member, member: 2, kop_m: 450.0}
@@ -47,6 +48,7 @@ import pandas as pd
 from pydantic import Field, field_validator
 
 from drillfatigue.config.base import StrictModel, read_yaml, validate
+from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.config.studies import Case2Config
 from drillfatigue.config.well import FamilySpec, ProfileSpec
 from drillfatigue.errors import InputError
@@ -63,6 +65,8 @@ class CandidateFile(StrictModel):
     family: FamilySpec = Field(default_factory=FamilySpec)
     window: Case2Config = Field(default_factory=lambda: Case2Config(n_samples=4))
     surrogate_bit_positions: int = Field(17, ge=2, le=1000)
+    fatigue: FatigueConfig = Field(default_factory=lambda: FatigueConfig(plots=False),
+                                   description="fatigue settings of the confirmation runs")
     candidates: dict[str, ProfileSpec] = Field(min_length=1)
 
     @field_validator("candidates")
@@ -89,8 +93,8 @@ def well_section(cset: CandidateFile) -> dict[str, Any]:
 
 
 def check_end_points(cset: CandidateFile) -> None:
-    """Every candidate must end at the same point (the first candidate's end), within 1 m,
-    and be long enough for the window."""
+    """Every candidate must end at the same point (the one most candidates share), within
+    1 m, and be long enough for the window."""
     from drillfatigue.config import WellConfig
     from drillfatigue.well import build_survey
 
@@ -106,12 +110,16 @@ def check_end_points(cset: CandidateFile) -> None:
             raise InputError(f"candidates.{name}", f"total depth {sv.md_m[-1]:.0f} m is "
                              f"shorter than the window's end ({cset.window.bit_md_end_m} m)",
                              f"TD >= {cset.window.bit_md_end_m} m")
-    first = next(iter(ends))
+    # reference: the end point most candidates share (so the odd one out is named)
+    names = list(ends)
+    near = {a: sum(np.linalg.norm(ends[a][0] - ends[b][0]) <= END_POINT_TOL_M for b in names)
+            for a in names}
+    ref = max(names, key=lambda a: near[a])
     for name, (p, _) in ends.items():
-        gap = float(np.linalg.norm(p - ends[first][0]))
+        gap = float(np.linalg.norm(p - ends[ref][0]))
         if gap > END_POINT_TOL_M:
-            raise InputError(f"candidates.{name}", f"ends {gap:.1f} m away from "
-                             f"{first}'s end point", f"the same end point within "
+            raise InputError(f"candidates.{name}", f"ends {gap:.1f} m away from the shared "
+                             f"end point of {ref}", f"the same end point within "
                              f"{END_POINT_TOL_M} m")
 
 
@@ -200,33 +208,66 @@ def predict_candidates(cset: CandidateFile, surrogate: Any) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def confirm_candidate(cset: CandidateFile, name: str, out_dir: Path) -> dict[str, Any]:
-    """Simulator life (windows) of a candidate's critical component (case-2 machinery)."""
+def simulate_candidate(cset: CandidateFile, name: str, out_dir: Path) -> pd.DataFrame:
+    """Simulate a candidate's sample windows (case-2 machinery, all joints recorded).
+
+    Returns one row per (sample, joint, location) with the damage over the
+    recorded part, ``damage_rate_per_h_<criterion>``, the window share each
+    sample stands for (``share_s``), the query features of
+    :func:`candidate_rows` and ``case_id`` (``<candidate>_<sample>``); the
+    summed simulation wall time is in ``frame.attrs['wall_s']``. These rows are
+    also a surrogate training set.
+    """
+    from drillfatigue.config import WellConfig
     from drillfatigue.fatigue.run import evaluate_run
     from drillfatigue.studies.case2 import case_dict, sample_bit_md
-    from drillfatigue.studies.common import recorded_span_s, run_simulation, study_fatigue
+    from drillfatigue.studies.common import recorded_span_s, run_simulation
+    from drillfatigue.well import build_survey
 
     w = cset.window
-    fat = study_fatigue()
+    fat = cset.fatigue
     well = well_section(cset)
-    total: pd.Series | None = None
+    sv = build_survey(validate(WellConfig, {**well, "profile": name}, "candidates"))
+    parts = []
     wall = 0.0
-    info = None
     for k, b in enumerate(sample_bit_md(w)):
         run_dir = out_dir / name / f"sample_{k}"
-        _, _, t = run_simulation(case_dict(w, name, b, None, well), run_dir)
+        case = case_dict(w, name, b, None, well)
+        _, _, t = run_simulation(case, run_dir)
         wall += t
         df = evaluate_run(run_dir, fat, None, criterion=w.criterion)
         span = recorded_span_s(run_dir)
-        d = df.set_index(["joint", "location"])["damage"] / span * (w.window_s / w.n_samples)
-        total = d if total is None else total.add(d, fill_value=0.0)
-        info = df.set_index(["joint", "location"])[["s_from_bit_m", "component_type"]]
-    assert total is not None and info is not None
-    k = total.idxmax()
-    return {"candidate": name, "life_windows_simulator": 1.0 / total[k] if total[k] > 0
-            else math.inf, "simulator_critical_s_from_bit_m": float(info.loc[k, "s_from_bit_m"]),
+        df["damage_rate_per_h_" + w.criterion] = df["damage"] / (span / 3600.0)
+        df["share_s"] = w.window_s / w.n_samples
+        df["span_s"] = span
+        df["sample"] = k
+        df["case_id"] = f"{name}_{k}"
+        df["candidate"] = name
+        df["local_dls_deg_per_30m"] = np.interp(df["md_m"], sv.md_m, sv.dls_deg_per_30m)
+        for key, v in _flat_inputs(case).items():
+            df[key] = v
+        parts.append(df)
+    out = pd.concat(parts, ignore_index=True)
+    out.attrs["wall_s"] = wall
+    return out
+
+
+def simulator_life(rows: pd.DataFrame) -> dict[str, Any]:
+    """Life (windows) of the critical component from :func:`simulate_candidate` rows."""
+    d = (rows["damage"] / rows["span_s"] * rows["share_s"]).groupby(
+        [rows["joint"], rows["location"]]).sum()
+    info = rows.groupby(["joint", "location"])[["s_from_bit_m", "component_type"]].first()
+    k = d.idxmax()
+    return {"candidate": str(rows["candidate"].iloc[0]),
+            "life_windows_simulator": 1.0 / float(d[k]) if d[k] > 0 else math.inf,
+            "simulator_critical_s_from_bit_m": float(info.loc[k, "s_from_bit_m"]),
             "simulator_critical_component": f"{info.loc[k, 'component_type']} {k[1]}",
-            "simulator_wall_s": wall}
+            "simulator_wall_s": float(rows.attrs.get("wall_s", math.nan))}
+
+
+def confirm_candidate(cset: CandidateFile, name: str, out_dir: Path) -> dict[str, Any]:
+    """Simulator life (windows) of a candidate's critical component (case-2 machinery)."""
+    return simulator_life(simulate_candidate(cset, name, out_dir))
 
 
 def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int = 0,
