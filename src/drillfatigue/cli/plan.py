@@ -27,14 +27,23 @@ app.add_typer(plan_app, name="plan")
 def rank(
     candidates: Path = typer.Argument(..., help="candidates YAML (profiles with shared end "
                                                 "points, drilling window)"),
-    surrogate: Path = typer.Option(Path("data/surrogate"), "--surrogate",
-                                   help="surrogate model folder (train stage output)"),
-    confirm: int = typer.Option(0, "--confirm", help="simulate the top K candidates"),
-    out: Path = typer.Option(Path("data/plan"), "--out", help="output folder"),
+    surrogate: Path = typer.Option(None, "--surrogate",
+                                   help="surrogate model folder (default: plan.surrogate_dir)"),
+    confirm: int = typer.Option(None, "--confirm",
+                                help="simulate the top K (default: plan.confirm_top_k)"),
+    out: Path = typer.Option(None, "--out", help="output folder (default: plan.out_dir)"),
+    params: Path = typer.Option(Path("params.yaml"), "--params",
+                                help="read the plan section from here when the file exists"),
 ) -> None:
     """Rank candidate well plans by the predicted life of the critical component."""
+    from drillfatigue.config.studies import PlanConfig
     from drillfatigue.studies.plan import load_candidates, rank_plans
+    from drillfatigue.studies.stages import load_section
 
+    cfg = load_section(params, "plan") if params.is_file() else PlanConfig()
+    surrogate = surrogate if surrogate is not None else Path(cfg.surrogate_dir)
+    confirm = confirm if confirm is not None else cfg.confirm_top_k
+    out = out if out is not None else Path(cfg.out_dir)
     if confirm < 0 or confirm > 50:
         raise InputError("--confirm", f"got {confirm}", "0 <= K <= 50")
     cset = load_candidates(candidates)

@@ -146,11 +146,11 @@ class Case3Config(StrictModel):
 
 
 class PlanConfig(StrictModel):
-    """Well-plan ranking (``drillfatigue plan rank``)."""
+    """Defaults of ``drillfatigue plan rank`` (its options override them)."""
 
     surrogate_dir: str = Field("data/surrogate", min_length=1)
     confirm_top_k: int = Field(0, ge=0, le=50, description="simulator confirmation of the top k")
-    n_locations: int = Field(40, ge=2, le=2000, description="string positions evaluated")
+    out_dir: str = Field("data/plan", min_length=1)
 
 
 class ReportConfig(StrictModel):

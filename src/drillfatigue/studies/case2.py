@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue.config import FatigueConfig
 from drillfatigue.config.studies import Case2Config
 from drillfatigue.studies.common import (
     rp7g_rates,
@@ -92,13 +93,19 @@ def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None
     }
 
 
-def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110) -> dict[str, Any]:
-    """Run case 2 and write its tables and figures; return the summary dictionary."""
+def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
+              well: dict[str, Any] | None = None,
+              fatigue: FatigueConfig | None = None) -> dict[str, Any]:
+    """Run case 2 and write its tables and figures; return the summary dictionary.
+
+    ``well``: a ``well`` section defining the profiles (default: the project's
+    case-2 family); ``fatigue``: fatigue settings (default: project defaults).
+    """
     from drillfatigue.fatigue.run import evaluate_run
     from drillfatigue.well import build_survey
 
     out_dir = Path(out_dir)
-    fat = study_fatigue()
+    fat = fatigue if fatigue is not None else study_fatigue()
     joint, s_joint = target_joint(cfg)
     window_s = cfg.window_s
     rows: list[dict[str, Any]] = []
@@ -110,7 +117,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
         d_rp7g = 0.0
         histories[profile] = []
         for k, bit0 in enumerate(sample_bit_md(cfg)):
-            case = case_dict(cfg, profile, bit0, joint)
+            case = case_dict(cfg, profile, bit0, joint, well)
             if not rows and k == 0:
                 warm_up(case)  # wall times below exclude numba compilation
             run_dir = out_dir / "runs" / profile / f"sample_{k}"
@@ -183,13 +190,14 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
         "paper_wall_h": PAPER_WALL_H,
         "rows": table.to_dict(orient="records"),
     }
-    _figures(out_dir, cfg, histories, table, joint, s_joint, dpi)
+    _figures(out_dir, cfg, histories, table, joint, s_joint, dpi, fat)
     write_json(out_dir / "case2_summary.json", summary)
     return summary
 
 
 def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataFrame]],
-             table: pd.DataFrame, joint: int, s_joint: float, dpi: int) -> None:
+             table: pd.DataFrame, joint: int, s_joint: float, dpi: int,
+             fat: FatigueConfig) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -197,7 +205,6 @@ def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataF
 
     from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 
-    fat = study_fatigue()
     fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     for i, (profile, parts) in enumerate(histories.items()):
         for k, h in enumerate(parts):

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue.config import FatigueConfig
 from drillfatigue.config.studies import Case3Config
 from drillfatigue.studies.common import (
     hours,
@@ -60,8 +61,9 @@ def joints_behind_bit(cfg: Case3Config, bit_md_m: float) -> list[tuple[int, floa
             for d in cfg.s_from_bit_m]
 
 
-def case_dict(cfg: Case3Config, joints: list[int]) -> tuple[dict[str, Any], float]:
-    """The simulator case and the bit MD at t = 0."""
+def case_dict(cfg: Case3Config, joints: list[int], well: dict[str, Any] | None = None
+              ) -> tuple[dict[str, Any], float]:
+    """The simulator case and the bit MD at t = 0 (``well``: section defining the profile)."""
     t_on = cfg.trip_s
     dur = cfg.duration_s
     bit0 = cfg.bit_md_end_m - cfg.advance_m_per_s * dur
@@ -76,7 +78,7 @@ def case_dict(cfg: Case3Config, joints: list[int]) -> tuple[dict[str, Any], floa
         op = {"top_axial": "fixed", "bit_on_bottom": False,
               "trip_speed_m_per_s": cfg.trip_speed_m_per_s}
     case = {
-        "well": {"profile": cfg.profile},
+        "well": {**(well or {}), "profile": cfg.profile},
         "string": {"components": string_components(cfg.string, bit0)},
         "operation": {"duration_s": dur, "bit_md_m": bit0, "rpm_table": table, **op},
         "recording": {"loads_rate_hz": cfg.loads_rate_hz, "channels_rate_hz": cfg.loads_rate_hz,
@@ -86,21 +88,26 @@ def case_dict(cfg: Case3Config, joints: list[int]) -> tuple[dict[str, Any], floa
     return case, bit0
 
 
-def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110) -> dict[str, Any]:
-    """Run case 3 and write its table and figures; return the summary dictionary."""
+def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
+              well: dict[str, Any] | None = None,
+              fatigue: FatigueConfig | None = None) -> dict[str, Any]:
+    """Run case 3 and write its table and figures; return the summary dictionary.
+
+    ``well``/``fatigue``: as in :func:`drillfatigue.studies.case2.run_case2`.
+    """
     from drillfatigue.fatigue.run import evaluate_run
 
     out_dir = Path(out_dir)
     bit0 = cfg.bit_md_end_m - cfg.advance_m_per_s * cfg.duration_s
     picks = joints_behind_bit(cfg, bit0)
-    case, _ = case_dict(cfg, [j for j, _ in picks])
+    case, _ = case_dict(cfg, [j for j, _ in picks], well)
     run_dir = out_dir / "runs" / cfg.profile
     warm_up(case)  # the wall time below excludes numba compilation
     _, summary, wall = run_simulation(case, run_dir)
     loads = pd.read_parquet(run_dir / "loads.parquet")
     t = np.unique(loads["time_s"].to_numpy())
     span = float(t[-1] - t[0] + (t[1] - t[0])) if t.size > 1 else 0.0
-    dmg = evaluate_run(run_dir, study_fatigue(), None, joints=sorted({j for j, _ in picks}),
+    dmg = evaluate_run(run_dir, fatigue if fatigue is not None else study_fatigue(), None, joints=sorted({j for j, _ in picks}),
                        criterion=cfg.criterion)
     rows = []
     for want, (j, s) in zip(cfg.s_from_bit_m, picks, strict=True):

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from drillfatigue.config import FatigueConfig, WellConfig
 from drillfatigue.config.base import read_yaml, validate
 from drillfatigue.config.studies import (
     Case1Config,
@@ -37,22 +38,34 @@ def load_section(params_path: str | Path, name: str) -> Any:
     return validate(SECTIONS[name], section, name)
 
 
+def shared_sections(params_path: str | Path) -> tuple[dict[str, Any], FatigueConfig]:
+    """The params file's ``well`` section (profiles, family, hole; validated) and its
+    ``fatigue`` section (plots off), which cases 2 and 3 use."""
+    data = read_yaml(params_path)
+    well = data.get("well") or {}
+    validate(WellConfig, well, "well")
+    fat = dict(data.get("fatigue") or {})
+    fat["plots"] = False
+    return dict(well), validate(FatigueConfig, fat, "fatigue")
+
+
 def run_study(name: str, params_path: str | Path, out_dir: str | Path,
               metrics_path: str | Path | None = None, dpi: int = 110) -> dict[str, Any]:
     """Run study ``case1``, ``case2`` or ``case3`` into ``out_dir``; return its summary."""
     if name not in ("case1", "case2", "case3"):
         raise InputError("study", f"unknown study {name!r}", "case1, case2, case3")
     cfg = load_section(params_path, name)
+    well, fatigue = shared_sections(params_path)
     t0 = time.perf_counter()
     if name == "case1":
         from drillfatigue.studies.case1 import run_case1
         summary = run_case1(cfg, Path(out_dir), dpi=dpi)
     elif name == "case2":
         from drillfatigue.studies.case2 import run_case2
-        summary = run_case2(cfg, Path(out_dir), dpi=dpi)
+        summary = run_case2(cfg, Path(out_dir), dpi=dpi, well=well, fatigue=fatigue)
     else:
         from drillfatigue.studies.case3 import run_case3
-        summary = run_case3(cfg, Path(out_dir), dpi=dpi)
+        summary = run_case3(cfg, Path(out_dir), dpi=dpi, well=well, fatigue=fatigue)
     wall = time.perf_counter() - t0
     if metrics_path is not None:
         write_json(Path(metrics_path), _metrics(name, summary, wall))

@@ -1,0 +1,126 @@
+"""Case-study stages (issue 8): each reduced study writes its tables and figures,
+the report stage writes a README citing them beside the paper's numbers, and the
+proposed stage/params files agree with the config models.
+
+The studies run on a tiny params file (coarse strings, sub-second windows): the
+test checks the plumbing and the outputs' content, not the physics (the
+reduced default run and the report hold those numbers).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+
+from drillfatigue.cli import main
+from drillfatigue.config.base import validate
+from drillfatigue.studies.stages import SECTIONS
+
+ROOT = Path(__file__).resolve().parents[2]
+
+TINY = {
+    "case1": {"duration_s": 0.3, "kinematics_rate_hz": 100.0},
+    "case2": {"n_samples": 1, "sample_s": 1.2, "settle_s": 0.8, "rpm_ramp_s": 0.3,
+              "relax_s": 0.1, "string": {"dc_segments": 9, "dp_segments": 4}},
+    "case3": {"trip_s": 0.2, "ramp_s": 0.3, "window_s": 0.5,
+              "string": {"dc_segments": 9, "dp_segments": 4}},
+    "report": {"figure_dpi": 60},
+}
+
+
+def _run(script: str, *args: str) -> int:
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(f"stage_{script}", ROOT / "pipeline" /
+                                                  f"{script}.py")
+    mod = importlib.util.module_from_spec(spec)
+    assert spec.loader is not None
+    spec.loader.exec_module(mod)
+    return int(mod.main(list(args)))
+
+
+@pytest.mark.slow
+def test_reduced_studies_and_report(tmp_path):
+    params = tmp_path / "params.yaml"
+    params.write_text(yaml.safe_dump(TINY))
+    d = {c: tmp_path / c for c in ("case1", "case2", "case3")}
+    for c in ("case2", "case3", "case1"):
+        assert _run(c, "--params", str(params), "--out", str(d[c]), "--metrics",
+                    str(tmp_path / f"{c}.json")) == 0
+        assert json.loads((tmp_path / f"{c}.json").read_text())["stage_wall_s"] > 0
+
+    t2 = pd.read_csv(d["case2"] / "case2_life.csv")
+    assert list(t2["profile"]) == ["profile_1", "profile_2", "profile_3"]
+    assert (t2["life_windows_critical_plane"] > 0).all()
+    assert (t2["life_windows_api_rp7g"] > 0).all()
+    assert list(t2["paper_life_windows"]) == [10.3, 12.8, 5.9]
+    assert sorted(t2["rank_ours"]) == [1, 2, 3]
+    t3 = pd.read_csv(d["case3"] / "case3_life.csv")
+    assert list(t3["s_from_bit_m"]) == [8.0, 40.0, 80.0]
+    assert list(t3["paper_life_h"]) == [191.0, 625.0, 677.0]
+    t1 = pd.read_csv(d["case1"] / "case1_whirl.csv")
+    assert set(t1["model"]) == {"karnopp", "tanh_exp"} and set(t1["friction"]) == {"low", "high"}
+    assert (t1["rolling_ratio"].round(3) == -1.429).all()  # -63.5 / (107.95 - 63.5)
+
+    figs = {"case1": ["case1_orbits.png", "case1_whirl_rate.png"],
+            "case2": ["case2_loads.png", "case2_connection_stress.png", "case2_life.png"],
+            "case3": ["case3_loads.png", "case3_life.png"]}
+    for c, names in figs.items():
+        for n in names:
+            assert (d[c] / n).read_bytes()[:4] == b"\x89PNG", n
+
+    timings = tmp_path / "timings.json"
+    timings.write_text(json.dumps({"rows": [{"run": "x", "ours": "1 h", "paper": "38 h"}],
+                                   "note": "test note"}))
+    out = tmp_path / "report"
+    assert _run("report", "--params", str(params), "--case1", str(d["case1"]), "--case2",
+                str(d["case2"]), "--case3", str(d["case3"]), "--plan", str(tmp_path / "none"),
+                "--timings", str(timings), "--out", str(out)) == 0
+    text = (out / "README.md").read_text()
+    images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
+    assert sorted(images) == sorted(n for names in figs.values() for n in names)
+    for img in images:
+        assert (out / img).is_file()
+    # our lives stand next to the paper's, and the wall times next to 38 h / 2 h / 47-18 min
+    for r in t2.itertuples():
+        assert f"| {r.profile} |" in text
+    for paper in ("10.3", "12.8", "5.9", "191", "625", "677", "38 h", "2 h", "47", "test note"):
+        assert paper in text, paper
+
+
+def test_study_cli_bad_section_exit_2(tmp_path, capsys):
+    params = tmp_path / "params.yaml"
+    params.write_text(yaml.safe_dump({"case2": {"n_samples": 0}}))
+    assert main(["study", "case2", "--params", str(params), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: case2.n_samples:") and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()
+    assert main(["study", "case9", "--params", str(params)]) == 2
+
+
+def test_proposed_params_and_stages_match_the_models():
+    params = yaml.safe_load((ROOT / "pipeline" / "case_params.yaml").read_text())
+    for name, model in SECTIONS.items():
+        validate(model, params.get(name, {}), name)  # every proposed value is valid
+    defaults = {n: m().model_dump(mode="json") for n, m in SECTIONS.items()}
+    for name, section in params.items():
+        for key, value in section.items():
+            want = defaults[name][key]
+            got = list(value) if isinstance(value, list | tuple) else value
+            want = list(want) if isinstance(want, list | tuple) else want
+            if isinstance(got, dict):
+                got = {**want, **got}
+            assert got == want, f"{name}.{key}: params file {value!r} != model default {want!r}"
+    stages = yaml.safe_load((ROOT / "pipeline" / "case_stages.yaml").read_text())["stages"]
+    assert set(stages) == {"case1", "case2", "case3", "report"}
+    outs = {o if isinstance(o, str) else next(iter(o)) for st in stages.values()
+            for o in st.get("outs", [])}
+    for name, st in stages.items():
+        for dep in st["deps"]:
+            assert dep in outs or (ROOT / dep).exists(), dep
+        assert name in st["params"]
