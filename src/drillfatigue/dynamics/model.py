@@ -464,6 +464,13 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     tab_t, tab_w = rpm_table(config)
     omega0 = float(tab_w[0])
     tob0 = bp[L.B_TOB] * math.tanh(omega0 / OMEGA_REF_RAD_S)
+    if op.bit_on_bottom and config.bit.model != "given_tob":
+        # the bit law's torque at the initial WOB and speed (no start-up kick)
+        from drillfatigue.dynamics import bitrock
+        bid, bpar = bitrock.pack_bit_params(config.bit, op.rop_m_per_s)
+        out2 = np.zeros(2)
+        bitrock.bit_response(bid, bpar, wob, omega0, out2)
+        tob0 = float(out2[0])
     torque0 = tob0 + float((seg[:, L.S_CRA] * omega0).sum())
     psi = np.zeros(n)
     for j in range(n - 1):
