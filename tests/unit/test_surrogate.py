@@ -110,6 +110,30 @@ def test_unseen_category_and_nan_are_input_errors(data: pd.DataFrame, model: Sur
         model.predict(data.iloc[:2].drop(columns=["md_m"]))
 
 
+def test_fast_column_access_matches_public_pandas_path(data: pd.DataFrame,
+                                                       model: Surrogate) -> None:
+    from drillfatigue.surrogate.model import column_arrays
+
+    rows = data.iloc[:5]
+    ref = model.predict(rows)
+    # column order, extra columns, a categorical dtype and a nullable integer
+    # column give the same prediction as the plain frame
+    odd = rows[list(rows.columns[::-1])].copy()
+    odd["component_type"] = odd["component_type"].astype("category")
+    odd["bit.lobes"] = odd["bit.lobes"].astype("Int64")
+    pd.testing.assert_frame_equal(model.predict(odd), ref)
+    # duplicate labels take the public path (pandas returns a frame for them)
+    dup = pd.concat([rows, rows[["md_m"]]], axis=1)
+    assert not dup.columns.is_unique
+    cols = ["operation.rpm", "location"]
+    for a, b in zip(column_arrays(dup, cols), [rows[c].to_numpy() for c in cols]):
+        np.testing.assert_array_equal(a, b)
+    # a missing value in a nullable column is still named
+    odd.loc[odd.index[1], "bit.lobes"] = pd.NA
+    with pytest.raises(InputError, match="bit.lobes"):
+        model.predict(odd)
+
+
 def test_load_rejects_non_model_folder(tmp_path) -> None:
     with pytest.raises(InputError):
         Surrogate.load(tmp_path)
