@@ -207,17 +207,31 @@ def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataF
 
     fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     for i, (profile, parts) in enumerate(histories.items()):
-        for k, h in enumerate(parts):
-            kw = {"lw": 0.6, "color": f"C{i}", "label": profile if k == 0 else None}
-            ax[0].plot(h["md_m"], h["axial_N"] / 1e3, **kw)
-            ax[1].plot(h["md_m"], h["torque_Nm"] / 1e3, **kw)
-            ax[2].plot(h["md_m"], np.hypot(h["bending_x_Nm"], h["bending_y_Nm"]) / 1e3, **kw)
+        series = [(h["md_m"].to_numpy(), h["axial_N"].to_numpy() / 1e3,
+                   h["torque_Nm"].to_numpy() / 1e3,
+                   np.hypot(h["bending_x_Nm"], h["bending_y_Nm"]).to_numpy() / 1e3)
+                  for h in parts]
+        if len(parts) == 1:  # one continuous window: the history along the build
+            md, *ys = series[0]
+            for a, y in zip(ax, ys, strict=True):
+                a.plot(md, y, lw=0.5, color=f"C{i}", label=profile)
+        else:  # sampled windows: mean and min-max range of each sample
+            md = np.array([x[0].mean() for x in series])
+            for q, a in enumerate(ax, start=1):
+                y = [x[q] for x in series]
+                mean = np.array([v.mean() for v in y])
+                err = [mean - np.array([v.min() for v in y]),
+                       np.array([v.max() for v in y]) - mean]
+                a.errorbar(md + 2.0 * (i - 1), mean, yerr=err, fmt="o-", ms=3, lw=0.8,
+                           capsize=2, color=f"C{i}", label=profile)
     ax[0].set_ylabel("axial force, kN\n(> 0 tension)")
     ax[1].set_ylabel("torque, kN·m")
     ax[2].set_ylabel("bending moment, kN·m")
     ax[2].set_xlabel(f"MD of the joint {s_joint:.0f} m behind the bit, m")
     ax[0].legend(fontsize=8)
-    ax[0].set_title(f"Case 2: internal loads of joint {joint} ({s_joint:.0f} m behind the bit)")
+    how = "" if cfg.n_samples == 1 else ": mean and range of each sampled window"
+    ax[0].set_title(f"Case 2: loads of joint {joint} ({s_joint:.0f} m behind the bit){how}",
+                    fontsize=10)
     save_figure(fig, out_dir / "case2_loads.png", dpi)
 
     s = fat.scf["drill_pipe" if s_joint > cfg.string.dc_length_m else "collar"].connection
