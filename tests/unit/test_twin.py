@@ -179,3 +179,18 @@ def test_components_and_survey_from_config_and_hook_load(model: Surrogate, tmp_p
     err = capsys.readouterr().err
     assert rc == 2 and len(err.strip().splitlines()) == 1 and "--string" in err
     assert not out2.exists()
+
+
+def test_surface_channels_the_model_does_not_use_are_ignored() -> None:
+    from drillfatigue.config.surrogate import DEFAULT_FEATURES
+
+    cfg = TINY.model_copy(update={"features": tuple(f for f in DEFAULT_FEATURES
+                                                    if f != "operation.wob_N")})
+    no_wob = fit_surrogate(make_synthetic_dataset(20, seed=5), cfg)
+    log = pd.read_csv(EXAMPLES / "operating_log.csv").assign(standpipe_pressure_psi=3000.0)
+    res = replay_log(log, _components(), no_wob, CONSTANTS)
+    assert set(res.ignored_channels) == {"wob_kN", "standpipe_pressure_psi"}
+    assert (res.components["damage"] > 0).all()
+    # an unknown column that is no usual surface channel is still an error
+    with pytest.raises(InputError, match="rpmm"):
+        replay_log(log.rename(columns={"rpm": "rpmm"}), _components(), no_wob, CONSTANTS)

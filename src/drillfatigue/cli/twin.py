@@ -132,7 +132,10 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
         "max_damage": float(worst["damage"]),
         "max_damage_serial": str(worst["serial"]),
         "total_ood_time_s": float(c["ood_time_s"].sum()),
+        "ignored_log_channels": list(res.ignored_channels),
     }, out / "summary.json")
     plot_damage_along_string(res, str(out / "damage_along_string.png"))
     print(f"replayed {res.duration_s / 3600.0:.3g} h for {len(c)} components; "
           f"max damage {float(worst['damage']):.3g} at {worst['serial']}; wrote {out}/")
+    if res.ignored_channels:
+        print(f"log channels not used by the model: {', '.join(res.ignored_channels)}")

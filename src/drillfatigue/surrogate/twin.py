@@ -60,10 +60,13 @@ class ReplayResult:
         time_in_hole_s, ood_time_s.
     duration_s : float
         Log span (last - first time).
+    ignored_channels : tuple of str
+        Standard surface channels of the log that the model does not use.
     """
 
     components: pd.DataFrame
     duration_s: float
+    ignored_channels: tuple[str, ...] = ()
 
 
 def components_from_table(table: pd.DataFrame) -> pd.DataFrame:
@@ -179,6 +182,27 @@ def survey_from_well(well_cfg: Any, profile: str | None = None) -> pd.DataFrame:
     return pd.DataFrame({"md_m": sv.md_m, "dls_deg_per_30m": sv.dls_deg_per_30m})
 
 
+#: Usual surface channels of a drilling log (any unit suffix). One the model
+#: does not use is ignored (and reported); any other unknown column is an error.
+SURFACE_CHANNELS: frozenset[str] = frozenset({
+    "rpm", "wob", "rop", "hook_load", "off_bottom_hook_load", "surface_torque", "torque",
+    "standpipe_pressure", "spp", "flow_rate", "flow", "block_position", "hole_depth",
+    "hole_md"})
+
+
+def _channel_stem(name: str) -> str:
+    """``wob_kN`` -> ``wob``: a log column name without its unit suffix."""
+    from drillfatigue.surrogate.query import UNIT_FAMILIES
+
+    suffixes = {suf for fam in UNIT_FAMILIES.values() for suf in fam}
+    suffixes |= {"_Nm", "_kNm", "_kft_lbf", "_Pa", "_kPa", "_MPa", "_psi", "_bar", "_bbl_per_min",
+                 "_gpm", "_l_per_min", "_m3_per_s", "_m3_per_min"}
+    for suf in sorted(suffixes, key=len, reverse=True):
+        if name.endswith(suf) and len(name) > len(suf):
+            return name[: -len(suf)]
+    return name
+
+
 HOOK_LOAD_STEM = "hook_load"
 OFF_BOTTOM_STEM = "off_bottom_hook_load"
 
@@ -267,6 +291,10 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     bit_md = _bit_md(log)
     vocab = Vocabulary(model.features, model.categorical)
     skip = {"time_s", "time", "bit_md_m", "bit_md_ft"}
+    ignored = tuple(str(c) for c in log.columns
+                    if c not in skip and str(c) not in vocab.terms
+                    and _channel_stem(str(c)) in SURFACE_CHANNELS)
+    skip |= set(ignored)
     log_si = vocab.frame_from_table(log[[c for c in log.columns if c not in skip]], require=())
     comp_si = vocab.frame_from_table(comps.drop(columns=["serial"]), require=(),
                                      passthrough=[c for c in comps.columns
@@ -372,7 +400,8 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         out["remaining_life_h_upper"] = np.clip(1.0 - dmg_lo, 0.0, None) / last[:, 1]
     out["time_in_hole_s"] = in_hole_s
     out["ood_time_s"] = ood_s
-    return ReplayResult(components=out, duration_s=float(t[-1] - t[0]))
+    return ReplayResult(components=out, duration_s=float(t[-1] - t[0]),
+                        ignored_channels=ignored)
 
 
 def plot_damage_along_string(result: ReplayResult, path: str) -> None:
