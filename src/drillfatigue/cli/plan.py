@@ -56,7 +56,8 @@ def rank(
     table = rank_plans(cset, model, out, confirm=confirm)
     cols = [c for c in ("rank_surrogate", "candidate", "life_windows_surrogate",
                         "life_windows_surrogate_lower", "life_windows_surrogate_upper",
-                        "critical_component", "life_windows_simulator", "rank_simulator")
+                        "critical_component", "ood_fraction", "life_windows_simulator",
+                        "rank_simulator")
             if c in table.columns]
     typer.echo(table[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
     typer.echo(f"wrote {out / 'ranking.csv'}, {out / 'ranking.png'}")

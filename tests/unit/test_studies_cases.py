@@ -1,0 +1,135 @@
+"""Case-study helpers: config sections, window sampling, joint choice, whirl analysis,
+candidate query rows, report formatting (no simulation)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from drillfatigue.config.base import validate
+from drillfatigue.config.studies import (
+    Case1Config,
+    Case2Config,
+    Case3Config,
+    PlanConfig,
+    ReportConfig,
+    StringSpec,
+)
+from drillfatigue.errors import InputError
+from drillfatigue.studies import case1, case2, case3, plan, report
+
+
+def test_sections_default_constructible():
+    for model in (Case1Config, Case2Config, Case3Config, PlanConfig, ReportConfig):
+        model()
+    assert Case2Config().window_s == pytest.approx(800.0)  # (880 - 480) / 0.5
+    assert Case3Config().duration_s == pytest.approx(13.0)
+
+
+@pytest.mark.parametrize("model, data, field", [
+    (Case2Config, {"n_samples": 0}, "case2.n_samples"),
+    (Case2Config, {"rop_m_per_s": 2.0}, "case2.rop_m_per_s"),
+    (Case2Config, {"bit_md_end_m": 400.0}, "case2"),
+    (Case2Config, {"settle_s": 5.0, "sample_s": 4.0}, "case2"),
+    (Case2Config, {"target_s_from_bit_m": 600.0}, "case2"),
+    (Case2Config, {"string": {"dc_segments": 0}}, "case2.string.dc_segments"),
+    (Case2Config, {"colour": 1}, "case2.colour"),
+    (Case1Config, {"mu_low": 0.5, "mu_high": 0.4}, "case1"),
+    (Case1Config, {"models": ["magic"]}, "case1.models"),
+    (Case3Config, {"window_s": 0.0}, "case3.window_s"),
+    (Case3Config, {"mode": "sideways"}, "case3.mode"),
+    (PlanConfig, {"confirm_top_k": -1}, "plan.confirm_top_k"),
+])
+def test_sections_reject_bad_values(model, data, field):
+    name = field.split(".")[0]
+    with pytest.raises(InputError) as exc:
+        validate(model, data, name)
+    assert exc.value.one_line().startswith(field)
+    assert "allowed" in exc.value.one_line()
+
+
+def test_case2_target_joint_and_samples():
+    # default reduced string: 9 collar segments of 20 m -> joint 1 is 40 m from the bit
+    assert case2.target_joint(Case2Config()) == (1, pytest.approx(40.0))
+    # paper string: 20 collar segments of 9 m -> joints at 36 m (j=3) and 45 m: 36 is nearer
+    paper = Case2Config(string=StringSpec(dc_segments=20, dp_segments=100))
+    assert case2.target_joint(paper) == (3, pytest.approx(36.0))
+    one = Case2Config(n_samples=1, sample_s=800.0, settle_s=0.0)
+    assert case2.sample_bit_md(one) == [pytest.approx(480.0)]  # the paper's continuous window
+    cfg = Case2Config()
+    starts = np.array(case2.sample_bit_md(cfg))
+    ends = starts + cfg.rop_m_per_s * cfg.sample_s
+    assert starts.size == cfg.n_samples and starts[0] > 480.0 and ends[-1] < 880.0
+    assert np.allclose(np.diff(starts), 400.0 / cfg.n_samples)  # evenly spread
+    case = case2.case_dict(cfg, "profile_2", float(starts[0]), 1)
+    assert case["string"]["components"][1]["length_m"] == pytest.approx(starts[0] - 180.0)
+    assert case["recording"]["joints"] == [1] and case["well"]["profile"] == "profile_2"
+
+
+def test_case3_joints_and_case():
+    cfg = Case3Config()
+    bit0 = cfg.bit_md_end_m - cfg.advance_m_per_s * cfg.duration_s
+    picks = case3.joints_behind_bit(cfg, bit0)
+    assert [round(s) for _, s in picks] == [9, 36, 81]  # 9 m collar segments
+    case, b = case3.case_dict(cfg, [j for j, _ in picks])
+    assert b == pytest.approx(bit0)
+    table = case["operation"]["rpm_table"]
+    assert table[-2] == [cfg.trip_s + cfg.ramp_s, cfg.rpm] and table[1] == [cfg.trip_s, 0.0]
+    assert case["recording"]["start_s"] == cfg.trip_s + cfg.ramp_s
+    trip, _ = case3.case_dict(Case3Config(mode="tripping"), [0])
+    assert trip["operation"]["bit_on_bottom"] is False
+    assert trip["operation"]["trip_speed_m_per_s"] > 0
+
+
+def test_rolling_ratio():
+    # -r_p / (R_h - r_p) with r_p = 63.5 mm, R_h = 107.95 mm (MODEL.md §6)
+    assert case1.rolling_ratio() == pytest.approx(-0.0635 / (0.10795 - 0.0635))
+
+
+def test_whirl_rate_recovers_a_synthetic_backward_orbit():
+    cfg = Case1Config()
+    case = case1.case_dict(cfg, "tanh_exp", cfg.mu_high)
+    t = np.linspace(0.0, 2.0, 401)
+    omega_w = -12.0  # rad/s, backward; several turns so the unwrap is exercised
+    rows = []
+    for seg, x in enumerate(np.linspace(136.0, 139.5, 5)):
+        yc, zc = case1.hole_centre(case, np.full(t.size, x))
+        r = 0.04445
+        rows.append(pd.DataFrame({
+            "time_s": t, "segment": seg, "x_m": x,
+            "y_m": yc + r * np.cos(omega_w * t + seg), "z_m": zc + r * np.sin(omega_w * t + seg),
+            "normal_N": 1.0}))
+    kin = case1.orbit_angles(pd.concat(rows, ignore_index=True), case)
+    assert np.allclose(np.hypot(kin["dy_m"], kin["dz_m"]), 0.04445, atol=1e-6)
+    assert case1.whirl_rate(kin, 0.5) == pytest.approx(omega_w, rel=1e-6)
+
+
+def test_candidate_rows_carry_the_profile():
+    cset = plan.CandidateFile.model_validate({
+        "candidates": {"p1": {"kind": "family_member", "member": 1, "kop_m": 350.0},
+                       "p2": {"kind": "family_member", "member": 2, "kop_m": 450.0}},
+        "surrogate_bit_positions": 3})
+    plan.check_end_points(cset)
+    w = cset.window
+    n_joints = w.string.dc_segments + w.string.dp_segments - 1
+    rows = {n: plan.candidate_rows(cset, n) for n in cset.candidates}
+    for r in rows.values():
+        assert len(r) == 3 * n_joints * 2
+        assert set(r["location"]) == {"body", "connection"}
+        assert (r.loc[r["s_from_bit_m"] < 179.0, "component_type"] == "collar").all()
+        assert np.allclose(r["md_m"], r["bit_position_md_m"] - r["s_from_bit_m"])
+        assert set(r["operation.bit_md_m"]) == set(np.linspace(480.0, 880.0, 3))
+    # within the builds the local DLS is each profile's solved build rate (5.7, 8.6 deg/30 m)
+    assert rows["p1"]["local_dls_deg_per_30m"].max() == pytest.approx(5.73, abs=0.01)
+    assert rows["p2"]["local_dls_deg_per_30m"].max() == pytest.approx(8.59, abs=0.01)
+
+
+def test_report_formatting():
+    assert report._fmt(math.inf) == "∞" and report._fmt(None) == "n/a"
+    assert report._fmt(12.3456) == "12.3" and report._fmt(1.5e7) == "1.50e+07"
+    assert report._fmt(True) == "yes"
+    md = report._table(pd.DataFrame({"a": [1.0, 2.5], "b": ["x", "y"]}), {"a": "A", "b": "B"})
+    assert md.splitlines() == ["| A | B |", "|---|---|", "| 1 | x |", "| 2.5 | y |"]
