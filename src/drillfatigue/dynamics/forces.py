@@ -22,19 +22,20 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
-from drillfatigue.dynamics.bitrock import bit_response
+from drillfatigue.dynamics.bitrock import PRESCRIBED_ROP, bit_response
 from drillfatigue.dynamics.contact import find_contact, wall_force
 from drillfatigue.dynamics.friction import KARNOPP
 from drillfatigue.dynamics.joints import joint_force
 from drillfatigue.dynamics.layout import (
     B_FREEZE, B_LNOM, B_TOPLAT, B_TOPMODE, B_TOPTQ, B_TRAMP, B_TWIN,
-    C_BOUNCE, C_MDROCK, C_NACT, C_OFFB, C_ROPNOW,
+    C_BOUNCE, C_GUARD, C_MDROCK, C_NACT, C_OFFB, C_ROPNOW,
     CS_D, CS_FMAX, CS_IMP, CS_N, CS_ONMD, CS_ONT, CS_ORB, CS_ORBABS, CS_SPIN, CS_TCON, CS_TH,
     CS_THOK, H_FCMAX, H_NCON, H_NSEG, P_BITLAW, P_BITMODEL, P_BP, P_FMODEL, P_FP, P_KC, P_NPTS,
     S_CC, S_RB, S_RC,
-    B_AXMODE, B_BITON, B_CBIT, B_HL, B_KBIT, B_LOBE, B_MD0, B_NLOBE, B_ROP, B_TOB,
+    B_AXMODE, B_BITON, B_CBIT, B_EXT, B_HL, B_KBIT, B_LOBE, B_MD0, B_NLOBE, B_ROP, B_TOB,
     B_TOPAUTO_A, B_TOPAUTO_T, B_WREF, B_ZB, B_ZJ,
     C_HINT, C_PHIB, C_PHID, C_STEP,
     H_BITMD, H_BITRPM, H_HOOK, H_PDISS, H_PE, H_PG, H_PIN, H_ROP, H_TOB, H_TOPRPM, H_TSURF,
@@ -45,7 +46,7 @@ from drillfatigue.dynamics.layout import (
     T_KGA, T_KGA2, T_KPAR_B, T_KPAR_S, T_KT_TOP, T_MPL, T_R2, T_WPL,
 )
 from drillfatigue.well.kernels import path_point
-from drillfatigue.dynamics.rigid import quat_mul, quat_to_rot
+from drillfatigue.dynamics.rigid import quat_conj_mul, quat_exp_mul, quat_log, quat_mul, quat_to_rot
 
 RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 
@@ -301,9 +302,26 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
     Fl = scv[0]
     Ml = scv[1]
     Mu = scv[2]
+    # growth rate (m/s) of the top segment along its axis: its lower end moves at
+    # this rate on top of its rigid motion (kinematic growth, see the integrator),
+    # which the damper of the joint below it must see
+    if bp[B_FREEZE] == 1.0:
+        growth = 0.0
+    elif bp[B_BITON] == 1.0:
+        growth = sc[C_ROPNOW]
+    else:
+        growth = bp[B_EXT]
+        if sc[C_GUARD] == 1.0 and growth < 0.0:
+            growth = 0.0
+    vtop = scv[4]
     for j in range(n - 1):
+        vu = v[j + 1]
+        if j == n - 2 and growth != 0.0:
+            for k in range(3):
+                vtop[k] = v[j + 1, k] + growth * R[j + 1, k, 2]
+            vu = vtop
         joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
-                    x[j + 1], v[j + 1], R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
+                    x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
                     jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
                     jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
                     scq[0], scq[1], scq[2], scm[0], Fl, Ml, Mu, loads[j], ed)
@@ -428,7 +446,9 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
             if bit_response(int(cpar[P_BITMODEL]), cpar[P_BP:P_BP + 10], wob_f, w[0, 2], out2) != 0:
                 return 3
             tob = out2[0]
-            sc[C_ROPNOW] = out2[1]
+            # prescribed ROP: the rock face is kinematic and keeps advancing through a
+            # bounce (the string catches up); computed ROP: the law's, 0 off bottom
+            sc[C_ROPNOW] = bp[B_ROP] if int(cpar[P_BITMODEL]) == PRESCRIBED_ROP else out2[1]
         else:
             tob = bp[B_TOB] * math.tanh(w[0, 2] / bp[B_WREF])
             sc[C_ROPNOW] = bp[B_ROP]
@@ -644,17 +664,29 @@ def _rigid_point_velocity(v, wW, r, out):
 
 
 @njit(cache=True)
-def split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv):
+def split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv, growth):
     """Drilling: split a segment of length ``bp[B_LNOM]`` off the bottom of the top segment.
 
     The top segment (row n-1) is cut rigidly into a lower piece of the nominal
     length (kept in row n-1, now an ordinary segment) and a new, shorter top
     segment (row n). Both parts keep the rigid-body motion of the whole (velocity
     of each centre = v + omega x r), so momentum and kinetic energy are
-    unchanged; the new joint between them starts undeformed. The stiffness of
-    the joint below changes with the half lengths; the caller books the energy
-    difference as work put in (as for the growing top segment).
-    Requires n < the allocated rows. Returns the new active count.
+    unchanged.
+
+    Load continuity. The old top's compliance was split between the joint below
+    it (half length h) and the top boundary spring (h); afterwards it is the
+    joint below the piece (h1), the new joint (h1 + h2) and the top spring
+    (h2) -- the same total. So that the axial force and the torque do not jump,
+    the piece is shifted along and turned about its axis until the joint below
+    it carries the old axial force T_b and torque Q, and the new top until the
+    new joint carries T_b + the piece's axial weight and Q (quasi-static
+    equilibrium of the piece); the top spring then carries its old load again
+    (the total stretch and twist are unchanged). Shear and bending at the new
+    joint start at zero (the top of the string is short and nearly straight).
+    The caller books the energy difference as work put in.
+    ``growth`` is the rate (m/s) at which the top segment's lower end moves
+    along its axis by growth (ROP); the piece, now an ordinary segment, takes it
+    as velocity. Requires n < the allocated rows. Returns the new active count.
     """
     n = int(sc[C_NACT])
     top = n - 1
@@ -662,6 +694,25 @@ def split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv):
     h = seg[top, S_H]
     ln = bp[B_LNOM]
     quat_to_rot(q[top], R[top])
+    # axial gap and twist of the joint below the top, before the split
+    lo = top - 1
+    d_old = 0.0
+    tw_old = 0.0
+    ka_old = 0.0
+    kt_old = 0.0
+    qt = np.empty(4)
+    qt2 = np.empty(4)
+    th = np.empty(3)
+    if lo >= 0:
+        quat_to_rot(q[lo], R[lo])
+        for k in range(3):
+            d_old += ((x[top, k] + h * R[top, k, 2]) - (x[lo, k] - seg[lo, S_H] * R[lo, k, 2])) \
+                * R[top, k, 2]
+        quat_conj_mul(q[lo], q[top], qt)
+        quat_log(qt, th)
+        tw_old = th[2]
+        ka_old = jp[lo, J_KA]
+        kt_old = jp[lo, J_KT]
     wv = scv[0]
     r = scv[1]
     vel = scv[2]
@@ -685,7 +736,9 @@ def split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv):
         v[new, k] = vnew[k]
         w[new, k] = w[top, k]
         x[top, k] = xc[k] + (h - h1) * R[top, k, 2]
-        v[top, k] = vel[k]
+        # the piece was the growing bottom of the top segment: its points moved at
+        # the rigid velocity plus the growth rate (ROP or trip speed) along e3
+        v[top, k] = vel[k] + growth * R[top, k, 2]
     for k in range(4):
         q[new, k] = q[top, k]
     seg[new, S_RC] = seg[top, S_RC]
@@ -712,6 +765,24 @@ def split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv):
     # the per-point contact dash-pot scales with sqrt(mass carried)
     seg[top, S_CC] = cc_old * math.sqrt(seg[top, S_M] / m_old)
     seg[new, S_CC] = cc_old * math.sqrt(seg[new, S_M] / m_old)
+    if lo >= 0 and jp[lo, J_KA] > 0.0 and jp[top, J_KA] > 0.0:
+        # load continuity (see above); tension T = -k_a d, torque Q = k_t twist
+        t_b = -ka_old * d_old
+        q_b = kt_old * tw_old
+        d1 = -t_b / jp[lo, J_KA] - d_old          # shift of the piece along e3
+        a1 = (q_b / jp[lo, J_KT] - tw_old) if jp[lo, J_KT] > 0.0 else 0.0
+        t_c = t_b + seg[top, S_W] * R[top, 2, 2]
+        d2 = -t_c / jp[top, J_KA] + d1            # shift of the new top
+        a2 = (q_b / jp[top, J_KT] if jp[top, J_KT] > 0.0 else 0.0) + a1
+        for k in range(3):
+            x[top, k] += d1 * R[top, k, 2]
+            x[new, k] += d2 * R[top, k, 2]
+        quat_exp_mul(q[top], 0.0, 0.0, a1, qt, qt2)
+        for k in range(4):
+            q[top, k] = qt2[k]
+        quat_exp_mul(q[new], 0.0, 0.0, a2, qt, qt2)
+        for k in range(4):
+            q[new, k] = qt2[k]
     return n + 1
 
 

@@ -156,7 +156,7 @@ def advance(n_steps, dt, x, v, q, w, Fw, Mw, Mb, sc, seg, jp, bp, topp, anchor, 
                 x[top, k] += dh * R[top, k, 2]
             update_top(h_new, n, seg, jp, topp, bp)
             if 2.0 * h_new > bp[B_LSPLIT] and n < nmax:
-                n = split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv)
+                n = split_top(x, v, q, w, seg, jp, topp, bp, hint, cst, sc, R, scv, dL / dt)
                 sc[C_NSPLIT] += 1.0
             elif 2.0 * h_new < bp[B_LMIN] and n > 2:
                 e_before = tail_energy(n - 2, t1, x, v, q, w, seg, jp, anchor, tab_t, tab_w, sc, R,

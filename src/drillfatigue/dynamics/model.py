@@ -488,7 +488,10 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     anchor[3:7] = quat_from_rot(frames[-1])
     anchor[7:10] = e3s[-1]
     # --- state ---------------------------------------------------------------------------
+    # the string below the top moves down with the bit at the ROP; the top
+    # segment's top end stays at the rig floor (its growth is kinematic)
     v = bp[L.B_ROP] * e3s.copy()
+    v[-1] = 0.0
     w = np.zeros((n, 3))
     w[:, 2] = omega0
     sc = np.zeros(L.N_SC)
