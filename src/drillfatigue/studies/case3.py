@@ -160,7 +160,9 @@ def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
 
     fig, ax = plt.subplots(figsize=(6, 4))
     x = np.arange(len(table))
-    ax.bar(x - 0.2, table["life_h"], 0.4, label=f"ours, {cfg.criterion}")
+    life = table["life_h"].to_numpy(dtype=float)
+    ax.bar(x - 0.2, np.where(np.isfinite(life), life, np.nan), 0.4,
+           label=f"ours, {cfg.criterion}")  # an infinite life (no damage) is left out
     ax.bar(x + 0.2, table["paper_life_h"], 0.4, label="paper")
     ax.set_xticks(x, [f"{v:.0f} m" for v in table["s_from_bit_m"]])
     ax.set_yscale("log")
