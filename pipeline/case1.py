@@ -3,7 +3,8 @@
 Reads the ``case1`` section of params.yaml, writes ``data/case1/`` (tables, figures,
 runs) and ``metrics/case1.json``.
 
-Usage: ``python pipeline/case1.py [--params params.yaml] [--out data/case1] [--metrics metrics/case1.json]``
+Usage: ``python pipeline/case1.py [--params params.yaml] [--out data/case1]
+[--metrics metrics/case1.json]``
 """
 
 from __future__ import annotations

@@ -3,7 +3,8 @@
 Reads the ``case2`` section of params.yaml, writes ``data/case2/`` (tables, figures,
 runs) and ``metrics/case2.json``.
 
-Usage: ``python pipeline/case2.py [--params params.yaml] [--out data/case2] [--metrics metrics/case2.json]``
+Usage: ``python pipeline/case2.py [--params params.yaml] [--out data/case2]
+[--metrics metrics/case2.json]``
 """
 
 from __future__ import annotations

@@ -3,7 +3,8 @@
 Reads the ``case3`` section of params.yaml, writes ``data/case3/`` (tables, figures,
 runs) and ``metrics/case3.json``.
 
-Usage: ``python pipeline/case3.py [--params params.yaml] [--out data/case3] [--metrics metrics/case3.json]``
+Usage: ``python pipeline/case3.py [--params params.yaml] [--out data/case3]
+[--metrics metrics/case3.json]``
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Measure the paper-scale run times of the case studies; write ``pipeline/paper_scale_timings.json``.
+"""Measure the case studies' paper-scale run times; write ``pipeline/paper_scale_timings.json``.
 
 Not a DVC stage (the full runs take longer than the pipeline budget): run by
 hand, commit the JSON, and the ``report`` stage puts the numbers next to the

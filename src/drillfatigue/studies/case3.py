@@ -107,7 +107,8 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
     loads = pd.read_parquet(run_dir / "loads.parquet")
     t = np.unique(loads["time_s"].to_numpy())
     span = float(t[-1] - t[0] + (t[1] - t[0])) if t.size > 1 else 0.0
-    dmg = evaluate_run(run_dir, fatigue if fatigue is not None else study_fatigue(), None, joints=sorted({j for j, _ in picks}),
+    fat = fatigue if fatigue is not None else study_fatigue()
+    dmg = evaluate_run(run_dir, fat, None, joints=sorted({j for j, _ in picks}),
                        criterion=cfg.criterion)
     rows = []
     for want, (j, s) in zip(cfg.s_from_bit_m, picks, strict=True):

@@ -113,35 +113,12 @@ def warm_up(case: dict[str, Any], duration_s: float = 0.02) -> None:
     simulate(case_from_dict(short), None, progress=False)
 
 
-def nearest_joint(run_dir: Path, s_from_bit_m: float) -> tuple[int, float]:
-    """The recorded joint nearest ``s_from_bit_m`` behind the bit: (index, its distance)."""
-    joints = pd.read_parquet(run_dir / "joints.parquet")
-    k = int(np.argmin(np.abs(joints["s_from_bit_m"].to_numpy() - s_from_bit_m)))
-    return int(joints["joint"].iloc[k]), float(joints["s_from_bit_m"].iloc[k])
-
-
 def recorded_span_s(run_dir: Path) -> float:
     """Length of the recorded loads history, s (last minus first sample plus one step)."""
     t = np.unique(pd.read_parquet(run_dir / "loads.parquet", columns=["time_s"])["time_s"])
     if t.size < 2:
         return 0.0
     return float(t[-1] - t[0] + (t[1] - t[0]))
-
-
-def joint_damage(run_dir: Path, joints: list[int], fatigue: FatigueConfig,
-                 criterion: str) -> pd.DataFrame:
-    """Damage rows (both locations) of ``joints`` over the recorded history of a run.
-
-    Adds ``recorded_s`` and ``damage_per_s`` (damage over the recorded span /
-    its length), the quantity that is scaled to the study's window.
-    """
-    from drillfatigue.fatigue.run import evaluate_run
-
-    df = evaluate_run(run_dir, fatigue, None, joints=joints, criterion=criterion)
-    span = recorded_span_s(run_dir)
-    df["recorded_s"] = span
-    df["damage_per_s"] = df["damage"] / span if span > 0 else math.nan
-    return df
 
 
 def rp7g_rates(run_dir: Path, case: dict[str, Any], fatigue: FatigueConfig) -> pd.DataFrame:
