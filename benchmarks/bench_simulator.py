@@ -12,7 +12,15 @@ Usage: ``python benchmarks/bench_simulator.py [--quick]`` -> ``benchmarks/result
   (BDF, rtol 1e-5, max step 1 ms, as the paper) on the 30-segment case over a
   short window; the numba run of the very same case (no ROP, no lobes) gives the
   ratio. The numpy RHS is checked against the numba force kernel first.
-Goals (issue 3): 120 segments >= 1x real time; >= 50x the scipy baseline.
+* Deviated drilling (issue 4): ``data/cases/case2_profile.yaml`` -- 120 segments
+  on profile_1 from 480 m, wall contact, tanh-exponential friction, 150 rpm,
+  drilling at 0.5 m/s (segments split off the top as it grows), 0.5 s
+  relaxation; real-time factor over the run after a warm-up.
+* Friction-law cost (issue 4): ``data/cases/case1_whirl.yaml`` (5 segments,
+  sustained backward whirl) with Karnopp and with tanh-exponential: wall-time
+  ratio of the stepping loop (paper: 47 vs 18 min, 2.6x).
+Goals (issues 3, 4): 120 segments >= 1x real time (vertical and deviated drilling);
+>= 50x the scipy baseline.
 """
 
 from __future__ import annotations
@@ -80,6 +88,56 @@ def run_one(n: int, duration: float, full: bool = True) -> dict:
             "us_per_segment_step": 1e6 * s["wall_time_s"] / (s["n_steps"] * n),
             "peak_rss_MiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
             "energy_balance_error_rel": s["energy_balance_error_rel"]}
+
+
+CASES_DIR = Path(__file__).resolve().parents[1] / "data" / "cases"
+
+
+def _case_file(name: str, **sections: dict):
+    from drillfatigue.config.base import read_yaml
+
+    data = read_yaml(CASES_DIR / name)
+    for sec, vals in sections.items():
+        data.setdefault(sec, {}).update(vals)
+    return case_from_dict(data)
+
+
+def run_deviated(duration: float) -> dict:
+    """case2_profile.yaml (120 segments, contact, tanh-exp, 0.5 m/s) for ``duration`` s."""
+    from drillfatigue.dynamics.api import simulate
+
+    over = {"solver": {"checkpoint_every_s": 0.0}}
+    simulate(_case_file("case2_profile.yaml", operation={"duration_s": 0.05}, **over), None,
+             progress=False)  # compile / load cache
+    cfg = _case_file("case2_profile.yaml", operation={"duration_s": duration, "rpm_ramp_s": 1.0},
+                     **over)
+    res = simulate(cfg, None, progress=False)
+    s = res.summary
+    return {"case": "case2_profile (120 segments, deviated, contact, tanh_exp, ROP 0.5 m/s)",
+            "simulated_s": s["duration_s"], "wall_s": s["wall_time_s"],
+            "real_time_factor": s["real_time_factor"], "dt_s": s["dt_s"],
+            "segments_initial": s["n_segments_initial"], "segments_final": s["n_segments_final"],
+            "us_per_segment_step": 1e6 * s["wall_time_s"] / (s["n_steps"] * s["n_segments_final"]),
+            "peak_rss_MiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+            "energy_balance_error_rel": s["energy_balance_error_rel"]}
+
+
+def run_whirl(duration: float) -> dict:
+    """case1_whirl.yaml with Karnopp and tanh-exp: stepping-loop wall times and their ratio."""
+    from drillfatigue.dynamics.api import simulate
+
+    simulate(_case_file("case1_whirl.yaml", operation={"duration_s": 0.05}), None, progress=False)
+    out: dict = {}
+    for model in ("tanh_exp", "karnopp"):
+        res = simulate(_case_file("case1_whirl.yaml", operation={"duration_s": duration},
+                                  friction={"model": model}), None, progress=False)
+        s = res.summary
+        out[model] = {"wall_s": s["wall_time_s"], "dt_s": s["dt_s"], "n_steps": s["n_steps"],
+                      "whirl_class": s["whirl_class"]}
+    out["wall_ratio_karnopp_over_tanh_exp"] = out["karnopp"]["wall_s"] / out["tanh_exp"]["wall_s"]
+    out["paper_ratio"] = 47.0 / 18.0
+    out["simulated_s"] = duration
+    return out
 
 
 # --- the numpy baseline ------------------------------------------------------------------
@@ -265,9 +323,14 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="short runs (CI smoke)")
     ap.add_argument("--one", type=int, default=0, help=argparse.SUPPRESS)
     ap.add_argument("--duration", type=float, default=0.0, help=argparse.SUPPRESS)
+    ap.add_argument("--part", default="", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.one:
         print(json.dumps(run_one(args.one, args.duration)))
+        return
+    if args.part:
+        fn = {"deviated": run_deviated, "whirl": run_whirl}[args.part]
+        print(json.dumps(fn(args.duration)))
         return
     durations = {5: 2.0, 30: 2.0, 120: 2.0} if args.quick else {5: 20.0, 30: 20.0, 120: 20.0}
     cases = []
@@ -277,6 +340,15 @@ def main() -> None:
         cases.append(json.loads(out.stdout.strip().splitlines()[-1]))
         print(f"{n:4d} segments: {cases[-1]['real_time_factor']:.2f}x real time, "
               f"{cases[-1]['peak_rss_MiB']:.0f} MiB peak", flush=True)
+    parts = {}
+    for part, dur in (("deviated", 2.0 if args.quick else 20.0), ("whirl", 1.0 if args.quick else 5.0)):
+        out = subprocess.run([sys.executable, __file__, "--part", part, "--duration", str(dur)],
+                             check=True, capture_output=True, text=True)
+        parts[part] = json.loads(out.stdout.strip().splitlines()[-1])
+    print(f"deviated 120 segments drilling (contact, tanh_exp): "
+          f"{parts['deviated']['real_time_factor']:.2f}x real time", flush=True)
+    print(f"whirl wall-time ratio karnopp / tanh_exp: "
+          f"{parts['whirl']['wall_ratio_karnopp_over_tanh_exp']:.2f} (paper 2.6)", flush=True)
     base = scipy_baseline(0.02 if args.quick else 0.1)
     print(f"scipy BDF baseline (30 segments): {base['scipy_real_time_factor']:.2e}x real time; "
           f"numba {base['speedup']:.0f}x faster", flush=True)
@@ -284,7 +356,9 @@ def main() -> None:
 
     result = {
         "benchmark": "simulator", "quick": args.quick, "cases": cases, "scipy_baseline": base,
+        "deviated_drilling": parts["deviated"], "whirl_friction_cost": parts["whirl"],
         "goals": {"rtf_120_segments_ge_1": cases[-1]["real_time_factor"] >= 1.0,
+                  "rtf_120_deviated_drilling_ge_1": parts["deviated"]["real_time_factor"] >= 1.0,
                   "speedup_vs_scipy_ge_50": base["speedup"] >= 50.0},
         "machine": {"python": platform.python_version(), "processor": platform.processor(),
                     "cpu_count": os.cpu_count(), "threads": 1},
