@@ -231,9 +231,32 @@ def _plan_section(d: Path, out: Path) -> list[str]:
     if not p.is_file():
         return []
     table = pd.read_csv(p)
-    lines = ["## Well-plan ranking\n", _table(table, {c: c for c in table.columns}), ""]
+    meta = _read_json(d / "ranking.json") or {}
+    lines = ["## Well-plan ranking (`drillfatigue plan rank`)\n",
+             "Candidates with the shared case-2 end point, KOP (hence DLS) varied. Life of the "
+             "critical component in repetitions of the drilling window: the surrogate's "
+             "prediction with its interval, and for the top candidates the simulator's "
+             "(reduced sampling, see the candidates file).\n"]
+    lines.append(_table(table, {
+        "rank_surrogate": "rank (surrogate)", "candidate": "candidate",
+        "life_windows_surrogate": "life, windows (surrogate)",
+        "life_windows_surrogate_lower": "lower", "life_windows_surrogate_upper": "upper",
+        "ood_fraction": "out-of-domain rows", "critical_component": "critical (surrogate)",
+        "life_windows_simulator": "life, windows (simulator)",
+        "simulator_critical_component": "critical (simulator)",
+        "rank_simulator": "rank (simulator)"}))
+    lines.append("")
+    if meta.get("simulator_agrees") is not None:
+        lines.append(f"Simulator order of the confirmed candidates agrees with the surrogate's: "
+                     f"{_fmt(bool(meta['simulator_agrees']))}.\n")
+    if "ood_fraction" in table and float(table["ood_fraction"].mean()) > 0.5:
+        lines.append("**Most query rows are outside the surrogate's training domain** (the "
+                     "sweep it was trained on does not cover these wells and windows): its "
+                     "life values are extrapolations and only the simulator's are to be "
+                     "trusted; the order is the part worth reading.\n")
     figs = _copy_figures(d, out, ["ranking.png"])
-    lines += _fig_lines(figs, {"ranking.png": "Well-plan ranking"})
+    lines += _fig_lines(figs, {"ranking.png": "Well-plan ranking: surrogate (interval) and "
+                                              "simulator lives"})
     return lines
 
 
