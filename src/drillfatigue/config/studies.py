@@ -85,6 +85,8 @@ class Case2Config(StrictModel):
                                         "transient); paper-scale 0")
     rpm_ramp_s: float = Field(1.0, ge=0.0, le=1e4, description="paper-scale: 5")
     relax_s: float = Field(0.5, ge=0.0, le=1e3, description="damped settling before t = 0")
+    safety_factor: float = Field(0.5, gt=0.0, le=0.95,
+                                 description="solver.safety_factor (fraction of the stable step)")
     target_s_from_bit_m: float = Field(40.0, gt=0.0, le=5000.0,
                                        description="joint whose loads are reported")
     string: StringSpec = Field(default_factory=StringSpec)
