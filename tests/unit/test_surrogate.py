@@ -134,6 +134,24 @@ def test_fast_column_access_matches_public_pandas_path(data: pd.DataFrame,
         model.predict(odd)
 
 
+def test_pooled_batch_prediction_equals_serial(data: pd.DataFrame, model: Surrogate) -> None:
+    import torch
+
+    rows = pd.concat([data] * 4, ignore_index=True)  # > 2 chunks of 2048 rows
+    x_num, x_cat = model.encode(rows)
+    before = torch.get_num_threads()
+    try:
+        torch.set_num_threads(1)
+        serial = model.predict_array(x_num, x_cat, ood=False)
+        torch.set_num_threads(2)
+        pooled = model.predict_array(x_num, x_cat, ood=False)
+        assert torch.get_num_threads() == 2  # restored after the pooled call
+    finally:
+        torch.set_num_threads(before)
+    for k in ("log10", "sigma", "lower", "upper"):
+        np.testing.assert_array_equal(pooled[k], serial[k])
+
+
 def test_load_rejects_non_model_folder(tmp_path) -> None:
     with pytest.raises(InputError):
         Surrogate.load(tmp_path)
