@@ -50,9 +50,10 @@ RESULTS = Path(__file__).resolve().parent / "results" / "simulator.json"
 SPLIT = {5: (1, 4), 30: (5, 25), 120: (20, 100)}
 
 
-def case(n: int, duration: float, full: bool = True):
+def case(n: int, duration: float, full: bool = True, baseline: bool = False):
     n_dc, n_dp = SPLIT[n]
-    return case_from_dict({
+    extra = {"bit": {"model": "given_tob"}, "contact": {"enabled": False}} if baseline else {}
+    return case_from_dict({**extra,
         "string": {"components": [
             {"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 9.0 * n_dc,
              "n_segments": n_dc},
@@ -281,7 +282,8 @@ def scipy_baseline(window: float) -> dict:
 
     from drillfatigue.dynamics.model import advance_model
 
-    cfg = case(30, window, full=False)
+    # the issue-3 model the numpy RHS implements: given TOB, no wall contact
+    cfg = case(30, window, full=False, baseline=True)
     model, state = build_model(cfg, path_for(30))
     omega = float(model.tab_w[0])
     nm = NumpyModel(model, omega, float(state.sc[L.C_PHID]))

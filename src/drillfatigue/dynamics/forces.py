@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.bitrock import PRESCRIBED_ROP, bit_response
-from drillfatigue.dynamics.contact import find_contact, wall_force
+from drillfatigue.dynamics.contact import wall_force
 from drillfatigue.dynamics.friction import KARNOPP
 from drillfatigue.dynamics.joints import joint_force
 from drillfatigue.dynamics.layout import (
@@ -581,13 +581,25 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
                 cst[i, CS_TCON] += dt
             # whirl: orbit angle of the centre about the hole axis, after the ramp
             if t >= t_win:
+                # the centre's radial offset from the axis of the cylinder its first
+                # contact point was last found in (no search: a direct projection)
                 out6 = cw[22:28]
-                ic = find_contact(x[i], 0.0, p0, axc, lnc, rad, hint[3 * i], out6)
-                if ic < 0:
-                    ic = hint[3 * i]
+                ic = hint[3 * i]
                 a0 = wall[ic, 3]
                 a1 = wall[ic, 4]
                 a2 = wall[ic, 5]
+                r0 = x[i, 0] - wall[ic, 0]
+                r1 = x[i, 1] - wall[ic, 1]
+                r2 = x[i, 2] - wall[ic, 2]
+                sa = r0 * a0 + r1 * a1 + r2 * a2
+                r0 -= sa * a0
+                r1 -= sa * a1
+                r2 -= sa * a2
+                out6[5] = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+                if out6[5] > 0.0:
+                    out6[1] = r0 / out6[5]
+                    out6[2] = r1 / out6[5]
+                    out6[3] = r2 / out6[5]
                 spin = wW[i, 0] * a0 + wW[i, 1] * a1 + wW[i, 2] * a2
                 cst[i, CS_SPIN] += spin * dt
                 clr = rad[ic] - seg[i, S_RC]
