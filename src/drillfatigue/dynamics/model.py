@@ -509,6 +509,12 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
         seg[:, L.S_CC] = [contact_damping(config.contact, float(mi) / npts) for mi in m]
     model.cpar = cpar
     dt_stable = stable_step(seg, jp, bp, cpar)
+    if not op.bit_on_bottom and op.trip_speed_m_per_s < 0.0 and n >= 2:
+        # tripping out shortens the top segment to B_LMIN before it merges: a
+        # lighter body on stiffer springs; take the step for that shortest top too
+        seg_s, jp_s = seg.copy(), jp.copy()
+        update_top(0.5 * bp[L.B_LMIN], n, seg_s, jp_s, topp, bp)
+        dt_stable = min(dt_stable, stable_step(seg_s, jp_s, bp, cpar))
     if sv.dt_s is not None:
         dt = sv.dt_s
         if dt > dt_stable:
