@@ -121,8 +121,9 @@ class Case3Config(StrictModel):
 
     profile: str = "profile_1"
     mode: Literal["on_bottom", "tripping"] = Field(
-        "on_bottom", description="on_bottom: drilling window after placement; tripping: the "
-                                 "string keeps sliding in off bottom while it rotates")
+        "tripping", description="tripping: off bottom, the string slides in during the whole "
+                                "run (the paper's sequence); on_bottom: a drilling window after "
+                                "placement")
     rop_m_per_s: float = Field(0.01, ge=0.0, le=1.0, description="on_bottom mode")
     bit_md_end_m: float = Field(1000.0, gt=0.0, le=_MD_MAX,
                                 description="bit MD at the end of the run (horizontal)")

@@ -6,14 +6,15 @@ bit; lives in hours (paper: 191, 625, 677 h, the location nearest the build
 section lowest).
 
 Modelling choices (documented assumptions; the paper does not give them), by
-``mode``: ``on_bottom`` (default): the trip is represented by the string's
-initial placement in the hole (a simulator run cannot switch from tripping to
+``mode``: ``tripping`` (default, the paper's sequence): the bit is off bottom
+during the whole run and the string trips in at ``trip_speed_m_per_s`` (the
+simulator's tripping mode: top held axially, string length growing at the trip
+speed); a run cannot stop the trip, so the string keeps sliding in while it
+rotates in the window. ``on_bottom``: the trip is represented by the string's
+initial placement in the hole (a run cannot switch from tripping to
 drilling), the bit is on bottom with the neutral point at the top of the
 collars and a slow ROP, and ``trip_s`` is simulated at zero rpm before the
-ramp; ``tripping``: the bit is off bottom during the whole run and the string
-keeps tripping in at ``trip_speed_m_per_s`` (the simulator's tripping mode:
-top held axially, string length growing at the trip speed), so the window
-rotates the string while it slides into the horizontal hole. Either run ends
+ramp. Either run ends
 with the bit at ``bit_md_end_m``. The rpm follows a table: 0 during the trip, a linear ramp to
 ``rpm`` over ``ramp_s``, then constant. Fatigue: the configured criterion at
 both locations of each joint; life in hours = recorded window / damage.

@@ -188,8 +188,10 @@ def _case3_section(d: Path, out: Path) -> list[str]:
         "horizontal hole the rotating string carries almost no alternating bending unless "
         "it buckles or whirls, and in our runs it lies on the low side with small lateral "
         "motion; the paper's 191-677 h imply stress ranges we do not see. Candidate reasons: "
-        "its bit/ROP and WOB in this phase (not published), its string and SCFs, and its "
-        "lateral dynamics.\n")
+        "whether its bit was on bottom in the window and with what WOB (not published; "
+        "`case3.mode: on_bottom` runs a drilling window instead, with shorter but still "
+        "far longer lives than the paper's), its string and SCFs, and its lateral "
+        "dynamics.\n")
     figs = _copy_figures(d, out, ["case3_loads.png", "case3_life.png"])
     lines += _fig_lines(figs, {"case3_loads.png": "Case 3: loads at 8, 40, 80 m behind the bit",
                                "case3_life.png": "Case 3: lives, ours and the paper's"})
