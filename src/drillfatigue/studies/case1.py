@@ -122,6 +122,7 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
     out_dir = Path(out_dir)
     rows = []
     orbits: dict[str, pd.DataFrame] = {}
+    spins: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for model in cfg.models:
         for level, mu in (("low", cfg.mu_low), ("high", cfg.mu_high)):
             name = f"{model}_{level}"
@@ -136,6 +137,9 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
             omega = float(np.mean(late["top_rpm"])) * 2 * math.pi / 60.0
             rate = whirl_rate(kin, t_from)
             orbits[name] = kin
+            if level == "high":  # the rolling reference, from the spin rate, rad/s
+                spins[name] = (ch["time_s"].to_numpy(),
+                               ch["top_rpm"].to_numpy() * 2 * math.pi / 60.0)
             contact = kin[kin["time_s"] >= t_from]
             rows.append({
                 "model": model, "friction": level, "mu_dynamic": mu,
@@ -161,12 +165,13 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
     summ = {"config": cfg.model_dump(mode="json"), "rolling_ratio": rolling_ratio(),
             "wall_s_by_model": walls, "speedup_karnopp_over_tanh_exp": speedup,
             "paper_speedup": 47.0 / 18.0, "rows": table.to_dict(orient="records")}
-    _figures(out_dir, orbits, dpi)
+    _figures(out_dir, orbits, spins, dpi)
     write_json(out_dir / "case1_summary.json", summ)
     return summ
 
 
-def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame], dpi: int) -> None:
+def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame],
+             spins: dict[str, tuple[np.ndarray, np.ndarray]], dpi: int) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -195,13 +200,19 @@ def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame], dpi: int) -> None:
     save_figure(fig, out_dir / "case1_orbits.png", dpi)
 
     fig, ax = plt.subplots(figsize=(8, 4))
-    for name in names:
+    for i, name in enumerate(names):
         kin = orbits[name]
         g = kin.groupby("time_s")["theta_rad"].mean()
         rate = np.gradient(g.to_numpy(), g.index.to_numpy())
         k = max(1, len(rate) // 50)
-        smooth = np.convolve(rate, np.ones(k) / k, mode="same")
-        ax.plot(g.index, smooth, lw=0.8, label=name)
+        smooth = np.convolve(rate, np.ones(k) / k, mode="valid")  # no edge artefacts
+        t = g.index.to_numpy()[k // 2: k // 2 + smooth.size]
+        style = {"lw": 2.2, "alpha": 0.5} if name.startswith("karnopp") else {"lw": 0.9}
+        ax.plot(t, smooth, color=f"C{i}", label=name, **style)
+        if name in spins:
+            ts, w = spins[name]
+            ax.plot(ts, rolling_ratio() * w, ":", color=f"C{i}", lw=0.8,
+                    label=f"{name}: rolling without slip")
     ax.set_xlabel("time, s")
     ax.set_ylabel("whirl rate dθ/dt, rad/s\n(< 0 backward)")
     ax.legend(fontsize=8)
