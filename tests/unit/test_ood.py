@@ -25,6 +25,25 @@ def test_knn_distance_exact() -> None:
     np.testing.assert_allclose(d, [0.5], rtol=1e-6)  # mean of 0 and 1
 
 
+def test_batched_knn_distance_equals_brute_force() -> None:
+    import torch
+
+    rng = np.random.default_rng(3)
+    ref = rng.normal(size=(300, 4)).astype(np.float32)
+    z = rng.normal(size=(2500, 4))  # > 2 chunks: the pooled path
+    before = torch.get_num_threads()
+    try:
+        torch.set_num_threads(2)
+        d = knn_distance(z, ref, 5)
+        assert torch.get_num_threads() == 2
+    finally:
+        torch.set_num_threads(before)
+    d2 = ((z[:, None, :] - ref.astype(np.float64)[None]) ** 2).sum(axis=2)
+    brute = np.sqrt(np.sort(d2, axis=1)[:, :5]).mean(axis=1)
+    # float32 GEMM expansion |z|^2 - 2 z.r + |r|^2: ~1e-6 relative on O(1) distances
+    np.testing.assert_allclose(d, brute, rtol=1e-4, atol=1e-4)
+
+
 def test_inside_points_not_flagged() -> None:
     dc, _ = _fit()
     rng = np.random.default_rng(1)

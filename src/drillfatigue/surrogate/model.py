@@ -135,7 +135,12 @@ class Preprocessor:
         levels = self.categories_[col]
         lookup = {v: i for i, v in enumerate(levels)}
         vals = np.asarray(values, dtype=object).astype(str)
-        codes = np.fromiter((lookup.get(v, -1) for v in vals), dtype=np.int64, count=len(vals))
+        if len(vals) > 64:  # batches: look up each distinct value once
+            uniq, inv = np.unique(vals, return_inverse=True)
+            codes = np.array([lookup.get(v, -1) for v in uniq], dtype=np.int64)[inv.ravel()]
+        else:
+            codes = np.fromiter((lookup.get(v, -1) for v in vals), dtype=np.int64,
+                                count=len(vals))
         if np.any(codes < 0):
             bad = vals[np.argmax(codes < 0)]
             raise InputError(col, f"value {bad!r} not seen in training", ", ".join(levels))

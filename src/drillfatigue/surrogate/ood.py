@@ -54,13 +54,30 @@ def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
     rt = torch.from_numpy(ref)
     r2 = (rt * rt).sum(dim=1)
     zt = torch.from_numpy(z)
-    with torch.inference_mode():
-        for a in range(0, z.shape[0], _CHUNK):
+
+    def run(a: int) -> None:
+        with torch.inference_mode():
             zc = zt[a:a + _CHUNK]
             d2 = torch.addmm(r2.unsqueeze(0), zc, rt.t(), alpha=-2.0)
             d2 += (zc * zc).sum(dim=1, keepdim=True)
             small = torch.topk(d2, kk, dim=1, largest=False).values
             out[a:a + _CHUNK] = small.clamp_min(0.0).sqrt().mean(dim=1).numpy()
+
+    # whole chunks on one-thread workers (see Surrogate.predict_array: no
+    # per-operation barrier between torch threads on a shared machine)
+    threads = torch.get_num_threads()
+    starts = range(0, z.shape[0], _CHUNK)
+    torch.set_num_threads(1)
+    try:
+        if threads <= 1 or len(starts) < 2:
+            for a in starts:
+                run(a)
+        else:
+            from drillfatigue.surrogate.facade import _pool
+
+            list(_pool(threads).map(run, starts))
+    finally:
+        torch.set_num_threads(threads)
     return out
 
 
