@@ -51,9 +51,10 @@ growth the balance closes to ~1e-4. The damper of the joint below the top sees
 the growth rate (:func:`forces.compute_forces`), so no spurious static load
 builds up there.
 
-Numba caching caveat: ``advance`` is cached per this file; edits to the force,
-contact or friction kernels do not invalidate it (numba tracks no dependencies),
-so clear ``$NUMBA_CACHE_DIR/dynamics_*/integrator.*`` after editing them.
+Numba caching: numba tracks no dependencies across files, so an edit to the
+force, contact or friction kernels alone would not invalidate the cached
+``advance``; ``drillfatigue/__init__.py`` therefore keys the whole cache folder
+by a digest of every kernel module's source (a fresh cache after any edit).
 
 The loop runs a chunk of steps per call in one numba kernel; Python handles
 progress, recording buffers and checkpoints between chunks. The time is
