@@ -140,48 +140,26 @@ def local_dls_deg_per_30m(case: dict[str, Any], md_m: Any) -> Any:
 def api_rp7g_rows(run_dir: Path, case: dict[str, Any], cfg: Any) -> list[dict[str, Any]]:
     """API RP7G (Lubinski) damage rate of each recorded joint's pipe body, as damage rows.
 
-    Per joint: hole curvature at its mean MD over the window (the case's well
-    survey), tension = its mean axial force (compression clipped to 0 by the
-    baseline), the case's rpm, body OD/ID from ``joints.parquet``, the body
-    S-N curve and SCF of the fatigue settings; one fully reversed cycle per
-    revolution while rotating (FATIGUE.md section 5). ``life_h`` follows from
-    the rate; there is no critical plane.
+    The rows of :func:`drillfatigue.fatigue.run.api_rp7g_baseline` (hole
+    curvature at the joint's mean MD, mean tension, the case's rpm, body
+    section, S-N curve and SCF) in the damage-table layout: criterion
+    ``api_rp7g``, ``damage_rate_per_h``, ``life_h``; there is no critical plane.
     """
-    import numpy as np
     import pandas as pd
 
     from drillfatigue.config import case_from_dict
-    from drillfatigue.fatigue.rp7g import rp7g_damage_rate_profile
-    from drillfatigue.fatigue.run import build_curve
-    from drillfatigue.fatigue.sn import get_grade
-    from drillfatigue.well import build_survey
+    from drillfatigue.fatigue.run import api_rp7g_baseline
 
-    cc = case_from_dict(case)
-    survey = build_survey(cc.well)
     loads = pd.read_parquet(run_dir / "loads.parquet", columns=["joint", "md_m", "axial_N"])
-    mean = loads.groupby("joint")[["md_m", "axial_N"]].mean()
-    joints = pd.read_parquet(run_dir / "joints.parquet").set_index("joint")
-    curve = build_curve(cfg.body.curve, cfg.effective_environment)
-    ultimate = get_grade(cfg.grade).tensile_Pa
-    rop = max(float(cc.operation.rop_m_per_s), 1e-9)  # the rate per hour does not use ROP
-    rows = []
-    for j, m in mean.iterrows():
-        info = joints.loc[j]
-        kappa = float(np.interp(m["md_m"], survey.md_m, survey.dls_rad_per_m))
-        scf = float(cfg.scf[str(info["component_type"])].body.bending)
-        res = rp7g_damage_rate_profile(
-            np.array([m["md_m"]]), np.array([kappa]), np.array([m["axial_N"]]),
-            abs(float(cc.operation.rpm)), rop, float(info["body_od_m"]), float(info["body_id_m"]),
-            curve, scf=scf, ultimate_Pa=ultimate)
-        rate = float(res["damage_rate_per_h"][0])
-        rows.append({"joint": int(j), "md_m": float(m["md_m"]),
-                     "s_from_bit_m": float(info["s_from_bit_m"]),
-                     "component": str(info["component"]),
-                     "component_type": str(info["component_type"]), "location": "body",
-                     "criterion": "api_rp7g", "damage_rate_per_h": rate,
-                     "life_h": 1.0 / rate if rate > 0 else float("inf"),
-                     "critical_angle_deg": float("nan")})
-    return rows
+    joints = pd.read_parquet(run_dir / "joints.parquet")
+    sel = sorted(int(j) for j in loads["joint"].unique())
+    base = api_rp7g_baseline(loads, joints, case_from_dict(case), cfg, sel)
+    out = base[["joint", "md_m", "s_from_bit_m", "component", "component_type", "location"]].copy()
+    out["criterion"] = "api_rp7g"
+    out["damage_rate_per_h"] = base["rp7g_damage_rate_per_h"]
+    out["life_h"] = base["rp7g_life_h"]
+    out["critical_angle_deg"] = float("nan")
+    return out.to_dict("records")
 
 
 def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
