@@ -34,7 +34,9 @@ def test_inserting_a_cycle_never_decreases_damage(y: np.ndarray, where: float,
     y2 = np.insert(y, idx[k] + 1, [back, rev[k]])
     d1, d2 = damage(y), damage(y2)
     extra = 1.0 / CURVE.cycles_to_failure(h)[0]
-    assert d2 >= d1
+    # never decreases, up to the round-off of summing the cycles in another order
+    # (the extra cycle can be far below one ulp of d1)
+    assert d2 >= d1 * (1.0 - 1e-12)
     # the inserted excursion is closed as one full cycle; nothing else changes
     assert abs(d2 - (d1 + extra)) <= 1e-9 * max(d2, 1e-300)
 
