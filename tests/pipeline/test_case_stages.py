@@ -103,25 +103,27 @@ def test_study_cli_bad_section_exit_2(tmp_path, capsys):
     assert main(["study", "case9", "--params", str(params)]) == 2
 
 
-def test_proposed_params_and_stages_match_the_models():
-    params = yaml.safe_load((ROOT / "pipeline" / "case_params.yaml").read_text())
+def test_project_params_and_stages_match_the_models():
+    params = yaml.safe_load((ROOT / "params.yaml").read_text())
     for name, model in SECTIONS.items():
-        validate(model, params.get(name, {}), name)  # every proposed value is valid
+        validate(model, params.get(name, {}), name)  # every project value is valid
     defaults = {n: m().model_dump(mode="json") for n, m in SECTIONS.items()}
-    for name, section in params.items():
-        for key, value in section.items():
+    # the reduced case-study defaults documented in the report are the models' defaults
+    for name in ("case1", "case2", "case3", "report"):
+        for key, value in params[name].items():
             want = defaults[name][key]
             got = list(value) if isinstance(value, list | tuple) else value
             want = list(want) if isinstance(want, list | tuple) else want
             if isinstance(got, dict):
                 got = {**want, **got}
             assert got == want, f"{name}.{key}: params file {value!r} != model default {want!r}"
-    stages = yaml.safe_load((ROOT / "pipeline" / "case_stages.yaml").read_text())["stages"]
-    assert set(stages) == {"case1", "case2", "case3", "plan", "report"}
+    stages = yaml.safe_load((ROOT / "dvc.yaml").read_text())["stages"]
+    assert {"case1", "case2", "case3", "plan", "report"} <= set(stages)
     outs = {o if isinstance(o, str) else next(iter(o)) for st in stages.values()
             for o in st.get("outs", [])}
     for name, st in stages.items():
         for dep in st["deps"]:
-            # data/surrogate is the train stage's output (dvc.yaml, not this file)
-            assert dep in outs or dep == "data/surrogate" or (ROOT / dep).exists(), dep
-        assert name in st["params"]
+            assert dep in outs or (ROOT / dep).exists(), f"{name}: {dep}"
+        if name in SECTIONS:
+            assert name in st["params"]
+    assert params["plan"]["surrogate_dir"] in outs  # the plan ranks with the trained model

@@ -3,7 +3,7 @@
 Each section configures one study of :mod:`drillfatigue.studies` (MODEL.md §8).
 Defaults are REDUCED versions that run in a few minutes on two cores; the
 paper-scale values are given in each field's description and collected in
-``pipeline/case_params.yaml`` (comment block) and ``data/report/README.md``.
+``params.yaml`` (comment block above ``case1``) and ``data/report/README.md``.
 
 Reductions (documented, all switchable back to the paper's settings):
 
@@ -151,7 +151,7 @@ class Case3Config(StrictModel):
 class PlanConfig(StrictModel):
     """Defaults of ``drillfatigue plan rank`` (its options override them)."""
 
-    surrogate_dir: str = Field("data/surrogate", min_length=1)
+    surrogate_dir: str = Field("data/surrogate/model", min_length=1)
     confirm_top_k: int = Field(0, ge=0, le=50, description="simulator confirmation of the top k")
     out_dir: str = Field("data/plan", min_length=1)
 
