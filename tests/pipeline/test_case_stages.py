@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import json
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pandas as pd
@@ -127,3 +129,15 @@ def test_project_params_and_stages_match_the_models():
         if name in SECTIONS:
             assert name in st["params"]
     assert params["plan"]["surrogate_dir"] in outs  # the plan ranks with the trained model
+
+
+@pytest.mark.skipif(not Path(sys.executable).with_name("dvc").exists(),
+                    reason="dvc not installed in this environment")
+def test_project_dvc_yaml_is_valid_to_dvc():
+    """DVC itself accepts the whole dvc.yaml (schema, output overlaps, plots):
+    `dvc dag` loads every stage and fails on an invalid pipeline."""
+    r = subprocess.run([str(Path(sys.executable).with_name("dvc")), "dag", "--md"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    for stage in ("wells", "simulate", "train", "evaluate", "case2", "plan", "report"):
+        assert stage in r.stdout
