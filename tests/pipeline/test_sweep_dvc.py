@@ -1,12 +1,14 @@
-"""The sweep stages under DVC: ``dvc repro`` in a temporary git+DVC repo, then a no-op rerun.
+"""The pipeline under DVC: ``dvc repro`` in a temporary git+DVC repo, then a no-op rerun.
 
-Uses the sweep stages of the project's ``dvc.yaml`` with the
+Uses the stages ``wells`` → ``design`` → ``simulate`` → ``fatigue`` →
+``dataset`` → ``train`` → ``evaluate`` of the project's ``dvc.yaml`` with the
 repository's pipeline scripts, the installed package and a tiny params file
-(2 cases, 16 segments, 0.3 s window).
+(6 cases, 16 segments, 0.3 s window, a 5-epoch ensemble).
 """
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 import sys
@@ -32,11 +34,16 @@ TINY = {
          "tool_joint_length_fraction": 0.05, "n_segments": 10}]},
     "recording": {"joints": [2, 8], "loads_rate_hz": 100.0},
     "fatigue": {"plots": False},
-    "sweep": {"method": "lhs", "n_cases": 2, "seed": 5, "scheduler": "serial",
+    "surrogate": {"hidden_layers": [16], "max_epochs": 5, "patience": 5, "n_threads": 1,
+                  "gp_max_rows": 60, "hgb_max_iter": 20},
+    "sweep": {"method": "lhs", "n_cases": 6, "seed": 5, "scheduler": "serial",
               "fatigue_criteria": ["uniaxial"],
               "variables": {"operation.rpm": {"low": 40.0, "high": 120.0},
                             "friction.mu_dynamic": {"low": 0.15, "high": 0.3}}},
 }
+
+
+STAGES = ("wells", "design", "simulate", "fatigue", "dataset", "train", "evaluate")
 
 
 def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
@@ -44,26 +51,26 @@ def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
 
 
 def _stages() -> dict:
-    """The sweep stages of the project's own dvc.yaml, runnable in the temporary repo."""
+    """The chain's stages of the project's own dvc.yaml, runnable in the temporary repo."""
     spec = yaml.safe_load((ROOT / "dvc.yaml").read_text())
-    names = ("design", "simulate", "fatigue", "dataset")
+    names = STAGES
     stages = {name: spec["stages"][name] for name in names}
     for stage in stages.values():
         assert stage["cmd"].startswith("python ")
         stage["cmd"] = f"{sys.executable} " + stage["cmd"][len("python "):]
         # the temporary repo holds the scripts, not the package sources or the well inputs
-        stage["deps"] = [d for d in stage["deps"] if str(d).startswith(("pipeline/", "data/design",
-                                                                       "data/sweep", "data/fatigue"))]
+        stage["deps"] = [d for d in stage["deps"] if str(d).startswith(("pipeline/", "data/"))]
     return {"stages": stages}
 
 
-@pytest.mark.slow  # several dvc invocations (~3 s start each) and two real cases
+@pytest.mark.slow  # several dvc invocations (~3 s start each), six tiny cases, a 5-epoch ensemble
 @pytest.mark.skipif(not DVC.exists(), reason="dvc not installed in this environment")
 def test_dvc_repro_then_noop(tmp_path):
     repo = tmp_path / "repo"
     (repo / "pipeline").mkdir(parents=True)
-    for name in ("design", "simulate", "fatigue", "dataset"):
+    for name in STAGES:
         shutil.copy(ROOT / "pipeline" / f"{name}.py", repo / "pipeline" / f"{name}.py")
+    shutil.copytree(ROOT / "data" / "wells" / "inputs", repo / "data" / "wells" / "inputs")
     # DVC needs every listed key present: write the full validated params
     (repo / "params.yaml").write_text(yaml.safe_dump(Params.model_validate(TINY).model_dump(mode="json")))
     (repo / "dvc.yaml").write_text(yaml.safe_dump(_stages(), sort_keys=False))
@@ -73,9 +80,13 @@ def test_dvc_repro_then_noop(tmp_path):
     first = _run([str(DVC), "repro"], repo)
     assert first.returncode == 0, first.stdout + first.stderr
     df = pd.read_parquet(repo / "data" / "dataset" / "damage.parquet")
-    assert df["case_id"].nunique() == 2
+    assert df["case_id"].nunique() == 6
     assert (repo / "data" / "dataset" / "README.md").is_file()
     assert (repo / "metrics" / "simulate.json").is_file()
+    assert (repo / "data" / "wells" / "profile_2" / "survey.csv").is_file()
+    assert (repo / "data" / "surrogate" / "model" / "model.ts").is_file()
+    m = json.loads((repo / "data" / "surrogate" / "metrics.json").read_text())
+    assert {"ensemble", "gp", "hgb"} <= set(m) and m["n_test_cases"] >= 1
 
     t0 = time.perf_counter()
     second = _run([str(DVC), "repro"], repo)
@@ -88,12 +99,12 @@ def test_dvc_repro_then_noop(tmp_path):
     assert shown.returncode == 0 and "n_cases_in_dataset" in shown.stdout
 
     # an experiment with one more case runs through, and `dvc exp show` lists its
-    # metrics (a 3-point LHS is a new design: Sobol designs are the nested ones)
+    # metrics (a 7-point LHS is a new design: Sobol designs are the nested ones)
     for cmd in (["git", "add", "-A"], ["git", "-c", "user.name=t", "-c", "user.email=t@t",
                                         "commit", "-qm", "baseline"]):
         assert _run(cmd, repo).returncode == 0
-    exp = _run([str(DVC), "exp", "run", "-S", "sweep.n_cases=3"], repo)
+    exp = _run([str(DVC), "exp", "run", "-S", "sweep.n_cases=7"], repo)
     assert exp.returncode == 0, exp.stdout + exp.stderr
-    assert pd.read_parquet(repo / "data" / "dataset" / "damage.parquet")["case_id"].nunique() == 3
+    assert pd.read_parquet(repo / "data" / "dataset" / "damage.parquet")["case_id"].nunique() == 7
     table = _run([str(DVC), "exp", "show", "--json"], repo)
     assert table.returncode == 0 and "n_cases_in_dataset" in table.stdout, table.stdout[-2000:]
