@@ -142,6 +142,14 @@ def top_joint(t, top, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, sc
     scv[1] (its moment), scv[2] (moment on the drive), scv[3] (drive angular
     velocity), ``loads_row`` and ``ed``. Returns the drive speed (rad/s).
     ``top`` is the row of the top segment.
+
+    With the hook-load force at the top (no axial spring, ``jp[top, J_KA] == 0``)
+    the drive follows the top of the string axially, as a travelling block does:
+    the attachment point slides along the drive axis to the axial position of
+    the segment's upper end (``scv[5]`` is its scratch). Otherwise an axial drift
+    of the string (drag, growth, bit vibration) would put a lever arm between the
+    lateral hold and the segment's end, coupling the stiff lateral spring into
+    the tilt with a stiffness ~ k_s * gap^2 that outgrows the stable step.
     """
     omega_d = drive_omega(t, tab_t, tab_w)
     phid = sc[C_PHID]
@@ -159,8 +167,28 @@ def top_joint(t, top, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, sc
     for k in range(3):
         wa[k] = omega_d * anchor[7 + k]
         va[k] = 0.0
+    pa = scv[5]
+    for k in range(3):
+        pa[k] = anchor[k]
+    if jp[top, J_KA] == 0.0:
+        h = seg[top, S_H]
+        s_ax = 0.0
+        v_ax = 0.0
+        for k in range(3):
+            r_k = -h * R[top, k, 2]
+            s_ax += (x[top, k] + r_k - anchor[k]) * anchor[7 + k]
+        # velocity of the upper end along the axis: v + w x r, r = -h e3
+        r0 = -h * R[top, 0, 2]
+        r1 = -h * R[top, 1, 2]
+        r2 = -h * R[top, 2, 2]
+        v_ax = ((v[top, 0] + wW[top, 1] * r2 - wW[top, 2] * r1) * anchor[7]
+                + (v[top, 1] + wW[top, 2] * r0 - wW[top, 0] * r2) * anchor[8]
+                + (v[top, 2] + wW[top, 0] * r1 - wW[top, 1] * r0) * anchor[9])
+        for k in range(3):
+            pa[k] = anchor[k] + s_ax * anchor[7 + k]
+            va[k] = v_ax * anchor[7 + k]
     joint_force(x[top], v[top], R[top], q[top], wW[top], seg[top, S_H],
-                anchor[0:3], va, Ra, qa, wa, 0.0,
+                pa, va, Ra, qa, wa, 0.0,
                 jp[top, J_KA], jp[top, J_KS], jp[top, J_KB], jp[top, J_KT],
                 jp[top, J_CA], jp[top, J_CS], jp[top, J_CB], jp[top, J_CT],
                 scq[0], scq[1], scq[2], scm[0], scv[0], scv[1], scv[2], loads_row, ed)
