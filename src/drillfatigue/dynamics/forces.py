@@ -433,14 +433,35 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
                                - wW[0, (k + 2) % 3] * h0 * R[0, (k + 1) % 3, 2]) - vl * tan[k]
         s_ax = dx[0] * tan[0] + dx[1] * tan[1] + dx[2] * tan[2]
         sdot = dv[0] * tan[0] + dv[1] * tan[1] + dv[2] * tan[2]
-        # lateral guide: the bit in its own pilot hole (stiff spring-damper)
+        # lateral guide: the bit in its own pilot hole (stiff spring-damper),
+        # measured from the path at the bit's own depth. On bottom that is the
+        # rock target; a bit lifted off by s_ax < 0 is guided by the path s_ax
+        # above it, not pulled towards the tangent line at the rock face (in a
+        # curved hole that line leaves the hole a few metres above the face).
         fb = scv[9]
-        for k in range(3):
-            dp = dx[k] - s_ax * tan[k]
-            dvp = dv[k] - sdot * tan[k]
-            fb[k] = -kb * dp - cb * dvp
-            pe += 0.5 * kb * dp * dp
-            pdiss += cb * dvp * dvp
+        if s_ax < 0.0:
+            p2 = scv[10]
+            t2 = scv[11]
+            path_point(md_bit + lob + s_ax, node_md, node_pos, node_tan, int(sc[C_HINT]), p2, t2)
+            s2 = 0.0
+            sv2 = 0.0
+            for k in range(3):
+                p2[k] = x[0, k] + h0 * R[0, k, 2] - p2[k]   # bit face - path point
+                s2 += p2[k] * t2[k]
+                sv2 += (dv[k] + vl * tan[k]) * t2[k]        # bit face velocity . t2
+            for k in range(3):
+                dp = p2[k] - s2 * t2[k]
+                dvp = dv[k] + vl * tan[k] - sv2 * t2[k]
+                fb[k] = -kb * dp - cb * dvp
+                pe += 0.5 * kb * dp * dp
+                pdiss += cb * dvp * dvp
+        else:
+            for k in range(3):
+                dp = dx[k] - s_ax * tan[k]
+                dvp = dv[k] - sdot * tan[k]
+                fb[k] = -kb * dp - cb * dvp
+                pe += 0.5 * kb * dp * dp
+                pdiss += cb * dvp * dvp
         # axial: unilateral rock contact; WOB >= 0, zero is bit bounce
         wob_f = 0.0
         if s_ax > 0.0:
