@@ -8,6 +8,7 @@ is a folder::
     ensemble.pt       torch state dict of the EnsembleModule (weights only)
     ood_reference.npy standardised reference rows of the k-NN domain test
     model.ts          TorchScript export, scaler and conformal quantile baked in
+    model.onnx        the same as ONNX (onnxruntime servers)
 """
 
 from __future__ import annotations
@@ -272,8 +273,9 @@ class Surrogate:
                                 "numpy": np.__version__, "python": platform.python_version()}
             (tmp / "metadata.json").write_text(json.dumps(meta, indent=2), encoding="utf-8")
             if export:
-                from drillfatigue.surrogate.export import export_torchscript
+                from drillfatigue.surrogate.export import export_onnx, export_torchscript
                 export_torchscript(self, tmp / "model.ts")
+                export_onnx(self, tmp / "model.onnx")
             old = None
             if dest.exists():
                 old = dest.with_name(f".{dest.name}.old")
