@@ -32,9 +32,12 @@ TINY = {
         {"type": "drill_pipe", "name": "DP", "od_m": 0.127, "id_m": 0.1086, "length_m": 440.0,
          "tool_joint_od_m": 0.1683, "tool_joint_id_m": 0.0826,
          "tool_joint_length_fraction": 0.05, "n_segments": 10}]},
-    "recording": {"joints": [2, 8], "loads_rate_hz": 100.0},
+    "recording": {"joints": [1, 2, 4, 6, 8, 10, 12, 14], "loads_rate_hz": 100.0},
     "fatigue": {"plots": False},
-    "surrogate": {"hidden_layers": [16], "max_epochs": 5, "patience": 5, "n_threads": 1,
+    "surrogate": {"features": ["operation.rpm", "friction.mu_dynamic", "md_m", "s_from_bit_m",
+                               "local_dls_deg_per_30m"],
+                  "criterion": "uniaxial",
+                  "hidden_layers": [16], "max_epochs": 5, "patience": 5, "n_threads": 1,
                   "gp_max_rows": 60, "hgb_max_iter": 20},
     "sweep": {"method": "lhs", "n_cases": 6, "seed": 5, "scheduler": "serial",
               "fatigue_criteria": ["uniaxial"],
@@ -72,7 +75,9 @@ def test_dvc_repro_then_noop(tmp_path):
         shutil.copy(ROOT / "pipeline" / f"{name}.py", repo / "pipeline" / f"{name}.py")
     shutil.copytree(ROOT / "data" / "wells" / "inputs", repo / "data" / "wells" / "inputs")
     # DVC needs every listed key present: write the full validated params
-    (repo / "params.yaml").write_text(yaml.safe_dump(Params.model_validate(TINY).model_dump(mode="json")))
+    # the project's well section: the wells stage's outs name its profiles
+    tiny = dict(TINY, well=yaml.safe_load((ROOT / "params.yaml").read_text())["well"])
+    (repo / "params.yaml").write_text(yaml.safe_dump(Params.model_validate(tiny).model_dump(mode="json")))
     (repo / "dvc.yaml").write_text(yaml.safe_dump(_stages(), sort_keys=False))
     for cmd in (["git", "init", "-q"], [str(DVC), "init", "-q"],
                 [str(DVC), "config", "core.analytics", "false"]):

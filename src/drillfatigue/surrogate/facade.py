@@ -330,6 +330,29 @@ def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
     }, index=index)
 
 
+def _open_live(live_dir: str | Path) -> Any:
+    """``dvclive.Live`` for a stage folder, also in a git repository without a commit.
+
+    dvclive 3.x asks git for the baseline revision and raises SCMError ("Empty
+    git repo") before the first commit (``git init; dvc init; dvc repro``);
+    the curves do not need a revision, so retry as outside a repository.
+    """
+    import dvclive.live as dl
+
+    kwargs = {"dir": str(live_dir), "dvcyaml": None, "save_dvc_exp": False, "report": None}
+    try:
+        return dl.Live(**kwargs)
+    except Exception as exc:  # scmrepo.exceptions.SCMError
+        if type(exc).__name__ != "SCMError":
+            raise
+        original = dl.get_dvc_repo
+        dl.get_dvc_repo = lambda: None
+        try:
+            return dl.Live(**kwargs)
+        finally:
+            dl.get_dvc_repo = original
+
+
 def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
                   live_dir: str | Path | None = None) -> Surrogate:
     """Fit a :class:`Surrogate`; log per-member train/val loss per epoch with dvclive.
@@ -339,9 +362,7 @@ def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
     """
     if live_dir is None:
         return Surrogate.fit(frame, cfg)
-    from dvclive import Live
-
-    with Live(dir=str(live_dir), dvcyaml=None, save_dvc_exp=False, report=None) as live:
+    with _open_live(live_dir) as live:
         def log_epoch(epoch: int, tr: np.ndarray, va: np.ndarray, active: np.ndarray) -> None:
             for m in range(tr.shape[0]):
                 live.log_metric(f"train/loss/member{m}", float(tr[m]), plot=True)
