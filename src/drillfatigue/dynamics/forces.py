@@ -442,7 +442,19 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
         if s_ax < 0.0:
             p2 = scv[10]
             t2 = scv[11]
-            path_point(md_bit + lob + s_ax, node_md, node_pos, node_tan, int(sc[C_HINT]), p2, t2)
+            # the bit's own depth: the path point whose normal plane holds the bit
+            # face, by Newton steps on the arc length from the tangent estimate
+            md_b = md_bit + lob + s_ax
+            hb = int(sc[C_HINT])
+            for _it in range(6):
+                hb = path_point(md_b, node_md, node_pos, node_tan, hb, p2, t2)
+                ds = 0.0
+                for k in range(3):
+                    ds += (x[0, k] + h0 * R[0, k, 2] - p2[k]) * t2[k]
+                md_b += ds
+                if abs(ds) < 1e-9:
+                    break
+            hb = path_point(md_b, node_md, node_pos, node_tan, hb, p2, t2)
             s2 = 0.0
             sv2 = 0.0
             for k in range(3):
