@@ -151,3 +151,17 @@ def test_killed_sweep_rerun_matches_uninterrupted(tmp_path):
     assert report.n_skipped == done_before and report.n_done == 12 - done_before
     assert sorted(p.name for p in out.iterdir() if p.is_dir()) == [c.case_id for c in cases]
     assert tree(out) == tree(reference)
+
+
+def test_code_change_invalidates_done_markers(tmp_path, monkeypatch):
+    """A folder written by other code is not reused (the sweep outputs persist under DVC)."""
+    from drillfatigue.sweep import runner
+
+    case = runner.Case("c1", {"x": 1})
+    (tmp_path / "c1").mkdir()
+    marker = runner._marker("c1", {"x": 1})
+    (tmp_path / "c1" / runner.DONE_NAME).write_text(json.dumps(marker))
+    assert runner.is_done(case, tmp_path)
+    assert len(marker["code_sha256"]) == 64
+    monkeypatch.setattr(runner, "code_sha256", lambda: "0" * 64)  # the code changed
+    assert not runner.is_done(case, tmp_path)

@@ -25,7 +25,7 @@ reason. ``serial`` needs no warm-up.
 
 Resume: each case runs in ``out_root/.tmp/<id>.<pid>.<attempt>.<rand>/``; when
 the case function returns, a ``DONE`` marker holding the case id and the
-SHA-256 of the case inputs is written and the folder is renamed atomically to
+SHA-256 of the case inputs and of the package source is written and the folder is renamed atomically to
 ``out_root/<case_id>/``. A case whose marker matches is skipped, so a killed
 sweep rerun finishes only what is missing; leftovers in ``.tmp`` are removed
 at start. Ctrl-C cancels queued cases and leaves finished ones in place.
@@ -43,6 +43,8 @@ attempt (the pool cannot tell which one crashed it).
 from __future__ import annotations
 
 import contextlib
+import functools
+import hashlib
 import importlib
 import json
 import multiprocessing
@@ -136,8 +138,28 @@ def cases_from_frame(frame: pd.DataFrame) -> list[Case]:
             for cid, text in zip(frame["case_id"], frame["case_json"], strict=True)]
 
 
+@functools.lru_cache(maxsize=1)
+def code_sha256() -> str:
+    """SHA-256 over the source of the installed ``drillfatigue`` package (every ``.py``).
+
+    Part of each case's ``DONE`` marker: a folder is reused only when it was
+    written by the same inputs *and* the same code. The sweep outputs are
+    ``persist``-ed under DVC (to resume a killed sweep), so without this a
+    stage that DVC re-runs after a code change would keep results of the old
+    code.
+    """
+    import drillfatigue
+
+    root = Path(drillfatigue.__file__).parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
+    return digest.hexdigest()
+
+
 def _marker(case_id: str, inputs: Mapping[str, Any]) -> dict[str, str]:
-    return {"case_id": case_id, "inputs_sha256": inputs_sha256(inputs)}
+    return {"case_id": case_id, "inputs_sha256": inputs_sha256(inputs),
+            "code_sha256": code_sha256()}
 
 
 def is_done(case: Case, out_root: str | Path) -> bool:
