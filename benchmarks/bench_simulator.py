@@ -240,9 +240,15 @@ class NumpyModel:
         tp = slice(n - 1, n)
         k = [jp[tp, cc] for cc in (L.J_KA, L.J_KS, L.J_KB, L.J_KT)]
         c = [jp[tp, cc] for cc in (L.J_CA, L.J_CS, L.J_CB, L.J_CT)]
+        pa = m.anchor[None, 0:3].copy()
+        va = np.zeros((1, 3))
+        if jp[n - 1, L.J_KA] == 0.0:  # hook-load top: the drive follows the top end axially
+            ax = m.anchor[7:10]
+            r_up = -seg[n - 1, L.S_H] * e3[n - 1]
+            pa[0] += ((x[n - 1] + r_up - m.anchor[0:3]) @ ax) * ax
+            va[0] = ((v[n - 1] + np.cross(wW[n - 1], r_up)) @ ax) * ax
         Ft, Mt, _ = _joints_np(x[tp], v[tp], R[tp], q[tp], wW[tp], seg[tp, L.S_H],
-                               m.anchor[None, 0:3], np.zeros((1, 3)), _q2R(qa), qa, wa,
-                               np.zeros(1), k, c)
+                               pa, va, _q2R(qa), qa, wa, np.zeros(1), k, c)
         F[tp] += Ft
         Mw[tp] += Mt
         if bp[L.B_AXMODE] == 0.0:
