@@ -9,25 +9,13 @@ Usage: ``python pipeline/case3.py [--params params.yaml] [--out data/case3]
 
 from __future__ import annotations
 
-import argparse
 import sys
 
-from drillfatigue.errors import InputError
-from drillfatigue.studies.stages import run_study
+from drillfatigue.studies.stages import stage_main
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--out", default="data/case3")
-    parser.add_argument("--metrics", default=None)
-    args = parser.parse_args(argv)
-    try:
-        run_study("case3", args.params, args.out, args.metrics)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    return 0
+    return stage_main("case3", argv)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@ runs, and writes its folder plus a small metrics JSON.
 
 from __future__ import annotations
 
+import argparse
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -87,3 +89,23 @@ def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
             m[f"whirl_ratio_{r['model']}_{r['friction']}"] = r["whirl_ratio"]
             m[f"wall_s_{r['model']}_{r['friction']}"] = r["wall_s"]
     return m
+
+
+def stage_main(name: str, argv: list[str] | None = None) -> int:
+    """Command line of the ``pipeline/<name>.py`` stage script of a case study.
+
+    ``[--params params.yaml] [--out data/<name>] [--metrics JSON]``; bad input
+    is one line ``error: ...`` on stderr and exit code 2.
+    """
+    parser = argparse.ArgumentParser(description=f"DVC stage {name}: the founding paper's "
+                                                 f"case study {name[-1]}")
+    parser.add_argument("--params", default="params.yaml")
+    parser.add_argument("--out", default=f"data/{name}")
+    parser.add_argument("--metrics", default=None)
+    args = parser.parse_args(argv)
+    try:
+        run_study(name, args.params, args.out, args.metrics)
+    except InputError as exc:
+        print(f"error: {exc.one_line()}", file=sys.stderr)
+        return 2
+    return 0
