@@ -67,6 +67,22 @@ def drive_omega(t, tab_t, tab_w):
 
 
 @njit(cache=True)
+def _seg_row(i, h, seg, topp):
+    """Fill seg[i] for a segment of the top section (per-length properties ``topp``), half length h."""
+    L = 2.0 * h
+    m = topp[T_MPL] * L
+    seg[i, S_M] = m
+    seg[i, S_H] = h
+    seg[i, S_IA] = 0.5 * m * topp[T_R2]
+    seg[i, S_IT] = m * (3.0 * topp[T_R2] + L * L) / 12.0
+    seg[i, S_W] = topp[T_WPL] * L
+    seg[i, S_CL] = topp[T_CLPL] * L
+    seg[i, S_CA] = topp[T_CAPL] * L
+    seg[i, S_CRL] = topp[T_CRLPL] * L
+    seg[i, S_CRA] = topp[T_CRAPL] * L
+
+
+@njit(cache=True)
 def update_top(h, n, seg, jp, topp, bp):
     """Rebuild the parameters of the extensible top segment for half length h (m).
 
@@ -77,17 +93,8 @@ def update_top(h, n, seg, jp, topp, bp):
     (``bp[B_TOPLAT] == 0``) no parasitic springs.
     """
     top = n - 1
-    L = 2.0 * h
-    m = topp[T_MPL] * L
-    seg[top, S_M] = m
-    seg[top, S_H] = h
-    seg[top, S_IA] = 0.5 * m * topp[T_R2]
-    seg[top, S_IT] = m * (3.0 * topp[T_R2] + L * L) / 12.0
-    seg[top, S_W] = topp[T_WPL] * L
-    seg[top, S_CL] = topp[T_CLPL] * L
-    seg[top, S_CA] = topp[T_CAPL] * L
-    seg[top, S_CRL] = topp[T_CRLPL] * L
-    seg[top, S_CRA] = topp[T_CRAPL] * L
+    _seg_row(top, h, seg, topp)
+    m = seg[top, S_M]
     zj = bp[B_ZJ]
     zb = bp[B_ZB]
     if n >= 2:
@@ -711,22 +718,6 @@ def compute_forces(dt, x, v, q, w, seg, jp, bp, anchor, tab_t, tab_w,
     ch[H_PDISS] = pdiss
     ch[H_PIN] = pin
     return 0
-
-
-@njit(cache=True)
-def _seg_row(i, h, seg, topp):
-    """Fill seg[i] for a segment of the top section (per-length properties ``topp``), half length h."""
-    L = 2.0 * h
-    m = topp[T_MPL] * L
-    seg[i, S_M] = m
-    seg[i, S_H] = h
-    seg[i, S_IA] = 0.5 * m * topp[T_R2]
-    seg[i, S_IT] = m * (3.0 * topp[T_R2] + L * L) / 12.0
-    seg[i, S_W] = topp[T_WPL] * L
-    seg[i, S_CL] = topp[T_CLPL] * L
-    seg[i, S_CA] = topp[T_CAPL] * L
-    seg[i, S_CRL] = topp[T_CRLPL] * L
-    seg[i, S_CRA] = topp[T_CRAPL] * L
 
 
 @njit(cache=True)
