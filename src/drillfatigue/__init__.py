@@ -17,14 +17,22 @@ from pathlib import Path
 __version__ = "0.1.0"
 
 
-def _kernel_digest(root: Path) -> str:
-    """16 hex digits of SHA-256 over every module under ``root`` that mentions numba."""
+def source_digest(root: Path, only_containing: bytes = b"") -> str:
+    """SHA-256 (hex) over the ``.py`` modules under ``root`` (paths and contents).
+
+    ``only_containing``: hash only the modules whose source contains it.
+    """
     digest = hashlib.sha256()
     for path in sorted(root.rglob("*.py")):
         text = path.read_bytes()
-        if b"numba" in text:
+        if only_containing in text:
             digest.update(path.relative_to(root).as_posix().encode() + b"\0" + text)
-    return digest.hexdigest()[:16]
+    return digest.hexdigest()
+
+
+def _kernel_digest(root: Path) -> str:
+    """16 hex digits of SHA-256 over every module under ``root`` that mentions numba."""
+    return source_digest(root, b"numba")[:16]
 
 
 def _scope_numba_cache() -> None:

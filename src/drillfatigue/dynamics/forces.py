@@ -180,7 +180,6 @@ def top_joint(t, top, x, v, q, wW, R, seg, jp, anchor, tab_t, tab_w, sc, scq, sc
     if jp[top, J_KA] == 0.0:
         h = seg[top, S_H]
         s_ax = 0.0
-        v_ax = 0.0
         for k in range(3):
             r_k = -h * R[top, k, 2]
             s_ax += (x[top, k] + r_k - anchor[k]) * anchor[7 + k]

@@ -33,22 +33,11 @@ from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
+from drillfatigue.surrogate.parallel import map_chunks
 
 FORMAT_VERSION = 1
 _CHUNK_ROWS = 2048  # rows per forward pass in predict_array
 _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
-
-_POOLS: dict[int, Any] = {}
-
-
-def _pool(workers: int) -> Any:
-    """A process-wide thread pool of ``workers`` threads for batched inference."""
-    if workers not in _POOLS:
-        from concurrent.futures import ThreadPoolExecutor
-
-        _POOLS[workers] = ThreadPoolExecutor(workers, thread_name_prefix="surrogate")
-    return _POOLS[workers]
-
 
 #: output columns of :meth:`Surrogate.predict`
 PREDICTION_COLUMNS = (
@@ -201,7 +190,6 @@ class Surrogate:
         xt = torch.from_numpy(x_num.astype(np.float32))
         ct = torch.from_numpy(np.ascontiguousarray(x_cat, dtype=np.int64))
         out = np.empty((x_num.shape[0], 4), dtype=np.float32)
-        threads = torch.get_num_threads()
         n = x_num.shape[0]
 
         def run(a: int) -> None:
@@ -210,22 +198,8 @@ class Surrogate:
                 out[a:a + _CHUNK_ROWS] = self.module(xt[a:a + _CHUNK_ROWS],
                                                      ct[a:a + _CHUNK_ROWS]).numpy()
 
-        starts = range(0, n, _CHUNK_ROWS)
-        # Few rows: waking a thread pool costs more than the work. Many rows:
-        # whole chunks go to ``threads`` Python workers, each running torch on
-        # one thread (torch releases the GIL inside its kernels). Unlike torch's
-        # intra-op threads there is no barrier per operation, so a worker
-        # preempted on a shared machine does not stall the other (5x faster at
-        # load 3 on 2 cores, equal on an idle machine).
-        torch.set_num_threads(1)
-        try:
-            if n <= _ONE_THREAD_ROWS or threads <= 1 or len(starts) < 2:
-                for a in starts:
-                    run(a)
-            else:
-                list(_pool(threads).map(run, starts))
-        finally:
-            torch.set_num_threads(threads)
+        # few rows on the calling thread, many in chunks on one-thread workers
+        map_chunks(run, range(0, n, _CHUNK_ROWS), serial=n <= _ONE_THREAD_ROWS)
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
         if ood:

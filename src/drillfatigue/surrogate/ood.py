@@ -24,6 +24,8 @@ from collections.abc import Sequence
 import numpy as np
 import torch
 
+from drillfatigue.surrogate.parallel import map_chunks
+
 _CHUNK = 1024
 _SMALL = 16
 
@@ -63,21 +65,7 @@ def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
             small = torch.topk(d2, kk, dim=1, largest=False).values
             out[a:a + _CHUNK] = small.clamp_min(0.0).sqrt().mean(dim=1).numpy()
 
-    # whole chunks on one-thread workers (see Surrogate.predict_array: no
-    # per-operation barrier between torch threads on a shared machine)
-    threads = torch.get_num_threads()
-    starts = range(0, z.shape[0], _CHUNK)
-    torch.set_num_threads(1)
-    try:
-        if threads <= 1 or len(starts) < 2:
-            for a in starts:
-                run(a)
-        else:
-            from drillfatigue.surrogate.facade import _pool
-
-            list(_pool(threads).map(run, starts))
-    finally:
-        torch.set_num_threads(threads)
+    map_chunks(run, range(0, z.shape[0], _CHUNK))
     return out
 
 

@@ -44,7 +44,6 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import hashlib
 import importlib
 import json
 import multiprocessing
@@ -150,11 +149,7 @@ def code_sha256() -> str:
     """
     import drillfatigue
 
-    root = Path(drillfatigue.__file__).parent
-    digest = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
-    return digest.hexdigest()
+    return drillfatigue.source_digest(Path(drillfatigue.__file__).parent)
 
 
 def _marker(case_id: str, inputs: Mapping[str, Any]) -> dict[str, str]:
