@@ -34,7 +34,8 @@ import numba
 import numpy as np
 from scipy.signal import butter, lfilter
 
-from drillfatigue.fatigue.critical_plane import CriterionParams, evaluate_location, plane_grid
+from drillfatigue.fatigue.critical_plane import (CriterionParams, evaluate_location,
+                                                  loads_channels, plane_grid)
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Section, surface_coefficients
 from drillfatigue.units import MPA_PA
@@ -115,10 +116,13 @@ def main() -> None:
         g0 = time.perf_counter()
         L = bench_loads(n_t, j, n_joints)
         t_gen += time.perf_counter() - g0
+        k0 = time.perf_counter()
+        LT = loads_channels(L)  # once per joint, as in ``drillfatigue fatigue`` (timed)
+        t_kernel += time.perf_counter() - k0
         for loc, sec, scf in (("body", BODY, SCF_BODY), ("connection", CONN, SCF_CONN)):
             k0 = time.perf_counter()
             r = evaluate_location(L, sec, scf, curve, "matake", prm, n_points=36,
-                                  with_uniaxial=False)
+                                  with_uniaxial=False, channels=LT)
             t_kernel += time.perf_counter() - k0
             if r.damage > worst[0]:
                 worst = (r.damage, j, loc)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -56,3 +57,24 @@ def test_carry_stream_damage_equals_whole_history(y: np.ndarray, chunk: int) -> 
 def test_miner_damage_scales_monotonically_with_stress(y: np.ndarray, scale: float) -> None:
     d1, d2 = damage(y), damage(y * scale)
     assert (d2 >= d1) if scale >= 1.0 else (d2 <= d1)
+
+
+@settings(max_examples=60, deadline=None)
+@given(S=st.lists(st.floats(0.0, 2000.0, allow_nan=False), min_size=1, max_size=300),
+       which=st.integers(0, 4))
+def test_batched_miner_sum_equals_scalar_sn_evaluation(S: list[float], which: int) -> None:
+    """The vectorised batch (integer slopes) and the scalar path (other slopes)
+    of the multi-plane kernel give sum cnt/N(S) of ``sn_inverse_life`` to 1e-12
+    relative (only the order of the sum and of the power products differ)."""
+    from drillfatigue.fatigue import kernels as K
+    from drillfatigue.fatigue.sn import user_curve
+
+    curve = (get_curve("D"), get_curve("B1"), get_curve("W3", "free_corrosion"),
+             user_curve(3.5, 12.2, 4.5, 1e7), user_curve(3.0, 12.5, 5.0, 1e7, cutoff_N=1e8)
+             )[which]
+    a, m, ia, cut = curve.kernel_arrays()
+    Sa = np.array(S)
+    cnt = np.where(np.arange(Sa.size) % 3 == 0, 0.5, 1.0)
+    got = K._miner_batch(Sa, cnt, Sa.size, a, m, ia, cut)
+    ref = sum(c * K.sn_inverse_life(x, a, m, ia, cut) for x, c in zip(Sa, cnt))
+    assert got == pytest.approx(ref, rel=1e-12, abs=0.0)

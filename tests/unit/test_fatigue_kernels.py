@@ -6,6 +6,7 @@ import ast
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import drillfatigue.fatigue.kernels as K
 from drillfatigue.fatigue.critical_plane import CriterionParams, plane_damage, plane_grid
@@ -55,3 +56,108 @@ def test_multiplane_kernel_equals_per_plane_reversal_search() -> None:
                 ref[p, j] = np.sum(cnt / curve.cycles_to_failure(2 * np.maximum(seq, 0)))
             # exact counting either way: only summation order differs
             np.testing.assert_allclose(dmg[p], ref[p], rtol=1e-10)
+
+
+def _reference_damage(L, cs, ct, planes, curve, crit, prm, residue, points):
+    """Per-plane reversal search + rainflow + Miner, plain numpy (the kernel's spec)."""
+    ca, cb, _ = prm.constants(crit)
+    sig, tau = cs @ L.T, ct @ L.T
+    ref = np.zeros((cs.shape[0], len(planes)))
+    for p in points:
+        for j in range(len(planes)):
+            tj = planes.c[j, 0] * sig[p] + planes.c[j, 1] * tau[p]
+            nj = planes.n[j, 0] * sig[p] + planes.n[j, 1] * tau[p]
+            i0, i1, cnt = find_cycles_indexed(tj, residue)
+            dt = np.abs(tj[i1] - tj[i0])
+            snmax = np.maximum(nj[i0], nj[i1])
+            if crit == "findley":
+                seq = cb * (dt / 2 + ca * snmax)
+            elif crit == "matake":
+                seq = ca * (dt / 2 + cb * np.maximum(snmax, 0))
+            else:  # fatemi_socie, stress form
+                seq = dt * (1 + ca * np.maximum(snmax, 0) * cb)
+            ref[p, j] = np.sum(cnt / curve.cycles_to_failure(2 * np.maximum(seq, 0)))
+    return ref
+
+
+def test_conjugate_groups_batches_and_blocks_equal_per_plane_loop() -> None:
+    """The 10-degree grid (conjugate planes share one count), histories longer
+    than one block (4096 samples) and than one cycle batch per group (256), and
+    three curve paths: integer slopes (vectorised), a non-integer slope (scalar
+    S-N) and a cut-off. Tolerance 1e-10 relative: exact counting either way,
+    only the summation order differs (batch sums are reassociated)."""
+    from drillfatigue.fatigue.sn import user_curve
+
+    rng = np.random.default_rng(5)
+    n = 9000
+    t = np.arange(n) * 1e-3
+    L = np.column_stack([
+        1e5 + 2e4 * np.sin(2 * np.pi * 7.5 * t), 2e3 * rng.normal(size=n),
+        2e3 * rng.normal(size=n), 2e4 * np.sin(2 * np.pi * 2.5 * t) + 500 * rng.normal(size=n),
+        2e4 * np.cos(2 * np.pi * 2.5 * t), 1.5e4 + 3e3 * rng.normal(size=n)])
+    cs, ct, _ = surface_coefficients(Section(0.127, 0.1086), SCF(1, 2, 1.5), 36)
+    planes = plane_grid(10.0)
+    prm = CriterionParams()
+    curves = (get_curve("D"), user_curve(3.5, 12.2),
+              user_curve(3.0, 12.5, 5.0, 1e7, cutoff_N=1e8))
+    cases = (("matake", "half", 0), ("findley", "repeat", 1), ("fatemi_socie", "half", 2),
+             ("matake", "repeat", 2))
+    for crit, residue, ic in cases:
+        dmg, _, _ = plane_damage(L, cs, ct, planes, curves[ic], crit, prm, residue)
+        pts = range(0, 36, 7)
+        ref = _reference_damage(L, cs, ct, planes, curves[ic], crit, prm, residue, pts)
+        assert np.all(ref[list(pts)] > 0)
+        for p in pts:
+            np.testing.assert_allclose(dmg[p], ref[p], rtol=1e-10)
+
+
+def test_shear_groups_pair_conjugate_planes() -> None:
+    from drillfatigue.fatigue.critical_plane import shear_groups
+
+    planes = plane_grid(10.0, True, 2)
+    g = shear_groups(planes.c)
+    n_a = 18
+    members = [g.cand[g.ptr[i]:g.ptr[i + 1]] for i in range(len(g.ptr) - 1)]
+    # family A: theta and theta + 90 together; family B psi = 0 is parallel to A
+    for j in range(9):
+        grp = next(m for m in members if j in m)
+        assert j + 9 in grp
+        assert n_a + j in grp and n_a + j + 9 in grp  # family B, psi = 0
+    scale = dict(zip(g.cand.tolist(), g.scale.tolist()))
+    assert scale[n_a] / scale[0] == pytest.approx(np.cos(np.radians(45.0)), rel=1e-12)
+    # every candidate with shear belongs to exactly one group
+    assert sorted(g.cand.tolist()) == list(range(len(planes)))
+
+
+def test_dense_refinement_is_the_best_plane_of_the_fine_grid() -> None:
+    """refine_planes with n levels returns the governing plane among all planes
+    theta0 + k step/2^n, |k| < 2^n (brute force over the same lattice)."""
+    from drillfatigue.fatigue.critical_plane import (loads_channels, make_planes, pick_planes,
+                                                     refine_planes)
+
+    rng = np.random.default_rng(2)
+    n = 3000
+    t = np.arange(n) * 1e-3
+    L = np.column_stack([
+        1e5 + 3e4 * np.sin(2 * np.pi * 3.0 * t), 1e3 * rng.normal(size=n),
+        1e3 * rng.normal(size=n), 1.5e4 * np.sin(2 * np.pi * 2.5 * t),
+        1.5e4 * np.cos(2 * np.pi * 2.5 * t), 1.2e4 * np.sin(2 * np.pi * 1.1 * t + 0.4)])
+    cs, ct, _ = surface_coefficients(Section(0.127, 0.1086), SCF(1, 1, 1), 36)
+    curve, prm = get_curve("B1"), CriterionParams()
+    rows = np.array([3, 20])
+    theta0 = np.array([40.0, 130.0])
+    zero = np.zeros(2)
+    LT = loads_channels(L)
+    d0, s0, p0 = plane_damage(L, cs[rows], ct[rows], make_planes(theta0, zero, zero), curve,
+                              "findley", prm)
+    th, d, s, _ = refine_planes(LT, cs[rows], ct[rows], theta0, zero, zero,
+                                d0[[0, 1], [0, 1]], s0[[0, 1], [0, 1]], p0[[0, 1], [0, 1]],
+                                10.0, 3, curve, "findley", prm, "half", 1.0)
+    for r in range(2):
+        lattice = (theta0[r] + np.arange(-7, 8) * 10.0 / 8) % 180.0
+        pl = make_planes(lattice, np.zeros(15), np.zeros(15))
+        dd, ss, _ = plane_damage(L, cs[rows[r:r + 1]], ct[rows[r:r + 1]], pl, curve, "findley",
+                                 prm)
+        k = int(pick_planes(dd, ss)[0])
+        assert th[r] == pytest.approx(lattice[k], abs=1e-9)
+        assert d[r] == pytest.approx(dd[0, k], rel=1e-12)

@@ -19,11 +19,17 @@ sigma_theta = 0 the in-surface principal stresses sigma/2 +- sqrt(sigma^2/4 +
 tau^2) have opposite signs, so the largest shear, (sigma_1 - sigma_2)/2, is
 always on a family-A plane (family B carries at most sigma_1/2); it can still
 be switched on for Findley/Fatemi-Socie studies. The coarse grid has ``plane_step_deg``;
-the governing plane of the most damaged surface points is refined by halving
-the step ``n_refine`` times around it (code_aster refines four times: 2, 1, 0.5,
-0.25 deg).
+the governing plane of the most damaged surface points is refined to
+``plane_step_deg / 2**n_refine`` around it (code_aster refines four times: 2, 1,
+0.5, 0.25 deg): the first four halvings at once, as a dense local grid within
+one coarse step (every plane the greedy halving search would visit, and the
+rest of the window, in one pass over the history), further levels greedily.
 
-Per candidate the resolved shear is rainflow counted (numba kernel
+Candidates whose shear coefficients are parallel share one rainflow count: a
+plane and its conjugate at theta + 90 deg carry exactly opposite shear, so the
+coarse family-A grid of 18 planes needs 9 counts (:func:`shear_groups`).
+
+Per shear group the resolved shear is rainflow counted (numba kernel
 :func:`drillfatigue.fatigue.kernels.multiplane_damage`), each cycle gets an
 equivalent stress from its shear range and the normal stress at its two extreme
 instants, and Miner damage comes from the tension S-N curve:
@@ -95,7 +101,7 @@ class CriterionParams:
     yield_Pa: float = 517e6
 
     def constants(self, criterion: str) -> tuple[float, float, float]:
-        """(ca, cb, cc) for the kernel's ``_equivalent``."""
+        """(ca, cb, cc) for the kernel's ``_equivalent_batch``."""
         if criterion == "matake":
             r = self.torsion_to_tension_ratio
             return 1.0 / r, 2.0 * r - 1.0, 0.0
@@ -168,23 +174,75 @@ def plane_grid(step_deg: float = 10.0, family_b: bool = False, n_shear_axes: int
     return make_planes(np.concatenate(thetas), np.concatenate(betas), np.concatenate(psis))
 
 
-N_LUT_BINS = 4096  # pseudo-angle bins of the sector look-up table
+@dataclass(frozen=True)
+class ShearGroups:
+    """Candidates grouped by parallel resolved-shear coefficients.
+
+    A plane and its conjugate (theta + 90 deg) have exactly opposite shear, and
+    any two candidates with c_j = lambda c_i (lambda != 0) see the same rainflow
+    cycles at the same instants, ranges scaled by |lambda|; the kernel counts
+    each group once.
+
+    Attributes
+    ----------
+    c : ndarray, shape (n_grp, 2)
+        Representative shear coefficients (the first member's).
+    ptr : ndarray, shape (n_grp + 1,), int64
+    cand : ndarray, int64
+        Members of group g: ``cand[ptr[g]:ptr[g + 1]]``.
+    scale : ndarray
+        |c_j| / |c_representative| of each member.
+    """
+
+    c: np.ndarray
+    ptr: np.ndarray
+    cand: np.ndarray
+    scale: np.ndarray
 
 
-def _boundaries(c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Sorted pseudo-angles where each candidate's shear increment changes sign,
-    their owners, and the look-up table (boundaries below each bin's start/end)."""
-    nz = np.flatnonzero(np.hypot(c[:, 0], c[:, 1]) > 0.0)
-    wx = np.concatenate([-c[nz, 1], c[nz, 1]])
-    wy = np.concatenate([c[nz, 0], -c[nz, 0]])
+def shear_groups(c: np.ndarray, tol: float = 1e-12) -> ShearGroups:
+    """Group candidates whose shear coefficient vectors are parallel or
+    antiparallel (|sin| of the angle between them below ``tol``); candidates
+    with zero shear coefficients belong to no group (they carry no cycles)."""
+    norm = np.hypot(c[:, 0], c[:, 1])
+    reps: list[int] = []
+    members: list[list[int]] = []
+    for j in np.flatnonzero(norm > 0.0):
+        for gi, r in enumerate(reps):
+            if abs(c[j, 0] * c[r, 1] - c[j, 1] * c[r, 0]) <= tol * norm[j] * norm[r]:
+                members[gi].append(int(j))
+                break
+        else:
+            reps.append(int(j))
+            members.append([int(j)])
+    ptr = np.zeros(len(reps) + 1, dtype=np.int64)
+    ptr[1:] = np.cumsum([len(m) for m in members])
+    cand = np.array([j for m in members for j in m], dtype=np.int64)
+    rep_of = np.repeat(np.array(reps, dtype=np.int64), [len(m) for m in members])
+    scale = norm[cand] / norm[rep_of] if cand.size else np.zeros(0)
+    return ShearGroups(np.ascontiguousarray(c[reps].reshape(-1, 2)), ptr, cand,
+                       np.ascontiguousarray(scale))
+
+
+def _boundaries(c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted pseudo-angles where each group's shear increment changes sign
+    (``c`` one row per group: the two directions perpendicular to it) and the
+    group owning each.
+
+    The pseudo-angle of -w is that of w plus 2 (mod 4), so each group has one
+    boundary in [0, 2) and its antipode in [2, 4): the result is the sorted
+    first half B followed by B + 2, which lets the kernel count sectors on the
+    folded half only.
+    """
+    wx, wy = -c[:, 1], c[:, 0]
     pa = np.empty(wx.size)
     K.pseudo_angles(wx, wy, pa)
-    owner = np.concatenate([nz, nz]).astype(np.int64)
-    order = np.argsort(pa, kind="stable")
-    bpa = np.ascontiguousarray(pa[order])
-    edges = np.arange(N_LUT_BINS + 1) * (4.0 / N_LUT_BINS)
-    cnt = np.searchsorted(bpa, edges, side="left").astype(np.int64)
-    return bpa, np.ascontiguousarray(owner[order]), cnt[:-1].copy(), cnt[1:].copy()
+    half = np.where(pa >= 2.0, pa - 2.0, pa)
+    order = np.argsort(half, kind="stable")
+    b = half[order]
+    owner = np.arange(c.shape[0], dtype=np.int64)[order]
+    return (np.ascontiguousarray(np.concatenate([b, b + 2.0])),
+            np.ascontiguousarray(np.concatenate([owner, owner])))
 
 
 def loads_channels(loads: np.ndarray) -> np.ndarray:
@@ -230,21 +288,23 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
     ca, cb, cc = params.constants(criterion)
     crit = _CRIT_CODE[criterion]
     sel = K.CRIT_SHEAR if criterion == "matake" else crit
-    bpa, bown, lut_lo, lut_hi = _boundaries(planes.c)
+    grp = shear_groups(planes.c)
     seg = curve.kernel_arrays()
     n_p, n_c = coef_sigma.shape[0], len(planes)
     dmg = np.zeros((n_p, n_c))
     sel_d = np.zeros((n_p, n_c))
     par = np.zeros((n_p, n_c))
-    if bpa.size == 0 or LT.shape[1] < 2:
+    if grp.c.shape[0] == 0 or LT.shape[1] < 2:
         return dmg, sel_d, par
+    bpa, bgrp = _boundaries(grp.c)
     mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
     cap = 1024
     while True:
         st = K.multiplane_damage(LT, np.ascontiguousarray(coef_sigma),
-                                 np.ascontiguousarray(coef_tau), planes.c, planes.n, bpa, bown,
-                                 lut_lo, lut_hi, crit, ca, cb, cc, sel, thickness_factor / MPA_PA,
-                                 seg[0], seg[1], seg[2], seg[3], mode, cap, dmg, sel_d, par)
+                                 np.ascontiguousarray(coef_tau), grp.c, grp.ptr, grp.cand,
+                                 grp.scale, planes.n, bpa, bgrp, crit, ca, cb, cc, sel,
+                                 thickness_factor / MPA_PA, seg[0], seg[1], seg[2], seg[3], mode,
+                                 cap, dmg, sel_d, par)
         if st == K.STATUS_OK:
             return dmg, sel_d, par
         if cap > 4 * LT.shape[1] + 16:  # pragma: no cover - cannot happen
@@ -276,16 +336,41 @@ def pick_planes(dmg: np.ndarray, sel: np.ndarray, rtol: float = 1e-9) -> np.ndar
     return np.argmax(np.where(near, dmg, -np.inf), axis=1)
 
 
+#: refinement levels done at once as a dense local grid (2 (2^k - 1) trial planes
+#: per point in one pass); further levels halve the step greedily
+DENSE_LEVELS = 4
+
+
+def _pick_rows(trial_theta: np.ndarray, d: np.ndarray, s_: np.ndarray, p_: np.ndarray,
+               own: np.ndarray, th: np.ndarray, bd: np.ndarray, bs: np.ndarray, bp: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Keep each row's best of its current plane and its own trial columns ``own``."""
+    rows = np.arange(own.shape[0])
+    dd = np.column_stack([bd, d[rows[:, None], own]])
+    ss = np.column_stack([bs, s_[rows[:, None], own]])
+    pp = np.column_stack([bp, p_[rows[:, None], own]])
+    k = pick_planes(dd, ss)
+    moved = k > 0
+    th = th.copy()
+    th[moved] = trial_theta[own[rows[moved], k[moved] - 1]]
+    return th, dd[rows, k], ss[rows, k], pp[rows, k]
+
+
 def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
                   theta0: np.ndarray, beta: np.ndarray, psi: np.ndarray, best_dmg: np.ndarray,
                   best_sel: np.ndarray, best_par: np.ndarray, step0: float, n_refine: int,
                   curve: SNCurve, criterion: str, params: CriterionParams, residue: str,
                   tf: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Refine the governing plane of several points by halving the step ``n_refine`` times.
+    """Refine the governing plane of several points to ``step0 / 2**n_refine``.
 
-    At each level every point tries theta +- step around its current best; all
-    points and their trial planes go through the kernel in one call (the points
-    run in parallel).
+    The first ``DENSE_LEVELS`` halvings are done at once: every plane of the
+    local grid theta0 + k step0/2^n (0 < |k| < 2^n, n = min(n_refine,
+    DENSE_LEVELS)) is evaluated in one pass over the history, and the best is
+    kept. This visits every plane the greedy halving search would visit (and
+    the rest of the window), so it finds at least the same damage in fewer
+    passes. Further levels halve the step greedily (theta +- step around the
+    current best). All points and their trial planes go through the kernel in
+    one call (the points run in parallel).
 
     Parameters
     ----------
@@ -302,26 +387,37 @@ def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
     -------
     theta, dmg, sel, par : ndarray, shape (R,)
     """
-    R = cs_rows.shape[0]
     th = np.asarray(theta0, dtype=float).copy()
+    beta = np.asarray(beta, dtype=float)
+    psi = np.asarray(psi, dtype=float)
     bd, bs, bp = (np.asarray(best_dmg, float).copy(), np.asarray(best_sel, float).copy(),
                   np.asarray(best_par, float).copy())
-    step = step0
+    if n_refine <= 0:
+        return th, bd, bs, bp
+    n_dense = min(n_refine, DENSE_LEVELS)
+    step = step0 / 2.0**n_dense
+    k = np.arange(1, 2**n_dense)
+    offsets = np.concatenate([-k[::-1], k]) * step
+    # trial planes of every row, shared where rows coincide
+    t_all = ((th[:, None] + offsets[None, :]) % 180.0)
+    keys = np.stack([np.round(t_all, 9), np.broadcast_to(beta[:, None], t_all.shape),
+                     np.broadcast_to(psi[:, None], t_all.shape)], axis=-1).reshape(-1, 3)
+    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
+    pl = make_planes(uniq[:, 0], uniq[:, 1], uniq[:, 2])
+    d, s_, p_ = plane_damage(loads_T, cs_rows, ct_rows, pl, curve, criterion, params,
+                             residue, tf, loads_are_channels=True)
+    th, bd, bs, bp = _pick_rows(pl.theta_deg, d, s_, p_, inv.reshape(t_all.shape), th, bd,
+                                bs, bp)
+    R = th.shape[0]
     rows = np.arange(R)
-    for _ in range(n_refine):
+    for _ in range(n_refine - n_dense):
         step /= 2.0
         trial = (np.stack([th - step, th + step], axis=1) % 180.0).ravel()  # (2R,)
         pl = make_planes(trial, np.repeat(beta, 2), np.repeat(psi, 2))
         d, s_, p_ = plane_damage(loads_T, cs_rows, ct_rows, pl, curve, criterion, params,
                                  residue, tf, loads_are_channels=True)
         own = np.stack([2 * rows, 2 * rows + 1], axis=1)  # each point's own two trials
-        dd = np.column_stack([bd, d[rows[:, None], own]])
-        ss = np.column_stack([bs, s_[rows[:, None], own]])
-        pp = np.column_stack([bp, p_[rows[:, None], own]])
-        k = pick_planes(dd, ss)
-        moved = k > 0
-        th[moved] = trial.reshape(R, 2)[rows[moved], k[moved] - 1]
-        bd, bs, bp = dd[rows, k], ss[rows, k], pp[rows, k]
+        th, bd, bs, bp = _pick_rows(pl.theta_deg, d, s_, p_, own, th, bd, bs, bp)
     return th, bd, bs, bp
 
 
@@ -358,7 +454,8 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
                       residue: str = "half", mean_stress: str = "none",
                       ultimate_Pa: float = 689e6, thickness_m: float | None = None,
                       walker_gamma: float = 0.5, compressive_alpha: float = 0.6,
-                      with_uniaxial: bool = True) -> LocationResult:
+                      with_uniaxial: bool = True,
+                      channels: np.ndarray | None = None) -> LocationResult:
     """Damage of one location of one joint over one load window.
 
     Parameters
@@ -378,6 +475,9 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
         Also run the uniaxial route (``uniaxial_damage``; NaN when False).
     residue, mean_stress, ultimate_Pa, thickness_m, walker_gamma, compressive_alpha
         Counting and uniaxial-route options.
+    channels : ndarray, shape (6, n_time), optional
+        ``loads_channels(loads)``, computed once and shared by the locations
+        of a joint (saves one transposition of the history per location).
 
     Returns
     -------
@@ -399,7 +499,7 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
         return LocationResult(float(uni[p]), float(np.degrees(phi[p])), 0.0, 0.0, p, uni,
                               float(uni[p]), float("nan"))
     planes = plane_grid(plane_step_deg, family_b, n_shear_axes)
-    LT = loads_channels(loads)
+    LT = channels if channels is not None else loads_channels(loads)
     dmg, sel, par = plane_damage(LT, cs, ct, planes, curve, criterion, params, residue, tf,
                                  loads_are_channels=True)
     jbest = pick_planes(dmg, sel)

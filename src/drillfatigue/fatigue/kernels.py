@@ -176,32 +176,6 @@ def sn_inverse_life(S, seg_S_low, seg_m, seg_inv_a, S_cut):
     return p * seg_inv_a[i]
 
 
-@njit(cache=True)
-def _equivalent(crit, dtau, sn1, sn2, ca, cb, cc):
-    """Criterion parameter (Pa) and equivalent tension amplitude (Pa) of one cycle.
-
-    Matake-type (ca = f/t, cb = a = 2t/f - 1):
-        p = (f/t) [dtau/2 + a max(sn1, sn2, 0)], sigma_eq = p.
-    Findley (ca = k, cb = 2/(k + sqrt(1 + k^2))):
-        p = dtau/2 + k max(sn1, sn2), sigma_eq = cb p (uniaxial calibration).
-    Fatemi-Socie, stress form (ca = k, cb = 1/sigma_y):
-        p = dtau/2 (1 + k max(sn1, sn2, 0)/sigma_y), sigma_eq = 2 p.
-    Shear (Tresca-type): p = dtau/2, sigma_eq = dtau.
-    """
-    snmax = sn1 if sn1 > sn2 else sn2
-    if crit == CRIT_MATAKE:
-        p = ca * (0.5 * dtau + cb * (snmax if snmax > 0.0 else 0.0))
-        return p, p
-    elif crit == CRIT_FINDLEY:
-        p = 0.5 * dtau + ca * snmax
-        return p, cb * p
-    elif crit == CRIT_FATEMI_SOCIE:
-        p = 0.5 * dtau * (1.0 + ca * (snmax if snmax > 0.0 else 0.0) * cb)
-        return p, 2.0 * p
-    else:
-        return 0.5 * dtau, dtau
-
-
 @njit(cache=True, inline="always")
 def _pseudo_angle(x, y):
     """Monotone pseudo-angle of the direction (x, y) in [0, 4)."""
@@ -211,116 +185,231 @@ def _pseudo_angle(x, y):
     return 3.0 + x / (ax - y)
 
 
-@njit(cache=True)
-def _sector(pa, bnd):
-    """Number of boundaries with pseudo-angle < pa (binary search), mod len."""
-    lo = 0
-    hi = bnd.shape[0]
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if bnd[mid] < pa:
-            lo = mid + 1
-        else:
-            hi = mid
-    if lo == bnd.shape[0]:
-        return 0
-    return lo
-
-
-CYCLE_BUFFER = 8192
-
-
-@njit(cache=True)
-def _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc, s_scale, seg_S_low,
-           seg_m, seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par):
-    """Damage of the buffered cycles of point p (equivalent stress, S-N, Miner)."""
-    for i in range(nbuf[0]):
-        j = buf_j[i]
-        dtau = buf_d[i]
-        count = buf_c[i]
-        par, seq = _equivalent(crit, dtau, buf_n1[i], buf_n2[i], ca, cb, cc)
-        if seq > 0.0:
-            out_dmg[p, j] += count * sn_inverse_life(2.0 * seq * s_scale, seg_S_low, seg_m,
-                                                     seg_inv_a, S_cut)
-        if par > out_par[p, j]:
-            out_par[p, j] = par
-        if sel_crit != crit:
-            _, sq2 = _equivalent(sel_crit, dtau, buf_n1[i], buf_n2[i], ca, cb, cc)
-            if sq2 > 0.0:
-                out_sel[p, j] += count * sn_inverse_life(2.0 * sq2 * s_scale, seg_S_low, seg_m,
-                                                         seg_inv_a, S_cut)
-    nbuf[0] = 0
-
-
 @njit(cache=True, inline="always")
-def _push_value(sv, sn, ms, j, v, nv):
-    """Peak-valley filtered push of (shear v, normal nv) onto candidate j's stack."""
-    m = ms[j]
-    if m >= 1 and sv[j, m - 1] == v:
-        return 0
-    if m >= 2 and (sv[j, m - 1] - sv[j, m - 2]) * (v - sv[j, m - 1]) > 0.0:
-        sv[j, m - 1] = v
-        sn[j, m - 1] = nv
+def _push_group(sv, sx, sy, ms, g, v, x, y):
+    """Peak-valley filtered push of (shear v, sigma x, tau y) onto group g's stack."""
+    m = ms[g]
+    if m >= 1 and sv[g, m - 1] == v:
+        return 0  # plateau: the reversal stays at the first sample
+    if m >= 2 and (sv[g, m - 1] - sv[g, m - 2]) * (v - sv[g, m - 1]) > 0.0:
+        sv[g, m - 1] = v  # monotone continuation: the top was not a reversal
+        sx[g, m - 1] = x
+        sy[g, m - 1] = y
         return 0
     if m >= sv.shape[1]:
         return STATUS_STACK_OVERFLOW
-    sv[j, m] = v
-    sn[j, m] = nv
-    ms[j] = m + 1
+    sv[g, m] = v
+    sx[g, m] = x
+    sy[g, m] = y
+    ms[g] = m + 1
     return 0
 
 
+BATCH_FAST = {"reassoc", "nsz"}  # fastmath flags of the batch loops: sums, maxima reordered
+
+
 @njit(cache=True, inline="always")
-def _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf):
-    """4-point rainflow on candidate j's stack; closed cycles go to the buffer."""
-    m = ms[j]
-    while m >= 4:
-        s0 = sv[j, m - 4]
-        s1 = sv[j, m - 3]
-        s2 = sv[j, m - 2]
-        s3 = sv[j, m - 1]
+def _ipow(s, e):
+    """s**e for an integer 0 <= e < 16 by branch-free squaring (vectorisable)."""
+    s2 = s * s
+    s4 = s2 * s2
+    s8 = s4 * s4
+    p = s if e & 1 else 1.0
+    p = p * s2 if e & 2 else p
+    p = p * s4 if e & 4 else p
+    return p * s8 if e & 8 else p
+
+
+@njit(cache=True, fastmath=BATCH_FAST)
+def _miner_batch(S, cnt, n, seg_S_low, seg_m, seg_inv_a, S_cut):
+    """sum_i cnt[i] / N(S[i]) over the first n entries (S in the curve's unit).
+
+    Curves of one or two segments with integer slopes (DNV, threaded parts) take
+    a branch-free vectorised loop; other curves go through ``sn_inverse_life``.
+    """
+    n_seg = seg_m.shape[0]
+    m1 = seg_m[0]
+    m2 = seg_m[n_seg - 1]
+    if n_seg <= 2 and m1 == int(m1) and m2 == int(m2) and 0.0 <= m1 < 16.0 and 0.0 <= m2 < 16.0:
+        Sd = seg_S_low[0]
+        e1 = int(m1)
+        e2 = int(m2)
+        i1 = seg_inv_a[0]
+        i2 = seg_inv_a[n_seg - 1]
+        tot = 0.0
+        for i in range(n):
+            x = S[i]
+            v = _ipow(x, e1) * i1 if x >= Sd else _ipow(x, e2) * i2
+            tot += cnt[i] * (v if (x > 0.0 and x >= S_cut) else 0.0)
+        return tot
+    tot = 0.0
+    for i in range(n):
+        tot += cnt[i] * sn_inverse_life(S[i], seg_S_low, seg_m, seg_inv_a, S_cut)
+    return tot
+
+
+@njit(cache=True, fastmath=BATCH_FAST)
+def _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scale, S):
+    """Equivalent stress ranges of n buffered cycles of one member plane.
+
+    Cycle i has shear range ``dtau = sc * D[i]`` and normal stress
+    ``n0 x + n1 y`` at its turning instants (X1, Y1) and (X2, Y2), the larger
+    of the two being ``snmax``. Writes ``S[i] = 2 sigma_eq s_scale`` (the S-N
+    range) and returns the largest criterion parameter p (Pa):
+
+    Matake-type (ca = f/t, cb = a = 2t/f - 1):
+        p = (f/t) [dtau/2 + a max(snmax, 0)], sigma_eq = p.
+    Findley (ca = k, cb = 2/(k + sqrt(1 + k^2))):
+        p = dtau/2 + k snmax, sigma_eq = cb p (uniaxial calibration).
+    Fatemi-Socie, stress form (ca = k, cb = 1/sigma_y):
+        p = dtau/2 (1 + k max(snmax, 0)/sigma_y), sigma_eq = 2 p.
+    Shear (Tresca-type, plane selection): p = dtau/2, sigma_eq = dtau.
+    """
+    pmax = 0.0
+    if crit == CRIT_MATAKE:
+        for i in range(n):
+            sm = max(max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i]), 0.0)
+            p = ca * (0.5 * sc * D[i] + cb * sm)
+            S[i] = 2.0 * p * s_scale
+            pmax = max(pmax, p)
+    elif crit == CRIT_FINDLEY:
+        for i in range(n):
+            sm = max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i])
+            p = 0.5 * sc * D[i] + ca * sm
+            S[i] = 2.0 * cb * p * s_scale
+            pmax = max(pmax, p)
+    elif crit == CRIT_FATEMI_SOCIE:
+        for i in range(n):
+            sm = max(max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i]), 0.0)
+            p = 0.5 * sc * D[i] * (1.0 + ca * sm * cb)
+            S[i] = 4.0 * p * s_scale
+            pmax = max(pmax, p)
+    else:
+        for i in range(n):
+            p = 0.5 * sc * D[i]
+            S[i] = 4.0 * p * s_scale
+            pmax = max(pmax, p)
+    return pmax
+
+
+@njit(cache=True)
+def _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S, mem_ptr,
+                 mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale, seg_S_low,
+                 seg_m, seg_inv_a, S_cut, acc_dmg, acc_sel, acc_par):
+    """Damage of group g's buffered cycles on each member plane; empties the buffer.
+
+    Member j has shear range ``mem_scale * dtau`` and normal stress
+    ``cand_n[j] . (sigma, tau)`` at each cycle's two turning instants.
+    """
+    n = cyc_n[g]
+    if n == 0:
+        return
+    D = cyc_d[g]
+    X1 = cyc_x1[g]
+    Y1 = cyc_y1[g]
+    X2 = cyc_x2[g]
+    Y2 = cyc_y2[g]
+    C = cyc_c[g]
+    last_scale = -1.0
+    last_sel = 0.0
+    for k in range(mem_ptr[g], mem_ptr[g + 1]):
+        j = mem_cand[k]
+        sc = mem_scale[k]
+        n0 = cand_n[j, 0]
+        n1 = cand_n[j, 1]
+        pm = _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scale,
+                               tmp_S)
+        if pm > acc_par[j]:
+            acc_par[j] = pm
+        acc_dmg[j] += _miner_batch(tmp_S, C, n, seg_S_low, seg_m, seg_inv_a, S_cut)
+        if sel_crit != crit:
+            if sel_crit == CRIT_SHEAR and sc == last_scale:
+                acc_sel[j] += last_sel  # shear selection depends on the range only
+            else:
+                _equivalent_batch(sel_crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc,
+                                  s_scale, tmp_S)
+                v = _miner_batch(tmp_S, C, n, seg_S_low, seg_m, seg_inv_a, S_cut)
+                acc_sel[j] += v
+                last_scale = sc
+                last_sel = v
+    cyc_n[g] = 0
+
+
+@njit(cache=True, inline="always")
+def _add_cycle(g, d, x1, y1, x2, y2, count, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c,
+               cyc_n):
+    """Append one (half) cycle of group g to its buffer; True when the buffer is full."""
+    k = cyc_n[g]
+    cyc_d[g, k] = d
+    cyc_x1[g, k] = x1
+    cyc_y1[g, k] = y1
+    cyc_x2[g, k] = x2
+    cyc_y2[g, k] = y2
+    cyc_c[g, k] = count
+    cyc_n[g] = k + 1
+    return k + 1 >= cyc_d.shape[1]
+
+
+@njit(cache=True, inline="always")
+def _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n):
+    """4-point rainflow on group g's stack; closed cycles go to the group's buffer.
+
+    Returns True when the buffer is full (the caller flushes it)."""
+    m = ms[g]
+    full = False
+    while m >= 4 and not full:
+        s0 = sv[g, m - 4]
+        s1 = sv[g, m - 3]
+        s2 = sv[g, m - 2]
+        s3 = sv[g, m - 1]
         d2 = abs(s2 - s1)
         if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
-            k = nbuf[0]
-            buf_j[k] = j
-            buf_d[k] = d2
-            buf_n1[k] = sn[j, m - 3]
-            buf_n2[k] = sn[j, m - 2]
-            buf_c[k] = 1.0
-            nbuf[0] = k + 1
-            sv[j, m - 3] = s3
-            sn[j, m - 3] = sn[j, m - 1]
+            full = _add_cycle(g, d2, sx[g, m - 3], sy[g, m - 3], sx[g, m - 2], sy[g, m - 2],
+                              1.0, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n)
+            sv[g, m - 3] = s3
+            sx[g, m - 3] = sx[g, m - 1]
+            sy[g, m - 3] = sy[g, m - 1]
             m -= 2
         else:
             break
-    ms[j] = m
+    ms[g] = m
+    return full
 
 
 BLOCK = 4096
+STACK_PAD = 9
+CYCLE_BATCH = 256  # closed cycles buffered per group before their damage is evaluated
 
 
-@njit(cache=True, parallel=True)
-def multiplane_damage(loads_T, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_cand, lut_lo,
-                      lut_hi, crit, ca, cb, cc, sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a,
-                      S_cut, residue_mode, stack_cap, out_dmg, out_sel, out_par):
+@njit(cache=True, parallel=True, error_model="numpy")
+def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem_scale, cand_n,
+                      bnd_pa, bnd_grp, crit, ca, cb, cc, sel_crit, s_scale,
+                      seg_S_low, seg_m, seg_inv_a, S_cut, residue_mode, stack_cap, out_dmg,
+                      out_sel, out_par):
     """Miner damage on every candidate plane of every surface point.
 
     For each surface point p the plane stress (sigma, tau) is formed from the
-    loads; the resolved shear on candidate j is ``cand_c[j] @ (sigma, tau)`` and
-    the normal stress ``cand_n[j] @ (sigma, tau)``. Instead of a reversal search
-    per plane, each increment's direction in the (sigma, tau) plane is located
-    (pseudo-angle; while it stays inside the current sector nothing is done,
-    otherwise a look-up table ``lut_lo/lut_hi`` over pseudo-angle bins with an
-    exact search only in bins holding a boundary) among the sorted directions
-    ``bnd_pa`` where some candidate's shear increment changes sign; a sample is
-    a reversal of exactly the candidates whose boundary lies on the short arc
-    between the previous and the new increment direction. The per-sample stage
-    runs over blocks of ``BLOCK`` samples with contiguous per-channel loads;
-    only direction changes reach the sequential stage. Each candidate keeps its
-    own 4-point rainflow stack; each closed cycle gets the criterion's
-    equivalent stress from its shear range and the normal stress at its two
-    turning instants, and Miner damage 1/N from the S-N curve. The result
-    equals a per-plane reversal search and rainflow (exact values, no binning).
+    loads. Candidates whose resolved-shear coefficients are parallel (e.g. a
+    plane and its conjugate at 90 deg, whose shear is exactly opposite) form a
+    shear group: one representative shear ``grp_c[g] @ (sigma, tau)`` is
+    rainflow counted once (rainflow of -y or of c y, c > 0, gives the same
+    cycles at the same instants), and every member j gets the cycle with range
+    ``mem_scale * dtau`` and its own normal stress ``cand_n[j] @ (sigma, tau)``
+    at the two turning instants.
+
+    Instead of a reversal search per group, each increment's direction in the
+    (sigma, tau) plane gets its sector among the sorted directions ``bnd_pa``
+    where some group's shear increment changes sign (pseudo-angles; the sector
+    is the number of boundaries below, a vectorised count); a sample is a
+    reversal of exactly the groups whose boundary lies on the short arc between
+    the previous and the new sector. The per-sample stages (plane stress,
+    pseudo-angle, sector) run vectorised over blocks of ``BLOCK`` samples; a
+    branch-free compaction hands only the sector changes to the sequential
+    stage. Each group keeps its own 4-point rainflow stack with (shear, sigma,
+    tau) at each reversal; closed cycles are buffered per group and evaluated
+    in vectorised batches (the criterion's equivalent stress per member, Miner
+    damage 1/N from the S-N curve). The result equals a per-plane reversal
+    search and rainflow (exact values, no binning; batch sums are reassociated).
 
     Parameters
     ----------
@@ -328,18 +417,25 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_c
         Internal loads, N and N m, one row per channel.
     coef_sig, coef_tau : ndarray, shape (n_points, 6)
         Load-to-stress maps (Pa per N or N m), from ``surface_coefficients``.
-    cand_c, cand_n : ndarray, shape (n_cand, 2)
-        Shear and normal stress coefficients of each candidate on (sigma, tau).
-    bnd_pa : ndarray, shape (n_bnd,)
-        Sorted pseudo-angles of the sign-change directions (n_bnd >= 1).
-    bnd_cand : ndarray, shape (n_bnd,), int64
-        Candidate owning each boundary.
-    lut_lo, lut_hi : ndarray, shape (n_bins,), int64
-        Number of boundaries below the start / end of each pseudo-angle bin.
+    grp_c : ndarray, shape (n_grp, 2)
+        Representative shear coefficients of each group on (sigma, tau).
+    mem_ptr : ndarray, shape (n_grp + 1,), int64
+        Members of group g are ``mem_cand[mem_ptr[g]:mem_ptr[g + 1]]``.
+    mem_cand : ndarray, int64
+        Candidate index of each member.
+    mem_scale : ndarray, float64
+        |c_j| / |grp_c[g]| of each member (> 0).
+    cand_n : ndarray, shape (n_cand, 2)
+        Normal stress coefficients of each candidate on (sigma, tau).
+    bnd_pa : ndarray, shape (2 n_grp,)
+        Sorted pseudo-angles of the sign-change directions: the first half B
+        in [0, 2), the second half B + 2 (the antipodes).
+    bnd_grp : ndarray, shape (n_bnd,), int64
+        Group owning each boundary.
     crit, sel_crit : int
         Criterion for damage and for plane selection (CRIT_*).
     ca, cb, cc : float
-        Criterion constants (see ``_equivalent``).
+        Criterion constants (see ``_equivalent_batch``).
     s_scale : float
         Factor from Pa to the S-N curve unit, times the thickness correction.
     seg_S_low, seg_m, seg_inv_a, S_cut
@@ -347,10 +443,10 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_c
     residue_mode : int
         RESIDUE_HALF or RESIDUE_REPEAT.
     stack_cap : int
-        Capacity of each candidate's residue stack.
+        Capacity of each group's residue stack.
     out_dmg, out_sel, out_par : ndarray, shape (n_points, n_cand)
-        Damage, plane-selection damage and max criterion parameter (Pa); zeroed
-        here.
+        Damage, plane-selection damage and max criterion parameter (Pa);
+        candidates in no group (zero shear) get 0.
 
     Returns
     -------
@@ -359,29 +455,41 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_c
     """
     n_t = loads_T.shape[1]
     n_p = coef_sig.shape[0]
-    n_c = cand_c.shape[0]
+    n_g = grp_c.shape[0]
+    n_c = cand_n.shape[0]
     n_b = bnd_pa.shape[0]
-    n_bins = lut_lo.shape[0]
-    bin_scale = n_bins / 4.0
+    n_half = n_b // 2
     status = np.zeros(n_p, dtype=np.int64)
     for p in prange(n_p):
-        sv = np.empty((n_c, stack_cap))
-        sn = np.empty((n_c, stack_cap))
-        ms = np.zeros(n_c, dtype=np.int64)
+        # rows padded by an odd number of doubles: the tops of the groups' stacks
+        # do not all fall into one cache set (a power-of-two row stride would)
+        sv = np.empty((n_g, stack_cap + STACK_PAD))
+        sx = np.empty((n_g, stack_cap + STACK_PAD))
+        sy = np.empty((n_g, stack_cap + STACK_PAD))
+        ms = np.zeros(n_g, dtype=np.int64)
         sgb = np.empty(BLOCK + 1)
         tab = np.empty(BLOCK + 1)
         pab = np.empty(BLOCK)
-        bcap = CYCLE_BUFFER + stack_cap
-        buf_j = np.empty(bcap, dtype=np.int64)
-        buf_d = np.empty(bcap)
-        buf_n1 = np.empty(bcap)
-        buf_n2 = np.empty(bcap)
-        buf_c = np.empty(bcap)
-        nbuf = np.zeros(1, dtype=np.int64)
-        for j in range(n_c):
-            out_dmg[p, j] = 0.0
-            out_sel[p, j] = 0.0
-            out_par[p, j] = 0.0
+        chg_i = np.empty(BLOCK, dtype=np.int64)
+        secb = np.empty(BLOCK, dtype=np.int64)
+        paf = np.empty(BLOCK)
+        cyc_d = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_x1 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_y1 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_x2 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_y2 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_c = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_n = np.zeros(n_g, dtype=np.int64)
+        tmp_S = np.empty(CYCLE_BATCH + STACK_PAD)
+        acc_dmg = np.zeros(n_c)
+        acc_sel = np.zeros(n_c)
+        acc_par = np.zeros(n_c)
+        L0 = loads_T[0]
+        L1 = loads_T[1]
+        L2 = loads_T[2]
+        L3 = loads_T[3]
+        L4 = loads_T[4]
+        L5 = loads_T[5]
         a0 = coef_sig[p, 0]
         a1 = coef_sig[p, 1]
         a2 = coef_sig[p, 2]
@@ -394,142 +502,132 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, cand_c, cand_n, bnd_pa, bnd_c
         b3 = coef_tau[p, 3]
         b4 = coef_tau[p, 4]
         b5 = coef_tau[p, 5]
-        L0 = loads_T[0]
-        L1 = loads_T[1]
-        L2 = loads_T[2]
-        L3 = loads_T[3]
-        L4 = loads_T[4]
-        L5 = loads_T[5]
+        tube = a1 == 0.0 and a2 == 0.0 and a5 == 0.0 and b0 == 0.0 and b3 == 0.0 and b4 == 0.0
         sgb[0] = a0 * L0[0] + a1 * L1[0] + a2 * L2[0] + a3 * L3[0] + a4 * L4[0] + a5 * L5[0]
         tab[0] = b0 * L0[0] + b1 * L1[0] + b2 * L2[0] + b3 * L3[0] + b4 * L4[0] + b5 * L5[0]
         st = 0
-        for j in range(n_c):
-            st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * sgb[0] + cand_c[j, 1] * tab[0],
-                              cand_n[j, 0] * sgb[0] + cand_n[j, 1] * tab[0])
-        cur = -1
-        wrap = False
-        lo_pa = 1.0
-        hi_pa = 0.0  # empty interval: the first direction always goes to the search
-        b_first = bnd_pa[0]
-        b_last = bnd_pa[n_b - 1]
+        for g in range(n_g):
+            st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * sgb[0] + grp_c[g, 1] * tab[0],
+                              sgb[0], tab[0])
+        cur = -1  # sector of the last increment direction (-1: none yet)
         for k0 in range(1, n_t, BLOCK):
             nb = min(BLOCK, n_t - k0)
-            # stage 1a: plane stress of the block (channel-outer loops, vectorisable;
-            # only the channels with a non-zero coefficient are visited)
-            for i in range(nb):
-                sgb[i + 1] = 0.0
-                tab[i + 1] = 0.0
-            for c in range(6):
-                ac = coef_sig[p, c]
-                if ac != 0.0:
-                    Lc = loads_T[c]
-                    for i in range(nb):
-                        sgb[i + 1] += ac * Lc[k0 + i]
-                bc = coef_tau[p, c]
-                if bc != 0.0:
-                    Lc = loads_T[c]
-                    for i in range(nb):
-                        tab[i + 1] += bc * Lc[k0 + i]
-            # stage 1b: pseudo-angle of each increment direction (-1: no change)
+            # stage 1a: plane stress of the block (one fused pass over the
+            # channels, vectorisable; tube surface points use three each)
+            if tube:
+                for i in range(nb):
+                    k = k0 + i
+                    sgb[i + 1] = a0 * L0[k] + a3 * L3[k] + a4 * L4[k]
+                    tab[i + 1] = b1 * L1[k] + b2 * L2[k] + b5 * L5[k]
+            else:
+                for i in range(nb):
+                    k = k0 + i
+                    sgb[i + 1] = a0 * L0[k] + a1 * L1[k] + a2 * L2[k] + a3 * L3[k] \
+                        + a4 * L4[k] + a5 * L5[k]
+                    tab[i + 1] = b0 * L0[k] + b1 * L1[k] + b2 * L2[k] + b3 * L3[k] \
+                        + b4 * L4[k] + b5 * L5[k]
+            # stage 1b: pseudo-angle of each increment direction (-1: no change),
+            # branch-free so that it vectorises; folded to [0, 2) (the boundaries
+            # come in antipodal pairs, pa and pa + 2)
             for i in range(nb):
                 dx = sgb[i + 1] - sgb[i]
                 dy = tab[i + 1] - tab[i]
                 den = abs(dx) + abs(dy)
-                if den == 0.0:
-                    pab[i] = -1.0
-                elif dy >= 0.0:
-                    pab[i] = 1.0 - dx / den
-                else:
-                    pab[i] = 3.0 + dx / den
-            # stage 2: direction changes -> reversals of the crossed candidates
+                r = dx / den
+                q = 1.0 - r if dy >= 0.0 else 3.0 + r
+                q = q if den != 0.0 else -1.0
+                pab[i] = q
+                up = q >= 2.0
+                paf[i] = q - 2.0 if up else q
+                secb[i] = n_half if up else 0
+            # stage 1c: sector of each increment direction = number of boundaries
+            # below its pseudo-angle (boundary-outer loop over the first half,
+            # vectorisable), then a compaction of the samples where it changes
+            for ib in range(n_half):
+                bp = bnd_pa[ib]
+                for i in range(nb):
+                    secb[i] += 1 if paf[i] > bp else 0
+            cur0 = cur
+            nch = 0
             for i in range(nb):
-                pa = pab[i]
-                if pa < 0.0:
-                    continue
-                if wrap:
-                    if pa <= b_first or pa > b_last:
-                        continue
-                elif pa > lo_pa and pa <= hi_pa:
-                    continue
-                b = int(pa * bin_scale)
-                if b >= n_bins:
-                    b = n_bins - 1
-                s = lut_lo[b]
-                hi = lut_hi[b]
-                while s < hi and bnd_pa[s] < pa:
-                    s += 1
-                if s >= n_b:
-                    s = 0
-                if cur >= 0 and s != cur:
-                    f = s - cur
-                    if f < 0:
-                        f += n_b
-                    if 2 * f <= n_b:
-                        i0 = cur
-                        cnt = f
-                    else:
-                        i0 = s
-                        cnt = n_b - f
-                    x = sgb[i]
-                    y = tab[i]
-                    for q in range(cnt):
-                        ib = i0 + q
-                        if ib >= n_b:
-                            ib -= n_b
-                        j = bnd_cand[ib]
-                        st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * x + cand_c[j, 1] * y,
-                                          cand_n[j, 0] * x + cand_n[j, 1] * y)
-                        _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf)
-                        if nbuf[0] >= CYCLE_BUFFER:
-                            _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc,
-                                   s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit,
-                                   out_dmg, out_sel, out_par)
+                s = secb[i]
+                s = 0 if s >= n_b else s
+                s = cur if pab[i] < 0.0 else s  # no increment: the sector stays
+                secb[i] = s
+                chg_i[nch] = i
+                nch += 1 if (s != cur and cur >= 0) else 0
                 cur = s
-                wrap = s == 0
-                if not wrap:
-                    lo_pa = bnd_pa[s - 1]
-                    hi_pa = bnd_pa[s]
+            # stage 2: direction changes -> reversals of the crossed groups
+            for q in range(nch):
+                i = chg_i[q]
+                s = secb[i]
+                prev = secb[i - 1] if i > 0 else cur0
+                f = s - prev
+                if f < 0:
+                    f += n_b
+                if 2 * f <= n_b:
+                    i0 = prev
+                    cnt = f
+                else:
+                    i0 = s
+                    cnt = n_b - f
+                x = sgb[i]
+                y = tab[i]
+                for r in range(cnt):
+                    ib = i0 + r
+                    if ib >= n_b:
+                        ib -= n_b
+                    g = bnd_grp[ib]
+                    st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y,
+                                      x, y)
+                    while _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2,
+                                            cyc_y2, cyc_c, cyc_n):
+                        _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S,
+                                     mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc,
+                                     sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut,
+                                     acc_dmg, acc_sel, acc_par)
             sgb[0] = sgb[nb]
             tab[0] = tab[nb]
-        # last sample closes every candidate's sequence
+        # last sample closes every group's sequence
         x = sgb[0]
         y = tab[0]
-        for j in range(n_c):
-            st |= _push_value(sv, sn, ms, j, cand_c[j, 0] * x + cand_c[j, 1] * y,
-                              cand_n[j, 0] * x + cand_n[j, 1] * y)
-            _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf)
-            m = ms[j]
+        for g in range(n_g):
+            st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y, x, y)
+            while _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2,
+                                    cyc_c, cyc_n):
+                _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S,
+                             mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit,
+                             s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, acc_dmg, acc_sel,
+                             acc_par)
+            m = ms[g]
             if residue_mode == RESIDUE_HALF:
                 for i in range(m - 1):
-                    k = nbuf[0]
-                    buf_j[k] = j
-                    buf_d[k] = abs(sv[j, i + 1] - sv[j, i])
-                    buf_n1[k] = sn[j, i]
-                    buf_n2[k] = sn[j, i + 1]
-                    buf_c[k] = 0.5
-                    nbuf[0] = k + 1
-                    if nbuf[0] >= CYCLE_BUFFER:
-                        _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc,
-                               s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit, out_dmg,
-                               out_sel, out_par)
+                    if _add_cycle(g, abs(sv[g, i + 1] - sv[g, i]), sx[g, i], sy[g, i],
+                                  sx[g, i + 1], sy[g, i + 1], 0.5, cyc_d, cyc_x1, cyc_y1,
+                                  cyc_x2, cyc_y2, cyc_c, cyc_n):
+                        _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n,
+                                     tmp_S, mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb,
+                                     cc, sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut,
+                                     acc_dmg, acc_sel, acc_par)
             elif residue_mode == RESIDUE_REPEAT:
-                rv = sv[j, :m].copy()
-                rn = sn[j, :m].copy()
+                rv = sv[g, :m].copy()
+                rx = sx[g, :m].copy()
+                ry = sy[g, :m].copy()
                 for i in range(m):
-                    st |= _push_value(sv, sn, ms, j, rv[i], rn[i])
-                    _four_point(sv, sn, ms, j, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf)
-                    if nbuf[0] >= CYCLE_BUFFER:
-                        _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc,
-                               s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit, out_dmg,
-                               out_sel, out_par)
-            if nbuf[0] >= CYCLE_BUFFER:
-                _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc, s_scale,
-                       seg_S_low, seg_m, seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par)
-        _flush(p, buf_j, buf_d, buf_n1, buf_n2, buf_c, nbuf, crit, ca, cb, cc, s_scale, seg_S_low,
-               seg_m, seg_inv_a, S_cut, sel_crit, out_dmg, out_sel, out_par)
-        if sel_crit == crit:
-            for j in range(n_c):
-                out_sel[p, j] = out_dmg[p, j]
+                    st |= _push_group(sv, sx, sy, ms, g, rv[i], rx[i], ry[i])
+                    while _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2,
+                                            cyc_y2, cyc_c, cyc_n):
+                        _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n,
+                                     tmp_S, mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb,
+                                     cc, sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut,
+                                     acc_dmg, acc_sel, acc_par)
+            _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S, mem_ptr,
+                         mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale,
+                         seg_S_low, seg_m, seg_inv_a, S_cut, acc_dmg, acc_sel, acc_par)
+        for j in range(n_c):
+            out_dmg[p, j] = acc_dmg[j]
+            out_sel[p, j] = acc_dmg[j] if sel_crit == crit else acc_sel[j]
+            out_par[p, j] = acc_par[j]
         status[p] = st
     for p in range(n_p):
         if status[p] != 0:

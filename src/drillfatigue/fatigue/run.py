@@ -23,7 +23,8 @@ import pandas as pd
 
 from drillfatigue.config.fatigue import COMPONENT_TYPES, FatigueConfig, UserCurveConfig
 from drillfatigue.errors import InputError
-from drillfatigue.fatigue.critical_plane import CRITERIA, CriterionParams, evaluate_location
+from drillfatigue.fatigue.critical_plane import (CRITERIA, CriterionParams, evaluate_location,
+                                                  loads_channels)
 from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, rainflow_matrix
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress, get_curve, get_grade, user_curve
 from drillfatigue.fatigue.stress import LOAD_COLUMNS, SCF, Section, surface_coefficients
@@ -284,6 +285,7 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     for j in sel:
         info = jrow.loc[j]
         t, L, md = per_joint[j]
+        LT = loads_channels(L)  # one transposition shared by both locations
         for loc in LOCATIONS:
             od, idm = ((info["body_od_m"], info["body_id_m"]) if loc == "body"
                        else (info["conn_od_m"], info["conn_id_m"]))
@@ -300,7 +302,8 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                 n_shear_axes=cfg.n_shear_axes, n_refine=cfg.n_refine,
                 n_refine_points=cfg.n_refine_points,
                 residue=cfg.residue, mean_stress=cfg.mean_stress, ultimate_Pa=grade.tensile_Pa,
-                walker_gamma=cfg.walker_gamma, compressive_alpha=cfg.compressive_alpha)
+                walker_gamma=cfg.walker_gamma, compressive_alpha=cfg.compressive_alpha,
+                channels=LT)
             uni = res.uniaxial_damage
             if cfg.residue == "carry" or cfg.load_classes is not None:
                 uni = _uniaxial_streamed(t, L, section, scf, curves[loc], cfg, grade.tensile_Pa,
