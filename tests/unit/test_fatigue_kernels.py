@@ -161,3 +161,24 @@ def test_dense_refinement_is_the_best_plane_of_the_fine_grid() -> None:
         k = int(pick_planes(dd, ss)[0])
         assert th[r] == pytest.approx(lattice[k], abs=1e-9)
         assert d[r] == pytest.approx(dd[0, k], rel=1e-12)
+
+
+def test_refinement_beyond_the_dense_levels_never_loses_selection_damage() -> None:
+    """Levels after the dense grid halve greedily from its best plane, so the
+    selected plane's selection damage can only grow with n_refine (Findley:
+    selection = damage)."""
+    from drillfatigue.fatigue.critical_plane import evaluate_location
+
+    rng = np.random.default_rng(4)
+    n = 2500
+    t = np.arange(n) * 1e-3
+    L = np.column_stack([
+        8e4 + 2e4 * np.sin(2 * np.pi * 4.0 * t), 800 * rng.normal(size=n),
+        800 * rng.normal(size=n), 1.2e4 * np.sin(2 * np.pi * 2.5 * t),
+        1.2e4 * np.cos(2 * np.pi * 2.5 * t), 1e4 * np.sin(2 * np.pi * 0.9 * t)])
+    sec = Section(0.127, 0.1086)
+    curve, prm = get_curve("B1"), CriterionParams()
+    d = [evaluate_location(L, sec, SCF(1, 1, 1), curve, "findley", prm, n_points=36,
+                           n_refine=k, n_refine_points=1, with_uniaxial=False).damage
+         for k in (0, 2, 4, 6)]
+    assert all(b >= a * (1 - 1e-12) for a, b in zip(d, d[1:]))

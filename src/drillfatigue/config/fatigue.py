@@ -142,8 +142,11 @@ class FatigueConfig(StrictModel):
                            "default: with sigma_theta = 0 the in-surface principal stresses have "
                            "opposite signs, so the maximum-shear plane is perpendicular to it)")
     n_shear_axes: int = Field(2, ge=1, le=8)
-    n_refine: int = Field(4, ge=0, le=8)
-    n_refine_points: int = Field(2, ge=1, le=36)
+    n_refine: int = Field(4, ge=0, le=8, description="halvings of plane_step_deg around the "
+                          "governing plane (the first 4 at once as a dense grid of "
+                          "2 (2^n - 1) planes, further ones greedily)")
+    n_refine_points: int = Field(2, ge=1, le=36, description="most damaged surface points "
+                                 "whose plane is refined")
     joints: list[int] | None = Field(None, description="joints to evaluate (None: all)")
     chunk_length_s: float | None = Field(None, gt=0.0, le=1e6,
                                          description="streaming chunk for residue 'carry'")
