@@ -39,21 +39,9 @@ def test_multiplane_kernel_equals_per_plane_reversal_search() -> None:
     curve, prm = get_curve("B1"), CriterionParams()
     for crit, residue in (("findley", "half"), ("matake", "repeat")):
         dmg, _, _ = plane_damage(L, cs, ct, planes, curve, crit, prm, residue)
-        ca, cb, _ = prm.constants(crit)
-        sig, tau = cs @ L.T, ct @ L.T
-        ref = np.zeros_like(dmg)
-        for p in range(0, 36, 5):
-            for j in range(len(planes)):
-                tj = planes.c[j, 0] * sig[p] + planes.c[j, 1] * tau[p]
-                nj = planes.n[j, 0] * sig[p] + planes.n[j, 1] * tau[p]
-                i0, i1, cnt = find_cycles_indexed(tj, residue)
-                dt = np.abs(tj[i1] - tj[i0])
-                snmax = np.maximum(nj[i0], nj[i1])
-                if crit == "findley":
-                    seq = cb * (dt / 2 + ca * snmax)
-                else:
-                    seq = ca * (dt / 2 + cb * np.maximum(snmax, 0))
-                ref[p, j] = np.sum(cnt / curve.cycles_to_failure(2 * np.maximum(seq, 0)))
+        pts = range(0, 36, 5)
+        ref = _reference_damage(L, cs, ct, planes, curve, crit, prm, residue, pts)
+        for p in pts:
             # exact counting either way: only summation order differs
             np.testing.assert_allclose(dmg[p], ref[p], rtol=1e-10)
 
