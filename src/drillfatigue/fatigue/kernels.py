@@ -293,14 +293,22 @@ def _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scal
 
 
 @njit(cache=True)
-def _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S, mem_ptr,
-                 mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale, seg_S_low,
-                 seg_m, seg_inv_a, S_cut, acc_dmg, acc_sel, acc_par):
+def _flush_group(g, buf, law, acc):
     """Damage of group g's buffered cycles on each member plane; empties the buffer.
 
+    ``buf`` = (cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S): per group,
+    the shear range, (sigma, tau) at the two turning instants and the count of
+    each buffered cycle, the fill level, and scratch for the S-N ranges.
+    ``law`` = (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit,
+    s_scale, seg_S_low, seg_m, seg_inv_a, S_cut) (see ``multiplane_damage``).
+    ``acc`` = (acc_dmg, acc_sel, acc_par), per candidate.
     Member j has shear range ``mem_scale * dtau`` and normal stress
     ``cand_n[j] . (sigma, tau)`` at each cycle's two turning instants.
     """
+    cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S = buf
+    (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale, seg_S_low,
+     seg_m, seg_inv_a, S_cut) = law
+    acc_dmg, acc_sel, acc_par = acc
     n = cyc_n[g]
     if n == 0:
         return
@@ -336,9 +344,9 @@ def _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S, 
 
 
 @njit(cache=True, inline="always")
-def _add_cycle(g, d, x1, y1, x2, y2, count, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c,
-               cyc_n):
-    """Append one (half) cycle of group g to its buffer; True when the buffer is full."""
+def _add_cycle(g, d, x1, y1, x2, y2, count, buf, law, acc):
+    """Append one (half) cycle of group g to its buffer; a full buffer is flushed."""
+    cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, _ = buf
     k = cyc_n[g]
     cyc_d[g, k] = d
     cyc_x1[g, k] = x1
@@ -347,25 +355,25 @@ def _add_cycle(g, d, x1, y1, x2, y2, count, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y
     cyc_y2[g, k] = y2
     cyc_c[g, k] = count
     cyc_n[g] = k + 1
-    return k + 1 >= cyc_d.shape[1]
+    if k + 1 >= cyc_d.shape[1]:
+        _flush_group(g, buf, law, acc)
 
 
 @njit(cache=True, inline="always")
-def _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n):
-    """4-point rainflow on group g's stack; closed cycles go to the group's buffer.
-
-    Returns True when the buffer is full (the caller flushes it)."""
+def _push_count(sv, sx, sy, ms, g, v, x, y, buf, law, acc):
+    """Push (shear v, sigma x, tau y) on group g's stack, then 4-point rainflow:
+    closed cycles go to the group's buffer. Returns the push status."""
+    st = _push_group(sv, sx, sy, ms, g, v, x, y)
     m = ms[g]
-    full = False
-    while m >= 4 and not full:
+    while m >= 4:
         s0 = sv[g, m - 4]
         s1 = sv[g, m - 3]
         s2 = sv[g, m - 2]
         s3 = sv[g, m - 1]
         d2 = abs(s2 - s1)
         if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
-            full = _add_cycle(g, d2, sx[g, m - 3], sy[g, m - 3], sx[g, m - 2], sy[g, m - 2],
-                              1.0, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n)
+            _add_cycle(g, d2, sx[g, m - 3], sy[g, m - 3], sx[g, m - 2], sy[g, m - 2], 1.0,
+                       buf, law, acc)
             sv[g, m - 3] = s3
             sx[g, m - 3] = sx[g, m - 1]
             sy[g, m - 3] = sy[g, m - 1]
@@ -373,7 +381,7 @@ def _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, 
         else:
             break
     ms[g] = m
-    return full
+    return st
 
 
 BLOCK = 4096
@@ -430,7 +438,7 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
     bnd_pa : ndarray, shape (2 n_grp,)
         Sorted pseudo-angles of the sign-change directions: the first half B
         in [0, 2), the second half B + 2 (the antipodes).
-    bnd_grp : ndarray, shape (n_bnd,), int64
+    bnd_grp : ndarray, shape (2 n_grp,), int64
         Group owning each boundary.
     crit, sel_crit : int
         Criterion for damage and for plane selection (CRIT_*).
@@ -484,6 +492,10 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
         acc_dmg = np.zeros(n_c)
         acc_sel = np.zeros(n_c)
         acc_par = np.zeros(n_c)
+        buf = (cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S)
+        law = (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale,
+               seg_S_low, seg_m, seg_inv_a, S_cut)
+        acc = (acc_dmg, acc_sel, acc_par)
         L0 = loads_T[0]
         L1 = loads_T[1]
         L2 = loads_T[2]
@@ -578,52 +590,28 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
                     if ib >= n_b:
                         ib -= n_b
                     g = bnd_grp[ib]
-                    st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y,
-                                      x, y)
-                    while _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2,
-                                            cyc_y2, cyc_c, cyc_n):
-                        _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S,
-                                     mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc,
-                                     sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut,
-                                     acc_dmg, acc_sel, acc_par)
+                    st |= _push_count(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y,
+                                      x, y, buf, law, acc)
             sgb[0] = sgb[nb]
             tab[0] = tab[nb]
         # last sample closes every group's sequence
         x = sgb[0]
         y = tab[0]
         for g in range(n_g):
-            st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y, x, y)
-            while _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2,
-                                    cyc_c, cyc_n):
-                _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S,
-                             mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit,
-                             s_scale, seg_S_low, seg_m, seg_inv_a, S_cut, acc_dmg, acc_sel,
-                             acc_par)
+            st |= _push_count(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y, x, y, buf,
+                              law, acc)
             m = ms[g]
             if residue_mode == RESIDUE_HALF:
                 for i in range(m - 1):
-                    if _add_cycle(g, abs(sv[g, i + 1] - sv[g, i]), sx[g, i], sy[g, i],
-                                  sx[g, i + 1], sy[g, i + 1], 0.5, cyc_d, cyc_x1, cyc_y1,
-                                  cyc_x2, cyc_y2, cyc_c, cyc_n):
-                        _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n,
-                                     tmp_S, mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb,
-                                     cc, sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut,
-                                     acc_dmg, acc_sel, acc_par)
+                    _add_cycle(g, abs(sv[g, i + 1] - sv[g, i]), sx[g, i], sy[g, i],
+                               sx[g, i + 1], sy[g, i + 1], 0.5, buf, law, acc)
             elif residue_mode == RESIDUE_REPEAT:
                 rv = sv[g, :m].copy()
                 rx = sx[g, :m].copy()
                 ry = sy[g, :m].copy()
                 for i in range(m):
-                    st |= _push_group(sv, sx, sy, ms, g, rv[i], rx[i], ry[i])
-                    while _four_point_group(sv, sx, sy, ms, g, cyc_d, cyc_x1, cyc_y1, cyc_x2,
-                                            cyc_y2, cyc_c, cyc_n):
-                        _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n,
-                                     tmp_S, mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb,
-                                     cc, sel_crit, s_scale, seg_S_low, seg_m, seg_inv_a, S_cut,
-                                     acc_dmg, acc_sel, acc_par)
-            _flush_group(g, cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S, mem_ptr,
-                         mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale,
-                         seg_S_low, seg_m, seg_inv_a, S_cut, acc_dmg, acc_sel, acc_par)
+                    st |= _push_count(sv, sx, sy, ms, g, rv[i], rx[i], ry[i], buf, law, acc)
+            _flush_group(g, buf, law, acc)
         for j in range(n_c):
             out_dmg[p, j] = acc_dmg[j]
             out_sel[p, j] = acc_dmg[j] if sel_crit == crit else acc_sel[j]
