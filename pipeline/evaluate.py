@@ -8,7 +8,7 @@ rate, interval coverage and width, factor-of-2 fraction, per model),
 
 Usage: ``python pipeline/evaluate.py [--params params.yaml] [--data data/dataset/damage.parquet]
 [--model models/surrogate] [--metrics metrics/surrogate.json] [--plots plots/surrogate]
-[--synthetic-cases N]``
+[--synthetic-cases N] [--noise-floor data/replicates/spread.json]``
 """
 
 from __future__ import annotations
@@ -29,6 +29,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--metrics", default="metrics/surrogate.json")
     parser.add_argument("--plots", default="plots/surrogate")
     parser.add_argument("--synthetic-cases", type=int, default=0)
+    parser.add_argument("--noise-floor", default=None,
+                        help="spread.json of the replicates stage: adds the noise floor")
     args = parser.parse_args(argv)
     try:
         from drillfatigue.surrogate import Surrogate, make_synthetic_dataset
@@ -43,6 +45,22 @@ def main(argv: list[str] | None = None) -> int:
                  if args.synthetic_cases > 0 else read_table(args.data))
         model = Surrogate.load(args.model)
         metrics, pred = evaluate(frame, model, cfg)
+        if args.noise_floor:
+            import json
+
+            from drillfatigue.surrogate.evaluation import noise_floor_metrics
+
+            path = Path(args.noise_floor)
+            if not path.is_file():
+                raise InputError("--noise-floor", f"{path} not found",
+                                 "the spread.json written by the replicates stage")
+            spread = json.loads(path.read_text(encoding="utf-8"))
+            if spread.get("criterion", cfg.criterion) != cfg.criterion:
+                raise InputError("--noise-floor", f"replicates measured criterion "
+                                 f"{spread.get('criterion')!r}, the model {cfg.criterion!r}",
+                                 "the same criterion (surrogate.criterion)")
+            metrics["noise_floor"] = noise_floor_metrics(spread, pred["y_true"].to_numpy(),
+                                                         metrics)
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2

@@ -127,3 +127,27 @@ def test_chain_with_real_simulator_and_fatigue(tmp_path):
     assert "cases in the dataset: 2" in card
     report = json.loads((tmp_path / "sweep" / "sweep.json").read_text())
     assert report["n_failed"] == 0
+
+
+def test_replicates_stage_with_synthetic_cases_resumes_and_pools(tmp_path):
+    from drillfatigue.sweep.replicates import replicates_stage
+
+    path = _params(tmp_path)
+    data = yaml.safe_load(path.read_text())
+    data["replicates"] = {"n_cases": 2, "n_replicates": 3, "rel_step": 1e-4,
+                          "out_dir": str(tmp_path / "replicates")}
+    path.write_text(yaml.safe_dump(data))
+    params = load_params(path)
+    design_stage(params)
+    simulate_stage(params, case_fn=synthetic_case)
+    fatigue_stage(params, fatigue_fn=synthetic_fatigue)
+    out = replicates_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    assert out["sweeps"]["simulate"]["n_done"] == 4 and out["sweeps"]["fatigue"]["n_done"] == 4
+    table = pd.read_parquet(tmp_path / "replicates" / "spread.parquet")
+    # 2 cases x 3 runs (the design run is replicate 0, read from the sweep's fatigue)
+    assert sorted(table.groupby("base_case_id")["replicate"].nunique()) == [3, 3]
+    assert out["n_cases"] == 2 and out["n_rows"] == len(table) and out["sigma_log10"] >= 0.0
+    saved = json.loads((tmp_path / "replicates" / "spread.json").read_text())
+    assert saved["sigma_log10"] == out["sigma_log10"] and saved["criterion"] == "matake"
+    again = replicates_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    assert again["sweeps"]["simulate"]["n_skipped"] == 4 and again["sigma_log10"] == out["sigma_log10"]

@@ -15,10 +15,10 @@ TINY = SurrogateConfig(hidden_layers=(16, 16), max_epochs=8, patience=8, batch_s
                        n_threads=1)
 
 
-@pytest.fixture(scope="module")
-def model_and_data() -> tuple[Surrogate, pd.DataFrame]:
+@pytest.fixture(scope="module", params=["silu", "hardswish"])
+def model_and_data(request) -> tuple[Surrogate, pd.DataFrame]:
     data = make_synthetic_dataset(30, seed=2)
-    return fit_surrogate(data, TINY), data
+    return fit_surrogate(data, TINY.model_copy(update={"activation": request.param})), data
 
 
 def test_torchscript_equals_python_model(model_and_data, tmp_path) -> None:

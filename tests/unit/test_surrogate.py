@@ -218,3 +218,16 @@ def test_config_rejects_bad_values() -> None:
         validate(SurrogateConfig, {"features": ["a", "b"], "categorical": ["b"]})
     with pytest.raises(InputError):
         validate(SurrogateConfig, {"unknown_key": 1})
+
+
+def test_noise_floor_metrics_by_hand():
+    from drillfatigue.surrogate.evaluation import noise_floor_metrics
+
+    y = np.array([-6.0, -5.0, -4.0, -3.0])  # var (ddof 1) = 5/3
+    spread = {"sigma_log10": 0.5, "ceiling_factor2_fraction": 0.45, "n_cases": 8,
+              "n_replicates": 4, "variable": "operation.rpm", "rel_step": 1e-4}
+    out = noise_floor_metrics(spread, y, {"ensemble": {"rmse": 1.3}, "hgb": {"rmse": 0.4}})
+    assert out["ceiling_r2_test"] == pytest.approx(1.0 - 0.25 / (5.0 / 3.0), rel=1e-12)
+    assert out["excess_rmse_ensemble"] == pytest.approx(1.2, rel=1e-12)  # sqrt(1.69 - 0.25)
+    assert out["excess_rmse_hgb"] == 0.0  # below the floor: nothing left to remove
+    assert out["ceiling_factor2_fraction"] == 0.45 and "excess_rmse_gp" not in out

@@ -19,6 +19,7 @@ from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.config.friction import FrictionConfig
 from drillfatigue.config.operation import OperationConfig
 from drillfatigue.config.recording import RecordingConfig
+from drillfatigue.config.replicates import ReplicatesConfig
 from drillfatigue.config.solver import SolverConfig
 from drillfatigue.config.string import StringConfig
 from drillfatigue.config.studies import (Case1Config, Case2Config, Case3Config, PlanConfig,
@@ -36,6 +37,7 @@ __all__ = [
     "OperationConfig",
     "Params",
     "RecordingConfig",
+    "ReplicatesConfig",
     "SolverConfig",
     "StringConfig",
     "SurrogateConfig",
@@ -80,6 +82,7 @@ class Params(CaseConfig):
 
     sweep: SweepConfig = Field(default_factory=SweepConfig)
     surrogate: SurrogateConfig = Field(default_factory=SurrogateConfig)
+    replicates: ReplicatesConfig = Field(default_factory=ReplicatesConfig)
     case1: Case1Config = Field(default_factory=Case1Config)
     case2: Case2Config = Field(default_factory=Case2Config)
     case3: Case3Config = Field(default_factory=Case3Config)
@@ -93,7 +96,7 @@ def load_params(path: str | Path = "params.yaml") -> Params:
 
 
 #: Sections of params.yaml that configure the pipeline, not one simulation.
-PIPELINE_SECTIONS = ("sweep", "surrogate", "case1", "case2", "case3", "plan", "report")
+PIPELINE_SECTIONS = ("sweep", "surrogate", "replicates", "case1", "case2", "case3", "plan", "report")
 
 
 def load_case(path: str | Path) -> CaseConfig:

@@ -160,6 +160,46 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
     return metrics, out
 
 
+def noise_floor_metrics(spread: dict[str, Any], y_test: np.ndarray,
+                        metrics: dict[str, Any]) -> dict[str, Any]:
+    """What no estimator can beat on this data, beside what each model reached.
+
+    Parameters
+    ----------
+    spread : dict
+        ``spread.json`` of the replicates stage
+        (:func:`drillfatigue.sweep.replicates.replicate_spread`): pooled
+        replicate sigma of log10 damage rate (decades) and the factor-of-2
+        ceiling measured on the replicated rows.
+    y_test : array
+        Test targets (log10 damage rate per hour) of the evaluation.
+    metrics : dict
+        The :func:`evaluate` metrics (per model ``rmse``).
+
+    Returns
+    -------
+    dict
+        ``sigma_log10``; ``ceiling_r2_test`` = 1 - sigma^2 / var(y_test);
+        ``ceiling_factor2_fraction``; per model ``excess_rmse`` =
+        sqrt(max(rmse^2 - sigma^2, 0)), the part of the error a better
+        estimator could still remove; the study's settings.
+    """
+    sigma = float(spread.get("sigma_log10", float("nan")))
+    var_y = float(np.var(y_test, ddof=1)) if len(y_test) > 1 else float("nan")
+    out: dict[str, Any] = {
+        "sigma_log10": sigma,
+        "ceiling_r2_test": float(1.0 - sigma**2 / var_y) if var_y > 0 else float("nan"),
+        "ceiling_factor2_fraction": float(spread.get("ceiling_factor2_fraction", float("nan"))),
+        "n_cases": int(spread.get("n_cases", 0)),
+        "n_replicates": int(spread.get("n_replicates", 0)),
+        "variable": spread.get("variable"), "rel_step": spread.get("rel_step"),
+    }
+    for m in ("ensemble", "gp", "hgb"):
+        if m in metrics and "rmse" in metrics[m]:
+            out[f"excess_rmse_{m}"] = float(math.sqrt(max(metrics[m]["rmse"] ** 2 - sigma**2, 0.0)))
+    return out
+
+
 def plot_parity(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
     """Predicted vs simulated log10 damage rate, one panel per model (PNG)."""
     import matplotlib

@@ -40,6 +40,10 @@ from drillfatigue.errors import InputError
 LOGVAR_MIN = -14.0  # clamp of the log-variance head (scaled target units)
 LOGVAR_MAX = 6.0
 SPREAD_FLOOR = 1e-6  # minimal sigma (scaled target units) for the MSE variant
+# hidden-layer activations; hardswish (x * relu6(x + 3) / 6, a piecewise-quadratic
+# SiLU look-alike) costs what ReLU costs on this CPU, SiLU about 6x more (one exp
+# per unit): see benchmarks/results/surrogate.json
+ACTIVATIONS: tuple[str, ...] = ("silu", "hardswish", "relu", "tanh", "gelu")
 
 EpochCallback = Callable[[int, np.ndarray, np.ndarray, np.ndarray], None]
 
@@ -180,7 +184,7 @@ class EnsembleModule(nn.Module):
     """
 
     def __init__(self, n_numeric: int, n_levels: Sequence[int], n_members: int,
-                 hidden: Sequence[int], activation: str = "silu",
+                 hidden: Sequence[int], activation: str = "hardswish",
                  gaussian: bool = True) -> None:
         super().__init__()
         self.n_numeric = int(n_numeric)
@@ -225,6 +229,8 @@ class EnsembleModule(nn.Module):
             return torch.tanh(h)
         if self.activation == "gelu":
             return nn.functional.gelu(h)
+        if self.activation == "hardswish":
+            return nn.functional.hardswish(h)
         return nn.functional.silu(h)
 
     def encode(self, x_num: Tensor, x_cat: Tensor) -> Tensor:
@@ -294,7 +300,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         One seed per member (>= 5 members recommended).
     hidden_layers : sequence of int
         Widths of the hidden layers of each member.
-    activation : {"silu", "relu", "tanh", "gelu"}
+    activation : {"silu", "hardswish", "relu", "tanh", "gelu"}
     loss : {"gaussian_nll", "mse"}
         Gaussian NLL with a log-variance head, or MSE with the ensemble spread
         as sigma.
@@ -334,7 +340,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
     def __init__(self, numeric_features: Sequence[str] | None = None,
                  categorical_features: Sequence[str] = (),
                  seeds: Sequence[int] = (0, 1, 2, 3, 4),
-                 hidden_layers: Sequence[int] = (64, 64), activation: str = "silu",
+                 hidden_layers: Sequence[int] = (64, 64), activation: str = "hardswish",
                  loss: str = "gaussian_nll", learning_rate: float = 2e-3,
                  weight_decay: float = 0.0, batch_size: int = 256, max_epochs: int = 300,
                  patience: int = 30, validation_fraction: float = 0.15,
@@ -383,9 +389,9 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
             raise InputError("loss", f"unknown loss {self.loss!r}", "gaussian_nll, mse")
         if self.stop_on not in ("mse", "nll"):
             raise InputError("stop_on", f"unknown metric {self.stop_on!r}", "mse, nll")
-        if self.activation not in ("silu", "relu", "tanh", "gelu"):
+        if self.activation not in ACTIVATIONS:
             raise InputError("activation", f"unknown activation {self.activation!r}",
-                             "silu, relu, tanh, gelu")
+                             ", ".join(ACTIVATIONS))
         frame = self._as_frame(X)
         cats = list(self.categorical_features)
         nums = (list(self.numeric_features) if self.numeric_features is not None

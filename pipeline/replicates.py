@@ -1,0 +1,47 @@
+"""DVC stage ``replicates``: the noise floor of the simulated damage.
+
+Re-simulates the first ``replicates.n_cases`` designed cases
+``replicates.n_replicates - 1`` more times with ``replicates.variable``
+scaled by ``1 + k * replicates.rel_step`` and measures how far log10 damage
+rate moves (:mod:`drillfatigue.sweep.replicates`). Writes
+``<out_dir>/spread.json`` (pooled sigma in decades, the factor-of-2 and R^2
+ceilings of any estimator on this data), ``spread.parquet``, and the replicate
+runs under ``<out_dir>/sweep`` and ``<out_dir>/fatigue`` (resumable).
+Exit code 1 when more than ``sweep.failure_threshold`` of the replicates
+fail, 2 on bad input.
+
+Usage: ``python pipeline/replicates.py [--params params.yaml] [--no-progress]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from drillfatigue.config import load_params
+from drillfatigue.errors import InputError
+from drillfatigue.sweep.replicates import replicates_stage
+from drillfatigue.sweep.runner import SweepFailedError
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--params", default="params.yaml")
+    parser.add_argument("--no-progress", action="store_true")
+    args = parser.parse_args(argv)
+    try:
+        result = replicates_stage(load_params(args.params), progress=not args.no_progress)
+    except InputError as exc:
+        print(f"error: {exc.one_line()}", file=sys.stderr)
+        return 2
+    except SweepFailedError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    print(f"replicates: {result['n_cases']} cases x {result['n_replicates']} runs, "
+          f"sigma {result['sigma_log10']:.3f} decades, factor-2 ceiling "
+          f"{result['ceiling_factor2_fraction']:.3f}, R2 ceiling {result['ceiling_r2']:.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,51 @@
+"""``replicates`` section of params.yaml: the noise floor of the simulated damage.
+
+The ``replicates`` stage re-simulates the first ``n_cases`` designed cases
+``n_replicates - 1`` more times, each with ``variable`` scaled by
+``1 + k * rel_step`` (k = 1, 2, ...), a change far below anything a rig
+measures or a surrogate can resolve (1e-4 of 120 rpm is 0.012 rpm). The
+spread of log10 damage rate across these replicates is what no estimator
+can predict from the operating conditions: drill-string dynamics with
+contact and friction is chaotic in places (whirl onset, bit bounce), so it
+bounds the accuracy any surrogate can reach on the same data
+(:mod:`drillfatigue.sweep.replicates`).
+"""
+
+from __future__ import annotations
+
+from pydantic import Field, field_validator
+
+from drillfatigue.config.base import StrictModel
+from drillfatigue.config.sweep import check_path
+
+
+class ReplicatesConfig(StrictModel):
+    """Settings of the ``replicates`` section (noise-floor study).
+
+    Attributes
+    ----------
+    n_cases : int
+        Designed cases replicated (the first ones of the design, whose
+        scrambled-Sobol points cover the whole space), 0 to skip the study.
+    n_replicates : int
+        Runs per case including the design run itself (>= 2).
+    variable : str
+        Dotted case path of the numeric field perturbed (default
+        ``operation.rpm``).
+    rel_step : float
+        Relative perturbation step, dimensionless: replicate k runs with the
+        field times ``1 + k * rel_step``.
+    out_dir : str
+        Folder of the replicate runs, their fatigue and ``spread.json``.
+    """
+
+    n_cases: int = Field(8, ge=0, le=100_000)
+    n_replicates: int = Field(4, ge=2, le=100)
+    variable: str = "operation.rpm"
+    rel_step: float = Field(1e-4, gt=0.0, le=0.1)
+    out_dir: str = Field("data/replicates", min_length=1)
+
+    @field_validator("variable")
+    @classmethod
+    def _path(cls, v: str) -> str:
+        return check_path(v)
