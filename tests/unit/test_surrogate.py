@@ -138,7 +138,7 @@ def test_fast_column_access_matches_public_pandas_path(data: pd.DataFrame,
 def test_pooled_batch_prediction_equals_serial(data: pd.DataFrame, model: Surrogate) -> None:
     import torch
 
-    rows = pd.concat([data] * 4, ignore_index=True)  # > 2 chunks of 2048 rows
+    rows = pd.concat([data] * 4, ignore_index=True)  # > 2 chunks of 1024 rows
     x_num, x_cat = model.encode(rows)
     before = torch.get_num_threads()
     try:
