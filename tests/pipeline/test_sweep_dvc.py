@@ -1,7 +1,7 @@
 """The pipeline under DVC: ``dvc repro`` in a temporary git+DVC repo, then a no-op rerun.
 
 Uses the stages ``wells`` → ``design`` → ``simulate`` → ``fatigue`` →
-``dataset`` → ``train`` → ``evaluate`` of the project's ``dvc.yaml`` with the
+``dataset`` → ``replicates`` → ``train`` → ``evaluate`` of the project's ``dvc.yaml`` with the
 repository's pipeline scripts, the installed package and a tiny params file
 (6 cases, 16 segments, 0.3 s window, a 5-epoch ensemble).
 """
@@ -39,6 +39,7 @@ TINY = {
                   "criterion": "uniaxial",
                   "hidden_layers": [16], "max_epochs": 5, "patience": 5, "n_threads": 1,
                   "gp_max_rows": 60, "hgb_max_iter": 20},
+    "replicates": {"n_cases": 2, "n_replicates": 2},
     "sweep": {"method": "lhs", "n_cases": 6, "seed": 5, "scheduler": "serial",
               "fatigue_criteria": ["uniaxial"],
               "variables": {"operation.rpm": {"low": 40.0, "high": 120.0},
@@ -46,7 +47,7 @@ TINY = {
 }
 
 
-STAGES = ("wells", "design", "simulate", "fatigue", "dataset", "train", "evaluate")
+STAGES = ("wells", "design", "simulate", "fatigue", "dataset", "replicates", "train", "evaluate")
 
 
 def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
@@ -92,6 +93,9 @@ def test_dvc_repro_then_noop(tmp_path):
     assert (repo / "data" / "surrogate" / "model" / "model.ts").is_file()
     m = json.loads((repo / "data" / "surrogate" / "metrics.json").read_text())
     assert {"ensemble", "gp", "hgb"} <= set(m) and m["n_test_cases"] >= 1
+    spread = json.loads((repo / "data" / "replicates" / "spread.json").read_text())
+    assert spread["n_cases"] == 2 and spread["criterion"] == "uniaxial"
+    assert m["noise_floor"]["sigma_log10"] == spread["sigma_log10"]
 
     t0 = time.perf_counter()
     second = _run([str(DVC), "repro"], repo)
