@@ -10,6 +10,8 @@ import numpy as np
 import pandas as pd
 import pytest
 import torch
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 from sklearn.linear_model import LinearRegression
@@ -263,3 +265,33 @@ def test_batched_path_equals_eager_module(data: pd.DataFrame, model: Surrogate) 
                              torch.as_tensor(x_cat)).numpy()
     for j, k in enumerate(("log10", "sigma", "lower", "upper")):
         np.testing.assert_allclose(batched[k], eager[:, j], rtol=1e-6, atol=0)
+
+
+def test_forward_chunked_equals_forward() -> None:
+    # blocks of 7 rows (the last one short) give the rows of one pass; GEMM kernels
+    # may round differently for other row counts: 1e-6 relative (float32)
+    from drillfatigue.surrogate.model import EnsembleModule
+
+    m = EnsembleModule(4, [3], 5, [16, 16], activation="hardswish")
+    m.init_members(range(5))
+    x = torch.randn(50, 4)
+    c = torch.randint(0, 3, (50, 1))
+    with torch.inference_mode():
+        whole = m(x, c).numpy()
+        blocks = m.forward_chunked(x, c, 7).numpy()
+        scripted = torch.jit.script(m).forward_chunked(x, c, 7).numpy()
+    np.testing.assert_allclose(blocks, whole, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(scripted, whole, rtol=1e-6, atol=1e-7)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 40), st.integers(1, 6), st.integers(0, 2**32 - 1))
+def test_outside_ranges_equals_numpy_expression(n: int, d: int, seed: int) -> None:
+    from drillfatigue.surrogate.ood import outside_ranges
+
+    rng = np.random.default_rng(seed)
+    x = rng.normal(size=(n, d))
+    x[rng.random((n, d)) < 0.05] = np.nan
+    lo, hi = -np.abs(rng.normal(size=d)) - 0.5, np.abs(rng.normal(size=d)) + 0.5
+    want = ((x < lo) | (x > hi)).any(axis=1)
+    np.testing.assert_array_equal(outside_ranges(x, lo, hi), want)

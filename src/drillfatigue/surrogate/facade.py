@@ -173,8 +173,9 @@ class Surrogate:
         interpreter, so chunk workers do not queue for the GIL between
         operators: measured +25 % median throughput on 1e5-row batches over
         2 workers, against the eager module in the same process. Single
-        queries stay eager (the TorchScript profiling executor's first calls
-        are slow).
+        queries stay eager: the TorchScript profiling executor runs the first
+        two calls unoptimised (slower than eager), so a served model should
+        warm up with two batches.
         """
         if self._scripted is None:
             with warnings.catch_warnings():
@@ -212,16 +213,25 @@ class Surrogate:
         out = np.empty((x_num.shape[0], 4), dtype=np.float32)
         n = x_num.shape[0]
 
-        serial = n <= _ONE_THREAD_ROWS
-        net = self.module if serial else self.batch_module()
-
-        def run(a: int) -> None:
-            # chunks keep the (members, rows, width) activations in cache
+        if n <= _ONE_THREAD_ROWS:
+            # few rows: one eager pass on the calling thread (waking a pool costs more)
             with torch.inference_mode():
-                out[a:a + _CHUNK_ROWS] = net(xt[a:a + _CHUNK_ROWS], ct[a:a + _CHUNK_ROWS]).numpy()
+                out[:] = self.module(xt, ct).numpy()
+        else:
+            # many rows: 2 shares per worker (a preempted worker delays one share,
+            # not half the batch), each walked in cache-sized blocks inside the
+            # TorchScript network (A/B on 1e5 rows, 2 workers: +26 % median
+            # against one Python call per block)
+            net = self.batch_module()
+            parts = 2 * max(1, torch.get_num_threads())
+            share = -(-n // (parts * _CHUNK_ROWS)) * _CHUNK_ROWS
 
-        # few rows on the calling thread, many in chunks on one-thread workers
-        map_chunks(run, range(0, n, _CHUNK_ROWS), serial=serial)
+            def run(a: int) -> None:
+                with torch.inference_mode():
+                    out[a:a + share] = net.forward_chunked(xt[a:a + share], ct[a:a + share],
+                                                           _CHUNK_ROWS).numpy()
+
+            map_chunks(run, range(0, n, share))
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
         if ood:
