@@ -23,31 +23,12 @@ from collections.abc import Sequence
 
 import numpy as np
 import torch
-from numba import njit
 
+from drillfatigue.surrogate.kernels import outside_ranges
 from drillfatigue.surrogate.parallel import map_chunks
 
 _CHUNK = 1024
 _SMALL = 16
-
-
-@njit(cache=True)
-def outside_ranges(x: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Rows of ``x`` (n, d) with any value below ``lo`` or above ``hi`` (per column).
-
-    One pass, stopping at a row's first offending column (NaN is never
-    outside). Replaces four (n, d) temporaries of the numpy expression: the
-    range check no longer costs a sizeable part of a batched prediction.
-    """
-    n, d = x.shape
-    out = np.zeros(n, dtype=np.bool_)
-    for i in range(n):
-        for j in range(d):
-            v = x[i, j]
-            if v < lo[j] or v > hi[j]:
-                out[i] = True
-                break
-    return out
 
 
 def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
