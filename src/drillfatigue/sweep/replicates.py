@@ -120,7 +120,8 @@ def replicate_spread(frame: pd.DataFrame, *, floor_per_h: float,
     frame : DataFrame
         Columns ``base_case_id``, ``joint``, ``location``, ``replicate`` and
         ``rate_column`` (damage per hour); one row per replicate of each
-        (case, joint, location). Groups with fewer than 2 replicates are ignored.
+        (case, joint, location). Groups with fewer than 2 replicates are
+        ignored; a NaN rate counts as zero (censored at the floor).
     floor_per_h : float
         Censoring floor of the rate per hour (as the surrogate's target).
 
@@ -138,34 +139,30 @@ def replicate_spread(frame: pd.DataFrame, *, floor_per_h: float,
                          f"{', '.join(GROUP_KEYS)}, replicate, {rate_column}")
     rate = frame[rate_column].to_numpy(dtype=float)
     y = np.log10(np.maximum(np.nan_to_num(rate, nan=0.0), floor_per_h))
-    work = frame[list(GROUP_KEYS)].copy()
-    work["y"] = y
-    g = work.groupby(list(GROUP_KEYS), sort=False)["y"]
+    g = frame.assign(_y=y).groupby(list(GROUP_KEYS), sort=False)["_y"]
     k = g.transform("count").to_numpy(dtype=float)
-    keep = k >= 2
-    work, y, k = work[keep], y[keep], k[keep]
-    if len(work) == 0:
-        return {"sigma_log10": float("nan"), "ceiling_factor2_fraction": float("nan"),
-                "ceiling_r2": float("nan"), "var_log10": float("nan"), "n_groups": 0,
-                "n_rows": 0, "n_cases": 0, "case_sigma_log10": {},
-                "fraction_cases_sigma_above_factor2": float("nan"),
-                "max_case_sigma_log10": float("nan")}
-    g = work.groupby(list(GROUP_KEYS), sort=False)["y"]
     total = g.transform("sum").to_numpy()
-    mean = total / k
-    sq = (y - mean) ** 2
-    # sum over groups of (K - 1) = sum over rows of (K - 1) / K
-    sigma = math.sqrt(sq.sum() / ((k - 1.0) / k).sum())
+    keep = k >= 2
+    if not keep.any():
+        nan = float("nan")
+        return {"sigma_log10": nan, "ceiling_factor2_fraction": nan, "ceiling_r2": nan,
+                "var_log10": nan, "n_groups": 0, "n_rows": 0, "n_cases": 0,
+                "case_sigma_log10": {}, "fraction_cases_sigma_above_factor2": nan,
+                "max_case_sigma_log10": nan}
+    y, k, total = y[keep], k[keep], total[keep]
+    case = frame["base_case_id"].to_numpy()[keep]
+    sq = (y - total / k) ** 2
+    dof = (k - 1.0) / k  # per row: a group of K rows has K - 1 degrees of freedom
+    sigma = math.sqrt(sq.sum() / dof.sum())
     loo = (y - (total - y) / (k - 1.0)) * np.sqrt((k - 1.0) / k)
-    per_case_ss = pd.Series(sq).groupby(work["base_case_id"].to_numpy()).sum()
-    per_case_dof = pd.Series((k - 1.0) / k).groupby(work["base_case_id"].to_numpy()).sum()
-    case_sigma = np.sqrt(per_case_ss / per_case_dof)
+    case_sigma = np.sqrt(pd.Series(sq).groupby(case).sum() / pd.Series(dof).groupby(case).sum())
     var_y = float(np.var(y, ddof=1)) if len(y) > 1 else float("nan")
     return {"sigma_log10": float(sigma),
             "ceiling_factor2_fraction": float(np.mean(np.abs(loo) < FACTOR2_DECADES)),
             "ceiling_r2": float(1.0 - sigma**2 / var_y) if var_y > 0 else float("nan"),
-            "var_log10": var_y, "n_groups": int(g.ngroups), "n_rows": int(len(work)),
-            "n_cases": int(work["base_case_id"].nunique()),
+            # each group of K rows adds K times 1 / K
+            "var_log10": var_y, "n_groups": int(round(float((1.0 / k).sum()))),
+            "n_rows": int(len(y)), "n_cases": int(len(case_sigma)),
             "case_sigma_log10": {str(c): float(s) for c, s in case_sigma.items()},
             "fraction_cases_sigma_above_factor2": float(np.mean(case_sigma > FACTOR2_DECADES)),
             "max_case_sigma_log10": float(case_sigma.max())}
