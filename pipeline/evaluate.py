@@ -46,19 +46,9 @@ def main(argv: list[str] | None = None) -> int:
         model = Surrogate.load(args.model)
         metrics, pred = evaluate(frame, model, cfg)
         if args.noise_floor:
-            import json
+            from drillfatigue.surrogate.evaluation import noise_floor_metrics, read_spread
 
-            from drillfatigue.surrogate.evaluation import noise_floor_metrics
-
-            path = Path(args.noise_floor)
-            if not path.is_file():
-                raise InputError("--noise-floor", f"{path} not found",
-                                 "the spread.json written by the replicates stage")
-            spread = json.loads(path.read_text(encoding="utf-8"))
-            if spread.get("criterion", cfg.criterion) != cfg.criterion:
-                raise InputError("--noise-floor", f"replicates measured criterion "
-                                 f"{spread.get('criterion')!r}, the model {cfg.criterion!r}",
-                                 "the same criterion (surrogate.criterion)")
+            spread = read_spread(args.noise_floor, cfg.criterion)
             metrics["noise_floor"] = noise_floor_metrics(spread, pred["y_true"].to_numpy(),
                                                          metrics)
     except InputError as exc:

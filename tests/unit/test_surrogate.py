@@ -299,3 +299,18 @@ def test_outside_ranges_equals_numpy_expression(n: int, d: int, seed: int) -> No
     lo, hi = -np.abs(rng.normal(size=d)) - 0.5, np.abs(rng.normal(size=d)) + 0.5
     want = ((x < lo) | (x > hi)).any(axis=1)
     np.testing.assert_array_equal(outside_ranges(x, lo, hi), want)
+
+
+def test_read_spread_rejects_missing_file_and_other_criterion(tmp_path) -> None:
+    import json
+
+    from drillfatigue.surrogate.evaluation import read_spread
+
+    with pytest.raises(InputError) as err:
+        read_spread(tmp_path / "none.json", "matake")
+    assert err.value.field == "--noise-floor"
+    path = tmp_path / "spread.json"
+    path.write_text(json.dumps({"criterion": "findley", "sigma_log10": 0.2}))
+    with pytest.raises(InputError, match="findley"):
+        read_spread(path, "matake")
+    assert read_spread(path, "findley")["sigma_log10"] == 0.2

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -158,6 +159,30 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
     best = min(("ensemble", "gp", "hgb"), key=lambda k: metrics[k]["rmse"])
     metrics["best_rmse_model"] = best
     return metrics, out
+
+
+def read_spread(path: str | Path, criterion: str) -> dict[str, Any]:
+    """Read the replicates stage's ``spread.json`` for a model of ``criterion``.
+
+    Raises
+    ------
+    InputError
+        ``--noise-floor`` when the file is missing or measured another criterion.
+    """
+    import json
+
+    from drillfatigue.errors import InputError
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("--noise-floor", f"{path} not found",
+                         "the spread.json written by the replicates stage")
+    spread = json.loads(path.read_text(encoding="utf-8"))
+    if spread.get("criterion", criterion) != criterion:
+        raise InputError("--noise-floor", f"replicates measured criterion "
+                         f"{spread.get('criterion')!r}, the model {criterion!r}",
+                         "the same criterion (surrogate.criterion)")
+    return spread
 
 
 def noise_floor_metrics(spread: dict[str, Any], y_test: np.ndarray,
