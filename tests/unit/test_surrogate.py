@@ -314,3 +314,31 @@ def test_read_spread_rejects_missing_file_and_other_criterion(tmp_path) -> None:
     with pytest.raises(InputError, match="findley"):
         read_spread(path, "matake")
     assert read_spread(path, "findley")["sigma_log10"] == 0.2
+
+
+def test_governing_metrics_by_hand() -> None:
+    """Two cases; the governing rate is each case's largest, whichever row it is."""
+    from drillfatigue.surrogate.evaluation import governing_metrics
+
+    pred = pd.DataFrame({
+        "case_id": ["a", "a", "a", "b", "b"],
+        "y_true": [-2.0, -4.0, -9.0, -6.0, -6.5],
+        # case a: predicted max -2.2 on another row than the simulated max (error -0.2);
+        # case b: predicted max -5.0 (error +1.0)
+        "ensemble": [-3.0, -2.2, -13.0, -5.0, -7.0],
+    })
+    out = governing_metrics(pred, models=("ensemble", "gp"), relevant_life_h=1e4)
+    assert out["n_cases"] == 2 and "gp" not in out
+    cm = out["ensemble"]["case_max"]
+    assert cm["n"] == 2
+    assert cm["rmse"] == pytest.approx(np.sqrt((0.2**2 + 1.0**2) / 2), rel=1e-12)
+    assert cm["factor2_fraction"] == pytest.approx(0.5)  # |-0.2| <= log10 2 < 1.0
+    # relevant rows: life <= 1e4 h, i.e. log10 rate >= -4: a's -2 and -4
+    rr = out["ensemble"]["relevant_rows"]
+    assert out["n_relevant_rows"] == 2 and rr["n"] == 2
+    assert rr["mae"] == pytest.approx(np.mean([1.0, 1.8]), rel=1e-12)
+    assert rr["factor2_fraction"] == pytest.approx(0.0)
+    none = governing_metrics(pred, relevant_life_h=1.0)["ensemble"]["relevant_rows"]
+    assert none["n"] == 0 and np.isnan(none["rmse"])
+    with pytest.raises(ValueError, match="relevant_life_h"):
+        governing_metrics(pred, relevant_life_h=0.0)

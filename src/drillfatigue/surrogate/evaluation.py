@@ -19,6 +19,13 @@ Metrics on log10 damage rate per hour (test rows): R^2, RMSE, MAE (decades),
 interval coverage and mean width (decades), and the fraction of rows whose
 predicted damage is within a factor of 2 of the simulated one
 (|log10 pred - log10 true| <= log10 2).
+
+Where it counts (:func:`governing_metrics`): a string's life is set by its most
+damaged component, so the same errors are also scored on each test case's
+governing damage rate (largest over its rows, simulated vs predicted, whichever
+rows they are) and on the rows whose simulated life is at most
+``surrogate.relevant_life_h`` (default 1e5 h of operation: a component that
+lasts longer does not limit any plan).
 """
 
 from __future__ import annotations
@@ -158,7 +165,56 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
     out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - q, mu_h + q
     best = min(("ensemble", "gp", "hgb"), key=lambda k: metrics[k]["rmse"])
     metrics["best_rmse_model"] = best
+    metrics["governing"] = governing_metrics(out, relevant_life_h=cfg.relevant_life_h)
     return metrics, out
+
+
+def governing_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", "gp", "hgb"),
+                      relevant_life_h: float = 1e5) -> dict[str, Any]:
+    """Errors where they decide the string's life.
+
+    Parameters
+    ----------
+    pred : DataFrame
+        Test rows as returned by :func:`evaluate`: ``case_id``, ``y_true`` and
+        one column per model (log10 damage rate per hour).
+    models : tuple of str
+        Model columns to score (missing ones are skipped).
+    relevant_life_h : float
+        Rows whose simulated life 1/rate is at most this (h, > 0) are relevant.
+
+    Returns
+    -------
+    dict
+        ``n_cases``, ``n_relevant_rows``, ``relevant_life_h``; per model
+        ``case_max`` (RMSE, MAE and factor-2 fraction of the per-case maximum
+        of the prediction against the per-case maximum of the simulation, one
+        value per case) and ``relevant_rows`` (the same on the relevant rows;
+        NaN when there is none).
+    """
+    if not relevant_life_h > 0:
+        raise ValueError(f"relevant_life_h must be > 0, got {relevant_life_h}")
+    case = pred["case_id"].to_numpy()
+    y = pred["y_true"].to_numpy(dtype=np.float64)
+    rel = y >= -math.log10(relevant_life_h)
+    out: dict[str, Any] = {"n_cases": int(pd.unique(case).size), "n_relevant_rows": int(rel.sum()),
+                           "relevant_life_h": float(relevant_life_h)}
+
+    def errs(e: np.ndarray) -> dict[str, float]:
+        if e.size == 0:
+            return {"rmse": float("nan"), "mae": float("nan"), "factor2_fraction": float("nan"),
+                    "n": 0}
+        return {"rmse": float(np.sqrt(np.mean(e**2))), "mae": float(np.mean(np.abs(e))),
+                "factor2_fraction": float(np.mean(np.abs(e) <= LOG10_2)), "n": int(e.size)}
+
+    for m in models:
+        if m not in pred:
+            continue
+        mu = pred[m].to_numpy(dtype=np.float64)
+        by = pd.DataFrame({"y": y, "mu": mu}).groupby(case).max()
+        out[m] = {"case_max": errs((by["mu"] - by["y"]).to_numpy()),
+                  "relevant_rows": errs(mu[rel] - y[rel])}
+    return out
 
 
 def read_spread(path: str | Path, criterion: str) -> dict[str, Any]:
