@@ -194,3 +194,45 @@ def test_surface_channels_the_model_does_not_use_are_ignored() -> None:
     # an unknown column that is no usual surface channel is still an error
     with pytest.raises(InputError, match="rpmm"):
         replay_log(log.rename(columns={"rpm": "rpmm"}), _components(), no_wob, CONSTANTS)
+
+
+def test_survey_geometry_features_reach_the_model() -> None:
+    """A model using inclination features gets, from the survey, the same values
+    position_features gives for each component (bit at the log's depth)."""
+    from drillfatigue.well.features import position_features
+
+    survey = pd.read_csv(EXAMPLES / "survey.csv")
+    cols = ("local_inc_deg", "bit_inc_deg", "build_to_bit_deg_per_30m")
+
+    def geometry(md: np.ndarray, bit: np.ndarray) -> dict[str, np.ndarray]:
+        return position_features(survey["md_m"], survey["dls_deg_per_30m"], survey["inc_deg"],
+                                 md, bit, cols)
+
+    data = make_synthetic_dataset(30, seed=4)
+    md = data["md_m"].to_numpy()
+    data = data.assign(**geometry(md, md + data["s_from_bit_m"].to_numpy()))
+    cfg = TINY.model_copy(update={"features": TINY.features + cols})
+    geo_model = fit_surrogate(data, cfg)
+    log = pd.DataFrame({"time_s": [0.0, 3600.0], "bit_md_m": 800.0, "rpm": 130.0,
+                        "wob_kN": 90.0, "rop_m_per_h": 15.0})
+    consts = {k: v for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"}
+    comps = _components()
+    res = replay_log(log, comps, geo_model, consts, survey).components
+    s = comps["s_from_bit_m"].to_numpy()
+    frame = pd.DataFrame({
+        "operation.rpm": 130.0, "operation.wob_N": 90e3, "operation.rop_m_per_s": 15 / 3600,
+        "friction.mu_static": 0.35, "friction.mu_dynamic": 0.28,
+        "operation.mud_density_kg_per_m3": 1250.0, "bit.amplitude_m": 1e-3, "bit.lobes": 3.0,
+        "well.kop_m": 500.0, "well.dls_deg_per_30m": 5.0, "well.profile": "build_hold",
+        "s_from_bit_m": s, "md_m": 800.0 - s, "component_type": comps["component_type"],
+        "location": comps["location"],
+        **geometry(800.0 - s, np.full(s.shape, 800.0)),
+        "local_dls_deg_per_30m": position_features(survey["md_m"], survey["dls_deg_per_30m"],
+                                                   None, 800.0 - s, np.full(s.shape, 800.0),
+                                                   ("local_dls_deg_per_30m",))[
+                                                       "local_dls_deg_per_30m"]})
+    p = geo_model.predict(frame)
+    # float32 network, batch-size dependent round-off: 1e-5 relative (see above)
+    np.testing.assert_allclose(res["damage"], p["damage_rate_per_h"] * 1.0, rtol=1e-5)
+    with pytest.raises(InputError, match="inc_deg"):
+        replay_log(log, comps, geo_model, consts, survey.drop(columns="inc_deg"))

@@ -19,8 +19,9 @@ shared end point) and the drilling window they are compared on::
 Surrogate prediction (fast): for each candidate, the string is placed at
 ``surrogate_bit_positions`` bit depths over the window; every joint of the
 string x location (body, connection) at each depth is one query row whose
-features (``operation.*``, ``friction.*``, ``md_m``, ``s_from_bit_m``,
-``local_dls_deg_per_30m``, component type, location) are taken from the same
+features (``operation.*``, ``friction.*``, ``md_m``, ``s_from_bit_m``, the
+hole-geometry columns of :mod:`drillfatigue.well.features`, component type,
+location) are taken from the same
 simulator case the confirmation would run. A component's damage over the
 window is the time-weighted sum of its predicted rates; the critical
 component is the one with the largest damage; its life is given in
@@ -141,6 +142,7 @@ def candidate_rows(cset: CandidateFile, name: str) -> pd.DataFrame:
     from drillfatigue.config import WellConfig
     from drillfatigue.studies.case2 import case_dict
     from drillfatigue.well import build_survey
+    from drillfatigue.well.features import survey_features
 
     w = cset.window
     well = well_section(cset)
@@ -156,9 +158,9 @@ def candidate_rows(cset: CandidateFile, name: str) -> pd.DataFrame:
         s = np.cumsum(seg)[:-1]
         ctype = np.where(s < dc_len - 1e-9, "collar", "drill_pipe")
         md = b - s
-        dls = np.interp(md, sv.md_m, sv.dls_deg_per_30m)
+        geo = survey_features(sv, md, np.full(md.shape, b))
         for loc in ("body", "connection"):
-            f = pd.DataFrame({"s_from_bit_m": s, "md_m": md, "local_dls_deg_per_30m": dls,
+            f = pd.DataFrame({"s_from_bit_m": s, "md_m": md, **geo,
                               "component_type": ctype, "location": loc, "joint": np.arange(s.size)})
             for k, v in base.items():
                 f[k] = v
@@ -223,6 +225,7 @@ def simulate_candidate(cset: CandidateFile, name: str, out_dir: Path) -> pd.Data
     from drillfatigue.studies.case2 import case_dict, sample_bit_md
     from drillfatigue.studies.common import recorded_span_s, run_simulation
     from drillfatigue.well import build_survey
+    from drillfatigue.well.features import survey_features
 
     w = cset.window
     fat = cset.fatigue
@@ -243,7 +246,9 @@ def simulate_candidate(cset: CandidateFile, name: str, out_dir: Path) -> pd.Data
         df["sample"] = k
         df["case_id"] = f"{name}_{k}"
         df["candidate"] = name
-        df["local_dls_deg_per_30m"] = np.interp(df["md_m"], sv.md_m, sv.dls_deg_per_30m)
+        md = df["md_m"].to_numpy(dtype=float)
+        for col, v in survey_features(sv, md, md + df["s_from_bit_m"].to_numpy(dtype=float)).items():
+            df[col] = v
         for key, v in _flat_inputs(case).items():
             df[key] = v
         parts.append(df)

@@ -20,9 +20,11 @@ Log columns: ``time_s`` (seconds) or ``time`` (date-time text or seconds),
 ``rop_m_per_h``; instead of WOB a hook-load channel (``hook_load_kN``, ...)
 with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns: ``serial``, ``s_from_bit_m`` and the
 per-component features (``component_type``, ``location``). Features given by
-neither (friction, mud, well) come from ``constants``; the local dogleg
-severity at each component's depth comes from an optional survey table
-(md_m, dls_deg_per_30m), linearly interpolated. The component list and the
+neither (friction, mud, well) come from ``constants``; the hole geometry at
+each component's depth and at the bit (the columns of
+:mod:`drillfatigue.well.features`: local dogleg, inclination, ...) comes from
+an optional survey table (``md_m``, ``dls_deg_per_30m`` and, for the
+inclination features, ``inc_deg``), linearly interpolated. The component list and the
 survey can also be built from the string and well configuration
 (:func:`components_from_string`, :func:`survey_from_well`).
 """
@@ -40,10 +42,10 @@ from drillfatigue import units
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.surrogate.query import Vocabulary
+from drillfatigue.well.features import POSITION_COLUMNS, position_features
 
 MD_COLUMN = "md_m"
 S_COLUMN = "s_from_bit_m"
-LOCAL_DLS_COLUMN = "local_dls_deg_per_30m"
 _STEP_CHUNK = 20_000  # rows per surrogate batch
 
 
@@ -167,7 +169,7 @@ def components_from_string(string_cfg: Any,
 
 
 def survey_from_well(well_cfg: Any, profile: str | None = None) -> pd.DataFrame:
-    """Survey table (``md_m``, ``dls_deg_per_30m``) of a well configuration.
+    """Survey table (``md_m``, ``inc_deg``, ``dls_deg_per_30m``) of a well configuration.
 
     Parameters
     ----------
@@ -179,7 +181,8 @@ def survey_from_well(well_cfg: Any, profile: str | None = None) -> pd.DataFrame:
     from drillfatigue.well import build_survey
 
     sv = build_survey(well_cfg, profile)
-    return pd.DataFrame({"md_m": sv.md_m, "dls_deg_per_30m": sv.dls_deg_per_30m})
+    return pd.DataFrame({"md_m": sv.md_m, "inc_deg": np.degrees(sv.inc_rad),
+                         "dls_deg_per_30m": sv.dls_deg_per_30m})
 
 
 #: Usual surface channels of a drilling log (any unit suffix). One the model
@@ -278,8 +281,9 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     constants : mapping, optional
         ``{user name: value}`` of features constant over the log.
     survey : DataFrame, optional
-        Columns ``md_m`` and ``dls_deg_per_30m``: local dogleg severity along
-        the well, interpolated at each component's depth.
+        Columns ``md_m``, ``dls_deg_per_30m`` and (for the inclination
+        features) ``inc_deg``: the hole geometry features of each component
+        (:func:`drillfatigue.well.features.position_features`).
 
     Returns
     -------
@@ -302,15 +306,19 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     const_si = (vocab.frame_from_mapping(dict(constants), require=()) if constants
                 else pd.DataFrame(index=[0]))
     derived = {MD_COLUMN}
+    geo_cols: tuple[str, ...] = ()
     if survey is not None:
-        derived.add(LOCAL_DLS_COLUMN)
+        geo_cols = tuple(c for c in model.features if c in POSITION_COLUMNS)
+        derived.update(geo_cols)
         for col in ("md_m", "dls_deg_per_30m"):
             if col not in survey.columns:
-                raise InputError(col, "missing column in the survey", "md_m, dls_deg_per_30m")
-        s_md = survey["md_m"].to_numpy(dtype=np.float64)
-        s_dls = survey["dls_deg_per_30m"].to_numpy(dtype=np.float64)
-        if np.any(np.diff(s_md) <= 0):
-            raise InputError("md_m", "survey depths not increasing", "increasing md_m")
+                raise InputError(col, "missing column in the survey",
+                                 "md_m, dls_deg_per_30m (and inc_deg)")
+        survey_cols = (survey["md_m"].to_numpy(dtype=np.float64),
+                       survey["dls_deg_per_30m"].to_numpy(dtype=np.float64),
+                       survey["inc_deg"].to_numpy(dtype=np.float64)
+                       if "inc_deg" in survey.columns else None)
+        position_features(*survey_cols, np.zeros(1), np.zeros(1), geo_cols)  # validates
     sources: dict[str, str] = {}
     for col in model.features + model.categorical:
         where = [name for name, fr in (("log", log_si), ("components", comp_si),
@@ -349,12 +357,14 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         md = bit_md[idx_t] - s_comp[idx_c]
         in_hole = md >= 0.0
         x_num = np.empty((idx_t.size, len(model.features)))
+        geo = (position_features(*survey_cols, md, bit_md[idx_t], geo_cols) if geo_cols
+               else {})
         for j, col in enumerate(model.features):
             src = sources[col]
             if col == MD_COLUMN:
                 x_num[:, j] = md
-            elif src == "derived":  # local dogleg from the survey
-                x_num[:, j] = np.interp(md, s_md, s_dls)
+            elif src == "derived":  # hole geometry from the survey
+                x_num[:, j] = geo[col]
             elif src == "log":
                 x_num[:, j] = log_si[col].to_numpy(dtype=np.float64)[idx_t]
             elif src == "components":

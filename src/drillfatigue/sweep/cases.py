@@ -26,7 +26,7 @@ from typing import Any
 
 from drillfatigue.errors import SimulationError
 
-__all__ = ["api_rp7g_rows", "fatigue_case", "fatigue_tasks", "local_dls_deg_per_30m", "run_case",
+__all__ = ["api_rp7g_rows", "fatigue_case", "fatigue_tasks", "position_columns", "run_case",
            "warmup_fatigue", "warmup_simulation"]
 
 
@@ -126,15 +126,19 @@ def fatigue_tasks(case_ids: list[str], sweep_root: str | Path, fatigue_cfg: dict
     return tasks
 
 
-def local_dls_deg_per_30m(case: dict[str, Any], md_m: Any) -> Any:
-    """Dogleg severity of the case's well path at the given MDs, deg/30 m (linear interp)."""
+def position_columns(case: dict[str, Any], md_m: Any, s_from_bit_m: Any) -> dict[str, Any]:
+    """Hole-geometry features of rows of a case (:mod:`drillfatigue.well.features`):
+    local dogleg and inclination, windowed maximum dogleg, inclination and
+    dogleg at the bit (MD = md + s_from_bit), mean build rate to the bit."""
     import numpy as np
 
     from drillfatigue.config import case_from_dict
     from drillfatigue.well import build_survey
+    from drillfatigue.well.features import survey_features
 
-    survey = build_survey(case_from_dict(case).well)
-    return np.interp(np.asarray(md_m, dtype=float), survey.md_m, survey.dls_deg_per_30m)
+    md = np.asarray(md_m, dtype=float)
+    return survey_features(build_survey(case_from_dict(case).well), md,
+                           md + np.asarray(s_from_bit_m, dtype=float))
 
 
 def api_rp7g_rows(run_dir: Path, case: dict[str, Any], cfg: Any) -> list[dict[str, Any]]:
@@ -168,8 +172,8 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     Writes ``damage.parquet``: the rows of :func:`drillfatigue.fatigue.evaluate_run`
     for every criterion in ``task['criteria']`` (default: the configured one),
     plus the API RP7G rows (:func:`api_rp7g_rows`) when ``task['api_rp7g']``
-    and the case are given, and (with the case) the column
-    ``local_dls_deg_per_30m`` (hole DLS at each row's MD); and ``summary.json``
+    and the case are given, and (with the case) the hole-geometry columns of
+    :func:`position_columns`; and ``summary.json``
     (rows, criteria, max damage rate).
     """
     import os
@@ -209,7 +213,8 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
         parts.append(pd.DataFrame(api_rp7g_rows(run_dir, task["case"], cfg)))
     frame = pd.concat(parts, ignore_index=True, sort=False)
     if task.get("case") is not None:
-        frame["local_dls_deg_per_30m"] = local_dls_deg_per_30m(task["case"], frame["md_m"])
+        for col, v in position_columns(task["case"], frame["md_m"], frame["s_from_bit_m"]).items():
+            frame[col] = v
     out = Path(case_dir)
     tmp = out / ".damage.parquet.tmp"
     frame.to_parquet(tmp, index=False)

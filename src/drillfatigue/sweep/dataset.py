@@ -34,6 +34,8 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.well.features import DESCRIPTIONS as POSITION_DESCRIPTIONS
+from drillfatigue.well.features import POSITION_COLUMNS
 
 __all__ = [
     "DYNAMICS_COLUMNS",
@@ -47,7 +49,7 @@ __all__ = [
 ]
 
 KEY_COLUMNS = ("joint", "component", "component_type", "location", "md_m", "s_from_bit_m",
-               "local_dls_deg_per_30m")
+               *POSITION_COLUMNS)
 INPUT_SECTIONS = ("well", "operation", "friction", "bit")
 PIVOT_VALUES = ("damage_rate_per_h", "life_h", "critical_angle_deg")
 DYNAMICS_COLUMNS: dict[str, str] = {
@@ -243,8 +245,7 @@ def _describe(column: str, variables: Sequence[str]) -> str:
              "component": "string component name", "component_type": "component type",
              "location": "location on the component (pipe body, upset, thread root ...)",
              "md_m": "measured depth of the location at the end of the window",
-             "s_from_bit_m": "distance from the bit along the string",
-             "local_dls_deg_per_30m": "hole dogleg severity at the location's MD"}
+             "s_from_bit_m": "distance from the bit along the string", **POSITION_DESCRIPTIONS}
     if column in fixed:
         return fixed[column]
     for value, text in (("damage_rate_per_h_", "Miner damage per hour"),
