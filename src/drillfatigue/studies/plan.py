@@ -247,8 +247,7 @@ def simulate_candidate(cset: CandidateFile, name: str, out_dir: Path) -> pd.Data
         df["case_id"] = f"{name}_{k}"
         df["candidate"] = name
         md = df["md_m"].to_numpy(dtype=float)
-        for col, v in survey_features(sv, md, md + df["s_from_bit_m"].to_numpy(dtype=float)).items():
-            df[col] = v
+        df = df.assign(**survey_features(sv, md, md + df["s_from_bit_m"].to_numpy(dtype=float)))
         for key, v in _flat_inputs(case).items():
             df[key] = v
         parts.append(df)

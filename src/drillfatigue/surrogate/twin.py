@@ -42,7 +42,7 @@ from drillfatigue import units
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.surrogate.query import Vocabulary
-from drillfatigue.well.features import POSITION_COLUMNS, position_features
+from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
 
 MD_COLUMN = "md_m"
 S_COLUMN = "s_from_bit_m"
@@ -314,11 +314,9 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
             if col not in survey.columns:
                 raise InputError(col, "missing column in the survey",
                                  "md_m, dls_deg_per_30m (and inc_deg)")
-        survey_cols = (survey["md_m"].to_numpy(dtype=np.float64),
-                       survey["dls_deg_per_30m"].to_numpy(dtype=np.float64),
-                       survey["inc_deg"].to_numpy(dtype=np.float64)
-                       if "inc_deg" in survey.columns else None)
-        position_features(*survey_cols, np.zeros(1), np.zeros(1), geo_cols)  # validates
+        survey_cols = check_survey(survey["md_m"], survey["dls_deg_per_30m"],
+                                   survey["inc_deg"] if "inc_deg" in survey.columns else None,
+                                   geo_cols)
     sources: dict[str, str] = {}
     for col in model.features + model.categorical:
         where = [name for name, fr in (("log", log_si), ("components", comp_si),

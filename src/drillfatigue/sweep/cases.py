@@ -213,8 +213,8 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
         parts.append(pd.DataFrame(api_rp7g_rows(run_dir, task["case"], cfg)))
     frame = pd.concat(parts, ignore_index=True, sort=False)
     if task.get("case") is not None:
-        for col, v in position_columns(task["case"], frame["md_m"], frame["s_from_bit_m"]).items():
-            frame[col] = v
+        frame = frame.assign(**position_columns(task["case"], frame["md_m"],
+                                                frame["s_from_bit_m"]))
     out = Path(case_dir)
     tmp = out / ".damage.parquet.tmp"
     frame.to_parquet(tmp, index=False)

@@ -66,6 +66,41 @@ def _windowed_max(s_md: np.ndarray, s_dls: np.ndarray, md: np.ndarray) -> np.nda
     return np.interp(md, grid, wmax)
 
 
+def check_survey(s_md_m: np.ndarray, s_dls_deg_per_30m: np.ndarray, s_inc_deg: np.ndarray | None,
+                 columns: tuple[str, ...] = POSITION_COLUMNS
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Validate survey arrays for the ``columns`` wanted; returns them as float64.
+
+    Raises
+    ------
+    InputError
+        Naming the survey column (``md_m``, ``dls_deg_per_30m``, ``inc_deg``)
+        or the unknown feature.
+    """
+    s_md = np.asarray(s_md_m, dtype=np.float64)
+    s_dls = np.asarray(s_dls_deg_per_30m, dtype=np.float64)
+    if s_md.ndim != 1 or s_md.size < 2 or s_dls.shape != s_md.shape:
+        raise InputError("md_m", "survey needs >= 2 stations with md_m and dls_deg_per_30m",
+                         "two equal-length columns")
+    if not (np.all(np.isfinite(s_md)) and np.all(np.isfinite(s_dls))):
+        raise InputError("dls_deg_per_30m", "NaN or infinite survey value", "finite values")
+    if np.any(np.diff(s_md) <= 0):
+        raise InputError("md_m", "survey depths not increasing", "strictly increasing md_m")
+    unknown = [c for c in columns if c not in POSITION_COLUMNS]
+    if unknown:
+        raise InputError(unknown[0], "not a position feature", ", ".join(POSITION_COLUMNS))
+    if NEEDS_INCLINATION.intersection(columns):
+        if s_inc_deg is None:
+            raise InputError("inc_deg", "missing column in the survey",
+                             "md_m, inc_deg, dls_deg_per_30m")
+        s_inc = np.asarray(s_inc_deg, dtype=np.float64)
+        if s_inc.shape != s_md.shape or not np.all(np.isfinite(s_inc)):
+            raise InputError("inc_deg", "NaN or missing survey inclination", "finite values")
+    else:
+        s_inc = None
+    return s_md, s_dls, s_inc
+
+
 def position_features(s_md_m: np.ndarray, s_dls_deg_per_30m: np.ndarray,
                       s_inc_deg: np.ndarray | None, md_m: np.ndarray, bit_md_m: np.ndarray,
                       columns: tuple[str, ...] = POSITION_COLUMNS) -> dict[str, np.ndarray]:
@@ -87,25 +122,7 @@ def position_features(s_md_m: np.ndarray, s_dls_deg_per_30m: np.ndarray,
     dict
         ``{column: ndarray shape (n,)}`` for each requested column.
     """
-    s_md = np.asarray(s_md_m, dtype=np.float64)
-    s_dls = np.asarray(s_dls_deg_per_30m, dtype=np.float64)
-    if s_md.ndim != 1 or s_md.size < 2 or s_dls.shape != s_md.shape:
-        raise InputError("md_m", "survey needs >= 2 stations with md_m and dls_deg_per_30m",
-                         "two equal-length columns")
-    if not (np.all(np.isfinite(s_md)) and np.all(np.isfinite(s_dls))):
-        raise InputError("dls_deg_per_30m", "NaN or infinite survey value", "finite values")
-    if np.any(np.diff(s_md) <= 0):
-        raise InputError("md_m", "survey depths not increasing", "strictly increasing md_m")
-    unknown = [c for c in columns if c not in POSITION_COLUMNS]
-    if unknown:
-        raise InputError(unknown[0], "not a position feature", ", ".join(POSITION_COLUMNS))
-    if NEEDS_INCLINATION.intersection(columns):
-        if s_inc_deg is None:
-            raise InputError("inc_deg", "missing column in the survey",
-                             "md_m, inc_deg, dls_deg_per_30m")
-        s_inc = np.asarray(s_inc_deg, dtype=np.float64)
-        if s_inc.shape != s_md.shape or not np.all(np.isfinite(s_inc)):
-            raise InputError("inc_deg", "NaN or missing survey inclination", "finite values")
+    s_md, s_dls, s_inc = check_survey(s_md_m, s_dls_deg_per_30m, s_inc_deg, columns)
     md = np.asarray(md_m, dtype=np.float64)
     bit = np.asarray(bit_md_m, dtype=np.float64)
     out: dict[str, np.ndarray] = {}
