@@ -129,3 +129,55 @@ def test_bad_batch_writes_nothing(model_dir: Path, tmp_path: Path, capsys) -> No
 def test_missing_model_folder(tmp_path: Path, capsys) -> None:
     assert main(["query", "--model", str(tmp_path / "nope"), *FLAGS]) == 2
     assert "--model" in capsys.readouterr().err
+
+
+def test_well_gives_the_geometry_features(tmp_path: Path, capsys) -> None:
+    """--well: the geometry features equal position_features of that well's survey
+    at md_m and md_m + s_from_bit_m, as if given as flags."""
+    from drillfatigue.config import load_params
+    from drillfatigue.well import build_survey
+    from drillfatigue.well.features import survey_features
+
+    params = Path(__file__).resolve().parents[2] / "params.yaml"
+    survey = build_survey(load_params(params).well, "profile_1")
+    cols = ("local_inc_deg", "bit_inc_deg", "local_max_dls_deg_per_30m")
+    data = make_synthetic_dataset(30, seed=3)
+    md = data["md_m"].to_numpy()
+    data = data.assign(**survey_features(survey, md, md + data["s_from_bit_m"].to_numpy(), cols))
+    d = tmp_path / "geo_model"
+    fit_surrogate(data, TINY.model_copy(update={"features": TINY.features + cols})).save(
+        d, export=False)
+    i = FLAGS.index("--local-dls-deg-per-30m")
+    base = FLAGS[:i] + FLAGS[i + 2:]  # every geometry feature comes from the well
+    assert main(["query", "--model", str(d), *base, "--well", str(params), "--well-profile",
+                 "profile_1", "--json"]) == 0
+    derived = json.loads(capsys.readouterr().out)
+    geo = ("local_dls_deg_per_30m", *cols)
+    g = survey_features(survey, np.array([1400.0]), np.array([1440.0]), geo)
+    explicit = [x for c in geo for x in (f"--{c.replace('_', '-')}", repr(float(g[c][0])))]
+    assert main(["query", "--model", str(d), *base, *explicit, "--json"]) == 0
+    given = json.loads(capsys.readouterr().out)
+    for c in geo:
+        assert derived["inputs_si"][c] == pytest.approx(float(g[c][0]), rel=1e-15)
+    assert derived["log10_damage_rate_per_h"] == pytest.approx(
+        given["log10_damage_rate_per_h"], abs=1e-12)
+    # both at once, or a profile without a well: one-line errors, exit 2
+    assert main(["query", "--model", str(d), *base, *explicit, "--well", str(params)]) == 2
+    assert "given together with --well" in capsys.readouterr().err
+    assert main(["query", "--model", str(d), *base, "--well-profile", "profile_1"]) == 2
+    assert "--well-profile" in capsys.readouterr().err
+    assert main(["query", "--model", str(d), *base, "--well", str(params), "--well-profile",
+                 "nope"]) == 2
+    assert "unknown profile" in capsys.readouterr().err
+    # the batch path derives the same values and writes them beside the inputs
+    table = pd.DataFrame({base[k][2:].replace("-", "_"): [base[k + 1]] * 2
+                          for k in range(0, len(base), 2)})
+    table.to_csv(tmp_path / "c.csv", index=False)
+    assert main(["query", "--model", str(d), "--csv", str(tmp_path / "c.csv"), "--out",
+                 str(tmp_path / "p.csv"), "--well", str(params), "--well-profile",
+                 "profile_1"]) == 0
+    out = pd.read_csv(tmp_path / "p.csv")
+    np.testing.assert_allclose(out["local_inc_deg"], g["local_inc_deg"][0], rtol=1e-12)
+    # float32 network: batch-size dependent round-off ~1e-7 in log10 (see test_twin)
+    np.testing.assert_allclose(out["log10_damage_rate_per_h"],
+                               given["log10_damage_rate_per_h"], atol=1e-6)

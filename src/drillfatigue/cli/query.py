@@ -9,6 +9,12 @@ Batch::
 
     drillfatigue query --model models/surrogate --csv conditions.csv --out predictions.csv
 
+With ``--well WELL.yaml`` (a params or case file, or the bare ``well``
+section; ``--well-profile`` picks a profile) the model's hole-geometry
+features (:mod:`drillfatigue.well.features`) are computed from that well's
+survey at ``md_m`` and at the bit (``md_m + s_from_bit_m``) instead of being
+given as flags or CSV columns.
+
 Feature names and units: :mod:`drillfatigue.surrogate.query`.
 """
 
@@ -63,13 +69,50 @@ def _finite(v: float) -> float | None:
     return v if math.isfinite(v) else None
 
 
+def _geometry_from_well(sur, vocab, well: Path, profile: str | None):  # noqa: ANN001, ANN202
+    """(geometry columns the model uses, the well's survey) for ``--well``."""
+    from drillfatigue.cli.twin import _section
+    from drillfatigue.config import WellConfig
+    from drillfatigue.well import build_survey
+    from drillfatigue.well.features import POSITION_COLUMNS
+
+    cols = tuple(c for c in sur.features if c in POSITION_COLUMNS)
+    for c in ("md_m", "s_from_bit_m"):
+        if c not in sur.features:
+            raise InputError("--well", f"the model has no {c} feature to place the location",
+                             "a model with md_m and s_from_bit_m features")
+    cfg = _section(well, "well", "--well", WellConfig)
+    if profile is not None and profile not in cfg.profiles:
+        raise InputError("--well-profile", f"unknown profile {profile!r}",
+                         ", ".join(sorted(cfg.profiles)))
+    return cols, build_survey(cfg, profile)
+
+
+def _add_geometry(frame, vocab, cols, survey):  # noqa: ANN001, ANN202
+    """``frame`` (SI columns) with the geometry columns from the survey."""
+    from drillfatigue.well.features import survey_features
+
+    for c in cols:
+        if c in frame.columns:
+            raise InputError(vocab.names_for(c)[0], "given together with --well",
+                             "either the value or --well")
+    md = frame["md_m"].to_numpy(dtype=float)
+    return frame.assign(**survey_features(survey, md,
+                                          md + frame["s_from_bit_m"].to_numpy(dtype=float), cols))
+
+
 @app.command("query", context_settings=_CONTEXT)
 def query(ctx: typer.Context,
           model: Path = typer.Option(..., "--model", help="surrogate model folder"),
           csv: Path | None = typer.Option(None, "--csv", help="batch: conditions CSV "
                                           "(columns named like the flags, with _)"),
           out: Path | None = typer.Option(None, "--out", help="batch: predictions CSV to write"),
-          as_json: bool = typer.Option(False, "--json", help="print JSON")) -> None:
+          as_json: bool = typer.Option(False, "--json", help="print JSON"),
+          well: Path | None = typer.Option(None, "--well", help="well YAML: derive the hole-"
+                                           "geometry features at md_m and the bit from it"),
+          well_profile: str | None = typer.Option(None, "--well-profile",
+                                                  help="profile of --well (default: its "
+                                                  "active profile)")) -> None:
     """Damage rate per hour, life in hours, the calibrated interval and the OOD flag.
 
     Feature flags come from the model (e.g. --rpm, --wob-kN, --rop-m-per-h,
@@ -90,8 +133,13 @@ def query(ctx: typer.Context,
         raise InputError("--out", "missing", "--csv FILE --out FILE")
     if csv is not None and not csv.is_file():
         raise InputError("--csv", f"file {str(csv)!r} not found", "an existing CSV file")
+    if well is None and well_profile is not None:
+        raise InputError("--well-profile", "only used with --well", "--well FILE")
     sur = _load_model(model)
     vocab = Vocabulary(sur.features, sur.categorical)
+    geometry = _geometry_from_well(sur, vocab, well, well_profile) if well is not None else None
+    need = [c for c in sur.features + sur.categorical
+            if geometry is None or c not in geometry[0]]
     if csv is not None:
         try:
             table = pd.read_csv(csv)
@@ -100,14 +148,19 @@ def query(ctx: typer.Context,
                              "a comma-separated table with a header") from None
         if len(table) == 0:
             raise InputError(str(csv), "no rows", ">= 1 condition row")
-        frame = vocab.frame_from_table(table)
+        frame = vocab.frame_from_table(table, require=need)
+        if geometry is not None:
+            frame = _add_geometry(frame, vocab, *geometry)
+            table = table.assign(**{c: frame[c].to_numpy() for c in geometry[0]})
         pred = sur.predict(frame)
         result = pd.concat([table.reset_index(drop=True), pred.reset_index(drop=True)], axis=1)
         write_csv(result, out)
         n_ood = int(pred["ood"].sum())
         print(f"wrote {len(result)} predictions to {out} ({n_ood} out of domain)")
         return
-    frame = vocab.frame_from_mapping(flags)
+    frame = vocab.frame_from_mapping(flags, require=need)
+    if geometry is not None:
+        frame = _add_geometry(frame, vocab, *geometry)
     row = sur.predict(frame).iloc[0]
     res = {
         "criterion": sur.metadata["criterion"],
