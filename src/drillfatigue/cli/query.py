@@ -69,9 +69,9 @@ def _finite(v: float) -> float | None:
     return v if math.isfinite(v) else None
 
 
-def _geometry_from_well(sur, vocab, well: Path, profile: str | None):  # noqa: ANN001, ANN202
+def _geometry_from_well(sur, well: Path, profile: str | None):  # noqa: ANN001, ANN202
     """(geometry columns the model uses, the well's survey) for ``--well``."""
-    from drillfatigue.cli.twin import _section
+    from drillfatigue.cli.twin import read_section
     from drillfatigue.config import WellConfig
     from drillfatigue.well import build_survey
     from drillfatigue.well.features import POSITION_COLUMNS
@@ -81,7 +81,7 @@ def _geometry_from_well(sur, vocab, well: Path, profile: str | None):  # noqa: A
         if c not in sur.features:
             raise InputError("--well", f"the model has no {c} feature to place the location",
                              "a model with md_m and s_from_bit_m features")
-    cfg = _section(well, "well", "--well", WellConfig)
+    cfg = read_section(well, "well", "--well", WellConfig)
     if profile is not None and profile not in cfg.profiles:
         raise InputError("--well-profile", f"unknown profile {profile!r}",
                          ", ".join(sorted(cfg.profiles)))
@@ -137,7 +137,7 @@ def query(ctx: typer.Context,
         raise InputError("--well-profile", "only used with --well", "--well FILE")
     sur = _load_model(model)
     vocab = Vocabulary(sur.features, sur.categorical)
-    geometry = _geometry_from_well(sur, vocab, well, well_profile) if well is not None else None
+    geometry = _geometry_from_well(sur, well, well_profile) if well is not None else None
     need = [c for c in sur.features + sur.categorical
             if geometry is None or c not in geometry[0]]
     if csv is not None:

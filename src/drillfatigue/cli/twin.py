@@ -59,7 +59,7 @@ def parse_settings(items: list[str]) -> dict[str, str]:
     return out
 
 
-def _section(path: Path, key: str, option: str, model: type) -> object:
+def read_section(path: Path, key: str, option: str, model: type) -> object:
     """A config section from YAML: a file holding ``key:`` (a case or params file) or
     the section itself."""
     from drillfatigue.config.base import read_yaml, validate
@@ -107,11 +107,11 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
                          "--well WELL.yaml or --survey FILE.csv")
     log_t = _read_csv(log, "LOG")
     if string is not None:
-        comp_t = components_from_string(_section(string, "string", "--string", StringConfig))
+        comp_t = components_from_string(read_section(string, "string", "--string", StringConfig))
     else:
         comp_t = _read_csv(components, "--components")
     if well is not None:
-        survey_t = survey_from_well(_section(well, "well", "--well", WellConfig))
+        survey_t = survey_from_well(read_section(well, "well", "--well", WellConfig))
     else:
         survey_t = _read_csv(survey, "--survey") if survey is not None else None
     consts = parse_settings(list(settings))
