@@ -125,21 +125,28 @@ def position_features(s_md_m: np.ndarray, s_dls_deg_per_30m: np.ndarray,
     s_md, s_dls, s_inc = check_survey(s_md_m, s_dls_deg_per_30m, s_inc_deg, columns)
     md = np.asarray(md_m, dtype=np.float64)
     bit = np.asarray(bit_md_m, dtype=np.float64)
+    inc: dict[str, np.ndarray] = {}  # inclination at md / bit, interpolated once
+
+    def inc_at(where: str) -> np.ndarray:
+        if where not in inc:
+            inc[where] = np.interp(md if where == "md" else bit, s_md, s_inc)
+        return inc[where]
+
     out: dict[str, np.ndarray] = {}
     for col in columns:
         if col == LOCAL_DLS:
             out[col] = np.interp(md, s_md, s_dls)
         elif col == "local_inc_deg":
-            out[col] = np.interp(md, s_md, s_inc)
+            out[col] = inc_at("md")
         elif col == "local_max_dls_deg_per_30m":
             out[col] = _windowed_max(s_md, s_dls, md)
         elif col == "bit_inc_deg":
-            out[col] = np.interp(bit, s_md, s_inc)
+            out[col] = inc_at("bit")
         elif col == "bit_dls_deg_per_30m":
             out[col] = np.interp(bit, s_md, s_dls)
         else:  # build_to_bit_deg_per_30m
             span = np.maximum(bit - md, _MIN_SPAN_M)
-            out[col] = (np.interp(bit, s_md, s_inc) - np.interp(md, s_md, s_inc)) / span * 30.0
+            out[col] = (inc_at("bit") - inc_at("md")) / span * 30.0
     return out
 
 
