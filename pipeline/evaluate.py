@@ -4,7 +4,9 @@ On the model's held-out test cases (the case-wise split stored with the
 model) it writes ``metrics/surrogate.json`` (R^2, RMSE, MAE of log10 damage
 rate, interval coverage and width, factor-of-2 fraction, per model; the same
 errors on each case's governing damage rate and on the rows that could set
-the string's life, under ``governing``),
+the string's life, under ``governing``; with ``--noise-floor``, the
+replicate ceiling and the models' factor-of-2 fraction per decade of damage
+rate, under ``noise_floor.by_decade``, also printed as a table),
 ``plots/surrogate/predictions.csv`` (DVC plots: y_true vs each model),
 ``parity.png`` and ``residuals.png``.
 
@@ -21,6 +23,11 @@ from pathlib import Path
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
+
+
+def _cell(v: float | None, width: int) -> str:
+    """A fraction to 3 decimals, or '-' where the decade has no rows."""
+    return f"{v:{width}.3f}" if v is not None else f"{'-':>{width}s}"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -68,6 +75,15 @@ def main(argv: list[str] | None = None) -> int:
               f"factor-2 {s['factor2_fraction']:.3f} (case maxima "
               f"{g['case_max']['factor2_fraction']:.3f}, relevant rows "
               f"{g['relevant_rows']['factor2_fraction']:.3f})")
+    table = metrics.get("noise_floor", {}).get("by_decade")
+    if table:
+        print("factor-2 fraction by decade of damage rate per h "
+              "(ceiling: replicate runs against each other)")
+        print(f"{'decade':>8s} {'ceiling':>8s} {'ensemble':>9s} {'gp':>6s} {'hgb':>6s} {'test rows':>10s}")
+        for key, row in table.items():
+            print(f"{key:>8s} {_cell(row['ceiling_factor2'], 8)} {_cell(row.get('ensemble'), 9)} "
+                  f"{_cell(row.get('gp'), 6)} {_cell(row.get('hgb'), 6)} "
+                  f"{row.get('n_test_rows', 0):10d}")
     return 0
 
 

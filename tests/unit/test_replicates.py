@@ -15,6 +15,7 @@ from scipy import stats
 from drillfatigue.config.replicates import ReplicatesConfig
 from drillfatigue.errors import InputError
 from drillfatigue.sweep.design import case_id_of
+from drillfatigue.metrics import decade_label, factor2_by_decade
 from drillfatigue.sweep.replicates import FACTOR2_DECADES, replicate_cases, replicate_spread
 
 
@@ -46,6 +47,42 @@ def test_gaussian_noise_recovers_sigma_and_factor2_ceiling():
                                               abs=1e-12)
     assert out["n_groups"] == 3000 and out["n_rows"] == 12000 and out["n_cases"] == 1000
     assert out["max_case_sigma_log10"] >= out["sigma_log10"]
+
+
+def test_ceiling_by_decade_separates_noisy_and_quiet_decades():
+    # groups in decade 1e-07 carry noise sigma 0.4, groups in 1e-03 none: the
+    # per-decade ceilings are P(|N(0, 0.4)| < log10 2) = 0.547 and exactly 1,
+    # while the pooled ceiling mixes them. 2000 groups x 4 replicates per decade:
+    # standard error of the noisy fraction < 0.006, tolerance 0.025.
+    rng = np.random.default_rng(7)
+    noisy = rng.uniform(-6.9, -6.1, size=(2000, 1)) + rng.normal(0.0, 0.4, size=(2000, 4))
+    quiet = np.repeat(rng.uniform(-2.9, -2.1, size=(2000, 1)), 4, axis=1)
+    out = replicate_spread(_table(np.vstack([noisy, quiet])), floor_per_h=1e-12)
+    by = out["ceiling_factor2_by_decade"]
+    assert by["1e-03"] == {"n": 8000, "factor2_fraction": 1.0}
+    expected = 2.0 * stats.norm.cdf(FACTOR2_DECADES / 0.4) - 1.0
+    assert by["1e-07"]["factor2_fraction"] == pytest.approx(expected, abs=0.025)
+    # a group is binned by its mean, whose noise has sd 0.4 / sqrt(4) = 0.2: about
+    # 10 % of the noisy groups (uniform in [-6.9, -6.1]) fall into 1e-08 or 1e-06
+    assert sum(v["n"] for v in by.values()) == 16000
+    assert by["1e-07"]["n"] >= 6800 and set(by) <= {"1e-08", "1e-07", "1e-06", "1e-03"}
+    assert list(by) == sorted(by, key=float)
+
+
+def test_factor2_by_decade_by_hand():
+    y = np.array([-5.5, -5.0, -4.2, -4.9, -3.0, -12.0])
+    err = np.array([0.1, -0.5, 0.0, 0.31, -0.29, 2.0])
+    out = factor2_by_decade(y, err)
+    # decades: -5.5 -> 1e-06; -5.0, -4.9 -> 1e-05; -4.2 -> 1e-05; -3.0 -> 1e-03; floor -> 1e-12
+    assert list(out) == ["1e-12", "1e-06", "1e-05", "1e-03"]
+    assert out["1e-06"] == {"n": 1, "factor2_fraction": 1.0}
+    assert out["1e-05"]["n"] == 3 and out["1e-05"]["factor2_fraction"] == pytest.approx(1 / 3)
+    assert out["1e-03"] == {"n": 1, "factor2_fraction": 1.0}  # 0.29 < log10 2 = 0.301
+    assert out["1e-12"]["factor2_fraction"] == 0.0
+    assert decade_label(np.log10(np.array([1e-3, 9.99e-4])))[0] == "1e-03"
+    assert factor2_by_decade(np.array([]), np.array([])) == {}
+    with pytest.raises(ValueError, match="shape"):
+        factor2_by_decade(y, err[:2])
 
 
 def test_unequal_replicate_counts_pool_by_degrees_of_freedom():

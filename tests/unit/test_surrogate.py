@@ -236,6 +236,29 @@ def test_noise_floor_metrics_by_hand():
     assert out["excess_rmse_ensemble"] == pytest.approx(1.2, rel=1e-12)  # sqrt(1.69 - 0.25)
     assert out["excess_rmse_hgb"] == 0.0  # below the floor: nothing left to remove
     assert out["ceiling_factor2_fraction"] == 0.45 and "excess_rmse_gp" not in out
+    assert "by_decade" not in out  # an older spread.json without the decade table
+
+
+def test_noise_floor_by_decade_lines_up_ceiling_and_models():
+    from drillfatigue.surrogate.evaluation import governing_metrics, noise_floor_metrics
+
+    pred = pd.DataFrame({"case_id": ["a", "a", "b", "b"],
+                         "y_true": [-6.5, -6.2, -2.5, -9.5],
+                         "ensemble": [-6.5, -5.2, -2.4, -9.5],  # errors 0, 1, 0.1, 0
+                         "hgb": [-6.0, -6.2, -2.5, -8.0]})      # errors 0.5, 0, 0, 1.5
+    gov = governing_metrics(pred, models=("ensemble", "hgb"))
+    assert gov["ensemble"]["factor2_by_decade"]["1e-07"] == {"n": 2, "factor2_fraction": 0.5}
+    spread = {"sigma_log10": 0.2, "ceiling_factor2_by_decade": {
+        "1e-07": {"n": 30, "factor2_fraction": 0.8}, "1e-05": {"n": 6, "factor2_fraction": 0.9}}}
+    out = noise_floor_metrics(spread, pred["y_true"].to_numpy(),
+                              {"ensemble": {"rmse": 0.5}, "governing": gov})
+    t = out["by_decade"]
+    assert list(t) == ["1e-10", "1e-07", "1e-05", "1e-03"]
+    assert t["1e-07"] == {"ceiling_factor2": 0.8, "n_replicate_rows": 30, "ensemble": 0.5,
+                          "hgb": 0.5, "n_test_rows": 2}
+    assert t["1e-05"]["ensemble"] is None and t["1e-05"]["n_test_rows"] == 0
+    assert t["1e-03"]["ceiling_factor2"] is None and t["1e-03"]["ensemble"] == 1.0
+    assert t["1e-10"]["hgb"] == 0.0
 
 
 @pytest.mark.parametrize("gaussian", [True, False])

@@ -39,6 +39,7 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.metrics import factor2_by_decade
 from drillfatigue.surrogate.conformal import SplitConformal, conformal_quantile
 from drillfatigue.surrogate.data import Split, check_columns, log10_target
 from drillfatigue.surrogate.facade import Surrogate
@@ -189,8 +190,10 @@ def governing_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble",
         ``n_cases``, ``n_relevant_rows``, ``relevant_life_h``; per model
         ``case_max`` (RMSE, MAE and factor-2 fraction of the per-case maximum
         of the prediction against the per-case maximum of the simulation, one
-        value per case) and ``relevant_rows`` (the same on the relevant rows;
-        NaN when there is none).
+        value per case), ``relevant_rows`` (the same on the relevant rows;
+        NaN when there is none) and ``factor2_by_decade`` (factor-2 fraction
+        per decade of the simulated rate,
+        :func:`drillfatigue.metrics.factor2_by_decade`).
     """
     if not relevant_life_h > 0:
         raise ValueError(f"relevant_life_h must be > 0, got {relevant_life_h}")
@@ -213,7 +216,8 @@ def governing_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble",
         mu = pred[m].to_numpy(dtype=np.float64)
         by = pd.DataFrame({"y": y, "mu": mu}).groupby(case).max()
         out[m] = {"case_max": errs((by["mu"] - by["y"]).to_numpy()),
-                  "relevant_rows": errs(mu[rel] - y[rel])}
+                  "relevant_rows": errs(mu[rel] - y[rel]),
+                  "factor2_by_decade": factor2_by_decade(y, mu - y)}
     return out
 
 
@@ -263,7 +267,11 @@ def noise_floor_metrics(spread: dict[str, Any], y_test: np.ndarray,
         ``sigma_log10``; ``ceiling_r2_test`` = 1 - sigma^2 / var(y_test);
         ``ceiling_factor2_fraction``; per model ``excess_rmse`` =
         sqrt(max(rmse^2 - sigma^2, 0)), the part of the error a better
-        estimator could still remove; the study's settings.
+        estimator could still remove; the study's settings; ``by_decade``
+        when the spread has ``ceiling_factor2_by_decade``: per decade of
+        damage rate the ceiling and its replicated rows beside each model's
+        factor-2 fraction and test rows (from ``metrics["governing"]``; a
+        decade missing on one side has None there).
     """
     sigma = float(spread.get("sigma_log10", float("nan")))
     var_y = float(np.var(y_test, ddof=1)) if len(y_test) > 1 else float("nan")
@@ -278,6 +286,24 @@ def noise_floor_metrics(spread: dict[str, Any], y_test: np.ndarray,
     for m in ("ensemble", "gp", "hgb"):
         if m in metrics and "rmse" in metrics[m]:
             out[f"excess_rmse_{m}"] = float(math.sqrt(max(metrics[m]["rmse"] ** 2 - sigma**2, 0.0)))
+    ceil = spread.get("ceiling_factor2_by_decade")
+    if ceil:
+        gov = metrics.get("governing", {})
+        models = [m for m in ("ensemble", "gp", "hgb") if "factor2_by_decade" in gov.get(m, {})]
+        keys = set(ceil)
+        for m in models:
+            keys |= set(gov[m]["factor2_by_decade"])
+        table: dict[str, dict[str, Any]] = {}
+        for key in sorted(keys, key=float):
+            c = ceil.get(key)
+            row: dict[str, Any] = {"ceiling_factor2": c["factor2_fraction"] if c else None,
+                                   "n_replicate_rows": c["n"] if c else 0}
+            for m in models:
+                f = gov[m]["factor2_by_decade"].get(key)
+                row[m] = f["factor2_fraction"] if f else None
+                row["n_test_rows"] = f["n"] if f else 0
+            table[key] = row
+        out["by_decade"] = table
     return out
 
 

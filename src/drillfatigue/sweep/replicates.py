@@ -23,6 +23,11 @@ location) and gives
 ``ceiling_r2``
     1 - sigma^2 / var(y) on the replicated rows; the evaluate stage uses
     sigma with the test set's variance instead.
+``ceiling_factor2_by_decade``
+    the same ceiling per decade of damage rate (:func:`drillfatigue.metrics.factor2_by_decade`,
+    groups binned by their mean y): the chaos sits in some decades and not in
+    others, so the evaluate stage sets each model's factor-2 fraction per
+    decade beside it.
 
 :func:`replicates_stage` runs the study through the sweep engine (resumable,
 parallel, failures recorded) and writes ``spread.json`` and
@@ -43,15 +48,15 @@ import pandas as pd
 from drillfatigue.config import Params
 from drillfatigue.config.replicates import ReplicatesConfig
 from drillfatigue.errors import InputError
+from drillfatigue.metrics import FACTOR2_DECADES, decade_label, factor2_by_decade
 from drillfatigue.sweep.cases import fatigue_case, run_case
 from drillfatigue.sweep.design import (_split_path, apply_overrides, canonical_json, case_id_of,
                                        read_cases, write_cases)
 from drillfatigue.sweep.runner import CaseFn
 
-__all__ = ["FACTOR2_DECADES", "replicate_cases", "replicate_spread", "replicates_stage"]
+__all__ = ["FACTOR2_DECADES", "decade_label", "factor2_by_decade", "replicate_cases",
+           "replicate_spread", "replicates_stage"]
 
-#: log10(2): a factor of 2 on damage, in decades.
-FACTOR2_DECADES = math.log10(2.0)
 GROUP_KEYS = ("base_case_id", "joint", "location")
 
 
@@ -131,7 +136,9 @@ def replicate_spread(frame: pd.DataFrame, *, floor_per_h: float,
         ``sigma_log10`` (decades), ``ceiling_factor2_fraction``,
         ``ceiling_r2``, ``var_log10``, ``n_groups``, ``n_rows``,
         ``n_cases``, ``case_sigma_log10`` ({base case id: pooled sigma}),
-        ``fraction_cases_sigma_above_factor2`` and ``max_case_sigma_log10``.
+        ``fraction_cases_sigma_above_factor2``, ``max_case_sigma_log10`` and
+        ``ceiling_factor2_by_decade`` (:func:`factor2_by_decade` of the
+        leave-one-out deviations, by the group's mean log10 rate).
     """
     missing = {*GROUP_KEYS, "replicate", rate_column} - set(frame.columns)
     if missing:
@@ -148,7 +155,7 @@ def replicate_spread(frame: pd.DataFrame, *, floor_per_h: float,
         return {"sigma_log10": nan, "ceiling_factor2_fraction": nan, "ceiling_r2": nan,
                 "var_log10": nan, "n_groups": 0, "n_rows": 0, "n_cases": 0,
                 "case_sigma_log10": {}, "fraction_cases_sigma_above_factor2": nan,
-                "max_case_sigma_log10": nan}
+                "max_case_sigma_log10": nan, "ceiling_factor2_by_decade": {}}
     y, k, total = y[keep], k[keep], total[keep]
     case = frame["base_case_id"].to_numpy()[keep]
     sq = (y - total / k) ** 2
@@ -165,7 +172,8 @@ def replicate_spread(frame: pd.DataFrame, *, floor_per_h: float,
             "n_rows": int(len(y)), "n_cases": int(len(case_sigma)),
             "case_sigma_log10": {str(c): float(s) for c, s in case_sigma.items()},
             "fraction_cases_sigma_above_factor2": float(np.mean(case_sigma > FACTOR2_DECADES)),
-            "max_case_sigma_log10": float(case_sigma.max())}
+            "max_case_sigma_log10": float(case_sigma.max()),
+            "ceiling_factor2_by_decade": factor2_by_decade(total / k, loo)}
 
 
 def _damage_rows(fatigue_dir: Path, case_id: str, criterion: str) -> pd.DataFrame | None:
