@@ -412,8 +412,11 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
     reversal of exactly the groups whose boundary lies on the short arc between
     the previous and the new sector. The per-sample stages (plane stress,
     pseudo-angle, sector) run vectorised over blocks of ``BLOCK`` samples; a
-    branch-free compaction hands only the sector changes to the sequential
-    stage. Each group keeps its own 4-point rainflow stack with (shear, sigma,
+    branch-free compaction keeps only the sector changes, which are sorted
+    into one list of reversal samples per group; each group's list then goes
+    through that group's stack in one tight loop (the groups are independent,
+    so this gives the same cycles in the same order as a sample-by-sample
+    walk). Each group keeps its own 4-point rainflow stack with (shear, sigma,
     tau) at each reversal; closed cycles are buffered per group and evaluated
     in vectorised batches (the criterion's equivalent stress per member, Miner
     damage 1/N from the S-N curve). The result equals a per-plane reversal
@@ -479,6 +482,8 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
         tab = np.empty(BLOCK + 1)
         pab = np.empty(BLOCK)
         chg_i = np.empty(BLOCK, dtype=np.int64)
+        rev_i = np.empty((n_g, BLOCK), dtype=np.int64)
+        rev_n = np.zeros(n_g, dtype=np.int64)
         secb = np.empty(BLOCK, dtype=np.int64)
         paf = np.empty(BLOCK)
         cyc_d = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
@@ -526,24 +531,35 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
             nb = min(BLOCK, n_t - k0)
             # stage 1a: plane stress of the block (one fused pass over the
             # channels, vectorisable; tube surface points use three each)
+            # (the loops index views with the bare loop counter: an offset
+            # index such as k0 + i or i + 1 is not provably >= 0, numba keeps
+            # its negative-index wraparound and LLVM does not vectorise)
+            x0 = L0[k0:k0 + nb]
+            x1 = L1[k0:k0 + nb]
+            x2 = L2[k0:k0 + nb]
+            x3 = L3[k0:k0 + nb]
+            x4 = L4[k0:k0 + nb]
+            x5 = L5[k0:k0 + nb]
+            s_new = sgb[1:nb + 1]
+            t_new = tab[1:nb + 1]
             if tube:
                 for i in range(nb):
-                    k = k0 + i
-                    sgb[i + 1] = a0 * L0[k] + a3 * L3[k] + a4 * L4[k]
-                    tab[i + 1] = b1 * L1[k] + b2 * L2[k] + b5 * L5[k]
+                    s_new[i] = a0 * x0[i] + a3 * x3[i] + a4 * x4[i]
+                    t_new[i] = b1 * x1[i] + b2 * x2[i] + b5 * x5[i]
             else:
                 for i in range(nb):
-                    k = k0 + i
-                    sgb[i + 1] = a0 * L0[k] + a1 * L1[k] + a2 * L2[k] + a3 * L3[k] \
-                        + a4 * L4[k] + a5 * L5[k]
-                    tab[i + 1] = b0 * L0[k] + b1 * L1[k] + b2 * L2[k] + b3 * L3[k] \
-                        + b4 * L4[k] + b5 * L5[k]
+                    s_new[i] = a0 * x0[i] + a1 * x1[i] + a2 * x2[i] + a3 * x3[i] \
+                        + a4 * x4[i] + a5 * x5[i]
+                    t_new[i] = b0 * x0[i] + b1 * x1[i] + b2 * x2[i] + b3 * x3[i] \
+                        + b4 * x4[i] + b5 * x5[i]
             # stage 1b: pseudo-angle of each increment direction (-1: no change),
             # branch-free so that it vectorises; folded to [0, 2) (the boundaries
             # come in antipodal pairs, pa and pa + 2)
+            s_old = sgb[0:nb]
+            t_old = tab[0:nb]
             for i in range(nb):
-                dx = sgb[i + 1] - sgb[i]
-                dy = tab[i + 1] - tab[i]
+                dx = s_new[i] - s_old[i]
+                dy = t_new[i] - t_old[i]
                 den = abs(dx) + abs(dy)
                 r = dx / den
                 q = 1.0 - r if dy >= 0.0 else 3.0 + r
@@ -569,7 +585,11 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
                 chg_i[nch] = i
                 nch += 1 if (s != cur and cur >= 0) else 0
                 cur = s
-            # stage 2: direction changes -> reversals of the crossed groups
+            # stage 2a: direction changes -> each crossed group's list of
+            # reversal samples (in time order; a change crosses at most one of
+            # a group's two antipodal boundaries, so a list holds <= nb samples)
+            for g in range(n_g):
+                rev_n[g] = 0
             for q in range(nch):
                 i = chg_i[q]
                 s = secb[i]
@@ -583,15 +603,24 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
                 else:
                     i0 = s
                     cnt = n_b - f
-                x = sgb[i]
-                y = tab[i]
                 for r in range(cnt):
                     ib = i0 + r
                     if ib >= n_b:
                         ib -= n_b
                     g = bnd_grp[ib]
-                    st |= _push_count(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y,
-                                      x, y, buf, law, acc)
+                    rev_i[g, rev_n[g]] = i
+                    rev_n[g] += 1
+            # stage 2b: one group at a time, its reversals through its rainflow
+            # stack (the groups are independent: the same cycles in the same
+            # order per group as a sample-by-sample walk, in a tighter loop)
+            for g in range(n_g):
+                c0 = grp_c[g, 0]
+                c1 = grp_c[g, 1]
+                for q in range(rev_n[g]):
+                    i = rev_i[g, q]
+                    x = sgb[i]
+                    y = tab[i]
+                    st |= _push_count(sv, sx, sy, ms, g, c0 * x + c1 * y, x, y, buf, law, acc)
             sgb[0] = sgb[nb]
             tab[0] = tab[nb]
         # last sample closes every group's sequence
