@@ -25,8 +25,13 @@ def decade_label(y: np.ndarray) -> np.ndarray:
     floor has the floor's decade). Shape of ``y``, dtype object."""
     d = _decade(y)
     keys, inv = np.unique(d, return_inverse=True)
-    names = np.array([f"1e{int(k):+03d}" for k in keys], dtype=object)
+    names = np.array([_label(k) for k in keys], dtype=object)
     return names[inv.reshape(d.shape)]
+
+
+def _label(k: int) -> str:
+    """Name of decade k: '1e-05' for k = -5."""
+    return f"1e{int(k):+03d}"
 
 
 def _decade(y: np.ndarray) -> np.ndarray:
@@ -63,5 +68,5 @@ def factor2_by_decade(y_ref: np.ndarray, err: np.ndarray) -> dict[str, dict[str,
     out: dict[str, dict[str, float | int]] = {}
     for k in np.unique(d):  # ascending
         m = d == k
-        out[f"1e{int(k):+03d}"] = {"n": int(m.sum()), "factor2_fraction": float(ok[m].mean())}
+        out[_label(k)] = {"n": int(m.sum()), "factor2_fraction": float(ok[m].mean())}
     return out

@@ -297,11 +297,12 @@ def noise_floor_metrics(spread: dict[str, Any], y_test: np.ndarray,
         for key in sorted(keys, key=float):
             c = ceil.get(key)
             row: dict[str, Any] = {"ceiling_factor2": c["factor2_fraction"] if c else None,
-                                   "n_replicate_rows": c["n"] if c else 0}
-            for m in models:
+                                   "n_replicate_rows": c["n"] if c else 0, "n_test_rows": 0}
+            for m in models:  # all models are scored on the same test rows
                 f = gov[m]["factor2_by_decade"].get(key)
                 row[m] = f["factor2_fraction"] if f else None
-                row["n_test_rows"] = f["n"] if f else 0
+                if f:
+                    row["n_test_rows"] = f["n"]
             table[key] = row
         out["by_decade"] = table
     return out

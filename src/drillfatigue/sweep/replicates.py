@@ -48,14 +48,13 @@ import pandas as pd
 from drillfatigue.config import Params
 from drillfatigue.config.replicates import ReplicatesConfig
 from drillfatigue.errors import InputError
-from drillfatigue.metrics import FACTOR2_DECADES, decade_label, factor2_by_decade
+from drillfatigue.metrics import FACTOR2_DECADES, factor2_by_decade
 from drillfatigue.sweep.cases import fatigue_case, run_case
 from drillfatigue.sweep.design import (_split_path, apply_overrides, canonical_json, case_id_of,
                                        read_cases, write_cases)
 from drillfatigue.sweep.runner import CaseFn
 
-__all__ = ["FACTOR2_DECADES", "decade_label", "factor2_by_decade", "replicate_cases",
-           "replicate_spread", "replicates_stage"]
+__all__ = ["FACTOR2_DECADES", "replicate_cases", "replicate_spread", "replicates_stage"]
 
 GROUP_KEYS = ("base_case_id", "joint", "location")
 
@@ -137,7 +136,7 @@ def replicate_spread(frame: pd.DataFrame, *, floor_per_h: float,
         ``ceiling_r2``, ``var_log10``, ``n_groups``, ``n_rows``,
         ``n_cases``, ``case_sigma_log10`` ({base case id: pooled sigma}),
         ``fraction_cases_sigma_above_factor2``, ``max_case_sigma_log10`` and
-        ``ceiling_factor2_by_decade`` (:func:`factor2_by_decade` of the
+        ``ceiling_factor2_by_decade`` (:func:`drillfatigue.metrics.factor2_by_decade` of the
         leave-one-out deviations, by the group's mean log10 rate).
     """
     missing = {*GROUP_KEYS, "replicate", rate_column} - set(frame.columns)
