@@ -99,6 +99,39 @@ def test_conjugate_groups_batches_and_blocks_equal_per_plane_loop() -> None:
             np.testing.assert_allclose(dmg[p], ref[p], rtol=1e-10)
 
 
+def test_fine_grid_beyond_the_group_mask_equals_per_plane_loop() -> None:
+    """A 1-degree grid has 90 shear groups, more than fit the kernel's group bit
+    mask (K.MASK_GROUPS): the reversals are then sorted by walking the
+    boundaries. Same reference and tolerance as above (1e-10 relative)."""
+    rng = np.random.default_rng(8)
+    n = 5000
+    t = np.arange(n) * 1e-3
+    L = np.column_stack([
+        1e5 + 2e4 * np.sin(2 * np.pi * 7.5 * t), 2e3 * rng.normal(size=n),
+        2e3 * rng.normal(size=n), 2e4 * np.sin(2 * np.pi * 2.5 * t) + 500 * rng.normal(size=n),
+        2e4 * np.cos(2 * np.pi * 2.5 * t), 1.5e4 + 3e3 * rng.normal(size=n)])
+    cs, ct, _ = surface_coefficients(Section(0.127, 0.1086), SCF(1, 2, 1.5), 36)
+    from drillfatigue.fatigue.critical_plane import shear_groups
+
+    planes = plane_grid(1.0)
+    assert shear_groups(planes.c).c.shape[0] > K.MASK_GROUPS
+    curve, prm = get_curve("D"), CriterionParams()
+    dmg, _, _ = plane_damage(L, cs, ct, planes, curve, "matake", prm, "half")
+    pts = (0, 17)
+    ref = _reference_damage(L, cs, ct, planes, curve, "matake", prm, "half", pts)
+    for p in pts:
+        np.testing.assert_allclose(dmg[p], ref[p], rtol=1e-10)
+
+
+def test_loads_channels_is_the_exact_transpose() -> None:
+    from drillfatigue.fatigue.critical_plane import loads_channels
+
+    L = np.random.default_rng(1).normal(size=(9001, 6))
+    for x in (L, np.asfortranarray(L), np.vstack([L, L])[::2]):
+        assert np.array_equal(loads_channels(x), x.T)
+        assert loads_channels(x).flags.c_contiguous
+
+
 def test_shear_groups_pair_conjugate_planes() -> None:
     from drillfatigue.fatigue.critical_plane import shear_groups
 

@@ -250,7 +250,9 @@ def loads_channels(loads: np.ndarray) -> np.ndarray:
     L = np.asarray(loads, dtype=np.float64)
     if L.ndim != 2 or L.shape[1] != 6:
         raise InputError("loads", f"must have shape (n_time, 6), got {L.shape}", "(n_time, 6)")
-    return np.ascontiguousarray(L.T)
+    out = np.empty((6, L.shape[0]))
+    K.channels_of(L, out)
+    return out
 
 
 def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray, planes: Planes,
