@@ -248,6 +248,32 @@ def _miner_batch(S, cnt, n, seg_S_low, seg_m, seg_inv_a, S_cut):
     return tot
 
 
+@njit(cache=True, inline="always")
+def _max4(S, n):
+    """max(0, S[0], ..., S[n-1]) with four running maxima (the single running
+    maximum is a serial chain of compares: 2.9x slower here)."""
+    m0 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    n4 = n - n % 4
+    for i in range(0, n4, 4):
+        p0 = S[i]
+        p1 = S[i + 1]
+        p2 = S[i + 2]
+        p3 = S[i + 3]
+        m0 = p0 if p0 > m0 else m0
+        m1 = p1 if p1 > m1 else m1
+        m2 = p2 if p2 > m2 else m2
+        m3 = p3 if p3 > m3 else m3
+    for i in range(n4, n):
+        p = S[i]
+        m0 = p if p > m0 else m0
+    m0 = m1 if m1 > m0 else m0
+    m2 = m3 if m3 > m2 else m2
+    return m2 if m2 > m0 else m0
+
+
 @njit(cache=True, fastmath=BATCH_FAST)
 def _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scale, S):
     """Equivalent stress ranges of n buffered cycles of one member plane.
@@ -265,30 +291,37 @@ def _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scal
         p = dtau/2 (1 + k max(snmax, 0)/sigma_y), sigma_eq = 2 p.
     Shear (Tresca-type, plane selection): p = dtau/2, sigma_eq = dtau.
     """
-    pmax = 0.0
+    # three loops: the criterion parameter p of each cycle (a map, vectorised),
+    # its maximum (a separate reduction: fused, the max would keep the map
+    # scalar), then the S-N range from p by the same expression as a fused loop
     if crit == CRIT_MATAKE:
         for i in range(n):
-            sm = max(max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i]), 0.0)
-            p = ca * (0.5 * sc * D[i] + cb * sm)
-            S[i] = 2.0 * p * s_scale
-            pmax = max(pmax, p)
+            a = n0 * X1[i] + n1 * Y1[i]
+            b = n0 * X2[i] + n1 * Y2[i]
+            sm = a if a > b else b
+            sm = sm if sm > 0.0 else 0.0
+            S[i] = ca * (0.5 * sc * D[i] + cb * sm)
     elif crit == CRIT_FINDLEY:
         for i in range(n):
             sm = max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i])
-            p = 0.5 * sc * D[i] + ca * sm
-            S[i] = 2.0 * cb * p * s_scale
-            pmax = max(pmax, p)
+            S[i] = 0.5 * sc * D[i] + ca * sm
     elif crit == CRIT_FATEMI_SOCIE:
         for i in range(n):
             sm = max(max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i]), 0.0)
-            p = 0.5 * sc * D[i] * (1.0 + ca * sm * cb)
-            S[i] = 4.0 * p * s_scale
-            pmax = max(pmax, p)
+            S[i] = 0.5 * sc * D[i] * (1.0 + ca * sm * cb)
     else:
         for i in range(n):
-            p = 0.5 * sc * D[i]
-            S[i] = 4.0 * p * s_scale
-            pmax = max(pmax, p)
+            S[i] = 0.5 * sc * D[i]
+    pmax = _max4(S, n)
+    if crit == CRIT_MATAKE:
+        for i in range(n):
+            S[i] = 2.0 * S[i] * s_scale
+    elif crit == CRIT_FINDLEY:
+        for i in range(n):
+            S[i] = 2.0 * cb * S[i] * s_scale
+    else:
+        for i in range(n):
+            S[i] = 4.0 * S[i] * s_scale
     return pmax
 
 
@@ -587,10 +620,23 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
             # stage 1c: sector of each increment direction = number of boundaries
             # below its pseudo-angle (boundary-outer loop over the first half,
             # vectorisable), then a compaction of the samples where it changes
-            for ib in range(n_half):
+            # (four boundaries per pass: a quarter of the loads and stores)
+            ib = 0
+            while ib + 4 <= n_half:
+                bp0 = bnd_pa[ib]
+                bp1 = bnd_pa[ib + 1]
+                bp2 = bnd_pa[ib + 2]
+                bp3 = bnd_pa[ib + 3]
+                for i in range(nb):
+                    f = paf[i]
+                    secb[i] += ((1 if f > bp0 else 0) + (1 if f > bp1 else 0)
+                                + (1 if f > bp2 else 0) + (1 if f > bp3 else 0))
+                ib += 4
+            while ib < n_half:
                 bp = bnd_pa[ib]
                 for i in range(nb):
                     secb[i] += 1 if paf[i] > bp else 0
+                ib += 1
             cur0 = cur
             nch = 0
             if use_mask:
