@@ -669,13 +669,36 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
             if use_mask:
                 chq = chg_i[:nch]
                 cmq = chg_m[:nch]
-                for g in range(n_g):
-                    rg = rev_i[g]
-                    n = 0
+                # three groups per pass over the change list (a third of its loads)
+                g = 0
+                while g + 3 <= n_g:
+                    r0 = rev_i[g]
+                    r1 = rev_i[g + 1]
+                    r2 = rev_i[g + 2]
+                    n0 = 0
+                    n1 = 0
+                    n2 = 0
                     for q in range(nch):
-                        rg[n] = chq[q]
-                        n += (cmq[q] >> g) & 1
-                    rev_n[g] = n
+                        c = chq[q]
+                        xq = cmq[q] >> g
+                        r0[n0] = c
+                        r1[n1] = c
+                        r2[n2] = c
+                        n0 += xq & 1
+                        n1 += (xq >> 1) & 1
+                        n2 += (xq >> 2) & 1
+                    rev_n[g] = n0
+                    rev_n[g + 1] = n1
+                    rev_n[g + 2] = n2
+                    g += 3
+                while g < n_g:
+                    r0 = rev_i[g]
+                    n0 = 0
+                    for q in range(nch):
+                        r0[n0] = chq[q]
+                        n0 += (cmq[q] >> g) & 1
+                    rev_n[g] = n0
+                    g += 1
             else:
                 for g in range(n_g):
                     rev_n[g] = 0
