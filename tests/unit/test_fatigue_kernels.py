@@ -70,7 +70,7 @@ def _reference_damage(L, cs, ct, planes, curve, crit, prm, residue, points):
 
 def test_conjugate_groups_batches_and_blocks_equal_per_plane_loop() -> None:
     """The 10-degree grid (conjugate planes share one count), histories longer
-    than one block (4096 samples) and than one cycle batch per group (256), and
+    than one block (K.BLOCK = 2048 samples) and than one cycle batch per group (256), and
     three curve paths: integer slopes (vectorised), a non-integer slope (scalar
     S-N) and a cut-off. Tolerance 1e-10 relative: exact counting either way,
     only the summation order differs (batch sums are reassociated)."""
