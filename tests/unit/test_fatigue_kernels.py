@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import drillfatigue.fatigue.kernels as K
-from drillfatigue.fatigue.critical_plane import CriterionParams, plane_damage, plane_grid
+from drillfatigue.fatigue.critical_plane import (CriterionParams, plane_damage, plane_grid,
+                                                  shear_groups)
 from drillfatigue.fatigue.rainflow import find_cycles_indexed
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Section, surface_coefficients
@@ -68,6 +69,18 @@ def _reference_damage(L, cs, ct, planes, curve, crit, prm, residue, points):
     return ref
 
 
+def _noisy_loads(seed: int, n: int) -> np.ndarray:
+    """Loads (n, 6) at 1 kHz: axial and rotating-bending tones plus noisy
+    shear and torque (N, N m)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * 1e-3
+    L = np.column_stack([
+        1e5 + 2e4 * np.sin(2 * np.pi * 7.5 * t), 2e3 * rng.normal(size=n),
+        2e3 * rng.normal(size=n), 2e4 * np.sin(2 * np.pi * 2.5 * t) + 500 * rng.normal(size=n),
+        2e4 * np.cos(2 * np.pi * 2.5 * t), 1.5e4 + 3e3 * rng.normal(size=n)])
+    return L
+
+
 def test_conjugate_groups_batches_and_blocks_equal_per_plane_loop() -> None:
     """The 10-degree grid (conjugate planes share one count), histories longer
     than one block (K.BLOCK = 2048 samples) and than one cycle batch per group (256), and
@@ -76,13 +89,7 @@ def test_conjugate_groups_batches_and_blocks_equal_per_plane_loop() -> None:
     only the summation order differs (batch sums are reassociated)."""
     from drillfatigue.fatigue.sn import user_curve
 
-    rng = np.random.default_rng(5)
-    n = 9000
-    t = np.arange(n) * 1e-3
-    L = np.column_stack([
-        1e5 + 2e4 * np.sin(2 * np.pi * 7.5 * t), 2e3 * rng.normal(size=n),
-        2e3 * rng.normal(size=n), 2e4 * np.sin(2 * np.pi * 2.5 * t) + 500 * rng.normal(size=n),
-        2e4 * np.cos(2 * np.pi * 2.5 * t), 1.5e4 + 3e3 * rng.normal(size=n)])
+    L = _noisy_loads(5, 9000)
     cs, ct, _ = surface_coefficients(Section(0.127, 0.1086), SCF(1, 2, 1.5), 36)
     planes = plane_grid(10.0)
     prm = CriterionParams()
@@ -103,16 +110,8 @@ def test_fine_grid_beyond_the_group_mask_equals_per_plane_loop() -> None:
     """A 1-degree grid has 90 shear groups, more than fit the kernel's group bit
     mask (K.MASK_GROUPS): the reversals are then sorted by walking the
     boundaries. Same reference and tolerance as above (1e-10 relative)."""
-    rng = np.random.default_rng(8)
-    n = 5000
-    t = np.arange(n) * 1e-3
-    L = np.column_stack([
-        1e5 + 2e4 * np.sin(2 * np.pi * 7.5 * t), 2e3 * rng.normal(size=n),
-        2e3 * rng.normal(size=n), 2e4 * np.sin(2 * np.pi * 2.5 * t) + 500 * rng.normal(size=n),
-        2e4 * np.cos(2 * np.pi * 2.5 * t), 1.5e4 + 3e3 * rng.normal(size=n)])
+    L = _noisy_loads(8, 5000)
     cs, ct, _ = surface_coefficients(Section(0.127, 0.1086), SCF(1, 2, 1.5), 36)
-    from drillfatigue.fatigue.critical_plane import shear_groups
-
     planes = plane_grid(1.0)
     assert shear_groups(planes.c).c.shape[0] > K.MASK_GROUPS
     curve, prm = get_curve("D"), CriterionParams()
@@ -133,8 +132,6 @@ def test_loads_channels_is_the_exact_transpose() -> None:
 
 
 def test_shear_groups_pair_conjugate_planes() -> None:
-    from drillfatigue.fatigue.critical_plane import shear_groups
-
     planes = plane_grid(10.0, True, 2)
     g = shear_groups(planes.c)
     n_a = 18

@@ -639,7 +639,6 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
                 for i in range(nb):
                     secb[i] += 1 if paf[i] > bp else 0
                 ib += 1
-            cur0 = cur
             nch = 0
             if use_mask:
                 # on masks (smask[n_b] = smask[0]: no folding; masks of two
@@ -655,6 +654,7 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
                     cur = 0 if pab[i] >= 0.0 else cur
                     cmask = sm
             else:
+                cur0 = cur  # the sector before the block (for its first change)
                 for i in range(nb):
                     s = secb[i]
                     s = 0 if s >= n_b else s
