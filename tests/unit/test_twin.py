@@ -12,7 +12,7 @@ from drillfatigue.cli import main
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
-from drillfatigue.surrogate.twin import replay_log
+from drillfatigue.surrogate.twin import _ConditionCache, replay_log
 
 TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
                        n_threads=1)
@@ -62,6 +62,29 @@ def test_constant_conditions_give_rate_times_T(model: Surrogate) -> None:
     np.testing.assert_allclose(res["damage_upper"], p["damage_rate_per_h_upper"] * T_h, rtol=1e-5)
     np.testing.assert_allclose(res["time_in_hole_s"], 7.3 * 3600, rtol=1e-12)
     np.testing.assert_allclose(res["ood_time_s"], np.where(p["ood"], 7.3 * 3600, 0.0))
+
+
+def test_same_conditions_same_rate_wherever_they_fall_in_a_batch(model: Surrogate) -> None:
+    # condition A at the start, again after 3000 steps of varying conditions
+    # (several surrogate batches later): the rate charged for A must be the
+    # same bits, so the damage of A's two stretches is exactly 2 x one of them
+    n = 3000
+    rpm = np.concatenate([[130.0], np.linspace(60, 180, n), [130.0], [130.0]])
+    t = np.arange(rpm.size, dtype=float) * 3600.0
+    log = pd.DataFrame({"time_s": t, "bit_md_m": 1500.0, "rpm": rpm, "wob_kN": 90.0,
+                        "rop_m_per_h": 15.0})
+    comps = _components()
+    one = replay_log(log.iloc[[0, 1]], comps, model, CONSTANTS).components
+    both = replay_log(log, comps, model, CONSTANTS).components
+    assert np.array_equal(both["last_damage_rate_per_h"].to_numpy(),
+                          one["last_damage_rate_per_h"].to_numpy())
+    # and in one batch: many distinct rows around duplicates of one row
+    rng = np.random.default_rng(1)
+    x = rng.uniform(0.0, 1.0, (5000, len(model.features)))
+    x[::7] = x[3]
+    c = np.zeros((5000, len(model.categorical)), dtype=np.int64)
+    r = _ConditionCache(model).predict(x, c)
+    assert np.unique(r["log10"][::7]).size == 1
 
 
 def test_components_above_surface_accumulate_nothing(model: Surrogate) -> None:

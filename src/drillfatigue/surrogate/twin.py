@@ -266,6 +266,54 @@ def wob_from_hook_load(log: pd.DataFrame, constants: Mapping[str, Any] | None
     return out, consts
 
 
+class _ConditionCache:
+    """Surrogate answers per distinct operating condition, shared over a replay.
+
+    The float32 network's round-off depends on where a row falls in a batch
+    (BLAS blocking, thread shares), so the same conditions asked twice could
+    get rates a few 1e-7 apart. Each distinct feature row is therefore
+    predicted once, the first time it occurs, and every later occurrence (in
+    this or a later chunk) gets that same answer: constant conditions over T
+    hours give exactly ``rate * T``. Rows are keyed by their exact bit
+    patterns (float64 features, int64 category codes).
+    """
+
+    _KEYS = ("log10", "lower", "upper", "ood")
+
+    def __init__(self, model: Surrogate) -> None:
+        self.model = model
+        self.known: dict[bytes, int] = {}
+        self.values: dict[str, list[Any]] = {k: [] for k in self._KEYS}
+
+    def predict(self, x_num: np.ndarray, x_cat: np.ndarray) -> dict[str, np.ndarray]:
+        """``log10``, ``lower``, ``upper`` and ``ood`` per row of ``x_num``/``x_cat``."""
+        n = x_num.shape[0]
+        if n == 0:
+            return {k: np.zeros(0, dtype=bool if k == "ood" else np.float64)
+                    for k in self._KEYS}
+        rows = np.hstack([np.ascontiguousarray(x_num, dtype=np.float64).view(np.uint64),
+                          np.ascontiguousarray(x_cat, dtype=np.int64).view(np.uint64)])
+        uniq, first, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
+        slot = np.empty(uniq.shape[0], dtype=np.int64)
+        new = []
+        for u in range(uniq.shape[0]):
+            key = uniq[u].tobytes()
+            s = self.known.get(key)
+            if s is None:
+                s = len(self.known)
+                self.known[key] = s
+                new.append(u)
+            slot[u] = s
+        if new:
+            rows_new = first[np.asarray(new)]
+            r = self.model.predict_array(x_num[rows_new], x_cat[rows_new])
+            for k in self._KEYS:
+                self.values[k].extend(r[k].tolist())
+        pos = slot[np.asarray(inverse).reshape(-1)]
+        return {k: np.asarray(self.values[k], dtype=bool if k == "ood" else np.float64)[pos]
+                for k in self._KEYS}
+
+
 def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
                constants: Mapping[str, Any] | None = None,
                survey: pd.DataFrame | None = None) -> ReplayResult:
@@ -348,6 +396,7 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         fr = {"log": log_si, "components": comp_si, "constants": const_si}[sources[col]]
         cat_codes[col] = pre.codes_for(col, fr[col].to_numpy())
     steps_per_chunk = max(1, _STEP_CHUNK // max(n_c, 1))
+    cache = _ConditionCache(model)
     for a in range(0, n_t - 1, steps_per_chunk):
         b = min(a + steps_per_chunk, n_t - 1)
         idx_t = np.repeat(np.arange(a, b), n_c)
@@ -375,7 +424,7 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
             codes = cat_codes[col]
             x_cat[:, j] = (codes[idx_t] if src == "log" else codes[idx_c] if src == "components"
                            else codes[0])
-        r = model.predict_array(x_num[in_hole], x_cat[in_hole])
+        r = cache.predict(x_num[in_hole], x_cat[in_hole])
         rate = np.zeros(idx_t.size)
         lo = np.zeros(idx_t.size)
         hi = np.zeros(idx_t.size)
