@@ -1,0 +1,178 @@
+"""Writing files safely: atomic writes and output folders this package owns.
+
+Two rules hold for every writer in the package:
+
+* **Incomplete results never sit under a final name.** A file is written
+  under a hidden temporary name in the same folder and renamed onto its
+  final name only when complete (:func:`atomic_output` and the helpers built
+  on it); a crash leaves the old file or none, never half of one.
+* **A writer owns only what it wrote.** A folder that a command writes into
+  carries a marker file, ``.drillfatigue.json``, naming the kind of output
+  (``run``, ``fatigue``, ``model``, ``export``, ...) and listing the files
+  this package wrote there (:class:`OutputFolder`). A writer accepts a new
+  folder, an empty one, or one with a marker of its own kind; anything else
+  is refused with a one-line :class:`~drillfatigue.errors.InputError`
+  before any work is done. On a rewrite it replaces or removes only the
+  files listed in the marker; a user's file beside them is never touched.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import tempfile
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+from typing import Any
+
+from drillfatigue.errors import InputError
+
+MARKER = ".drillfatigue.json"
+
+
+@contextlib.contextmanager
+def atomic_output(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; move it onto ``path`` on success.
+
+    The temporary file keeps ``path``'s suffix (matplotlib and pandas pick the
+    format from it) and gets the usual ``0o666 & ~umask`` permissions. On an
+    exception it is removed and ``path`` is left untouched.
+    """
+    p = Path(path)
+    folder = p.parent if str(p.parent) else Path(".")
+    folder.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=f".tmp{p.suffix}", dir=folder)
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, p)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def atomic_write_bytes(path: str | Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; returns ``Path(path)``."""
+    with atomic_output(path) as tmp:
+        tmp.write_bytes(data)
+    return Path(path)
+
+
+def atomic_write_text(path: str | Path, text: str) -> Path:
+    """Write UTF-8 ``text`` to ``path`` atomically; returns ``Path(path)``."""
+    return atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def atomic_write_json(path: str | Path, data: Any) -> Path:
+    """Write ``data`` as indented JSON (trailing newline) atomically."""
+    return atomic_write_text(path, json.dumps(data, indent=2) + "\n")
+
+
+class OutputFolder:
+    """A folder this package writes into, with its ownership marker.
+
+    Parameters
+    ----------
+    path : path-like
+        The folder. Created if missing.
+    kind : str
+        What the folder holds (``"run"``, ``"fatigue"``, ``"model"``, ...).
+    option : str
+        The name the user gave the folder by (``"--out"``), used in errors.
+
+    Raises
+    ------
+    InputError
+        ``path`` is a file, or a non-empty folder without a marker of ``kind``.
+    """
+
+    def __init__(self, path: str | Path, kind: str, option: str = "--out") -> None:
+        self.path = Path(path)
+        self.kind = kind
+        self.option = option
+        self.owned: set[str] = set()
+        allowed = f"a new or empty folder, or one written by drillfatigue as a {kind} folder"
+        if self.path.exists() and not self.path.is_dir():
+            raise InputError(option, f"{self.path} is a file, not a folder", allowed)
+        if self.path.is_dir():
+            marker = self.path / MARKER
+            if marker.is_file():
+                try:
+                    info = json.loads(marker.read_text(encoding="utf-8"))
+                    found_kind = info["kind"]
+                    self.owned = {str(f) for f in info.get("files", [])}
+                except (ValueError, KeyError, TypeError, UnicodeDecodeError) as exc:
+                    raise InputError(option, f"{marker} is not a valid drillfatigue marker",
+                                     allowed) from exc
+                if found_kind != kind:
+                    raise InputError(option, f"{self.path} holds a drillfatigue {found_kind} "
+                                     f"output, not a {kind} output", allowed)
+            elif any(self.path.iterdir()):
+                raise InputError(option, f"{self.path} holds files drillfatigue did not write",
+                                 allowed)
+        self.path.mkdir(parents=True, exist_ok=True)
+        self._save()
+
+    @staticmethod
+    def check(path: str | Path, kind: str, option: str = "--out") -> None:
+        """Raise :class:`InputError` if ``path`` could not be claimed; write nothing."""
+        p = Path(path)
+        allowed = f"a new or empty folder, or one written by drillfatigue as a {kind} folder"
+        if p.exists() and not p.is_dir():
+            raise InputError(option, f"{p} is a file, not a folder", allowed)
+        if not p.is_dir():
+            return
+        marker = p / MARKER
+        if marker.is_file():
+            try:
+                found_kind = json.loads(marker.read_text(encoding="utf-8"))["kind"]
+            except (ValueError, KeyError, TypeError, UnicodeDecodeError) as exc:
+                raise InputError(option, f"{marker} is not a valid drillfatigue marker",
+                                 allowed) from exc
+            if found_kind != kind:
+                raise InputError(option, f"{p} holds a drillfatigue {found_kind} output, "
+                                 f"not a {kind} output", allowed)
+        elif any(p.iterdir()):
+            raise InputError(option, f"{p} holds files drillfatigue did not write", allowed)
+
+    def _save(self) -> None:
+        atomic_write_json(self.path / MARKER, {"kind": self.kind,
+                                               "files": sorted(self.owned)})
+
+    def owns(self, name: str) -> bool:
+        """Whether ``name`` (relative to the folder) was written by this package."""
+        return name in self.owned
+
+    def file(self, name: str) -> Path:
+        """Path of ``name`` in the folder, recorded as owned (write it atomically).
+
+        Raises :class:`InputError` if a file of that name exists that this
+        package did not write.
+        """
+        p = self.path / name
+        if (p.exists() or p.is_symlink()) and name not in self.owned:
+            raise InputError(self.option, f"{p} exists and was not written by drillfatigue",
+                             "a folder without foreign files of the names this command writes")
+        if name not in self.owned:
+            self.owned.add(name)
+            self._save()
+        return p
+
+    def remove(self, names: Iterable[str]) -> None:
+        """Delete the listed files if this package wrote them; others are kept."""
+        changed = False
+        for name in names:
+            if name in self.owned:
+                (self.path / name).unlink(missing_ok=True)
+                self.owned.discard(name)
+                changed = True
+        if changed:
+            self._save()
+
+    def remove_all_owned(self) -> None:
+        """Delete every file this package wrote here (the marker stays)."""
+        self.remove(sorted(self.owned))
