@@ -28,3 +28,20 @@ DEG_PER_100FT_DEG_PER_30M = 30.0 / (100.0 * FT_M)  # (deg/30 m) per (deg/100 ft)
 # --- added for fatigue (S-N curves are tabulated in MPa, API RP7G in psi) ---
 MPA_PA = 1e6  # Pa per megapascal
 KSI_PA = 1000.0 * PSI_PA  # Pa per ksi
+
+# --- field data: rig logs, tallies, surveys (drillfatigue.io) ---
+MINUTE_S = 60.0  # s per minute
+MS_S = 1e-3  # s per millisecond
+LBF_FT_NM = LBF_N * FT_M  # N m per ft lbf
+KFT_LBF_NM = 1000.0 * LBF_FT_NM  # N m per kft lbf
+KNM_NM = 1000.0  # N m per kN m
+KPA_PA = 1000.0  # Pa per kPa
+BAR_PA = 1e5  # Pa per bar (exact)
+US_GPM_M3_PER_S = US_GAL_M3 / MINUTE_S  # (m^3/s) per US gal/min
+L_PER_MIN_M3_PER_S = 1e-3 / MINUTE_S  # (m^3/s) per litre/min
+BBL_M3 = 42.0 * US_GAL_M3  # m^3 per oil barrel (42 US gal, exact)
+BBL_PER_MIN_M3_PER_S = BBL_M3 / MINUTE_S  # (m^3/s) per bbl/min
+FT_PER_MIN_M_PER_S = FT_M / MINUTE_S  # (m/s) per ft/min
+KDAN_N = 1e4  # N per kilodecanewton
+TONNE_FORCE_N = 1000.0 * 9.80665  # N per metric tonne-force (standard gravity, exact)
+US_SURVEY_FT_M = 1200.0 / 3937.0  # m per US survey foot (exact by definition)

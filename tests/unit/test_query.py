@@ -14,7 +14,7 @@ from drillfatigue.cli import main
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
-from drillfatigue.surrogate.query import Vocabulary
+from drillfatigue.io.names import Vocabulary
 
 TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
                        n_threads=1)

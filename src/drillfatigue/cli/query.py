@@ -15,7 +15,7 @@ features (:mod:`drillfatigue.well.features`) are computed from that well's
 survey at ``md_m`` and at the bit (``md_m + s_from_bit_m``) instead of being
 given as flags or CSV columns.
 
-Feature names and units: :mod:`drillfatigue.surrogate.query`.
+Feature names and units: :mod:`drillfatigue.io.names`.
 """
 
 from __future__ import annotations
@@ -121,7 +121,7 @@ def query(ctx: typer.Context,
     import pandas as pd
 
     from drillfatigue.surrogate.io import write_csv
-    from drillfatigue.surrogate.query import Vocabulary
+    from drillfatigue.io.names import Vocabulary
 
     flags = parse_feature_flags(list(ctx.args))
     if csv is not None and flags:

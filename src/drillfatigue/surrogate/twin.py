@@ -16,7 +16,7 @@ component spends at out-of-domain conditions is summed as well.
 
 Log columns: ``time_s`` (seconds) or ``time`` (date-time text or seconds),
 ``bit_md_m`` (or ``bit_md_ft``), and any model feature in user units
-(:mod:`drillfatigue.surrogate.query`), typically ``rpm``, ``wob_kN``,
+(:mod:`drillfatigue.io.names`), typically ``rpm``, ``wob_kN``,
 ``rop_m_per_h``; instead of WOB a hook-load channel (``hook_load_kN``, ...)
 with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns: ``serial``, ``s_from_bit_m`` and the
 per-component features (``component_type``, ``location``). Features given by
@@ -41,7 +41,7 @@ import pandas as pd
 from drillfatigue import units
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate.facade import Surrogate
-from drillfatigue.surrogate.query import Vocabulary
+from drillfatigue.io.names import Vocabulary, channel_stem, force_column
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
 
 MD_COLUMN = "md_m"
@@ -193,32 +193,8 @@ SURFACE_CHANNELS: frozenset[str] = frozenset({
     "hole_md"})
 
 
-def _channel_stem(name: str) -> str:
-    """``wob_kN`` -> ``wob``: a log column name without its unit suffix."""
-    from drillfatigue.surrogate.query import UNIT_FAMILIES
-
-    suffixes = {suf for fam in UNIT_FAMILIES.values() for suf in fam}
-    suffixes |= {"_Nm", "_kNm", "_kft_lbf", "_Pa", "_kPa", "_MPa", "_psi", "_bar", "_bbl_per_min",
-                 "_gpm", "_l_per_min", "_m3_per_s", "_m3_per_min"}
-    for suf in sorted(suffixes, key=len, reverse=True):
-        if name.endswith(suf) and len(name) > len(suf):
-            return name[: -len(suf)]
-    return name
-
-
 HOOK_LOAD_STEM = "hook_load"
 OFF_BOTTOM_STEM = "off_bottom_hook_load"
-
-
-def _force_column(names: Any, stem: str) -> tuple[str, float] | None:
-    """(name, factor to N) of the first ``<stem>_N|_kN|_klbf`` name in ``names``."""
-    from drillfatigue.surrogate.query import UNIT_FAMILIES
-
-    for name in names:
-        for suf, fac in UNIT_FAMILIES["_N"].items():
-            if str(name) == stem + suf:
-                return str(name), fac
-    return None
 
 
 def wob_from_hook_load(log: pd.DataFrame, constants: Mapping[str, Any] | None
@@ -228,21 +204,24 @@ def wob_from_hook_load(log: pd.DataFrame, constants: Mapping[str, Any] | None
     WOB = off-bottom (free-rotating) hook load - on-bottom hook load, the
     driller's definition; the off-bottom value comes from the constants
     (``off_bottom_hook_load_kN`` etc.) or from a log column of that name.
-    A log that already has a WOB channel, or no hook-load channel, is
-    returned unchanged. Returns the log (with ``wob_N`` instead of the hook
+    A log that already has a WOB channel (field logs carry both), or no
+    hook-load channel, is returned unchanged. Returns the log (with ``wob_N`` instead of the hook
     load) and the constants without the off-bottom entry.
     """
     consts = dict(constants or {})
-    hl = _force_column(log.columns, HOOK_LOAD_STEM)
-    ob_c = _force_column(consts, OFF_BOTTOM_STEM)
-    ob_l = _force_column(log.columns, OFF_BOTTOM_STEM)
+    hl = force_column(log.columns, HOOK_LOAD_STEM)
+    ob_c = force_column(consts, OFF_BOTTOM_STEM)
+    ob_l = force_column(log.columns, OFF_BOTTOM_STEM)
     has_wob = any(str(c).startswith("wob_") or str(c) == "operation.wob_N" for c in log.columns)
     if hl is None:
         if ob_c is not None:
             consts.pop(ob_c[0])
         return log, consts
     if has_wob:
-        raise InputError(hl[0], "given together with a WOB channel", "either WOB or hook load")
+        # a measured WOB channel wins; the hook load stays a surface channel (reported)
+        if ob_c is not None:
+            consts.pop(ob_c[0])
+        return log, consts
     if ob_c is None and ob_l is None:
         raise InputError(OFF_BOTTOM_STEM + "_kN", "needed to turn hook load into WOB",
                          "--set off_bottom_hook_load_kN=VALUE (free-rotating hook load)")
@@ -345,7 +324,7 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     skip = {"time_s", "time", "bit_md_m", "bit_md_ft"}
     ignored = tuple(str(c) for c in log.columns
                     if c not in skip and str(c) not in vocab.terms
-                    and _channel_stem(str(c)) in SURFACE_CHANNELS)
+                    and channel_stem(str(c)) in SURFACE_CHANNELS)
     skip |= set(ignored)
     log_si = vocab.frame_from_table(log[[c for c in log.columns if c not in skip]], require=())
     comp_si = vocab.frame_from_table(comps.drop(columns=["serial"]), require=(),

@@ -1,4 +1,6 @@
-"""User-facing query vocabulary: names with units, converted to the model's SI columns.
+"""Names with units: the one parser of unit suffixes (``_ft``, ``_klbf``, ``_ppg``, ...).
+
+User-facing query vocabulary: names with units, converted to the model's SI columns.
 
 Every numeric model column gets user names from its last dotted part: the SI
 unit suffix of the column (``_N``, ``_m_per_s``, ``_m``, ``_kg_per_m3``,
@@ -10,12 +12,16 @@ name. If two columns would share a short name, the full column name with dots
 turned into underscores is used instead. The full SI column name itself is
 always accepted. CLI flags are the same names with ``-`` for ``_``
 (``--wob-kN``). Unit factors come from :mod:`drillfatigue.units` only.
+
+Log channels (:func:`channel_stem`, :func:`force_column`) use the same
+suffixes plus those of quantities no model column has (torque, pressure,
+flow rate, :data:`CHANNEL_FAMILIES`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -162,3 +168,122 @@ class Vocabulary:
             raise InputError(", ".join(missing), "missing", "give each, e.g. "
                              + " or ".join(self.names_for(first)[:3]))
         return pd.DataFrame(out, index=table.index)
+
+
+#: Unit families of surface channels that no model column has (SI suffix first).
+CHANNEL_FAMILIES: dict[str, dict[str, float]] = {
+    "_Nm": {"_Nm": 1.0, "_kNm": units.KNM_NM, "_kft_lbf": units.KFT_LBF_NM,
+            "_ft_lbf": units.LBF_FT_NM},
+    "_Pa": {"_Pa": 1.0, "_kPa": units.KPA_PA, "_MPa": units.MPA_PA, "_psi": units.PSI_PA,
+            "_bar": units.BAR_PA},
+    "_m3_per_s": {"_m3_per_s": 1.0, "_m3_per_min": 1.0 / units.MINUTE_S,
+                  "_l_per_min": units.L_PER_MIN_M3_PER_S, "_gpm": units.US_GPM_M3_PER_S,
+                  "_bbl_per_min": units.BBL_PER_MIN_M3_PER_S},
+}
+
+
+def channel_stem(name: str) -> str:
+    """``wob_kN`` -> ``wob``: a log column name without its unit suffix."""
+    suffixes = {suf for fams in (UNIT_FAMILIES, CHANNEL_FAMILIES)
+                for fam in fams.values() for suf in fam}
+    for suf in sorted(suffixes, key=len, reverse=True):
+        if name.endswith(suf) and len(name) > len(suf):
+            return name[: -len(suf)]
+    return name
+
+
+def force_column(names: Iterable[object], stem: str) -> tuple[str, float] | None:
+    """(name, factor to N) of the first ``<stem>_N|_kN|_klbf`` name in ``names``."""
+    for name in names:
+        for suf, fac in UNIT_FAMILIES["_N"].items():
+            if str(name) == stem + suf:
+                return str(name), fac
+    return None
+
+
+#: Unit spellings of file headers and WITSML/LAS unit fields, per quantity:
+#: normalised spelling (lower case, no blanks, ``°`` -> ``deg``) -> factor to SI.
+#: SI units of the quantities: length m, angle deg (the project's input angle
+#: unit), dogleg deg/30m, force N, torque N m, speed m/s, rotary speed rpm,
+#: pressure Pa, flow m^3/s, time s, density kg/m^3.
+UNIT_SPELLINGS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "meter": 1.0, "meters": 1.0, "metre": 1.0, "metres": 1.0,
+               "ft": units.FT_M, "feet": units.FT_M, "foot": units.FT_M, "ft(intl)": units.FT_M,
+               "usft": units.US_SURVEY_FT_M, "ftus": units.US_SURVEY_FT_M,
+               "ft[us]": units.US_SURVEY_FT_M, "in": units.INCH_M, "inch": units.INCH_M,
+               "mm": units.MM_M},
+    "angle": {"deg": 1.0, "dega": 1.0, "degree": 1.0, "degrees": 1.0, "rad": 180.0 / math.pi},
+    "dogleg": {"deg/30m": 1.0, "dega/30m": 1.0, "deg/100ft": units.DEG_PER_100FT_DEG_PER_30M,
+               "dega/100ft": units.DEG_PER_100FT_DEG_PER_30M,
+               "deg/100usft": 30.0 / (100.0 * units.US_SURVEY_FT_M),
+               "deg/10m": 3.0, "dega/10m": 3.0, "rad/m": 30.0 * 180.0 / math.pi},
+    "force": {"n": 1.0, "kn": units.KN_N, "klbf": units.KLBF_N, "kip": units.KLBF_N,
+              "lbf": units.LBF_N, "kdan": units.KDAN_N, "tf": units.TONNE_FORCE_N},
+    "torque": {"n.m": 1.0, "nm": 1.0, "kn.m": units.KNM_NM, "knm": units.KNM_NM,
+               "kft.lbf": units.KFT_LBF_NM, "kftlbf": units.KFT_LBF_NM,
+               "kft-lbf": units.KFT_LBF_NM, "kft.lb": units.KFT_LBF_NM,
+               "ft.lbf": units.LBF_FT_NM, "ftlbf": units.LBF_FT_NM, "ft-lbf": units.LBF_FT_NM,
+               "ft.lb": units.LBF_FT_NM, "lbf.ft": units.LBF_FT_NM},
+    "speed": {"m/s": 1.0, "m/h": units.M_PER_H_M_PER_S, "m/hr": units.M_PER_H_M_PER_S,
+              "ft/h": units.FT_PER_H_M_PER_S, "ft/hr": units.FT_PER_H_M_PER_S,
+              "ft/min": units.FT_PER_MIN_M_PER_S, "m/min": 1.0 / units.MINUTE_S},
+    "rotary_speed": {"rpm": 1.0, "1/min": 1.0, "c/min": 1.0, "rev/min": 1.0},
+    "pressure": {"pa": 1.0, "kpa": units.KPA_PA, "mpa": units.MPA_PA, "psi": units.PSI_PA,
+                 "bar": units.BAR_PA},
+    "flow": {"m3/s": 1.0, "m3/min": 1.0 / units.MINUTE_S, "l/min": units.L_PER_MIN_M3_PER_S,
+             "lpm": units.L_PER_MIN_M3_PER_S, "gpm": units.US_GPM_M3_PER_S,
+             "galus/min": units.US_GPM_M3_PER_S, "bbl/min": units.BBL_PER_MIN_M3_PER_S},
+    "time": {"s": 1.0, "sec": 1.0, "ms": units.MS_S, "min": units.MINUTE_S,
+             "h": units.HOUR_S, "hr": units.HOUR_S},
+    "density": {"kg/m3": 1.0, "sg": units.SG_KG_PER_M3, "g/cm3": units.SG_KG_PER_M3,
+                "ppg": units.PPG_KG_PER_M3, "lbm/galus": units.PPG_KG_PER_M3},
+}
+
+
+def normalise_unit(unit: str) -> str:
+    """``'°/100 ft'`` -> ``'deg/100ft'``: lower case, no blanks, degree sign spelled out."""
+    u = unit.strip().lower().replace("°", "deg").replace(" ", "").replace("·", ".")
+    u = u.replace("^", "").replace("³", "3").replace("hour", "h")
+    return u
+
+
+def unit_factor(quantity: str, unit: str, field: str) -> float:
+    """Factor to SI of ``unit`` for ``quantity``; InputError naming ``field`` otherwise."""
+    table = UNIT_SPELLINGS[quantity]
+    f = table.get(normalise_unit(unit))
+    if f is None:
+        shown = sorted({k for k in table if "(" not in k})
+        raise InputError(field, f"unit {unit!r} is not a {quantity.replace('_', ' ')} unit",
+                         ", ".join(shown))
+    return f
+
+
+def split_header(text: str) -> tuple[str, str | None]:
+    """A column header as (normalised name, unit or None).
+
+    ``'MD (ft)'``, ``'MD [ft]'``, ``'Measured Depth(usft)'`` give the unit in
+    brackets; ``'md_ft'`` a trailing unit suffix (``_m``, ``_ft``, ``_deg``,
+    ...). The name is lower case with runs of blanks, ``_`` and ``-`` turned
+    into one blank (``'Measured_Depth'`` -> ``'measured depth'``).
+    """
+    raw = text.strip().lstrip("\ufeff")
+    unit: str | None = None
+    for a, b in (("(", ")"), ("[", "]")):
+        if raw.endswith(b) and a in raw:
+            i = raw.rindex(a)
+            unit, raw = raw[i + 1:-1].strip(), raw[:i]
+            break
+    name = " ".join(raw.replace("_", " ").replace("-", " ").lower().split())
+    if unit is None:
+        for suffix in _HEADER_SUFFIXES:
+            if name.endswith(" " + suffix):
+                name, unit = name[: -len(suffix) - 1], _HEADER_SUFFIXES[suffix]
+                break
+    return name, (unit or None)
+
+
+#: Trailing words of snake_case headers that are units (``md_ft``, ``dls_deg_per_100ft``).
+_HEADER_SUFFIXES: dict[str, str] = {
+    "m": "m", "ft": "ft", "usft": "usft", "deg": "deg", "rad": "rad",
+    "deg per 30m": "deg/30m", "deg per 100ft": "deg/100ft", "s": "s", "h": "h",
+}
