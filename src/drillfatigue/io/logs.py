@@ -583,7 +583,7 @@ def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
         stem = channel_stem(key)
         suffix = key[len(stem):]
         hit = next((s for s, ch in CHANNELS.items() if _norm(stem) in ch.aliases), None)
-        if u is None and suffix and hit is not None:
+        if suffix and hit is not None and (units_row is None or not str(units_row[h]).strip()):
             fam = UNIT_FAMILIES.get(_FAMILY_OF.get(CHANNELS[hit].quantity, ""), {}) | \
                 CHANNEL_FAMILIES.get(_FAMILY_OF.get(CHANNELS[hit].quantity, ""), {})
             if suffix in fam:

@@ -285,5 +285,5 @@ def split_header(text: str) -> tuple[str, str | None]:
 #: Trailing words of snake_case headers that are units (``md_ft``, ``dls_deg_per_100ft``).
 _HEADER_SUFFIXES: dict[str, str] = {
     "m": "m", "ft": "ft", "usft": "usft", "deg": "deg", "rad": "rad",
-    "deg per 30m": "deg/30m", "deg per 100ft": "deg/100ft", "s": "s", "h": "h",
+    "deg per 30m": "deg/30m", "deg per 100ft": "deg/100ft",
 }

@@ -73,6 +73,8 @@ SURVEY_ALIASES: dict[str, tuple[str, ...]] = {
     "tvd": ("tvd", "true vertical depth"),
     "dls": ("dls", "dogleg", "dog leg", "dogleg severity", "dog leg severity"),
 }
+_ROLE_WORD = {"md": "measured depth", "inc": "inclination", "azi": "azimuth", "tvd": "TVD",
+              "dls": "dogleg"}
 _QUANTITY = {"md": "length", "tvd": "length", "inc": "angle", "azi": "angle", "dls": "dogleg"}
 
 
@@ -123,10 +125,12 @@ def _number(cell: str, where: str) -> float:
 
 
 def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
-              rows: list[str], ignored: tuple[str, ...]) -> SurveyImport:
+              rows: list[str], ignored: tuple[str, ...],
+              label_of: dict[str, str]) -> SurveyImport:
     """Check and convert raw text columns (role -> cells) into a :class:`SurveyImport`.
 
-    ``rows``: the location of each station for errors (``file:row``).
+    ``rows``: the location of each station for errors (``file:row``);
+    ``label_of``: the file's name of each role's column (for errors).
     """
     n = len(rows)
     if n < 2:
@@ -134,19 +138,21 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
     vals: dict[str, np.ndarray] = {}
     dec: dict[str, np.ndarray] = {}
     for role, col in cells.items():
-        vals[role] = np.array([_number(c, f"{rows[i]}:{role}") for i, c in enumerate(col)])
+        vals[role] = np.array([_number(c, f"{rows[i]}:{label_of[role]}")
+                               for i, c in enumerate(col)])
         dec[role] = np.array([_decimals(c) for c in col])
-        vals[role] = vals[role] * unit_factor(_QUANTITY[role], unit_of[role], f"{source}:{role}")
+        vals[role] = vals[role] * unit_factor(_QUANTITY[role], unit_of[role],
+                                              f"{source}:{label_of[role]}")
     md, inc, azi = vals["md"], vals["inc"], vals["azi"]
     for i in range(n):
         if not 0.0 <= inc[i] <= 180.0:
-            raise InputError(f"{rows[i]}:inc", f"inclination {inc[i]:g} deg out of range",
-                             "0 <= inclination <= 180 deg")
+            raise InputError(f"{rows[i]}:{label_of['inc']}", f"inclination {inc[i]:g} deg out "
+                             "of range", f"0 <= {label_of['inc']} <= 180 (deg)")
         if not 0.0 <= azi[i] <= 360.0:
-            raise InputError(f"{rows[i]}:azi", f"azimuth {azi[i]:g} deg out of range",
-                             "0 <= azimuth <= 360 deg")
+            raise InputError(f"{rows[i]}:{label_of['azi']}", f"azimuth {azi[i]:g} deg out of "
+                             "range", f"0 <= {label_of['azi']} <= 360 (deg)")
         if i and md[i] <= md[i - 1]:
-            raise InputError(f"{rows[i]}:md", f"MD {md[i]:g} m not greater than the previous "
+            raise InputError(f"{rows[i]}:{label_of['md']}", f"MD {md[i]:g} m not greater than the previous "
                              f"{md[i - 1]:g} m", "strictly increasing measured depth")
     azi = np.where(azi >= 360.0, azi - 360.0, azi)
     tvd0 = float(vals["tvd"][0]) if "tvd" in vals else 0.0
@@ -155,13 +161,13 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
     # decimals of a row's angles and of the one before (both ends of the interval)
     d_ang_pair = np.minimum(d_ang[1:], d_ang[:-1])
     md_step_f = 10.0 ** -np.minimum(dec["md"][1:], dec["md"][:-1])
-    md_unit = unit_factor("length", unit_of["md"], f"{source}:md")
+    md_unit = unit_factor("length", unit_of["md"], f"{source}:{label_of['md']}")
     dmd = np.diff(md)
     dls_diff = float("nan")
     if "dls" in vals:
         given = vals["dls"]
         calc = sv.dls_deg_per_30m
-        fac = unit_factor("dogleg", unit_of["dls"], f"{source}:dls")
+        fac = unit_factor("dogleg", unit_of["dls"], f"{source}:{label_of['dls']}")
         # in deg/30 m: the cell's rounding, the dogleg angle's (<= 2 10^-d_ang deg)
         # over the interval, the course length's
         tol = (0.5 * 10.0 ** -dec["dls"][1:] * fac
@@ -172,7 +178,7 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
         bad = np.flatnonzero(diff > tol)
         if bad.size:
             i = int(bad[0]) + 1
-            raise InputError(f"{rows[i]}:dls", f"dogleg {given[i] / fac:.4g} {unit_of['dls']} "
+            raise InputError(f"{rows[i]}:{label_of['dls']}", f"dogleg {given[i] / fac:.4g} {unit_of['dls']} "
                              f"differs from the minimum-curvature {calc[i] / fac:.4g} "
                              f"{unit_of['dls']} (tolerance {tol[i - 1] / fac:.2g}); check the "
                              "depth and dogleg units", "a dogleg consistent with MD, inc, azi")
@@ -180,7 +186,7 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
     if "tvd" in vals:
         given = vals["tvd"]
         calc = sv.pos_m[:, 2]
-        tvd_unit = unit_factor("length", unit_of["tvd"], f"{source}:tvd")
+        tvd_unit = unit_factor("length", unit_of["tvd"], f"{source}:{label_of['tvd']}")
         acc = np.concatenate([[0.0], np.cumsum(dmd * math.radians(1.0) * 10.0 ** -d_ang_pair
                                                + md_step_f * md_unit)])
         tol = 0.5 * (10.0 ** -dec["tvd"] + 10.0 ** -dec["tvd"][0]) * tvd_unit + acc + 1e-9
@@ -189,7 +195,7 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
         bad = np.flatnonzero(diff > tol)
         if bad.size:
             i = int(bad[0])
-            raise InputError(f"{rows[i]}:tvd", f"TVD {given[i] / tvd_unit:.6g} {unit_of['tvd']} "
+            raise InputError(f"{rows[i]}:{label_of['tvd']}", f"TVD {given[i] / tvd_unit:.6g} {unit_of['tvd']} "
                              f"differs from the minimum-curvature {calc[i] / tvd_unit:.6g} "
                              f"{unit_of['tvd']} (tolerance {tol[i] / tvd_unit:.2g}); check the "
                              "depth units", "a TVD consistent with MD, inc, azi")
@@ -256,8 +262,9 @@ def _load_csv(p: Path, depth_unit: str | None) -> SurveyImport:
         unit_of[role] = unit
     for role in ("md", "inc", "azi"):
         if role not in col_of:
-            raise InputError(f"{p}:1", f"no {role} column", "columns MD, Inc, Azi (any common "
-                             "spelling, units in the header)")
+            raise InputError(f"{p}:1", f"no {_ROLE_WORD[role]} column",
+                             "columns md_m, inc_deg, azi_deg, or field headers such as "
+                             "MD (ft), Incl, Azim")
     cells: dict[str, list[str]] = {r: [] for r in col_of}
     where = []
     for r, row in enumerate(rows[first_data:], start=first_data + 1):
@@ -269,7 +276,8 @@ def _load_csv(p: Path, depth_unit: str | None) -> SurveyImport:
         for role, j in col_of.items():
             cells[role].append(row[j].strip())
         where.append(f"{p}:{r}")
-    return _assemble(str(p), cells, unit_of, where, tuple(ignored))
+    label_of = {role: header[j].strip() for role, j in col_of.items()}
+    return _assemble(str(p), cells, unit_of, where, tuple(ignored), label_of)
 
 
 def _local(tag: str) -> str:
@@ -333,7 +341,7 @@ def _load_witsml(p: Path) -> SurveyImport:
                              f"{tags[role]} in every station or in none")
     if not where:
         raise InputError(str(p), "no trajectoryStation", "at least 2 stations")
-    return _assemble(str(p), cells, unit_of, where, ())
+    return _assemble(str(p), cells, unit_of, where, (), {r: tags[r] for r in tags})
 
 
 def load_survey(path: str | Path, depth_unit: str | None = None) -> SurveyImport:

@@ -440,8 +440,15 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
                         ignored_channels=ignored)
 
 
-def plot_damage_along_string(result: ReplayResult, path: str) -> None:
-    """Accumulated damage (with interval) versus distance from the bit, log scale, PNG."""
+def plot_damage_along_string(result: ReplayResult, path: str, display: Any = None) -> None:
+    """Accumulated damage (with interval) versus distance from the bit, log scale, PNG.
+
+    ``display``: a :class:`drillfatigue.io.display.Display` for the distance
+    axis (default SI, m).
+    """
+    from drillfatigue.io.display import Display
+
+    display = display if display is not None else Display("si")
     import matplotlib
 
     matplotlib.use("Agg")
@@ -449,7 +456,7 @@ def plot_damage_along_string(result: ReplayResult, path: str) -> None:
 
     c = result.components.sort_values(S_COLUMN)
     fig, ax = plt.subplots(figsize=(7, 4))
-    s = c[S_COLUMN].to_numpy()
+    s = display.value("length", c[S_COLUMN].to_numpy())
     d = c["damage"].to_numpy()
     lo = c["damage_lower"].to_numpy()
     hi = c["damage_upper"].to_numpy()
@@ -460,7 +467,7 @@ def plot_damage_along_string(result: ReplayResult, path: str) -> None:
         m = (c["ood_time_s"].to_numpy() > 0) & pos
         ax.plot(s[m], d[m], "rx", ms=8, label="some time out of domain")
     ax.set_yscale("log")
-    ax.set_xlabel("distance from bit (m)")
+    ax.set_xlabel(f"distance from bit ({display.unit('length')})")
     ax.set_ylabel("Miner damage (-)")
     ax.set_title(f"Accumulated damage over {result.duration_s / units.HOUR_S:.3g} h")
     ax.grid(True, which="both", alpha=0.3)
