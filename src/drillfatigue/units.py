@@ -6,6 +6,8 @@ e.g. ``od_m = od_in * INCH_M``. Exact factors from NIST SP 811 (2008), App. B.
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 INCH_M = 0.0254  # m per inch (exact)
 FT_M = 0.3048  # m per foot (exact)
 LBF_N = 4.4482216152605  # N per pound-force
@@ -45,3 +47,31 @@ FT_PER_MIN_M_PER_S = FT_M / MINUTE_S  # (m/s) per ft/min
 KDAN_N = 1e4  # N per kilodecanewton
 TONNE_FORCE_N = 1000.0 * 9.80665  # N per metric tonne-force (standard gravity, exact)
 US_SURVEY_FT_M = 1200.0 / 3937.0  # m per US survey foot (exact by definition)
+M_PER_MIN_M_PER_S = 1.0 / MINUTE_S  # (m/s) per m/min
+M3_PER_MIN_M3_PER_S = 1.0 / MINUTE_S  # (m^3/s) per m^3/min
+DEG_PER_100USFT_DEG_PER_30M = 30.0 / (100.0 * US_SURVEY_FT_M)  # (deg/30 m) per (deg/100 US ft)
+DEG_PER_10M_DEG_PER_30M = 3.0  # (deg/30 m) per (deg/10 m)
+
+# The factors above as exact fractions (each float above is its fraction to
+# within one unit in the last place), so that a value written in field units
+# with enough digits reads back to the same SI bits
+# (drillfatigue.io.names.si_from_text / field_text).
+_F = Fraction
+_IN, _FT, _LBF, _LB = _F("0.0254"), _F("0.3048"), _F("4.4482216152605"), _F("0.45359237")
+_GAL = 231 * _IN**3
+_USFT = _F(1200, 3937)
+EXACT: dict[str, Fraction] = {
+    "INCH_M": _IN, "FT_M": _FT, "LBF_N": _LBF, "PSI_PA": _LBF / _IN**2,
+    "LB_PER_FT_KG_PER_M": _LB / _FT, "LB_KG": _LB, "KN_N": _F(1000), "KLBF_N": 1000 * _LBF,
+    "MM_M": _F(1, 1000), "HOUR_S": _F(3600), "M_PER_H_M_PER_S": _F(1, 3600),
+    "FT_PER_H_M_PER_S": _FT / 3600, "SG_KG_PER_M3": _F(1000), "US_GAL_M3": _GAL,
+    "PPG_KG_PER_M3": _LB / _GAL, "DEG_PER_100FT_DEG_PER_30M": 30 / (100 * _FT),
+    "MPA_PA": _F(10**6), "KSI_PA": 1000 * _LBF / _IN**2, "MINUTE_S": _F(60),
+    "MS_S": _F(1, 1000), "LBF_FT_NM": _LBF * _FT, "KFT_LBF_NM": 1000 * _LBF * _FT,
+    "KNM_NM": _F(1000), "KPA_PA": _F(1000), "BAR_PA": _F(10**5),
+    "US_GPM_M3_PER_S": _GAL / 60, "L_PER_MIN_M3_PER_S": _F(1, 60000), "BBL_M3": 42 * _GAL,
+    "BBL_PER_MIN_M3_PER_S": 42 * _GAL / 60, "FT_PER_MIN_M_PER_S": _FT / 60,
+    "KDAN_N": _F(10**4), "TONNE_FORCE_N": _F("9806.65"), "US_SURVEY_FT_M": _USFT,
+    "M_PER_MIN_M_PER_S": _F(1, 60), "M3_PER_MIN_M3_PER_S": _F(1, 60),
+    "DEG_PER_100USFT_DEG_PER_30M": 30 / (100 * _USFT), "DEG_PER_10M_DEG_PER_30M": _F(3),
+}

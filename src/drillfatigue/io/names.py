@@ -23,6 +23,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from decimal import Decimal, localcontext
+from fractions import Fraction
 
 import numpy as np
 import pandas as pd
@@ -176,7 +178,7 @@ CHANNEL_FAMILIES: dict[str, dict[str, float]] = {
             "_ft_lbf": units.LBF_FT_NM},
     "_Pa": {"_Pa": 1.0, "_kPa": units.KPA_PA, "_MPa": units.MPA_PA, "_psi": units.PSI_PA,
             "_bar": units.BAR_PA},
-    "_m3_per_s": {"_m3_per_s": 1.0, "_m3_per_min": 1.0 / units.MINUTE_S,
+    "_m3_per_s": {"_m3_per_s": 1.0, "_m3_per_min": units.M3_PER_MIN_M3_PER_S,
                   "_l_per_min": units.L_PER_MIN_M3_PER_S, "_gpm": units.US_GPM_M3_PER_S,
                   "_bbl_per_min": units.BBL_PER_MIN_M3_PER_S},
 }
@@ -215,8 +217,9 @@ UNIT_SPELLINGS: dict[str, dict[str, float]] = {
     "angle": {"deg": 1.0, "dega": 1.0, "degree": 1.0, "degrees": 1.0, "rad": 180.0 / math.pi},
     "dogleg": {"deg/30m": 1.0, "dega/30m": 1.0, "deg/100ft": units.DEG_PER_100FT_DEG_PER_30M,
                "dega/100ft": units.DEG_PER_100FT_DEG_PER_30M,
-               "deg/100usft": 30.0 / (100.0 * units.US_SURVEY_FT_M),
-               "deg/10m": 3.0, "dega/10m": 3.0, "rad/m": 30.0 * 180.0 / math.pi},
+               "deg/100usft": units.DEG_PER_100USFT_DEG_PER_30M,
+               "deg/10m": units.DEG_PER_10M_DEG_PER_30M,
+               "dega/10m": units.DEG_PER_10M_DEG_PER_30M, "rad/m": 30.0 * 180.0 / math.pi},
     "force": {"n": 1.0, "kn": units.KN_N, "klbf": units.KLBF_N, "kip": units.KLBF_N,
               "lbf": units.LBF_N, "kdan": units.KDAN_N, "tf": units.TONNE_FORCE_N},
     "torque": {"n.m": 1.0, "nm": 1.0, "kn.m": units.KNM_NM, "knm": units.KNM_NM,
@@ -226,11 +229,11 @@ UNIT_SPELLINGS: dict[str, dict[str, float]] = {
                "ft.lb": units.LBF_FT_NM, "lbf.ft": units.LBF_FT_NM},
     "speed": {"m/s": 1.0, "m/h": units.M_PER_H_M_PER_S, "m/hr": units.M_PER_H_M_PER_S,
               "ft/h": units.FT_PER_H_M_PER_S, "ft/hr": units.FT_PER_H_M_PER_S,
-              "ft/min": units.FT_PER_MIN_M_PER_S, "m/min": 1.0 / units.MINUTE_S},
+              "ft/min": units.FT_PER_MIN_M_PER_S, "m/min": units.M_PER_MIN_M_PER_S},
     "rotary_speed": {"rpm": 1.0, "1/min": 1.0, "c/min": 1.0, "rev/min": 1.0},
     "pressure": {"pa": 1.0, "kpa": units.KPA_PA, "mpa": units.MPA_PA, "psi": units.PSI_PA,
                  "bar": units.BAR_PA},
-    "flow": {"m3/s": 1.0, "m3/min": 1.0 / units.MINUTE_S, "l/min": units.L_PER_MIN_M3_PER_S,
+    "flow": {"m3/s": 1.0, "m3/min": units.M3_PER_MIN_M3_PER_S, "l/min": units.L_PER_MIN_M3_PER_S,
              "lpm": units.L_PER_MIN_M3_PER_S, "gpm": units.US_GPM_M3_PER_S,
              "galus/min": units.US_GPM_M3_PER_S, "bbl/min": units.BBL_PER_MIN_M3_PER_S},
     "time": {"s": 1.0, "sec": 1.0, "ms": units.MS_S, "min": units.MINUTE_S,
@@ -287,3 +290,49 @@ _HEADER_SUFFIXES: dict[str, str] = {
     "m": "m", "ft": "ft", "usft": "usft", "deg": "deg", "rad": "rad",
     "deg per 30m": "deg/30m", "deg per 100ft": "deg/100ft",
 }
+
+
+#: Exact value of each factor of :data:`UNIT_SPELLINGS` that has one (all but radians).
+_EXACT_OF: dict[float, Fraction] = {1.0: Fraction(1)} | {
+    getattr(units, name): value for name, value in units.EXACT.items()}
+
+
+def exact_factor(quantity: str, unit: str, field: str) -> Fraction | None:
+    """The exact factor to SI of ``unit`` (None for units without one, e.g. ``rad``)."""
+    return _EXACT_OF.get(unit_factor(quantity, unit, field))
+
+
+def si_from_text(text: str, quantity: str, unit: str, field: str) -> float:
+    """SI value of a number written in ``unit``: the exact product, correctly rounded.
+
+    Raises InputError naming ``field`` for a non-numeric or non-finite cell.
+    """
+    t = text.strip()
+    try:
+        v = float(t)
+    except ValueError:
+        raise InputError(field, f"not a number: {text!r}", "a finite number") from None
+    if not math.isfinite(v):
+        raise InputError(field, f"{text!r} is not finite", "a finite number")
+    f = exact_factor(quantity, unit, field)
+    if f is None:
+        return v * unit_factor(quantity, unit, field)
+    return float(Fraction(t) * f)
+
+
+#: Significant digits of :func:`field_text`: the written value is within
+#: 5e-21 relative of the exact quotient, far below half an ulp (1.1e-16), so
+#: :func:`si_from_text` rounds it back to the same float.
+FIELD_TEXT_DIGITS = 21
+
+
+def field_text(value_si: float, quantity: str, unit: str, field: str = "value") -> str:
+    """``value_si`` written in ``unit`` so that :func:`si_from_text` returns it bit for bit."""
+    f = exact_factor(quantity, unit, field)
+    if f is None:
+        return repr(value_si / unit_factor(quantity, unit, field))
+    q = Fraction(value_si) / f
+    with localcontext() as ctx:
+        ctx.prec = FIELD_TEXT_DIGITS
+        d = Decimal(q.numerator) / Decimal(q.denominator)
+    return format(d.normalize(), "f") if d == d.to_integral_value() else str(d)

@@ -59,7 +59,7 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
-from drillfatigue.io.names import split_header, unit_factor
+from drillfatigue.io.names import si_from_text, split_header, unit_factor
 from drillfatigue.well.survey import Survey, minimum_curvature
 
 __all__ = ["SurveyImport", "load_survey", "read_survey", "survey_table", "twin_survey_table"]
@@ -114,16 +114,6 @@ def _decimals(cell: str) -> int:
     return len(c.split(".", 1)[1]) if "." in c else 0
 
 
-def _number(cell: str, where: str) -> float:
-    try:
-        v = float(cell)
-    except ValueError:
-        raise InputError(where, f"not a number: {cell!r}", "a finite number") from None
-    if not math.isfinite(v):
-        raise InputError(where, f"{cell!r} is not finite", "a finite number")
-    return v
-
-
 def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
               rows: list[str], ignored: tuple[str, ...],
               label_of: dict[str, str]) -> SurveyImport:
@@ -138,11 +128,13 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
     vals: dict[str, np.ndarray] = {}
     dec: dict[str, np.ndarray] = {}
     for role, col in cells.items():
-        vals[role] = np.array([_number(c, f"{rows[i]}:{label_of[role]}")
+        unit_factor(_QUANTITY[role], unit_of[role], f"{source}:{label_of[role]}")
+        # exact conversion of the written decimals: a survey exported in ft
+        # (drillfatigue.io.names.field_text) reads back to the same SI bits
+        vals[role] = np.array([si_from_text(c, _QUANTITY[role], unit_of[role],
+                                            f"{rows[i]}:{label_of[role]}")
                                for i, c in enumerate(col)])
         dec[role] = np.array([_decimals(c) for c in col])
-        vals[role] = vals[role] * unit_factor(_QUANTITY[role], unit_of[role],
-                                              f"{source}:{label_of[role]}")
     md, inc, azi = vals["md"], vals["inc"], vals["azi"]
     for i in range(n):
         if not 0.0 <= inc[i] <= 180.0:
@@ -428,3 +420,35 @@ def twin_survey_table(path: str | Path, depth_unit: str | None = None) -> pd.Dat
             raise InputError(f"{p}:{r}:{h}", "non-numeric or empty cell", "a finite number")
         out[target[role]] = v * unit_factor(_QUANTITY[role], unit, f"{p}:1:{h}")
     return pd.DataFrame(out)
+
+
+#: Header of a survey written in field units (read back by :func:`load_survey`).
+FIELD_SURVEY_HEADER = ("MD (ft)", "Inc (deg)", "Azi (deg)", "TVD (ft)", "DLS (deg/100ft)")
+
+
+def write_survey(survey: Survey, path: str | Path, unit_system: str = "si") -> None:
+    """Write a survey CSV atomically: SI (``md_m,inc_deg,azi_deg``) or field units.
+
+    The field file has MD and TVD in ft and the dogleg in deg/100 ft, written
+    with :func:`drillfatigue.io.names.field_text`, so :func:`load_survey`
+    gives back the same SI stations bit for bit (and its dogleg and TVD
+    checks pass exactly).
+    """
+    from drillfatigue.files import atomic_write_text
+    from drillfatigue.io.display import check_system
+    from drillfatigue.io.names import field_text
+    from drillfatigue.well.survey import write_survey_csv
+
+    if check_system(unit_system) == "si":
+        write_survey_csv(survey, path)
+        return
+    azi = np.degrees(survey.azi_rad) % 360.0
+    azi = np.where(azi >= 360.0, 0.0, azi)
+    lines = [",".join(FIELD_SURVEY_HEADER)]
+    for i in range(survey.n):
+        lines.append(",".join([
+            field_text(float(survey.md_m[i]), "length", "ft"),
+            repr(float(np.degrees(survey.inc_rad[i]))), repr(float(azi[i])),
+            field_text(float(survey.pos_m[i, 2]), "length", "ft"),
+            field_text(float(survey.dls_deg_per_30m[i]), "dogleg", "deg/100ft")]))
+    atomic_write_text(path, "\n".join(lines) + "\n")
