@@ -53,7 +53,7 @@ DEG_PER_100USFT_DEG_PER_30M = 30.0 / (100.0 * US_SURVEY_FT_M)  # (deg/30 m) per 
 DEG_PER_10M_DEG_PER_30M = 3.0  # (deg/30 m) per (deg/10 m)
 
 # The factors above as exact fractions (each float above is its fraction to
-# within one unit in the last place), so that a value written in field units
+# within two units in the last place), so that a value written in field units
 # with enough digits reads back to the same SI bits
 # (drillfatigue.io.names.si_from_text / field_text).
 _F = Fraction
