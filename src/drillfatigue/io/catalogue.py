@@ -19,9 +19,9 @@ Heavy-weight drill pipe
     the connection (API Spec 7-1) but not the tube, so these are typical
     values.
 Drill collars
-    OD x bore -> weight ``2.67 (OD^2 - ID^2)`` lb/ft and the usual connection:
-    API RP 7G (16th ed.), drill collar weight table; connections of API Spec
-    7-1 (standard steel drill collars).
+    OD x bore and the usual connection (API Spec 7-1, standard steel drill
+    collars); the weight is API RP 7G's drill-collar formula
+    ``2.67 (OD^2 - ID^2)`` lb/ft (steel at 490 lb/ft^3).
 
 Any dimension given in a tally overrides the catalogue's.
 """
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 API_5DP = "API Spec 5DP (2020), drill-pipe dimensions and masses"
 API_RP7G_TJ = "API RP 7G (16th ed., 1998), new drill pipe with tool joints"
-API_RP7G_DC = "API RP 7G (16th ed., 1998), drill collar weights; API Spec 7-1 connections"
+API_RP7G_DC = "API Spec 7-1 collar sizes and connections; weight by API RP 7G's formula"
 HWDP_TYPICAL = "typical conventional HWDP (manufacturers' catalogues; API 7-1 connection)"
 
 #: API drill-pipe grades: minimum yield strength in ksi (API Spec 5DP).
@@ -72,15 +72,23 @@ class HeavyWeight:
     reference: str = HWDP_TYPICAL
 
 
+#: RP 7G drill-collar weight factor, lb/ft per in^2 of OD^2 - ID^2.
+RP7G_COLLAR_FACTOR = 2.67
+
+
 @dataclass(frozen=True)
 class Collar:
-    """Steel drill collar: OD x bore (inches), weight (lb/ft) and connection."""
+    """Steel drill collar: OD x bore (inches) and connection."""
 
     od_in: float
     id_in: float
-    weight_lb_per_ft: float
     connection: str
     reference: str = API_RP7G_DC
+
+    @property
+    def weight_lb_per_ft(self) -> float:
+        """RP 7G drill-collar weight ``2.67 (OD^2 - ID^2)``, lb/ft."""
+        return RP7G_COLLAR_FACTOR * (self.od_in**2 - self.id_in**2)
 
 
 #: (OD in, nominal weight lb/ft) -> tube.
@@ -129,10 +137,10 @@ HWDP: dict[float, HeavyWeight] = {
 
 #: (OD in, bore in) -> steel drill collar.
 COLLARS: dict[tuple[float, float], Collar] = {
-    (4.75, 2.25): Collar(4.75, 2.25, 47.0, "NC35"),
-    (6.25, 2.8125): Collar(6.25, 2.8125, 83.0, "NC46"),
-    (6.5, 2.8125): Collar(6.5, 2.8125, 92.0, "NC46"),
-    (6.75, 2.8125): Collar(6.75, 2.8125, 100.0, "NC50"),
-    (8.0, 2.8125): Collar(8.0, 2.8125, 150.0, "6-5/8REG"),
-    (9.5, 3.0): Collar(9.5, 3.0, 217.0, "7-5/8REG"),
+    (4.75, 2.25): Collar(4.75, 2.25, "NC35"),
+    (6.25, 2.8125): Collar(6.25, 2.8125, "NC46"),
+    (6.5, 2.8125): Collar(6.5, 2.8125, "NC46"),
+    (6.75, 2.8125): Collar(6.75, 2.8125, "NC50"),
+    (8.0, 2.8125): Collar(8.0, 2.8125, "6-5/8REG"),
+    (9.5, 3.0): Collar(9.5, 3.0, "7-5/8REG"),
 }
