@@ -278,6 +278,12 @@ def _finish(raw: _Raw, channel_map: Mapping[str, str], max_fill_s: float, max_ga
         if stem == "time" and name in raw.text:
             si[stem], raw.start_time = _datetime_seconds(raw.text[name], label)
             continue
+        if name in raw.text:
+            col = raw.text[name]
+            bad = pd.to_numeric(col, errors="coerce").isna() & col.notna()
+            i = int(np.argmax(bad.to_numpy()))
+            raise InputError(label, f"row {i + 1}: not a number: {col.iloc[i]!r}",
+                             "numbers (or null values)")
         if unit is None or not unit.strip():
             if ch.quantity == "rotary_speed":
                 unit = "rpm"
