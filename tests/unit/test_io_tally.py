@@ -147,3 +147,32 @@ def test_bad_tallies(tmp_path: Path, text: str, field: str, word: str) -> None:
         load_tally(p)
     assert exc.value.field.endswith(field), exc.value.one_line()
     assert word in exc.value.one_line()
+
+
+def test_cli_show_and_import(tmp_path: Path, monkeypatch, capsys) -> None:
+    from drillfatigue.cli import main
+    from drillfatigue.config import load_case
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "t.csv").write_text(TALLY)
+    assert main(["string", "show", "t.csv", "--units", "field"]) == 0
+    out = capsys.readouterr().out
+    assert "6.625" in out and "2.750" in out and "length ft" in out
+    assert main(["string", "import", "t.csv", "-o", "s.yaml"]) == 0
+    case = load_case(tmp_path / "s.yaml")
+    assert case.string == load_tally(tmp_path / "t.csv").string
+
+
+def test_cli_bad_tally_one_line_exit_2_nothing_written(tmp_path: Path, monkeypatch,
+                                                       capsys) -> None:
+    import os
+
+    from drillfatigue.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "t.csv").write_text(TALLY.replace(",S135,", ",P110,"))
+    before = set(os.listdir(tmp_path))
+    assert main(["string", "import", "t.csv", "-o", "s.yaml"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: t.csv:6:grade: unknown grade") and err.count("\n") == 1
+    assert set(os.listdir(tmp_path)) == before

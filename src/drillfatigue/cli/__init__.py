@@ -20,6 +20,7 @@ from drillfatigue.errors import InputError
 COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.fatigue",
     "drillfatigue.cli.well",
+    "drillfatigue.cli.string",
     "drillfatigue.cli.tnd",
     "drillfatigue.cli.query",
     "drillfatigue.cli.twin",
