@@ -179,7 +179,7 @@ def _las_row_edit(old: str, new: str) -> str:
 # (id, file name, text, channel the error names, a word of the message)
 BAD = [
     ("las_garbage", "x.las", "this is not a LAS file\n1 2 3\n", "x.las", "LAS"),
-    ("las_version_3", "x.las", LAS.replace("VERS.                 2.0", "VERS.                 3.0"),
+    ("las_version_3", "x.las", LAS.replace("VERS.                 2.0", "VERS. 3.0"),
      "x.las:~VERSION", "LAS version"),
     ("las_hook_load_in_ft", "x.las", LAS.replace("HKLD    .klbf", "HKLD    .ft  "), "x.las:HKLD",
      "not a force unit"),

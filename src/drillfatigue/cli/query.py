@@ -120,8 +120,8 @@ def query(ctx: typer.Context,
     """
     import pandas as pd
 
-    from drillfatigue.surrogate.io import write_csv
     from drillfatigue.io.names import Vocabulary
+    from drillfatigue.surrogate.io import write_csv
 
     flags = parse_feature_flags(list(ctx.args))
     if csv is not None and flags:

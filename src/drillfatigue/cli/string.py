@@ -31,6 +31,7 @@ def show(tally: Path = TallyArg,
                                          "(ft, in, lb/ft)")) -> None:
     """Print each component: type, length, OD/ID, tool joint, grade, mass per length."""
     from drillfatigue.io.tally import load_tally
+    from drillfatigue.string.segments import build_segments
     from drillfatigue.units import LB_PER_FT_KG_PER_M
 
     d = Display(check_system(unit_system))
@@ -43,9 +44,7 @@ def show(tally: Path = TallyArg,
         table.add_column(col, justify="left" if col in ("component", "type", "grade")
                          else "right", no_wrap=True)
     seg_mass = {}
-    from drillfatigue.string.segments import build_segments
-
-    seg = build_segments(t.string, 1000.0)
+    seg = build_segments(t.string, 1000.0)  # mud density only sets buoyancy: unused here
     for i, ci in enumerate(seg.component_index):
         seg_mass.setdefault(int(ci), seg.mass_per_length_kg_per_m[i])
     for i, c in enumerate(t.string.components):

@@ -118,8 +118,12 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
     from drillfatigue.io.tally import load_tally
     from drillfatigue.surrogate import Surrogate
     from drillfatigue.surrogate.io import write_csv, write_json
-    from drillfatigue.surrogate.twin import (components_from_string, plot_damage_along_string,
-                                             replay_log, survey_from_well)
+    from drillfatigue.surrogate.twin import (
+        components_from_string,
+        plot_damage_along_string,
+        replay_log,
+        survey_from_well,
+    )
 
     display = Display(check_system(unit_system))
     if out.exists() and not out.is_dir():

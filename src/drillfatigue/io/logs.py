@@ -69,7 +69,7 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
-from drillfatigue.io.names import UNIT_FAMILIES, CHANNEL_FAMILIES, channel_stem, unit_factor
+from drillfatigue.io.names import CHANNEL_FAMILIES, UNIT_FAMILIES, channel_stem, unit_factor
 
 __all__ = ["CHANNELS", "LogImport", "load_log"]
 

@@ -144,8 +144,8 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
             raise InputError(f"{rows[i]}:{label_of['azi']}", f"azimuth {azi[i]:g} deg out of "
                              "range", f"0 <= {label_of['azi']} <= 360 (deg)")
         if i and md[i] <= md[i - 1]:
-            raise InputError(f"{rows[i]}:{label_of['md']}", f"MD {md[i]:g} m not greater than the previous "
-                             f"{md[i - 1]:g} m", "strictly increasing measured depth")
+            raise InputError(f"{rows[i]}:{label_of['md']}", f"MD {md[i]:g} m not greater than "
+                             f"the previous {md[i - 1]:g} m", "strictly increasing measured depth")
     azi = np.where(azi >= 360.0, azi - 360.0, azi)
     tvd0 = float(vals["tvd"][0]) if "tvd" in vals else 0.0
     sv = minimum_curvature(md, np.radians(inc), np.radians(azi), (0.0, 0.0, tvd0))
@@ -170,10 +170,11 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
         bad = np.flatnonzero(diff > tol)
         if bad.size:
             i = int(bad[0]) + 1
-            raise InputError(f"{rows[i]}:{label_of['dls']}", f"dogleg {given[i] / fac:.4g} {unit_of['dls']} "
-                             f"differs from the minimum-curvature {calc[i] / fac:.4g} "
-                             f"{unit_of['dls']} (tolerance {tol[i - 1] / fac:.2g}); check the "
-                             "depth and dogleg units", "a dogleg consistent with MD, inc, azi")
+            raise InputError(f"{rows[i]}:{label_of['dls']}",
+                             f"dogleg {given[i] / fac:.4g} {unit_of['dls']} differs from the "
+                             f"minimum-curvature {calc[i] / fac:.4g} {unit_of['dls']} "
+                             f"(tolerance {tol[i - 1] / fac:.2g}); check the depth and dogleg "
+                             "units", "a dogleg consistent with MD, inc, azi")
     tvd_diff = float("nan")
     if "tvd" in vals:
         given = vals["tvd"]
@@ -187,10 +188,10 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
         bad = np.flatnonzero(diff > tol)
         if bad.size:
             i = int(bad[0])
-            raise InputError(f"{rows[i]}:{label_of['tvd']}", f"TVD {given[i] / tvd_unit:.6g} {unit_of['tvd']} "
-                             f"differs from the minimum-curvature {calc[i] / tvd_unit:.6g} "
-                             f"{unit_of['tvd']} (tolerance {tol[i] / tvd_unit:.2g}); check the "
-                             "depth units", "a TVD consistent with MD, inc, azi")
+            raise InputError(f"{rows[i]}:{label_of['tvd']}",
+                             f"TVD {given[i] / tvd_unit:.6g} {unit_of['tvd']} differs from the "
+                             f"minimum-curvature {calc[i] / tvd_unit:.6g} {unit_of['tvd']} "
+                             f"(tolerance {tol[i] / tvd_unit:.2g}); check the depth units", "a TVD consistent with MD, inc, azi")
     return SurveyImport(survey=sv, units=dict(unit_of), ignored_columns=ignored,
                         max_dls_diff_deg_per_30m=dls_diff, max_tvd_diff_m=tvd_diff,
                         source=source)
@@ -367,7 +368,7 @@ def load_survey(path: str | Path, depth_unit: str | None = None) -> SurveyImport
 
 
 def read_survey(path: str | Path, depth_unit: str | None = None) -> Survey:
-    """The :class:`~drillfatigue.well.survey.Survey` of a field survey file (:func:`load_survey`)."""
+    """The :class:`~drillfatigue.well.survey.Survey` of a survey file (:func:`load_survey`)."""
     return load_survey(path, depth_unit).survey
 
 

@@ -40,8 +40,8 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.io.names import Vocabulary, channel_stem, force_column
+from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
 
 MD_COLUMN = "md_m"
