@@ -191,7 +191,8 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
             raise InputError(f"{rows[i]}:{label_of['tvd']}",
                              f"TVD {given[i] / tvd_unit:.6g} {unit_of['tvd']} differs from the "
                              f"minimum-curvature {calc[i] / tvd_unit:.6g} {unit_of['tvd']} "
-                             f"(tolerance {tol[i] / tvd_unit:.2g}); check the depth units", "a TVD consistent with MD, inc, azi")
+                             f"(tolerance {tol[i] / tvd_unit:.2g}); check the depth units",
+                             "a TVD consistent with MD, inc, azi")
     return SurveyImport(survey=sv, units=dict(unit_of), ignored_columns=ignored,
                         max_dls_diff_deg_per_30m=dls_diff, max_tvd_diff_m=tvd_diff,
                         source=source)
