@@ -36,11 +36,11 @@ Errors (one line naming the channel): unknown file type; unreadable file;
 a channel's unit that is not a unit of its quantity; no time and no way to
 derive it; time going backwards; two rows with the same time but different
 values; a step between samples longer than ``max_gap_s``; a run of null
-values longer than ``max_fill_s``; a channel without any valid value; bit
-depth more than 1 m below the hole depth's running maximum... above it (bit
-deeper than the hole: a depth unit mix-up); ROP integrated over the time the
-hole deepens differing from the deepening by more than a factor 1.5 (an ROP
-unit mix-up: ft/h read as m/h is a factor 3.28).
+values longer than ``max_fill_s``; a channel without any valid value; the
+bit more than 1 m deeper than the deepest hole depth so far (a depth unit
+mix-up between the two channels); ROP integrated over the time the hole
+deepens differing from the deepening by more than a factor 1.5 (an ROP unit
+mix-up: ft/h read as m/h is a factor 3.28).
 
 Fill rules (reported in the output's ``log`` section):
 
