@@ -69,7 +69,14 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
-from drillfatigue.io.names import CHANNEL_FAMILIES, UNIT_FAMILIES, channel_stem, unit_factor
+from drillfatigue.io.names import (
+    CHANNEL_FAMILIES,
+    UNIT_FAMILIES,
+    UNIT_SPELLINGS,
+    channel_stem,
+    split_header,
+    unit_factor,
+)
 
 __all__ = ["CHANNELS", "LogImport", "load_log"]
 
@@ -388,8 +395,6 @@ def _finish(raw: _Raw, channel_map: Mapping[str, str], max_fill_s: float, max_ga
 
 
 def _units_of(quantity: str) -> list[str]:
-    from drillfatigue.io.names import UNIT_SPELLINGS
-
     return sorted(UNIT_SPELLINGS[quantity])
 
 
@@ -575,8 +580,6 @@ def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
     unit: dict[str, str | None] = {}
     text: dict[str, pd.Series] = {}
     passthrough: dict[str, np.ndarray] = {}
-    from drillfatigue.io.names import split_header
-
     for h in table.columns:
         col = table[h].str.strip()
         key = str(h).strip()

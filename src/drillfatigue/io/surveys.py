@@ -52,7 +52,7 @@ from __future__ import annotations
 import csv
 import math
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -95,6 +95,8 @@ class SurveyImport:
         Largest |given - recomputed| dogleg (NaN when the file has none).
     max_tvd_diff_m : float
         Largest |given - recomputed| TVD (NaN when the file has none).
+    source : str
+        The file read.
     """
 
     survey: Survey
@@ -103,7 +105,6 @@ class SurveyImport:
     max_dls_diff_deg_per_30m: float = float("nan")
     max_tvd_diff_m: float = float("nan")
     source: str = ""
-    notes: list[str] = field(default_factory=list)
 
 
 def _decimals(cell: str) -> int:
