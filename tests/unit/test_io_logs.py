@@ -285,3 +285,10 @@ def test_cli_replays_a_las_day_in_field_units(model: Surrogate, tmp_path: Path, 
     assert summary["log"]["filled_null_values"]["SPPA"]["samples"] == 3
     assert summary["log"]["channels"]["hook_load_N"] == "HKLD [klbf]"
     assert "hook_load_N" in summary["ignored_log_channels"]
+
+
+def test_example_files_are_what_the_script_writes(tmp_path: Path) -> None:
+    from drillfatigue.io.examples import write_field_examples
+
+    for p in write_field_examples(tmp_path):
+        assert p.read_bytes() == (EXAMPLES / p.name).read_bytes(), p.name

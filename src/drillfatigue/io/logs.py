@@ -184,6 +184,7 @@ class _Raw:
     unit: dict[str, str | None]
     text: dict[str, pd.Series] = field(default_factory=dict)  # non-numeric (date-time) columns
     start_time: str | None = None
+    origin: dict[str, str] = field(default_factory=dict)  # name -> the file's header, if other
 
 
 def _assign(raw: _Raw, channel_map: Mapping[str, str]) -> tuple[dict[str, str], list[str]]:
@@ -281,7 +282,8 @@ def _finish(raw: _Raw, channel_map: Mapping[str, str], max_fill_s: float, max_ga
         ch = CHANNELS[stem]
         unit = raw.unit.get(name)
         label = f"{raw.source}:{name}"
-        labels[stem] = f"{name} [{unit or ''}]".replace(" []", "")
+        labels[stem] = (raw.origin[name] if name in raw.origin
+                        else f"{name} [{unit or ''}]".replace(" []", ""))
         if stem == "time" and name in raw.text:
             si[stem], raw.start_time = _datetime_seconds(raw.text[name], label)
             continue
@@ -580,6 +582,7 @@ def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
     unit: dict[str, str | None] = {}
     text: dict[str, pd.Series] = {}
     passthrough: dict[str, np.ndarray] = {}
+    origin: dict[str, str] = {}
     for h in table.columns:
         col = table[h].str.strip()
         key = str(h).strip()
@@ -597,6 +600,7 @@ def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
                 CHANNEL_FAMILIES.get(_FAMILY_OF.get(CHANNELS[hit].quantity, ""), {})
             if suffix in fam:
                 _put(numeric, text, stem, key, p)
+                origin[stem] = key
                 numeric[stem] = num.to_numpy(dtype=np.float64) * fam[suffix]
                 unit[stem] = {"length": "m", "force": "N", "speed": "m/s", "torque": "N.m",
                               "pressure": "Pa", "flow": "m3/s"}[CHANNELS[hit].quantity]
@@ -604,6 +608,7 @@ def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
         if key in ("time_s", "time") and is_num:
             # the twin's own time columns: seconds
             _put(numeric, text, "time", key, p)
+            origin["time"] = key
             numeric["time"] = num.to_numpy(dtype=np.float64)
             unit["time"] = "s"
             continue
@@ -621,7 +626,7 @@ def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
             text[label] = col.replace("", None)
         unit[label] = u
     return _Raw(source=str(p), index_name=str(table.columns[0]), numeric=numeric, unit=unit,
-                text=text), passthrough
+                text=text, origin=origin), passthrough
 
 
 def load_log(path: str | Path, channel_map: Mapping[str, str] | None = None,
