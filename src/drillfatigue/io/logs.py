@@ -78,7 +78,7 @@ from drillfatigue.io.names import (
     unit_factor,
 )
 
-__all__ = ["CHANNELS", "LogImport", "load_log"]
+__all__ = ["CHANNELS", "LogImport", "load_log", "log_bit_md_m", "log_times_s"]
 
 DEFAULT_MAX_FILL_S = 300.0
 DEFAULT_MAX_GAP_S = 900.0
@@ -426,6 +426,49 @@ def _check_depths(source: str, chosen: Mapping[str, str], cols: Mapping[str, np.
                                  f"drilling time gives {integrated:.1f} m but the hole deepened "
                                  f"{drilled:.1f} m (x{ratio:.2f}); check the ROP unit",
                                  f"ROP consistent with the depth within a factor {f:g}")
+
+
+# --- the twin's table ---------------------------------------------------------
+
+def log_times_s(log: pd.DataFrame) -> np.ndarray:
+    """Time stamps of a log in seconds (``time_s``, or ``time`` as date-time or seconds)."""
+    if "time_s" in log.columns:
+        t = pd.to_numeric(log["time_s"], errors="coerce").to_numpy(dtype=np.float64)
+        name = "time_s"
+    elif "time" in log.columns:
+        name = "time"
+        t = pd.to_numeric(log["time"], errors="coerce").to_numpy(dtype=np.float64)
+        if not np.all(np.isfinite(t)):
+            try:
+                ts = pd.to_datetime(log["time"], errors="raise", utc=True)
+            except (ValueError, TypeError):
+                raise InputError("time", "not seconds nor date-time text",
+                                 "seconds or ISO 8601 date-times") from None
+            t = (ts - ts.iloc[0]).dt.total_seconds().to_numpy(dtype=np.float64)
+    else:
+        raise InputError("time_s", "missing column in the log", "time_s or time")
+    if not np.all(np.isfinite(t)):
+        raise InputError(name, "non-numeric or NaN time", "finite times")
+    if t.size < 2 or np.any(np.diff(t) < 0):
+        raise InputError(name, "fewer than 2 rows or time going backwards",
+                         ">= 2 rows, non-decreasing time")
+    return t
+
+
+def log_bit_md_m(log: pd.DataFrame) -> np.ndarray:
+    """Bit depth of a twin log table in m: ``bit_md_m`` or ``bit_md`` with another length
+    suffix (``bit_md_ft``, :data:`drillfatigue.io.names.UNIT_FAMILIES`)."""
+    names = [(str(c), UNIT_FAMILIES["_m"][str(c)[len("bit_md"):]]) for c in log.columns
+             if str(c).startswith("bit_md_") and str(c)[len("bit_md"):] in UNIT_FAMILIES["_m"]]
+    if not names:
+        raise InputError("bit_md_m", "missing column in the log", "bit_md_m or bit_md_ft")
+    if len(names) > 1:
+        raise InputError(names[1][0], f"given together with {names[0][0]}", "one bit depth")
+    name, fac = names[0]
+    v = pd.to_numeric(log[name], errors="coerce").to_numpy(dtype=np.float64)
+    if not np.all(np.isfinite(v)):
+        raise InputError(name, "non-numeric or NaN value", "finite depths")
+    return v * fac
 
 
 # --- formats ------------------------------------------------------------------

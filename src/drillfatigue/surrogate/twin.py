@@ -40,6 +40,7 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.errors import InputError
+from drillfatigue.io.logs import log_bit_md_m, log_times_s
 from drillfatigue.io.names import Vocabulary, channel_stem, force_column
 from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
@@ -91,44 +92,6 @@ def components_from_table(table: pd.DataFrame) -> pd.DataFrame:
     out["serial"] = out["serial"].astype(str)
     out[S_COLUMN] = s
     return out.reset_index(drop=True)
-
-
-def log_times_s(log: pd.DataFrame) -> np.ndarray:
-    """Time stamps of a log in seconds (``time_s``, or ``time`` as date-time or seconds)."""
-    if "time_s" in log.columns:
-        t = pd.to_numeric(log["time_s"], errors="coerce").to_numpy(dtype=np.float64)
-        name = "time_s"
-    elif "time" in log.columns:
-        name = "time"
-        t = pd.to_numeric(log["time"], errors="coerce").to_numpy(dtype=np.float64)
-        if not np.all(np.isfinite(t)):
-            try:
-                ts = pd.to_datetime(log["time"], errors="raise", utc=True)
-            except (ValueError, TypeError):
-                raise InputError("time", "not seconds nor date-time text",
-                                 "seconds or ISO 8601 date-times") from None
-            t = (ts - ts.iloc[0]).dt.total_seconds().to_numpy(dtype=np.float64)
-    else:
-        raise InputError("time_s", "missing column in the log", "time_s or time")
-    if not np.all(np.isfinite(t)):
-        raise InputError(name, "non-numeric or NaN time", "finite times")
-    if t.size < 2 or np.any(np.diff(t) < 0):
-        raise InputError(name, "fewer than 2 rows or time going backwards",
-                         ">= 2 rows, non-decreasing time")
-    return t
-
-
-def _bit_md(log: pd.DataFrame) -> np.ndarray:
-    if "bit_md_m" in log.columns:
-        name, fac = "bit_md_m", 1.0
-    elif "bit_md_ft" in log.columns:
-        name, fac = "bit_md_ft", units.FT_M
-    else:
-        raise InputError("bit_md_m", "missing column in the log", "bit_md_m or bit_md_ft")
-    v = pd.to_numeric(log[name], errors="coerce").to_numpy(dtype=np.float64)
-    if not np.all(np.isfinite(v)):
-        raise InputError(name, "non-numeric or NaN value", "finite depths")
-    return v * fac
 
 
 def components_from_string(string_cfg: Any,
@@ -319,9 +282,10 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     comps = components_from_table(components)
     log, constants = wob_from_hook_load(log, constants)
     t = log_times_s(log)
-    bit_md = _bit_md(log)
+    bit_md = log_bit_md_m(log)
     vocab = Vocabulary(model.features, model.categorical)
-    skip = {"time_s", "time", "bit_md_m", "bit_md_ft"}
+    skip = {"time_s", "time",
+            *(c for c in map(str, log.columns) if channel_stem(c) == "bit_md")}
     ignored = tuple(str(c) for c in log.columns
                     if c not in skip and str(c) not in vocab.terms
                     and channel_stem(str(c)) in SURFACE_CHANNELS)
