@@ -111,3 +111,20 @@ def test_display_units() -> None:
     assert check_system(" Field ") == "field"
     with pytest.raises(InputError, match="si, field"):
         check_system("imperial")
+
+
+def test_field_headers_to_vocabulary_names() -> None:
+    from drillfatigue.io.names import Vocabulary, vocabulary_name
+
+    v = Vocabulary(["operation.rpm", "operation.wob_N", "operation.rop_m_per_s",
+                    "operation.mud_density_kg_per_m3", "local_dls_deg_per_30m", "md_m"],
+                   ["component_type"])
+    got = {h: vocabulary_name(h, v) for h in (
+        "WOB (klbf)", "ROP (ft/h)", "Mud Density (ppg)", "RPM", "Local DLS (deg/100ft)",
+        "MD [ft]", "Component Type", "wob_kN", "WOB (ft)", "Torque (kft.lbf)")}
+    assert got == {"WOB (klbf)": "wob_klbf", "ROP (ft/h)": "rop_ft_per_h",
+                   "Mud Density (ppg)": "mud_density_ppg", "RPM": "rpm",
+                   "Local DLS (deg/100ft)": "local_dls_deg_per_100ft", "MD [ft]": "md_ft",
+                   "Component Type": "component_type", "wob_kN": "wob_kN",
+                   # no such name: left for the vocabulary's own one-line error
+                   "WOB (ft)": "WOB (ft)", "Torque (kft.lbf)": "Torque (kft.lbf)"}

@@ -120,7 +120,7 @@ def query(ctx: typer.Context,
     """
     import pandas as pd
 
-    from drillfatigue.io.names import Vocabulary
+    from drillfatigue.io.names import Vocabulary, vocabulary_name
     from drillfatigue.surrogate.io import write_csv
 
     flags = parse_feature_flags(list(ctx.args))
@@ -148,6 +148,8 @@ def query(ctx: typer.Context,
                              "a comma-separated table with a header") from None
         if len(table) == 0:
             raise InputError(str(csv), "no rows", ">= 1 condition row")
+        # field-style headers ('WOB (klbf)', 'ROP (ft/h)') to vocabulary names
+        table = table.rename(columns={c: vocabulary_name(str(c), vocab) for c in table.columns})
         frame = vocab.frame_from_table(table, require=need)
         if geometry is not None:
             frame = _add_geometry(frame, vocab, *geometry)

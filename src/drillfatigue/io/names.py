@@ -336,3 +336,25 @@ def field_text(value_si: float, quantity: str, unit: str, field: str = "value") 
         ctx.prec = FIELD_TEXT_DIGITS
         d = Decimal(q.numerator) / Decimal(q.denominator)
     return format(d.normalize(), "f") if d == d.to_integral_value() else str(d)
+
+
+def vocabulary_name(header: str, vocab: Vocabulary) -> str:
+    """The vocabulary name of a field-style header: ``'WOB (klbf)'`` -> ``'wob_klbf'``.
+
+    A header the vocabulary knows, or one it cannot match to exactly one name
+    (stem and unit factor both equal), is returned unchanged, so the
+    vocabulary's own error names it.
+    """
+    if header in vocab.terms:
+        return header
+    name, unit = split_header(header)
+    if unit is None:  # 'RPM', 'Component Type'
+        key = name.replace(" ", "_")
+        return key if key in vocab.terms else header
+    u = normalise_unit(unit)
+    factors = {t[u] for t in UNIT_SPELLINGS.values() if u in t}
+    stem = name.replace(" ", "_")
+    hits = [k for k, term in vocab.terms.items()
+            if k.startswith(stem + "_") and "." not in k and term.factor in factors
+            and channel_stem(k) == stem]
+    return hits[0] if len(hits) == 1 else header
