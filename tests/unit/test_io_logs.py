@@ -292,3 +292,17 @@ def test_example_files_are_what_the_script_writes(tmp_path: Path) -> None:
 
     for p in write_field_examples(tmp_path):
         assert p.read_bytes() == (EXAMPLES / p.name).read_bytes(), p.name
+
+
+def test_depth_indexed_witsml_log(tmp_path: Path) -> None:
+    text = """<logs xmlns="http://www.witsml.org/schemas/1series" version="1.4.1.1">
+ <log uidWell="W" uidWellbore="B" uid="L"><indexType>measured depth</indexType>
+  <indexCurve>DEPTH</indexCurve>
+  <logData><mnemonicList>DEPTH,ROPA,WOBA,RPMA</mnemonicList><unitList>m,m/h,kN,rpm</unitList>
+   <data>1000.0,20,80,120</data><data>1000.5,10,80,120</data><data>1001.0,20,80,120</data>
+  </logData></log></logs>"""
+    r = load_log(_write(tmp_path, "d.xml", text))
+    # 0.5 m at 20 m/h = 90 s, then 0.5 m at 10 m/h = 180 s
+    np.testing.assert_allclose(r.table["time_s"], [0.0, 90.0, 270.0], rtol=1e-13)
+    assert r.table["bit_md_m"].tolist() == [1000.0, 1000.5, 1001.0]
+    assert r.table["wob_N"].tolist() == [80e3] * 3 and r.index == "depth"
