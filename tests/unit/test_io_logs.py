@@ -306,3 +306,11 @@ def test_depth_indexed_witsml_log(tmp_path: Path) -> None:
     np.testing.assert_allclose(r.table["time_s"], [0.0, 90.0, 270.0], rtol=1e-13)
     assert r.table["bit_md_m"].tolist() == [1000.0, 1000.5, 1001.0]
     assert r.table["wob_N"].tolist() == [80e3] * 3 and r.index == "depth"
+
+
+def test_csv_with_a_units_row(tmp_path: Path) -> None:
+    p = _write(tmp_path, "u.csv", "Time,Bit Depth,WOB,RPM,ROP\ns,ft,klbf,rpm,ft/h\n"
+               "0,1000,20,120,60\n60,1001,20,120,60\n")
+    t = load_log(p).table
+    assert t["bit_md_m"].tolist() == [304.8, 1001 * units.FT_M]
+    assert t["wob_N"].tolist() == [20 * units.KLBF_N] * 2

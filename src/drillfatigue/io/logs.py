@@ -595,6 +595,16 @@ def _read_witsml(p: Path) -> _Raw:
     return _Raw(source=str(p), index_name=index_curve, numeric=numeric, unit=unit, text=text)
 
 
+def _is_value(cell: str) -> bool:
+    """Whether a CSV cell is a number or an ISO 8601 date-time (data, not a unit)."""
+    try:
+        float(cell)
+        return True
+    except ValueError:
+        pass
+    return not pd.isna(pd.to_datetime(cell, errors="coerce", utc=True, format="ISO8601"))
+
+
 def _put(numeric: Mapping[str, Any], text: Mapping[str, Any], label: str, key: str,
          p: Path) -> None:
     """Refuse a second CSV column for one channel (``wob_kN`` and ``WOB (klbf)``)."""
@@ -611,16 +621,12 @@ def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
                          "a comma-separated table with a header") from None
     if len(table) == 0:
         raise InputError(str(p), "no rows", ">= 2 rows")
-    # a units row under the header: every cell non-numeric
-    first = table.iloc[0]
+    # a units row under the header ('s, ft, klbf'): no cell of it is a number or a date-time
+    first = [str(c).strip() for c in table.iloc[0]]
     units_row = None
-    if all(pd.to_numeric(pd.Series([c]), errors="coerce").isna().iloc[0] or not c.strip()
-           for c in first) and any(c.strip() for c in first):
-        if not any(str(c).strip().lower() in ("time", "datetime") for c in table.columns) or \
-                pd.to_datetime(pd.Series([first.iloc[0]]), errors="coerce", utc=True,
-                               format="ISO8601").isna().iloc[0]:
-            units_row = first
-            table = table.iloc[1:].reset_index(drop=True)
+    if any(first) and not any(_is_value(c) for c in first if c):
+        units_row = table.iloc[0]
+        table = table.iloc[1:].reset_index(drop=True)
     numeric: dict[str, np.ndarray] = {}
     unit: dict[str, str | None] = {}
     text: dict[str, pd.Series] = {}
