@@ -55,7 +55,7 @@ DEG_PER_10M_DEG_PER_30M = 3.0  # (deg/30 m) per (deg/10 m)
 # The factors above as exact fractions (each float above is its fraction to
 # within two units in the last place), so that a value written in field units
 # with enough digits reads back to the same SI bits
-# (drillfatigue.io.names.si_from_text / field_text).
+# (drillfatigue.io.headers.si_from_text / field_text).
 _F = Fraction
 _IN, _FT, _LBF, _LB = _F("0.0254"), _F("0.3048"), _F("4.4482216152605"), _F("0.45359237")
 _GAL = 231 * _IN**3

@@ -5,7 +5,7 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.io.names import UNIT_SPELLINGS, exact_factor, field_text, si_from_text
+from drillfatigue.io.headers import UNIT_SPELLINGS, exact_factor, field_text, si_from_text
 
 EXACT_UNITS = [(q, u) for q, table in UNIT_SPELLINGS.items() for u in table
                if exact_factor(q, u, "x") is not None]

@@ -1,4 +1,4 @@
-"""drillfatigue.io.names and io.display: unit spellings, exact round trips, display units."""
+"""drillfatigue.io.names, io.headers, io.display: unit spellings, exact round trips."""
 
 from __future__ import annotations
 
@@ -11,16 +11,15 @@ import pytest
 from drillfatigue import units
 from drillfatigue.errors import InputError
 from drillfatigue.io.display import Display, check_system
-from drillfatigue.io.names import (
+from drillfatigue.io.headers import (
     UNIT_SPELLINGS,
-    channel_stem,
     exact_factor,
     field_text,
-    force_column,
     si_from_text,
     split_header,
     unit_factor,
 )
+from drillfatigue.io.names import channel_stem, force_column
 
 
 def _values() -> np.ndarray:

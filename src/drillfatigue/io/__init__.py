@@ -5,8 +5,9 @@ this package, which recognises columns by name and unit, converts to SI once
 (factors from :mod:`drillfatigue.units`) and returns the project's objects:
 
 - :mod:`drillfatigue.io.names`: names with unit suffixes (``wob_klbf``,
-  ``rop_ft_per_h``, ``mud_density_ppg``), the query/twin vocabulary, the
-  unit spellings of file headers (``MD (ft)``, ``HKLD [klbf]``);
+  ``rop_ft_per_h``, ``mud_density_ppg``), the query/twin vocabulary;
+- :mod:`drillfatigue.io.headers`: unit spellings of file headers and unit
+  fields (``MD (ft)``, ``HKLD [klbf]``, ``uom="dega"``), exact field-unit text;
 - :mod:`drillfatigue.io.surveys`: surveys (CSV in m or ft, WITSML 1.4.1.1
   trajectory), cross-checked against minimum curvature;
 - :mod:`drillfatigue.io.tally`: string tallies in field units with API

@@ -69,14 +69,8 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
-from drillfatigue.io.names import (
-    CHANNEL_FAMILIES,
-    UNIT_FAMILIES,
-    UNIT_SPELLINGS,
-    channel_stem,
-    split_header,
-    unit_factor,
-)
+from drillfatigue.io.headers import UNIT_SPELLINGS, split_header, unit_factor
+from drillfatigue.io.names import CHANNEL_FAMILIES, UNIT_FAMILIES, channel_stem
 
 __all__ = ["CHANNELS", "LogImport", "load_log", "log_bit_md_m", "log_times_s"]
 

@@ -18,7 +18,7 @@ WITSML (``.xml``)
     ``rad``, ``dega/100ft``, ``dega/30m``, ``rad/m``).
 
 Every depth and angle is converted once to SI (:mod:`drillfatigue.units`
-factors through :data:`drillfatigue.io.names.UNIT_SPELLINGS`) and the
+factors through :data:`drillfatigue.io.headers.UNIT_SPELLINGS`) and the
 positions are recomputed by minimum curvature
 (:func:`drillfatigue.well.survey.minimum_curvature`).
 
@@ -59,7 +59,7 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
-from drillfatigue.io.names import si_from_text, split_header, unit_factor
+from drillfatigue.io.headers import si_from_text, split_header, unit_factor
 from drillfatigue.well.survey import Survey, minimum_curvature
 
 __all__ = ["SurveyImport", "load_survey", "read_survey", "survey_table", "twin_survey_table"]
@@ -131,7 +131,7 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
     for role, col in cells.items():
         unit_factor(_QUANTITY[role], unit_of[role], f"{source}:{label_of[role]}")
         # exact conversion of the written decimals: a survey exported in ft
-        # (drillfatigue.io.names.field_text) reads back to the same SI bits
+        # (drillfatigue.io.headers.field_text) reads back to the same SI bits
         vals[role] = np.array([si_from_text(c, _QUANTITY[role], unit_of[role],
                                             f"{rows[i]}:{label_of[role]}")
                                for i, c in enumerate(col)])
@@ -433,13 +433,13 @@ def write_survey(survey: Survey, path: str | Path, unit_system: str = "si") -> N
     """Write a survey CSV atomically: SI (``md_m,inc_deg,azi_deg``) or field units.
 
     The field file has MD and TVD in ft and the dogleg in deg/100 ft, written
-    with :func:`drillfatigue.io.names.field_text`, so :func:`load_survey`
+    with :func:`drillfatigue.io.headers.field_text`, so :func:`load_survey`
     gives back the same SI stations bit for bit (and its dogleg and TVD
     checks pass exactly).
     """
     from drillfatigue.files import atomic_write_text
     from drillfatigue.io.display import check_system
-    from drillfatigue.io.names import field_text
+    from drillfatigue.io.headers import field_text
     from drillfatigue.well.survey import write_survey_csv
 
     if check_system(unit_system) == "si":

@@ -49,7 +49,7 @@ from drillfatigue.config.base import validate
 from drillfatigue.config.string import ComponentConfig, StringConfig
 from drillfatigue.errors import InputError
 from drillfatigue.io.catalogue import API_GRADES, COLLARS, DRILL_PIPE, HWDP, TOOL_JOINTS
-from drillfatigue.io.names import split_header, unit_factor
+from drillfatigue.io.headers import split_header, unit_factor
 
 __all__ = ["ComponentSpec", "describe", "load_tally", "parse_description",
            "normalise_grade"]
