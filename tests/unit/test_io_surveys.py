@@ -192,3 +192,12 @@ def test_malformed_survey_one_line_exit_2_nothing_written(tmp_path, monkeypatch,
     assert err.startswith(f"error: {field}") or err.startswith(f"error: {name}:"), err
     assert field in err and word in err, err
     assert set(os.listdir(tmp_path)) == before
+
+
+def test_survey_file_profile_with_depth_unit(tmp_path: Path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.csv").write_text("MD,Inc,Azi\n0,0,0\n1000,10,20\n")
+    cfg = WellConfig(profiles={"f": {"kind": "survey_file", "path": "s.csv", "depth_unit": "ft"}})
+    assert build_survey(cfg).md_m[1] == 304.8
+    with pytest.raises(InputError, match="depth_unit: m|ft"):
+        build_survey(WellConfig(profiles={"f": {"kind": "survey_file", "path": "s.csv"}}))

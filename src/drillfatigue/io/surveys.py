@@ -247,7 +247,7 @@ def _load_csv(p: Path, depth_unit: str | None) -> SurveyImport:
                 if depth_unit is None:
                     raise InputError(f"{p}:1:{h.strip()}", "depth without a unit",
                                      "a unit in the header (MD (ft), md_m), a units row, or "
-                                     "--depth-unit m|ft")
+                                     "depth_unit: m|ft in the survey_file profile")
                 unit = depth_unit
             elif role == "dls":
                 raise InputError(f"{p}:1:{h.strip()}", "dogleg without a unit",
@@ -360,7 +360,7 @@ def load_survey(path: str | Path, depth_unit: str | None = None) -> SurveyImport
     if not p.is_file():
         raise InputError(str(p), "survey file not found", "an existing .csv or .xml file")
     if depth_unit is not None:
-        unit_factor("length", depth_unit, "--depth-unit")
+        unit_factor("length", depth_unit, "depth_unit")
     if p.suffix.lower() == ".xml":
         return _load_witsml(p)
     if p.suffix.lower() in (".csv", ".txt"):
