@@ -164,8 +164,6 @@ def operating_window(model: Surrogate, x: Axis, y: Axis, fixed: Mapping[str, Any
     """
     vocab = Vocabulary(model.features, model.categorical)
     n_x, n_y = x.values.size, y.values.size
-    if max_nodes is not None and n_x * n_y > max_nodes:
-        raise InputError("grid", f"{n_x} x {n_y} = {n_x * n_y} nodes", f"at most {max_nodes}")
     for label, ax in (("x", x), ("y", y)):
         term = vocab.terms.get(ax.name)
         if term is None:
@@ -177,6 +175,8 @@ def operating_window(model: Surrogate, x: Axis, y: Axis, fixed: Mapping[str, Any
     if vocab.terms[x.name].column == vocab.terms[y.name].column:
         raise InputError("y.name", f"{y.name!r} is the same feature as x ({x.name!r})",
                          "two different features")
+    if max_nodes is not None and n_x * n_y > max_nodes:
+        raise InputError("grid", f"{n_x} x {n_y} = {n_x * n_y} nodes", f"at most {max_nodes}")
     geo_cols: tuple[str, ...] = ()
     if survey is not None:
         geo_cols = tuple(c for c in model.features if c in POSITION_COLUMNS)
