@@ -33,14 +33,27 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
           max_body_mb: float = typer.Option(16.0, "--max-body-mb",
                                             help="largest request body (MiB)"),
           max_query_rows: int = typer.Option(10_000, "--max-query-rows",
-                                             help="most rows of one /v1/query")) -> None:
-    """Serve the HTTP API and the web page of the digital twin."""
+                                             help="most rows of one /v1/query"),
+          torch_threads: int = typer.Option(1, "--torch-threads",
+                                            help="torch threads per request (concurrent "
+                                            "requests already run in parallel)")) -> None:
+    """Serve the HTTP API and the web page of the digital twin.
+
+    Requests are answered concurrently by a thread pool; torch runs each
+    request's network on ``--torch-threads`` threads (default 1). On a busy
+    machine one thread per request is several times faster for single
+    queries than intra-op threads that wait for each other at every operator
+    (single-row predict_array 1.6 ms vs 18 ms with 2 threads at load 8 on 2
+    cores, benchmarks/results/service.json for the served numbers).
+    """
     if not 0 < port < 65536:
         raise InputError("--port", f"got {port}", "1 <= port <= 65535")
     if not 0.001 <= max_body_mb <= 1024:
         raise InputError("--max-body-mb", f"got {max_body_mb:g}", "0.001 to 1024")
     if not 1 <= max_query_rows <= 10_000_000:
         raise InputError("--max-query-rows", f"got {max_query_rows}", "1 to 10000000")
+    if not 1 <= torch_threads <= 256:
+        raise InputError("--torch-threads", f"got {torch_threads}", "1 to 256")
     try:
         import uvicorn
 
@@ -51,6 +64,9 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
     specs = dict(parse_model_spec(s) for s in model)
     if len(specs) != len(model):
         raise InputError("--model", "two models with the same name", "distinct NAME=FOLDER")
+    import torch
+
+    torch.set_num_threads(torch_threads)
     registry = ModelRegistry(specs)
     limits = Limits(max_body_bytes=int(max_body_mb * 1024 * 1024),
                     max_query_rows=max_query_rows)

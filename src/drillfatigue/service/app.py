@@ -48,6 +48,7 @@ from drillfatigue.config.base import input_error_from_error, validate
 from drillfatigue.errors import InputError
 from drillfatigue.service.logs import log_formats, read_csv_table, read_log
 from drillfatigue.service.registry import LoadedModel, ModelRegistry
+from drillfatigue.service.rows import predict_rows
 from drillfatigue.service.schemas import (
     AxisValues,
     ErrorResponse,
@@ -69,7 +70,6 @@ from drillfatigue.service.schemas import (
     WindowResponse,
 )
 from drillfatigue.studies.plan import CandidateFile, check_end_points, predict_candidates
-from drillfatigue.surrogate.facade import PREDICTION_COLUMNS
 from drillfatigue.surrogate.twin import (
     components_from_string,
     components_from_table,
@@ -353,15 +353,8 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
         lm = registry.get(req.model)
         if len(req.rows) > lim.max_query_rows:
             raise InputError("rows", f"{len(req.rows)} rows", f"at most {lim.max_query_rows}")
-        table = _table(req.rows, "rows")
-        try:
-            frame = lm.vocab.frame_from_table(table)
-        except InputError as exc:
-            raise _prefixed(exc, "rows") from None
-        pred = lm.surrogate.predict(frame)
-        out = pd.concat([table.reset_index(drop=True), pred.reset_index(drop=True)], axis=1)
-        return QueryResponse(**_answer(lm), columns=[str(c) for c in out.columns],
-                             rows=_records(out))
+        columns, rows = predict_rows(lm, req.rows)
+        return QueryResponse(**_answer(lm), columns=columns, rows=rows)
 
     @app.post("/v1/twin/replay", response_model=ReplayResponse, responses=errors)
     def twin_replay(req: ReplayRequest) -> ReplayResponse:
