@@ -34,7 +34,7 @@ def main() -> None:
     import yaml
 
     tmp = Path(tempfile.mkdtemp(prefix="service_png_"))
-    cfg = SurrogateConfig(hidden_layers=(64, 64), max_epochs=150, patience=20, n_threads=2)
+    cfg = SurrogateConfig(hidden_layers=(64, 64), max_epochs=80, patience=20, n_threads=2)
     fit_surrogate(make_synthetic_dataset(150, seed=1), cfg).save(tmp / "synthetic",
                                                                    export=False)
     plan_model().save(tmp / "plan_demo", export=False)
@@ -53,6 +53,15 @@ def main() -> None:
             wait = WebDriverWait(d, 120)
             status = d.find_element(By.ID, "status")
             wait.until(lambda d: d.find_element(By.ID, "constants-text").get_attribute("value"))
+            # plan ranking with the plan model first, then the replay with the synthetic one
+            Select(d.find_element(By.ID, "model-select")).select_by_value("plan_demo")
+            wait.until(lambda d: "4 numeric" in d.find_element(By.ID, "model-info").text)
+            text = yaml.safe_dump(PLAN, sort_keys=False)
+            d.execute_script("document.getElementById('plan-text').value = arguments[0]", text)
+            d.find_element(By.ID, "plan-button").click()
+            wait.until(lambda d: "ranked" in status.text or "error" in status.text)
+            Select(d.find_element(By.ID, "model-select")).select_by_value("synthetic")
+            wait.until(lambda d: "13 numeric" in d.find_element(By.ID, "model-info").text)
             d.find_element(By.ID, "log-file").send_keys(str(EXAMPLES / "operating_log.csv"))
             d.find_element(By.ID, "components-file").send_keys(str(EXAMPLES / "components.csv"))
             wait.until(lambda d: d.find_element(By.ID, "log-text").get_attribute("value"))
@@ -62,11 +71,6 @@ def main() -> None:
             Select(d.find_element(By.ID, "window-component")).select_by_index(3)
             d.find_element(By.ID, "window-button").click()
             wait.until(lambda d: "window map" in status.text or "error" in status.text)
-            Select(d.find_element(By.ID, "model-select")).select_by_value("plan_demo")
-            text = yaml.safe_dump(PLAN, sort_keys=False)
-            d.execute_script("document.getElementById('plan-text').value = arguments[0]", text)
-            d.find_element(By.ID, "plan-button").click()
-            wait.until(lambda d: "ranked" in status.text or "error" in status.text)
             d.execute_script("window.scrollTo(0, 0)")
             out = ROOT / "docs" / "img" / "service.png"
             d.save_screenshot(str(out))

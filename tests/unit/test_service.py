@@ -263,7 +263,8 @@ def test_unexpected_failure_is_500_without_traceback(folders: dict[str, Path],
 
 
 json_values = st.recursive(
-    st.none() | st.booleans() | st.floats(allow_nan=False) | st.integers() | st.text(max_size=8),
+    st.none() | st.booleans() | st.floats(allow_nan=False, allow_infinity=False)
+    | st.integers() | st.text(max_size=8),
     lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=8), inner,
                                                                 max_size=3), max_leaves=8)
 
@@ -458,3 +459,20 @@ def test_failed_reload_keeps_the_old_model(tmp_path: Path, folders: dict[str, Pa
     assert r.status_code == 422 and "not a surrogate model folder" in r.json()["detail"]
     assert c.get("/healthz").json()["models"] == {"m": 1}
     assert c.post("/v1/query", json={"rows": [CONDITION]}).status_code == 200
+
+
+# -- the serve command: bad options are one line, exit 2, before anything listens -------------
+@pytest.mark.parametrize("args, field", [
+    (["--model", "/nonexistent/model"], "--model"),
+    (["--model", "a b=/tmp"], "--model"),
+    (["--model", "MODEL", "--port", "0"], "--port"),
+    (["--model", "MODEL", "--max-body-mb", "0"], "--max-body-mb"),
+    (["--model", "MODEL", "--torch-threads", "0"], "--torch-threads"),
+    (["--model", "MODEL", "--model", "MODEL"], "--model"),
+])
+def test_serve_bad_options_exit_2(folders: dict[str, Path], capsys, args: list[str],
+                                  field: str) -> None:
+    argv = ["serve"] + [str(folders["synthetic"]) if a == "MODEL" else a for a in args]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {field}") and err.count("\n") == 1, err

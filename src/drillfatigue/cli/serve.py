@@ -40,11 +40,11 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
     """Serve the HTTP API and the web page of the digital twin.
 
     Requests are answered concurrently by a thread pool; torch runs each
-    request's network on ``--torch-threads`` threads (default 1). On a busy
-    machine one thread per request is several times faster for single
-    queries than intra-op threads that wait for each other at every operator
-    (single-row predict_array 1.6 ms vs 18 ms with 2 threads at load 8 on 2
-    cores, benchmarks/results/service.json for the served numbers).
+    request's network on ``--torch-threads`` threads (default 1): the
+    parallelism comes from concurrent requests, and intra-op threads that
+    wait for each other at every operator make single queries several times
+    slower on a busy machine. Served latency and throughput:
+    ``benchmarks/results/service.json``.
     """
     if not 0 < port < 65536:
         raise InputError("--port", f"got {port}", "1 <= port <= 65535")

@@ -99,6 +99,13 @@ def _one_line(exc: InputError, status: int = 422) -> JSONResponse:
     return JSONResponse(status_code=status, content=body.model_dump())
 
 
+#: what a value of a pydantic error type's family may be
+_ALLOWED_BY_TYPE = {"float": "a number", "int": "an integer", "string": "text",
+                    "bool": "true or false", "dict": "a JSON object", "list": "a JSON array",
+                    "missing": "the key with a value (schema: /openapi.json)",
+                    "union": "a number or text", "finite": "a finite number"}
+
+
 def _validation_error(exc: RequestValidationError) -> InputError:
     """The first pydantic error of a request as an InputError (field path without 'body')."""
     err = dict(exc.errors()[0])
@@ -110,10 +117,18 @@ def _validation_error(exc: RequestValidationError) -> InputError:
         return InputError("body", f"invalid JSON ({reason})", "a JSON object")
     if not loc and err.get("type") in ("missing", "model_attributes_type", "dict_type"):
         return InputError("body", "missing or not a JSON object", "a JSON object")
+    union_branch = False
+    while loc and loc[-1] in ("float", "str"):  # a feature value (float | str) of any other type
+        loc = loc[:-1]
+        union_branch = True
     err["loc"] = loc
     exc1 = input_error_from_error(err)
+    if union_branch:
+        return InputError(exc1.field, f"got {err.get('input')!r}", "a number or text")
     if exc1.allowed is None:
-        return InputError(exc1.field, exc1.problem, "the request schema at /openapi.json")
+        kind = str(err.get("type", "")).split("_")[0]
+        allowed = _ALLOWED_BY_TYPE.get(kind, "the request schema at /openapi.json")
+        return InputError(exc1.field, exc1.problem, allowed)
     return exc1
 
 

@@ -28,6 +28,7 @@ async function api(method, path, body) {
 function fmt(v, digits) {
   if (v === null || v === undefined) { return "inf"; }
   if (typeof v !== "number") { return String(v); }
+  if (Number.isInteger(v) && Math.abs(v) < 1e6) { return String(v); }
   return Number(v).toPrecision(digits || 3);
 }
 
