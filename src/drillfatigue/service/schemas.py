@@ -30,7 +30,7 @@ class Request(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    model: str | None = Field(None, description="model name (GET /v1/models); default: the "
+    model: str | None = Field(default=None, description="model name (GET /v1/models); default: the "
                               "first one the service was started with")
 
 
@@ -76,7 +76,7 @@ class LogInput(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    format: str = Field("csv", description="log format (GET /v1/model lists them)")
+    format: str = Field(default="csv", description="log format (GET /v1/model lists them)")
     text: str = Field(min_length=1, description="the log file's content")
 
 
@@ -85,19 +85,20 @@ class ReplayRequest(Request):
 
     log: LogInput
     components: list[dict[str, Value]] | None = Field(
-        None, description="component list rows: serial, s_from_bit_m, component_type, location")
-    components_csv: str | None = Field(None, description="the component list as CSV text")
-    string: StringConfig | None = Field(None, description="a string section: every segment's "
-                                        "body and connection is tracked")
+        default=None, description="component list rows: serial, s_from_bit_m, component_type, location")
+    components_csv: str | None = Field(default=None, description="the component list as CSV text")
+    string: StringConfig | None = Field(
+        default=None, description="a string section: every segment's body and connection "
+        "is tracked")
     survey: list[dict[str, float]] | None = Field(
-        None, description="survey rows: md_m, dls_deg_per_30m (and inc_deg)")
-    well: WellConfig | None = Field(None, description="a well section, instead of survey")
+        default=None, description="survey rows: md_m, dls_deg_per_30m (and inc_deg)")
+    well: WellConfig | None = Field(default=None, description="a well section, instead of survey")
     constants: dict[str, Value] = Field(default_factory=dict,
                                         description="features constant over the log, user "
                                         "names (mu_static, mud_density_sg, ...)")
-    retire_at_damage: float = Field(0.5, gt=0.0, le=1.0, description="retire a component "
+    retire_at_damage: float = Field(default=0.5, gt=0.0, le=1.0, description="retire a component "
                                     "whose upper-bound damage reaches this")
-    retire_within_h: float | None = Field(None, gt=0.0, description="also retire one whose "
+    retire_within_h: float | None = Field(default=None, gt=0.0, description="also retire one whose "
                                           "lower-bound remaining life is shorter (h)")
 
 
@@ -128,7 +129,7 @@ class PlanRankRequest(Request):
     """Candidate well plans: the candidates file as an object or as YAML text."""
 
     candidates: CandidateFile | None = None
-    candidates_yaml: str | None = Field(None, description="a candidates file's YAML text")
+    candidates_yaml: str | None = Field(default=None, description="a candidates file's YAML text")
 
 
 class PlanRankResponse(Answer):
@@ -145,7 +146,7 @@ class AxisSpec(BaseModel):
     name: str = Field(description="numeric feature, user name (rpm, wob_kN, rop_m_per_h, ...)")
     start: float
     stop: float
-    n: int = Field(21, ge=MIN_NODES, le=MAX_NODES, description="nodes, ends included")
+    n: int = Field(default=21, ge=MIN_NODES, le=MAX_NODES, description="nodes, ends included")
 
 
 class WindowRequest(Request):
@@ -156,7 +157,7 @@ class WindowRequest(Request):
     fixed: dict[str, Value] = Field(description="every other feature, user names: md_m, "
                                     "s_from_bit_m, component_type, location, ...")
     survey: list[dict[str, float]] | None = Field(
-        None, description="survey rows (md_m, dls_deg_per_30m, inc_deg): the hole geometry "
+        default=None, description="survey rows (md_m, dls_deg_per_30m, inc_deg): the hole geometry "
         "at md_m and at the bit instead of fixed values")
 
 
@@ -181,9 +182,9 @@ class WindowResponse(Answer):
 class FeatureInfo(BaseModel):
     column: str = Field(description="SI column of the training data")
     names: list[str] = Field(description="accepted user names (first: the short SI one)")
-    min: float | None = Field(None, description="training minimum, SI")
-    max: float | None = Field(None, description="training maximum, SI")
-    levels: list[str] | None = Field(None, description="categories seen in training")
+    min: float | None = Field(default=None, description="training minimum, SI")
+    max: float | None = Field(default=None, description="training maximum, SI")
+    levels: list[str] | None = Field(default=None, description="categories seen in training")
 
 
 class ModelCard(Answer):
@@ -196,7 +197,7 @@ class ModelCard(Answer):
     training: dict[str, Any]
     split: dict[str, int] = Field(description="number of cases per part of the split")
     architecture: dict[str, Any]
-    metrics: dict[str, Any] | None = Field(None, description="metrics.json of the evaluate "
+    metrics: dict[str, Any] | None = Field(default=None, description="metrics.json of the evaluate "
                                            "stage, when next to the model folder")
     log_formats: list[str]
     limits: dict[str, int]
@@ -217,7 +218,7 @@ class ModelsResponse(BaseModel):
 class ReloadRequest(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    model: str | None = Field(None, description="model to reload; default: all")
+    model: str | None = Field(default=None, description="model to reload; default: all")
 
 
 class ReloadResponse(BaseModel):

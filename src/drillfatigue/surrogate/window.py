@@ -200,7 +200,7 @@ def operating_window(model: Surrogate, x: Axis, y: Axis, fixed: Mapping[str, Any
     frame[vocab.terms[x.name].column] = xx.ravel() * vocab.terms[x.name].factor
     frame[vocab.terms[y.name].column] = yy.ravel() * vocab.terms[y.name].factor
     added: dict[str, Any] = {}
-    if geo_cols:
+    if geo_cols and survey is not None:
         for col in ("md_m", "dls_deg_per_30m"):
             if col not in survey.columns:
                 raise InputError(f"survey.{col}", "missing column in the survey",
