@@ -85,7 +85,8 @@ class ReplayRequest(Request):
 
     log: LogInput
     components: list[dict[str, Value]] | None = Field(
-        default=None, description="component list rows: serial, s_from_bit_m, component_type, location")
+        default=None,
+        description="component list rows: serial, s_from_bit_m, component_type, location")
     components_csv: str | None = Field(default=None, description="the component list as CSV text")
     string: StringConfig | None = Field(
         default=None, description="a string section: every segment's body and connection "
