@@ -476,3 +476,43 @@ def test_serve_bad_options_exit_2(folders: dict[str, Path], capsys, args: list[s
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"error: {field}") and err.count("\n") == 1, err
+
+
+def test_serve_process_answers_and_reloads_on_sighup(folders: dict[str, Path]) -> None:
+    """``drillfatigue serve`` as a user starts it: the page, a query, SIGHUP -> generation 2."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    from service_helpers import free_port
+
+    port = free_port()
+    proc = subprocess.Popen([sys.executable, "-m", "drillfatigue", "serve", "--model",
+                             f"demo={folders['synthetic']}", "--port", str(port)],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 120.0
+        while True:
+            try:
+                if httpx.get(url + "/healthz", timeout=2.0).status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            assert proc.poll() is None and time.monotonic() < deadline, "server did not start"
+            time.sleep(0.2)
+        page = httpx.get(url + "/")
+        assert page.status_code == 200 and "plotly-cartesian.min.js" in page.text
+        assert httpx.get(url + "/static/vendor/plotly-cartesian.min.js").status_code == 200
+        q = httpx.post(url + "/v1/query", json={"rows": [CONDITION]}).json()
+        assert q["model"] == "demo" and q["generation"] == 1
+        os.kill(proc.pid, signal.SIGHUP)
+        deadline = time.monotonic() + 60.0
+        while httpx.get(url + "/healthz").json()["models"]["demo"] != 2:
+            assert time.monotonic() < deadline, "no reload after SIGHUP"
+            time.sleep(0.2)
+        assert httpx.post(url + "/v1/query", json={"rows": [CONDITION]}).json()["generation"] == 2
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
