@@ -202,6 +202,8 @@ async function replay() {
     " h</b>; largest damage " + fmt(res.max_damage) + " at <b>" + res.max_damage_serial + "</b>; " +
     (res.total_ood_time_s > 0 ? "<span class='bad'>" + fmt(res.total_ood_time_s) + " component-seconds out of domain</span>" : "all in the training domain") +
     (res.ignored_log_channels.length ? "; unused log channels: " + res.ignored_log_channels.join(", ") : "");
+  const notInHole = res.components.filter((c) => !(c.damage > 0)).length;
+  if (notInHole) { $("replay-summary").innerHTML += "; " + notInHole + " without damage (not in the hole), not plotted"; }
   fillTable($("retire-table"), [["serial", "serial"], ["s_from_bit_m", "s from bit (m)"], ["damage", "damage"],
     ["damage_upper", "upper bound"], ["remaining_life_h_lower", "remaining life, lower (h)"], ["reason", "reason"]],
     res.retire, "none: no component reaches the retirement limits");
