@@ -102,3 +102,6 @@ def test_page_replays_a_log_and_maps_a_window(browser, tmp_path: Path) -> None: 
         shot = tmp_path / "web_page.png"
         assert browser.save_screenshot(str(shot))
         assert shot.stat().st_size > 20_000
+        # the interactive API docs render from the shipped Swagger UI
+        browser.get(url + "/docs")
+        wait.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, ".opblock")) >= 9)

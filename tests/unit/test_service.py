@@ -88,6 +88,10 @@ def test_health_models_and_openapi(client: TestClient, registry: ModelRegistry) 
     m = client.get("/v1/models").json()
     assert m["default"] == "synthetic" and [x["name"] for x in m["models"]] == ["synthetic",
                                                                                "plan"]
+    docs = client.get("/docs")
+    assert docs.status_code == 200 and "/static/vendor/swagger-ui-bundle.js" in docs.text
+    assert "cdn" not in docs.text.lower()  # the machine may be offline: nothing external
+    assert client.get("/static/vendor/swagger-ui-bundle.js").status_code == 200
     paths = client.get("/openapi.json").json()["paths"]
     for p in ("/healthz", "/v1/models", "/v1/model", "/v1/model/reload", "/v1/query",
               "/v1/twin/replay", "/v1/plan/rank", "/v1/window", "/v1/window.png"):

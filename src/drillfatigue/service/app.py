@@ -13,6 +13,7 @@ Endpoints (OpenAPI schema at ``/openapi.json``, interactive docs at ``/docs``):
 ``POST /v1/window``            operating-window map: life over a grid of two parameters
 ``POST /v1/window.png``        the same map as a PNG, out-of-domain cells hatched
 ``GET  /``                     the web page (static files under ``/static``)
+``GET  /docs``                 interactive API documentation (Swagger UI, shipped)
 =============================  ===========================================================
 
 Every refused request is answered with a JSON body whose ``detail`` is one
@@ -37,7 +38,8 @@ import pandas as pd
 import yaml
 from fastapi import FastAPI
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import FileResponse, JSONResponse, Response
+from fastapi.openapi.docs import get_swagger_ui_html
+from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
 from starlette.exceptions import HTTPException
 from starlette.requests import Request as StarletteRequest
@@ -321,7 +323,8 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
         413: {"model": ErrorResponse, "description": "body over the size limit"}}
     app = FastAPI(title="drillfatigue digital twin", version=__version__,
                   description="Fatigue damage of a drill string from the surrogate: "
-                  "queries, operating-log replay, operating-window maps, well-plan ranking.")
+                  "queries, operating-log replay, operating-window maps, well-plan ranking.",
+                  docs_url=None, redoc_url=None)
     app.state.registry = registry
     app.state.limits = lim
 
@@ -466,6 +469,15 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
     @app.get("/", include_in_schema=False)
     def index() -> FileResponse:
         return FileResponse(static / "index.html", media_type="text/html")
+
+    @app.get("/docs", include_in_schema=False)
+    def docs() -> HTMLResponse:
+        # Swagger UI from the package (FastAPI's default page loads it from a CDN)
+        return get_swagger_ui_html(openapi_url="/openapi.json",
+                                   title="drillfatigue digital twin: API",
+                                   swagger_js_url="/static/vendor/swagger-ui-bundle.js",
+                                   swagger_css_url="/static/vendor/swagger-ui.css",
+                                   swagger_favicon_url="data:,")
 
     app.mount("/static", StaticFiles(directory=static), name="static")
     app.add_middleware(_Guard, max_body_bytes=lim.max_body_bytes)
