@@ -8,7 +8,7 @@ STAMP  := $(VENV)/.installed
 export PATH := $(CURDIR)/$(VENV)/bin:$(PATH)
 export NUMBA_CACHE_DIR ?= $(CURDIR)/.numba_cache
 
-.PHONY: install repro test bench bench-quick clean
+.PHONY: install repro test browser serve bench bench-quick clean
 
 $(STAMP): pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -22,8 +22,18 @@ install: $(STAMP)
 repro: install
 	$(VENV)/bin/dvc repro
 
-test: install
+test: install browser
 	$(PY) -m pytest -q
+
+# the web-page test drives a real headless Chromium: install it (as root, CI) when missing
+browser:
+	@command -v chromium >/dev/null && command -v chromedriver >/dev/null || \
+	  { apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium chromium-driver; }
+
+# the digital twin's API and web page on http://127.0.0.1:8000/
+MODEL ?= data/surrogate/model
+serve: install
+	$(VENV)/bin/drillfatigue serve --model $(MODEL)
 
 bench: install
 	$(PY) benchmarks/run_all.py

@@ -27,6 +27,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.simulate",
     "drillfatigue.cli.sweep",
     "drillfatigue.cli.plan",
+    "drillfatigue.cli.serve",
 )
 
 

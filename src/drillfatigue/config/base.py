@@ -59,7 +59,11 @@ def _allowed_from_ctx(err: dict[str, Any]) -> str | None:
 
 def input_error_from_validation(exc: ValidationError, prefix: str = "") -> InputError:
     """Convert the first error of a pydantic ``ValidationError`` to an InputError."""
-    err = exc.errors(include_url=False)[0]
+    return input_error_from_error(exc.errors(include_url=False)[0], prefix)
+
+
+def input_error_from_error(err: dict[str, Any], prefix: str = "") -> InputError:
+    """Convert one pydantic error entry (``ValidationError.errors()[i]``) to an InputError."""
     # Custom validators inside unions report the branch name in loc; drop
     # function-style tags such as 'function-after[...]'.
     loc = tuple(p for p in err["loc"] if not (isinstance(p, str) and "[" in p and "]" in p))

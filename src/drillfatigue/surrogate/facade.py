@@ -319,13 +319,12 @@ class Surrogate:
         return cls(module, pre, domain, meta)
 
 
-def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
-                     index: Any = None) -> pd.DataFrame:
-    """Assemble the :data:`PREDICTION_COLUMNS` frame from :meth:`Surrogate.predict_array` output."""
+def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray) -> dict[str, np.ndarray]:
+    """The :data:`PREDICTION_COLUMNS` as arrays from :meth:`Surrogate.predict_array` output."""
     rate = 10.0 ** r["log10"]
     lo = 10.0 ** r["lower"]
     hi = 10.0 ** r["upper"]
-    return pd.DataFrame({
+    return {
         "log10_damage_rate_per_h": r["log10"],
         "log10_damage_rate_per_h_lower": r["lower"],
         "log10_damage_rate_per_h_upper": r["upper"],
@@ -333,7 +332,13 @@ def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
         "damage_rate_per_h": rate, "damage_rate_per_h_lower": lo, "damage_rate_per_h_upper": hi,
         "life_h": 1.0 / rate, "life_h_lower": 1.0 / hi, "life_h_upper": 1.0 / lo,
         "ood": r["ood"], "ood_reason": reasons,
-    }, index=index)
+    }
+
+
+def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
+                     index: Any = None) -> pd.DataFrame:
+    """Assemble the :data:`PREDICTION_COLUMNS` frame from :meth:`Surrogate.predict_array` output."""
+    return pd.DataFrame(prediction_columns(r, reasons), index=index)
 
 
 def _open_live(live_dir: str | Path) -> Any:
