@@ -180,7 +180,8 @@ BAD = [
     ("/v1/query", {"rows": [CONDITION, {"rpm": 100}]}, "rows[1]."),
     ("/v1/query", {"rows": "all of them"}, "rows"),
     ("/v1/query", [1, 2], "body"),
-    ("/v1/twin/replay", _replay_body(log={"format": "las", "text": "x"}), "log.format"),
+    ("/v1/twin/replay", _replay_body(log={"format": "xls", "text": "x"}), "log.format"),
+    ("/v1/twin/replay", _replay_body(log={"format": "las", "text": "x"}), "log.text"),
     ("/v1/twin/replay", _replay_body(log={"format": "csv", "text": ""}), "log.text"),
     ("/v1/twin/replay", _replay_body(log={"format": "csv", "text": "time_s,bit_md_m\n5,1\n1,1"}),
      "time_s"),
@@ -315,6 +316,31 @@ def test_replay_equals_library_and_cli(client: TestClient, registry: ModelRegist
     np.testing.assert_allclose(api["damage"].astype(float), cli["damage"], rtol=RTOL)
     # no component reaches damage 1 in 2 h of these conditions
     assert ref["damage_upper"].max() < 1.0 and body["retire"] == []
+
+
+def _as_las(frame: pd.DataFrame) -> str:
+    """The example log as LAS 2.0 text, time-indexed, mnemonics a rig would use."""
+    head = ["~VERSION INFORMATION", " VERS. 2.0 : CWLS LOG ASCII STANDARD - VERSION 2.0",
+            " WRAP. NO : ONE LINE PER STEP", "~WELL INFORMATION", " NULL. -999.25 : NULL",
+            "~CURVE INFORMATION", " ETIM .s : elapsed time", " BITDEP .m : bit depth",
+            " RPM .rpm : surface rpm", " SWOB .kN : weight on bit", " ROP .m/h : ROP", "~A"]
+    rows = [" ".join(repr(float(v)) for v in r) for r in
+            frame[["time_s", "bit_md_m", "rpm", "wob_kN", "rop_m_per_h"]].to_numpy()]
+    return "\n".join(head + rows) + "\n"
+
+
+def test_replay_of_a_las_log_equals_the_csv_log(client: TestClient) -> None:
+    # the field-log readers of drillfatigue.io are plugged into the service
+    log = pd.read_csv(EXAMPLES / "operating_log.csv")
+    csv = client.post("/v1/twin/replay", json=_replay_body()).json()
+    las = client.post("/v1/twin/replay",
+                      json=_replay_body(log={"format": "las", "text": _as_las(log)}))
+    assert las.status_code == 200, las.text
+    a = pd.DataFrame(csv["components"], columns=csv["columns"])
+    b = pd.DataFrame(las.json()["components"], columns=las.json()["columns"])
+    np.testing.assert_allclose(b["damage"].astype(float), a["damage"].astype(float),
+                               rtol=1e-12)
+    assert "las" in client.get("/v1/model").json()["log_formats"]
 
 
 def test_retire_list_applies_both_limits(client: TestClient) -> None:

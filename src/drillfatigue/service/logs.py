@@ -3,7 +3,8 @@
 A reader turns an uploaded log into the table
 :func:`drillfatigue.surrogate.twin.replay_log` takes (``time_s`` or
 ``time``, ``bit_md_m`` or ``bit_md_ft``, surface channels in user units).
-``csv`` is built in; a reader for another format (LAS, WITSML, ...) is added
+``csv``, ``las`` (LAS 2.0) and ``witsml`` (WITSML 1.4.1.1 log) are built in
+(the last two through :mod:`drillfatigue.io.logs`); another format is added
 with :func:`register_log_reader` and is then accepted as the ``log.format``
 of ``POST /v1/twin/replay``::
 
@@ -14,11 +15,14 @@ of ``POST /v1/twin/replay``::
 from __future__ import annotations
 
 import io
+import tempfile
 from collections.abc import Callable
+from pathlib import Path
 
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.io.logs import load_log
 
 LogReader = Callable[[bytes], pd.DataFrame]
 
@@ -68,3 +72,22 @@ def read_csv_table(data: bytes, what: str = "table") -> pd.DataFrame:
 
 
 register_log_reader("csv", lambda data: read_csv_table(data, "log"))
+
+
+def _field_log_reader(suffix: str) -> LogReader:
+    """A reader of field logs (:func:`drillfatigue.io.logs.load_log`) from uploaded bytes."""
+    def read(data: bytes) -> pd.DataFrame:
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / f"log{suffix}"
+            path.write_bytes(data)
+            try:
+                return load_log(path).table
+            except InputError as exc:
+                # the temporary file's name means nothing to the client
+                field = exc.field.replace(str(path), "text")
+                raise InputError(field, exc.problem, exc.allowed) from None
+    return read
+
+
+register_log_reader("las", _field_log_reader(".las"))
+register_log_reader("witsml", _field_log_reader(".xml"))

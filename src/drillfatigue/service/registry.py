@@ -20,7 +20,7 @@ import numpy as np
 
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate import Surrogate
-from drillfatigue.surrogate.query import Vocabulary
+from drillfatigue.io.names import Vocabulary
 
 #: rows of the warm-up batches: above the surrogate's single-pass size (256 rows), so
 #: the TorchScript batch path is built and run

@@ -3,7 +3,7 @@
 ``POST /v1/query`` is the service's hot path: most requests carry one
 condition, and building DataFrames for one row costs several times the
 network's own time. These functions apply the rules of
-:meth:`drillfatigue.surrogate.query.Vocabulary.frame_from_table` (one name
+:meth:`drillfatigue.io.names.Vocabulary.frame_from_table` (one name
 per feature, every feature given, finite numbers, known categories) with the
 same messages, directly on the parsed JSON rows.
 """
@@ -19,7 +19,7 @@ import numpy as np
 from drillfatigue.errors import InputError
 from drillfatigue.service.registry import LoadedModel
 from drillfatigue.surrogate.facade import PREDICTION_COLUMNS, prediction_columns
-from drillfatigue.surrogate.query import Term
+from drillfatigue.io.names import Term
 
 
 def _plan(lm: LoadedModel, names: Sequence[str], field: str) -> list[Term]:

@@ -1,6 +1,6 @@
 """Request and response models of the HTTP API (pydantic; they make the OpenAPI schema).
 
-Feature values use the user vocabulary of :mod:`drillfatigue.surrogate.query`
+Feature values use the user vocabulary of :mod:`drillfatigue.io.names`
 (``rpm``, ``wob_kN``, ``rop_m_per_h``, ``mud_density_sg``, ``component_type``,
 ...), as the CLI's flags and CSV columns do. The string, the well and the
 well-plan candidates are the CLI's own configuration models

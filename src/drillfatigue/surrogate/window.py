@@ -10,7 +10,7 @@ nodes outside the training domain (:class:`drillfatigue.surrogate.DomainChecker`
 there the number is not trusted and the map hatches the cell.
 
 Axis and fixed-input names are the user vocabulary of
-:mod:`drillfatigue.surrogate.query` (``rpm``, ``wob_kN``, ``rop_m_per_h``,
+:mod:`drillfatigue.io.names` (``rpm``, ``wob_kN``, ``rop_m_per_h``,
 ``md_m``, ``component_type``, ...). The hole-geometry features of
 :mod:`drillfatigue.well.features` can come from a survey table instead of
 fixed values (the bit is at ``md_m + s_from_bit_m``).
@@ -31,7 +31,7 @@ import pandas as pd
 from drillfatigue.errors import InputError
 from drillfatigue.files import atomic_write_bytes
 from drillfatigue.surrogate.facade import Surrogate, prediction_frame
-from drillfatigue.surrogate.query import Vocabulary
+from drillfatigue.io.names import Vocabulary
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
 
 #: fewest and most nodes along one axis
