@@ -23,6 +23,7 @@ from pathlib import Path
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 
 
 def _cell(v: float | None, width: int) -> str:
@@ -31,6 +32,7 @@ def _cell(v: float | None, width: int) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--data", default="data/dataset/damage.parquet")

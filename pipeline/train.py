@@ -21,6 +21,7 @@ import pandas as pd
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 
 
 def read_table(path: str | Path) -> pd.DataFrame:
@@ -32,6 +33,7 @@ def read_table(path: str | Path) -> pd.DataFrame:
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--data", default="data/dataset/damage.parquet")

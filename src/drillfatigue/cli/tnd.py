@@ -37,9 +37,6 @@ def _check_plot_path(path: Path) -> None:
 
 def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str) -> None:
     """Tension (kN) and torque (kN m) against MD for the four modes; written atomically."""
-    import matplotlib
-
-    matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
     from drillfatigue.well.survey import atomic_output

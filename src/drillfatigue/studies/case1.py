@@ -172,15 +172,12 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
 
 def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame],
              spins: dict[str, tuple[np.ndarray, np.ndarray]], dpi: int) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     names = list(orbits)
     ncol = min(len(names), 2)
     nrow = math.ceil(len(names) / ncol)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 4.2 * nrow), squeeze=False)
+    fig, axes = subplots(nrow, ncol, figsize=(4.2 * ncol, 4.2 * nrow), squeeze=False)
     r_h = HOLE_D_M / 2
     clear = r_h - PIPE_OD_M / 2
     ang = np.linspace(0, 2 * np.pi, 200)
@@ -199,7 +196,7 @@ def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame],
     fig.suptitle("Case 1: orbits of the segment centres in the hole cross-section")
     save_figure(fig, out_dir / "case1_orbits.png", dpi)
 
-    fig, ax = plt.subplots(figsize=(8, 4))
+    fig, ax = subplots(figsize=(8, 4))
     for i, name in enumerate(names):
         kin = orbits[name]
         g = kin.groupby("time_s")["theta_rad"].mean()

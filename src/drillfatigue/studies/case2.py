@@ -198,14 +198,11 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
 def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataFrame]],
              table: pd.DataFrame, joint: int, s_joint: float, dpi: int,
              fat: FatigueConfig) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 
-    fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    fig, ax = subplots(3, 1, figsize=(8, 8), sharex=True)
     for i, (profile, parts) in enumerate(histories.items()):
         series = [(h["md_m"].to_numpy(), h["axial_N"].to_numpy() / 1e3,
                    h["torque_Nm"].to_numpy() / 1e3,
@@ -235,7 +232,7 @@ def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataF
     save_figure(fig, out_dir / "case2_loads.png", dpi)
 
     s = fat.scf["drill_pipe" if s_joint > cfg.string.dc_length_m else "collar"].connection
-    fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, ax = subplots(2, 1, figsize=(8, 6), sharex=True)
     k_show = min(cfg.n_samples // 2, cfg.n_samples - 1)
     for i, (profile, parts) in enumerate(histories.items()):
         h = parts[k_show]
@@ -258,7 +255,7 @@ def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataF
                     "largest range")
     save_figure(fig, out_dir / "case2_connection_stress.png", dpi)
 
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = subplots(figsize=(7, 4))
     x = np.arange(len(table))
     w = 0.27
     def fin(col: str) -> np.ndarray:  # an infinite life (no damage) is left out of the bars

@@ -140,12 +140,9 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
 
 def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
              cfg: Case3Config, table: pd.DataFrame, dpi: int) -> None:
-    import matplotlib
+    from drillfatigue.plotting import subplots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    fig, ax = subplots(3, 1, figsize=(8, 8), sharex=True)
     for j, s in picks:
         h = loads[loads["joint"] == j]
         kw = {"lw": 0.6, "label": f"{s:.0f} m behind the bit"}
@@ -160,7 +157,7 @@ def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
     ax[0].set_title(f"Case 3: {cfg.profile} horizontal section, {cfg.rpm:.0f} rpm window")
     save_figure(fig, out_dir / "case3_loads.png", dpi)
 
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = subplots(figsize=(6, 4))
     x = np.arange(len(table))
     life = table["life_h"].to_numpy(dtype=float)
     ax.bar(x - 0.2, np.where(np.isfinite(life), life, np.nan), 0.4,

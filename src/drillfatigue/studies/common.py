@@ -76,13 +76,10 @@ def write_csv(path: Path, frame: pd.DataFrame) -> None:
 
 
 def save_figure(fig: Any, path: Path, dpi: int = 110) -> None:
-    """Save a matplotlib figure atomically as PNG and close it."""
-    import matplotlib.pyplot as plt
-
+    """Save a matplotlib figure atomically as PNG."""
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp.png")
     fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
     os.replace(tmp, path)
 
 

@@ -463,13 +463,10 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
 
 def plot_damage_along_string(result: ReplayResult, path: str) -> None:
     """Accumulated damage (with interval) versus distance from the bit, log scale, PNG."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     c = result.components.sort_values(S_COLUMN)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = subplots(figsize=(7, 4))
     s = c[S_COLUMN].to_numpy()
     d = c["damage"].to_numpy()
     lo = c["damage_lower"].to_numpy()
@@ -490,4 +487,3 @@ def plot_damage_along_string(result: ReplayResult, path: str) -> None:
     from drillfatigue.surrogate.io import save_figure
 
     save_figure(fig, path)
-    plt.close(fig)

@@ -23,12 +23,9 @@ __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
 
 
 def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
-    import matplotlib
+    from drillfatigue.plotting import figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig = plt.figure(figsize=(13, 4.5))
+    fig = figure(figsize=(13, 4.5))
     ax3 = fig.add_subplot(1, 3, 1, projection="3d")
     # Draw the minimum-curvature arcs, not the chords between stations.
     _, fine, _ = resample_path(sv, 2.0, np.empty(0), math.inf)
@@ -67,16 +64,11 @@ def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
 
 def plot_survey(sv: Survey, path: str | Path, title: str) -> None:
     """Draw 3D view, vertical section and DLS vs MD; write ``path`` atomically."""
-    import matplotlib.pyplot as plt
-
     path = Path(path)
     suffix = path.suffix.lower().lstrip(".")
     fig = _figure(sv, title)
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format=suffix, dpi=110)
-    finally:
-        plt.close(fig)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format=suffix, dpi=110)
 
 
 def cylinder_table(wb: Wellbore) -> dict[str, np.ndarray]:
