@@ -2,12 +2,12 @@
 
 Reads the ``surrogate`` section of ``params.yaml`` and the damage table
 (``data/dataset/damage.parquet``, one row per case and component location);
-writes the model folder (``models/surrogate/``: weights, metadata, OOD
+writes the model folder (``data/surrogate/model/``: weights, metadata, OOD
 reference, TorchScript export) and the dvclive training curves (per member
-train/val loss per epoch, ``metrics/surrogate_training/``).
+train/val loss per epoch, ``data/surrogate/training/``).
 
 Usage: ``python pipeline/train.py [--params params.yaml] [--data data/dataset/damage.parquet]
-[--out models/surrogate] [--live metrics/surrogate_training] [--synthetic-cases N]``
+[--out data/surrogate/model] [--live data/surrogate/training] [--synthetic-cases N]``
 (``--synthetic-cases``: train on the documented synthetic table instead, for smoke tests.)
 """
 
@@ -37,8 +37,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--data", default="data/dataset/damage.parquet")
-    parser.add_argument("--out", default="models/surrogate")
-    parser.add_argument("--live", default="metrics/surrogate_training")
+    parser.add_argument("--out", default="data/surrogate/model")
+    parser.add_argument("--live", default="data/surrogate/training")
     parser.add_argument("--synthetic-cases", type=int, default=0)
     args = parser.parse_args(argv)
     try:

@@ -96,7 +96,7 @@ def test_cli_json_and_plot(tmp_path, capsys):
 @pytest.mark.parametrize(
     "args, field",
     [
-        (["-o", "{tmp}/plot.txt"], "-o"),
+        (["-o", "{tmp}/plot.txt"], "--out"),
         (["--cell-m", "0"], "--cell-m"),
         (["--wob-kN", "-3"], "--wob-kN"),
     ],
