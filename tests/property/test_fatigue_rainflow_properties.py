@@ -75,5 +75,5 @@ def test_batched_miner_sum_equals_scalar_sn_evaluation(S: list[float], which: in
     Sa = np.array(S)
     cnt = np.where(np.arange(Sa.size) % 3 == 0, 0.5, 1.0)
     got = K._miner_batch(Sa, cnt, Sa.size, a, m, ia, cut)
-    ref = sum(c * K.sn_inverse_life(x, a, m, ia, cut) for x, c in zip(Sa, cnt))
+    ref = sum(c * K.sn_inverse_life(x, a, m, ia, cut) for x, c in zip(Sa, cnt, strict=False))
     assert got == pytest.approx(ref, rel=1e-12, abs=0.0)

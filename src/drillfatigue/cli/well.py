@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out, require_out
+from drillfatigue.cli.app import LegacyOutputOpt, app, require_out
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.errors import InputError
 from drillfatigue.well import Survey, build_survey, key_points, write_survey_csv

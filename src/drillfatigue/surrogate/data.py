@@ -179,6 +179,6 @@ def make_synthetic_dataset(n_cases: int = 100, seed: int = 0,
     df["local_dls_deg_per_30m"] = np.where(in_build, df["well.dls_deg_per_30m"], 0.0)
     y_true = synthetic_log10_rate(df)
     y = y_true + rng.normal(0.0, 1.0, len(df)) * synthetic_noise_sigma(df)
-    for crit, off in zip(CRITERIA, (0.0, 0.1, -0.2, -0.5)):
+    for crit, off in zip(CRITERIA, (0.0, 0.1, -0.2, -0.5), strict=False):
         df[f"damage_rate_per_h_{crit}"] = np.where(y_true + off < -10.0, 0.0, 10.0 ** (y + off))
     return df.sort_values(["case_id", "s_from_bit_m", "location"], ignore_index=True)

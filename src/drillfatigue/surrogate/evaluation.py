@@ -318,7 +318,7 @@ def plot_parity(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensem
     fig, axes = subplots(1, len(models), figsize=(4.2 * len(models), 4), squeeze=False)
     y = pred["y_true"].to_numpy()
     lim = (float(np.min(y)) - 0.5, float(np.max(y)) + 0.5)
-    for ax, m in zip(axes[0], models):
+    for ax, m in zip(axes[0], models, strict=False):
         ax.plot(lim, lim, "k-", lw=1)
         ax.fill_between(lim, np.array(lim) - LOG10_2, np.array(lim) + LOG10_2, color="0.85",
                         label="factor 2")
@@ -333,7 +333,8 @@ def plot_parity(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensem
     save_figure(fig, path)
 
 
-def plot_residuals(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
+def plot_residuals(pred: pd.DataFrame, path: str,
+                   models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
     """Residual (predicted - simulated) vs predicted log10 damage rate (PNG)."""
     from drillfatigue.plotting import subplots
 

@@ -18,7 +18,8 @@ Log columns: ``time_s`` (seconds) or ``time`` (date-time text or seconds),
 ``bit_md_m`` (or ``bit_md_ft``), and any model feature in user units
 (:mod:`drillfatigue.surrogate.query`), typically ``rpm``, ``wob_kN``,
 ``rop_m_per_h``; instead of WOB a hook-load channel (``hook_load_kN``, ...)
-with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns: ``serial``, ``s_from_bit_m`` and the
+with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns:
+``serial``, ``s_from_bit_m`` and the
 per-component features (``component_type``, ``location``). Features given by
 neither (friction, mud, well) come from ``constants``; the hole geometry at
 each component's depth and at the bit (the columns of

@@ -447,7 +447,7 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
                         record = died(case, exc)
                     handle(case, record)
                 if broken:  # the pool is dead: charge the cases in flight, start a new one
-                    for fut, case in list(pending.items()):
+                    for case in list(pending.values()):
                         handle(case, died(case, BrokenProcessPool("worker process died")))
                     pending.clear()
                     executor = make()
