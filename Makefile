@@ -8,7 +8,7 @@ STAMP  := $(VENV)/.installed
 export PATH := $(CURDIR)/$(VENV)/bin:$(PATH)
 export NUMBA_CACHE_DIR ?= $(CURDIR)/.numba_cache
 
-.PHONY: install repro test bench bench-quick clean
+.PHONY: install repro test lint types imports docs docs-serve pytest bench bench-quick clean
 
 $(STAMP): pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -22,7 +22,30 @@ install: $(STAMP)
 repro: install
 	$(VENV)/bin/dvc repro
 
-test: install
+# CI runs `make test`: lint, types, the import contract, the docs build
+# (warnings are errors) and the test suite, within the 10-minute budget.
+test: lint types imports docs pytest
+
+lint: install
+	$(VENV)/bin/ruff check .
+
+types: install
+	$(VENV)/bin/mypy
+
+# The import-linter contracts, when the project declares them (.importlinter
+# or [tool.importlinter] in pyproject.toml).
+imports: install
+	@if [ -f .importlinter ] || grep -q '^\[tool.importlinter\]' pyproject.toml; then \
+		PYTHONPATH=src $(VENV)/bin/lint-imports; \
+	else echo "imports: no import-linter contract declared"; fi
+
+docs: install
+	$(VENV)/bin/mkdocs build --strict --site-dir site
+
+docs-serve: install
+	$(VENV)/bin/mkdocs serve
+
+pytest: install
 	$(PY) -m pytest -q
 
 bench: install
@@ -32,4 +55,4 @@ bench-quick: install
 	$(PY) benchmarks/run_all.py --quick
 
 clean:
-	rm -rf $(VENV) .numba_cache .pytest_cache
+	rm -rf $(VENV) .numba_cache .pytest_cache .mypy_cache .ruff_cache site
