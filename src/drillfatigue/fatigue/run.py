@@ -151,7 +151,7 @@ def api_rp7g_baseline(loads: pd.DataFrame, joints: pd.DataFrame, case: Any,
     baseline's plain-beam limit), the case's rpm, the body section of
     ``joints.parquet``, the body S-N curve, body bending SCF and Goodman
     correction of ``cfg``; one fully reversed cycle per revolution
-    (FATIGUE.md section 5, :func:`drillfatigue.fatigue.rp7g.rp7g_damage_rate_profile`).
+    (docs/fatigue.md#api-rp7g, :func:`drillfatigue.fatigue.rp7g.rp7g_damage_rate_profile`).
     The maximum permissible dogleg (RP7G endurance line) is given for grades
     E-75 and S-135 only (NaN otherwise); joint spacing 30 ft (L = 180 in).
 

@@ -1,12 +1,12 @@
 """Case study 2 of the founding paper: three well profiles with the same start and end.
 
-MODEL.md §8.2: 100 drill-pipe + 20 collar segments, 150 rpm, ROP 0.5 m/s, hook
+docs/model.md#case-studies: 100 drill-pipe + 20 collar segments, 150 rpm, ROP 0.5 m/s, hook
 load putting the neutral point at the top of the collars, 800 s of drilling
 from just above the kick-off into the horizontal (the string grows 480 -> 880
 m). Reported: internal force and torque of the segment 40 m behind the bit as
 it passes through the build, the stress history at its connection, and the
 fatigue life in repetitions of the 800 s window by the critical-plane
-criterion (default Matake, FATIGUE.md) and by API RP7G (Lubinski). The paper's
+criterion (default Matake, docs/fatigue.md) and by API RP7G (Lubinski). The paper's
 lives: profile 2: 12.8 > profile 1: 10.3 > profile 3: 5.9 windows.
 
 Reduced mode (``n_samples > 1``): the 800 s are represented by ``n_samples``
@@ -42,9 +42,9 @@ from drillfatigue.studies.common import (
     write_json,
 )
 
-#: The paper's lives in 800 s windows (MODEL.md §8.2).
+#: The paper's lives in 800 s windows (docs/model.md#case-studies).
 PAPER_LIFE_WINDOWS: dict[str, float] = {"profile_1": 10.3, "profile_2": 12.8, "profile_3": 5.9}
-#: The paper's run time for the three 800 s profiles, hours (MODEL.md §8).
+#: The paper's run time for the three 800 s profiles, hours (docs/model.md#case-studies).
 PAPER_WALL_H = 38.0
 
 

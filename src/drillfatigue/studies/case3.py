@@ -1,6 +1,6 @@
 """Case study 3 of the founding paper: the horizontal section of profile 1.
 
-MODEL.md §8.3: the string trips in for 800 s, the top drive ramps to 50 rpm
+docs/model.md#case-studies: the string trips in for 800 s, the top drive ramps to 50 rpm
 within 40 s, then a 60 s window is recorded; loads 8, 40 and 80 m behind the
 bit; lives in hours (paper: 191, 625, 677 h, the location nearest the build
 section lowest).
@@ -45,7 +45,7 @@ from drillfatigue.studies.common import (
     write_json,
 )
 
-#: The paper's lives at 8, 40, 80 m behind the bit, hours (MODEL.md §8.3).
+#: The paper's lives at 8, 40, 80 m behind the bit, hours (docs/model.md#case-studies).
 PAPER_LIFE_H: dict[float, float] = {8.0: 191.0, 40.0: 625.0, 80.0: 677.0}
 #: The paper's run time of the 60 s window, hours.
 PAPER_WALL_H = 2.0

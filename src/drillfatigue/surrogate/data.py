@@ -132,7 +132,7 @@ def synthetic_noise_sigma(frame: pd.DataFrame) -> np.ndarray:
 
 def make_synthetic_dataset(n_cases: int = 100, seed: int = 0,
                            components: tuple[tuple[float, str], ...] = _POSITIONS) -> pd.DataFrame:
-    """Synthetic damage table with the dataset schema (issue 6), for tests and benchmarks.
+    """Synthetic damage table with the dataset schema, for tests, benchmarks and smoke runs.
 
     Each case draws operating conditions uniformly (rpm 40-200, WOB 20-200 kN,
     ROP 1-21 mm/s, mu_static 0.2-0.5 with mu_dynamic 0.6-0.95 of it, mud
