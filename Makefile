@@ -7,6 +7,8 @@ STAMP  := $(VENV)/.installed
 # dvc runs stage commands with `python`: put the venv first on PATH.
 export PATH := $(CURDIR)/$(VENV)/bin:$(PATH)
 export NUMBA_CACHE_DIR ?= $(CURDIR)/.numba_cache
+# mkdocs-material prints a banner about its successor on every build
+export NO_MKDOCS_2_WARNING := 1
 
 .PHONY: install repro test lint types imports docs docs-serve pytest bench bench-quick clean
 

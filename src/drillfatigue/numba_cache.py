@@ -64,17 +64,22 @@ def default_cache_base() -> Path:
 def scope_numba_cache(base: str | Path | None = None) -> Path:
     """Point numba's on-disk cache at ``<base>/<kernel digest>`` and return that folder.
 
-    Parameters
-    ----------
-    base
-        Parent folder of the per-digest caches; default :func:`default_cache_base`
-        (the make targets set ``NUMBA_CACHE_DIR=.numba_cache``).
-
     Sets ``NUMBA_CACHE_DIR`` in this process's environment (worker processes
     started afterwards inherit it) and, when numba is already imported, its
     ``numba.core.config.CACHE_DIR``. Idempotent: a base that already ends in
     the digest is kept as it is. Call it before any kernel module is
     imported; kernels decorated earlier keep the folder they were bound to.
+
+    Parameters
+    ----------
+    base : str or Path, optional
+        Parent folder of the per-digest caches; default :func:`default_cache_base`
+        (the make targets set ``NUMBA_CACHE_DIR=.numba_cache``).
+
+    Returns
+    -------
+    Path
+        The scoped cache folder.
     """
     folder = Path(base) if base is not None else default_cache_base()
     key = _package_kernel_digest()

@@ -1,4 +1,4 @@
-"""Segmentation of the string into rigid segments (docs/model.md#bodies, §2).
+"""Segmentation of the string into rigid segments (docs/model.md#bodies, docs/model.md#joints).
 
 Each component of ``n_segments`` is cut into equal rigid segments. Segment
 properties are those of a tube of the body section; tool joints (a fraction
