@@ -3,7 +3,7 @@
 numba invalidates a cached function only when its own file changes, not when
 a kernel it calls in another module does: a stale cache would silently run
 old physics. :func:`scope_numba_cache` therefore points numba's cache at
-``<base>/<digest>``, the digest covering every package module that uses
+``<base>/<digest>``, the digest covering every package module that imports
 numba, so an edit anywhere in the kernels starts a fresh cache.
 
 Importing :mod:`drillfatigue` does not do this (a library must not change its
@@ -25,6 +25,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -46,9 +47,21 @@ def source_digest(root: Path, only_containing: bytes = b"") -> str:
     return digest.hexdigest()
 
 
+_IMPORTS_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[\s.])", re.M)
+
+
 def kernel_digest(root: Path) -> str:
-    """16 hex digits of SHA-256 over every module under ``root`` that mentions numba."""
-    return source_digest(root, b"numba")[:16]
+    """16 hex digits of SHA-256 over every module under ``root`` that imports numba.
+
+    Only modules that import numba can define or call kernels; a module that
+    merely mentions numba (this one) does not invalidate the cache.
+    """
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        text = path.read_bytes()
+        if _IMPORTS_NUMBA.search(text):
+            digest.update(path.relative_to(root).as_posix().encode() + b"\0" + text)
+    return digest.hexdigest()[:16]
 
 
 @functools.lru_cache(maxsize=1)

@@ -103,3 +103,12 @@ def test_a_library_figure_leaves_the_backend_alone(tmp_path: Path) -> None:
                          timeout=120, check=True)
     assert out.stdout.split() == ["svg", "False"]
     assert (tmp_path / "f.png").stat().st_size > 0
+
+
+def test_a_module_that_only_mentions_numba_does_not_change_it(tmp_path: Path) -> None:
+    _tree(tmp_path / "a", "def f(x): return x")
+    key = kernel_digest(tmp_path / "a")
+    (tmp_path / "a" / "cache.py").write_text('"""Scopes numba\'s cache."""\n')
+    assert kernel_digest(tmp_path / "a") == key
+    (tmp_path / "a" / "cache.py").write_text("from numba import njit\n")
+    assert kernel_digest(tmp_path / "a") != key
