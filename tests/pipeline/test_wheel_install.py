@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -46,9 +47,15 @@ def _run(cmd: list[str], cwd: Path, env: dict[str, str], timeout: float = 600) -
 @pytest.mark.timeout(900)  # the installed copy's kernels compile afresh (new source path)
 def test_wheel_installs_and_runs_outside_the_source_tree(tmp_path: Path) -> None:
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+    # build from a copy: an in-tree build would write build/ and *.egg-info into the checkout
+    source = tmp_path / "source"
+    shutil.copytree(ROOT / "src", source / "src",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
+        shutil.copy2(ROOT / name, source / name)
     dist = tmp_path / "dist"
     _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q",
-          "-w", str(dist), str(ROOT)], tmp_path, env)
+          "-w", str(dist), str(source)], tmp_path, env)
     (wheel,) = dist.glob("drillfatigue-*.whl")
     names = zipfile.ZipFile(wheel).namelist()
     assert "drillfatigue/dynamics/integrator.py" in names
