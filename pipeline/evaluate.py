@@ -47,13 +47,11 @@ def main(argv: list[str] | None = None) -> int:
         from drillfatigue.surrogate import Surrogate, make_synthetic_dataset
         from drillfatigue.surrogate.evaluation import evaluate, plot_parity, plot_residuals
         from drillfatigue.surrogate.io import write_csv, write_json
-
-        sys.path.insert(0, str(Path(__file__).parent))
-        from train import read_table
+        from drillfatigue.surrogate.data import read_dataset
 
         cfg = load_params(args.params).surrogate
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
-                 if args.synthetic_cases > 0 else read_table(args.data))
+                 if args.synthetic_cases > 0 else read_dataset(args.data))
         model = Surrogate.load(args.model)
         metrics, pred = evaluate(frame, model, cfg)
         if args.noise_floor:

@@ -15,21 +15,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
-
-import pandas as pd
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
 from drillfatigue.numba_cache import scope_numba_cache
-
-
-def read_table(path: str | Path) -> pd.DataFrame:
-    """Read the dataset (parquet or CSV by suffix)."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(str(p), "dataset file not found", "run the dataset stage first")
-    return pd.read_csv(p) if p.suffix.lower() == ".csv" else pd.read_parquet(p)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -43,10 +32,11 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
+        from drillfatigue.surrogate.data import read_dataset
 
         cfg = load_params(args.params).surrogate
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
-                 if args.synthetic_cases > 0 else read_table(args.data))
+                 if args.synthetic_cases > 0 else read_dataset(args.data))
         model = fit_surrogate(frame, cfg, live_dir=args.live)
         model.save(args.out)
     except InputError as exc:

@@ -12,6 +12,7 @@ while the simulated dataset does not exist.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -20,6 +21,14 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 
 CRITERIA = ("matake", "findley", "uniaxial", "rp7g")
+
+
+def read_dataset(path: str | Path) -> pd.DataFrame:
+    """Read the damage table (parquet, or CSV by suffix); InputError if the file is missing."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(str(p), "dataset file not found", "run the dataset stage first")
+    return pd.read_csv(p) if p.suffix.lower() == ".csv" else pd.read_parquet(p)
 
 
 def log10_target(rate_per_h: np.ndarray, floor_per_h: float) -> np.ndarray:
