@@ -15,7 +15,7 @@ PSI_PA = 6894.757293168361  # Pa per psi
 LB_PER_FT_KG_PER_M = 0.45359237 / 0.3048  # kg/m per lb/ft
 LB_KG = 0.45359237  # kg per pound (exact)
 
-# --- added for the surrogate query/twin boundary (user-facing units) ---
+# --- user-facing units at the surrogate query and twin boundary ---
 KN_N = 1000.0  # N per kilonewton
 KLBF_N = 1000.0 * LBF_N  # N per kilo-pound-force
 MM_M = 1e-3  # m per millimetre
@@ -27,7 +27,7 @@ US_GAL_M3 = 231.0 * INCH_M**3  # m^3 per US gallon (exact, 231 in^3)
 PPG_KG_PER_M3 = LB_KG / US_GAL_M3  # kg/m^3 per lb/US gal (mud weight)
 DEG_PER_100FT_DEG_PER_30M = 30.0 / (100.0 * FT_M)  # (deg/30 m) per (deg/100 ft)
 
-# --- added for fatigue (S-N curves are tabulated in MPa, API RP7G in psi) ---
+# --- fatigue (S-N curves are tabulated in MPa, API RP7G in psi) ---
 MPA_PA = 1e6  # Pa per megapascal
 KSI_PA = 1000.0 * PSI_PA  # Pa per ksi
 

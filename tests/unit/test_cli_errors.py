@@ -114,7 +114,7 @@ def test_there_are_at_least_15_distinct_bad_inputs() -> None:
 def test_bad_output_path(tmp_path, monkeypatch, capsys, out_name, word) -> None:
     rc, _, err = _run(tmp_path, monkeypatch, capsys, "well: {}\n", {}, [], out_name=out_name)
     assert rc == 2
-    assert err.startswith("error: -o: ") and err.count("\n") == 1 and word in err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1 and word in err
 
 
 def test_export_writes_nothing_on_bad_survey(tmp_path, monkeypatch, capsys) -> None:

@@ -15,6 +15,7 @@ import click
 
 from drillfatigue.cli.app import app
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 
 # Command modules, imported for their registration side effect.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -38,6 +39,7 @@ def _load_commands() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI; return the process exit code."""
+    scope_numba_cache()  # before the command modules import any kernel
     _load_commands()
     try:
         result = app(args=argv, standalone_mode=False)

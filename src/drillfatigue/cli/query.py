@@ -2,12 +2,12 @@
 
 Single query (flags built from the model's features, user units)::
 
-    drillfatigue query --model models/surrogate --rpm 120 --wob-kN 80 \\
+    drillfatigue query --model data/surrogate/model --rpm 120 --wob-kN 80 \\
         --rop-m-per-h 20 ... [--json]
 
 Batch::
 
-    drillfatigue query --model models/surrogate --csv conditions.csv --out predictions.csv
+    drillfatigue query --model data/surrogate/model --csv conditions.csv --out predictions.csv
 
 With ``--well WELL.yaml`` (a params or case file, or the bare ``well``
 section; ``--well-profile`` picks a profile) the model's hole-geometry

@@ -43,10 +43,10 @@ def show(tally: Path = TallyArg,
                 f"TJ ID {du}", "grade", f"mass {wu}", "segments"):
         table.add_column(col, justify="left" if col in ("component", "type", "grade")
                          else "right", no_wrap=True)
-    seg_mass = {}
+    seg_mass: dict[int, float] = {}
     seg = build_segments(t.string, 1000.0)  # mud density only sets buoyancy: unused here
     for i, ci in enumerate(seg.component_index):
-        seg_mass.setdefault(int(ci), seg.mass_per_length_kg_per_m[i])
+        seg_mass.setdefault(int(ci), float(seg.mass_per_length_kg_per_m[i]))
     for i, c in enumerate(t.string.components):
         m = seg_mass[i] / (LB_PER_FT_KG_PER_M if d.system == "field" else 1.0)
         tj = [f"{d.value('diameter', v):.3f}" if v is not None else "-"

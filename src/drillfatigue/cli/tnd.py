@@ -16,7 +16,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import app
+from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.softstring import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
@@ -29,11 +29,11 @@ _PLOT_FORMATS = ("png", "pdf", "svg")
 def _check_plot_path(path: Path) -> None:
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in _PLOT_FORMATS:
-        raise InputError("-o", f"unsupported file type {path.suffix or '(none)'!r} of {str(path)!r}",
+        raise InputError("--out", f"unsupported file type {path.suffix or '(none)'!r} of {str(path)!r}",
                          ", ".join("." + s for s in _PLOT_FORMATS))
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
-        raise InputError("-o", f"folder {str(parent)!r} does not exist", "an existing folder")
+        raise InputError("--out", f"folder {str(parent)!r} does not exist", "an existing folder")
 
 
 def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
@@ -43,9 +43,6 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
     d = display if display is not None else Display("si")
     fu, tu, lu = d.unit("force"), d.unit("torque"), d.unit("length")
     md = d.value("length", td.md_m)
-    import matplotlib
-
-    matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
     from drillfatigue.well.survey import atomic_output
@@ -75,15 +72,17 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
 @app.command("tnd")
 def tnd(
     case: Path = typer.Argument(..., help="case YAML file (sections as in params.yaml)"),
-    output: Path | None = typer.Option(None, "--output", "-o", help="plot file (.png/.pdf/.svg)"),
+    out: Path | None = typer.Option(None, "--out", "-o", help="plot file (.png/.pdf/.svg)"),
     as_json: bool = typer.Option(False, "--json", help="print the results as JSON (SI units)"),
     cell_m: float = typer.Option(10.0, "--cell-m", help="largest cell length, m"),
     wob_kN: float | None = typer.Option(None, "--wob-kN", help="WOB of the drilling mode, kN "
                                         "(default: from the operation section)"),
     unit_system: str = typer.Option("si", "--units", help="table and plot units: si (kN, "
                                     "kN m, m) or field (klbf, kft lbf, ft); --json stays SI"),
+    legacy_output: Path | None = LegacyOutputOpt,
 ) -> None:
     """Soft-string (Johancsik) hook loads and surface torque; tension/torque vs MD plot."""
+    output = pick_out(out, legacy_output)
     if not (math.isfinite(cell_m) and 0.01 <= cell_m <= 1000.0):
         raise InputError("--cell-m", f"got {cell_m}", "0.01 <= cell_m <= 1000")
     if wob_kN is not None and not (math.isfinite(wob_kN) and 0.0 <= wob_kN <= 1e5):

@@ -1,9 +1,9 @@
 """``drillfatigue twin replay LOG``: the digital twin's operating-log replay.
 
     drillfatigue twin replay LOG.csv --string STRING.yaml --well WELL.yaml \\
-        --model models/surrogate --set mu_static=0.35 ... --out runs/twin
+        --model data/surrogate/model --set mu_static=0.35 ... --out runs/twin
     drillfatigue twin replay data/examples/operating_log.csv \\
-        --model models/surrogate --components data/examples/components.csv \\
+        --model data/surrogate/model --components data/examples/components.csv \\
         --survey data/examples/survey.csv --set mu_static=0.35 ... --out runs/twin
 
 The log is a LAS 2.0 file, a WITSML 1.4.1.1 log or a CSV, read by

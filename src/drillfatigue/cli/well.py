@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import app
+from drillfatigue.cli.app import LegacyOutputOpt, app, require_out
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.errors import InputError
 from drillfatigue.io.display import Display, check_system
@@ -39,7 +39,7 @@ def _load(case: Path, profile: str | None) -> tuple[WellConfig, str, Survey]:
     return cfg, name, build_survey(cfg, name)
 
 
-def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "-o") -> str:
+def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "--out") -> str:
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in suffixes:
         raise InputError(option, f"unsupported file type {path.suffix or '(none)'!r} of "
@@ -82,9 +82,11 @@ def show(case: Path = CaseArg, profile: str | None = ProfileOpt,
 
 @well_app.command("plot")
 def plot(case: Path = CaseArg,
-         output: Path = typer.Option(..., "--output", "-o", help="figure file (.png/.pdf/.svg)"),
-         profile: str | None = ProfileOpt, unit_system: str = UnitsOpt) -> None:
+         out: Path | None = typer.Option(None, "--out", "-o", help="figure file (.png/.pdf/.svg)"),
+         profile: str | None = ProfileOpt, unit_system: str = UnitsOpt,
+         legacy_output: Path | None = LegacyOutputOpt) -> None:
     """Draw the 3D view, the vertical section and DLS vs MD."""
+    output = require_out(out, legacy_output)
     d = Display(check_system(unit_system))
     _check_output(output, _PLOT_FORMATS)
     _, name, sv = _load(case, profile)
@@ -93,10 +95,12 @@ def plot(case: Path = CaseArg,
 
 @well_app.command("export")
 def export(case: Path = CaseArg,
-           output: Path = typer.Option(..., "--output", "-o", help="survey CSV file"),
-           profile: str | None = ProfileOpt, unit_system: str = UnitsOpt) -> None:
+           out: Path | None = typer.Option(None, "--out", "-o", help="survey CSV file"),
+           profile: str | None = ProfileOpt, unit_system: str = UnitsOpt,
+           legacy_output: Path | None = LegacyOutputOpt) -> None:
     """Write the profile's survey as CSV: md_m,inc_deg,azi_deg, or in field units
     (MD and TVD in ft, DLS in deg/100ft; reads back to the same SI stations)."""
+    output = require_out(out, legacy_output)
     system = check_system(unit_system)
     _check_output(output, ("csv",))
     _, _, sv = _load(case, profile)

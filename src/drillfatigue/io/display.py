@@ -19,6 +19,8 @@ column name.
 
 from __future__ import annotations
 
+from typing import overload
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,6 +66,12 @@ class Display:
     def unit(self, quantity: str) -> str:
         """Label of ``quantity``'s display unit (``'ft'``, ``'klbf'``)."""
         return _DISPLAY[self.system][quantity][0]
+
+    @overload
+    def value(self, quantity: str, si: float) -> float: ...
+
+    @overload
+    def value(self, quantity: str, si: np.ndarray) -> np.ndarray: ...
 
     def value(self, quantity: str, si: float | np.ndarray) -> float | np.ndarray:
         """``si`` (m, N, N m, deg/30 m, m/s, m) in the display unit."""

@@ -332,7 +332,7 @@ def _finish(raw: _Raw, channel_map: Mapping[str, str], max_fill_s: float, max_ga
     extra = dict(passthrough or {})
     keep = np.ones(t.size, dtype=bool)
     dropped = 0
-    for i in np.flatnonzero(dt == 0) + 1:
+    for i in (np.flatnonzero(dt == 0) + 1).tolist():
         j = i - 1
         for stem, v in cols.items():
             a, b = v[i], v[j]
@@ -400,6 +400,7 @@ def _check_depths(source: str, chosen: Mapping[str, str], cols: Mapping[str, np.
     hole = np.maximum.accumulate(cols["hole_depth"]) if "hole_depth" in cols else (
         np.maximum.accumulate(cols["bit_md"]) if "bit_md" in cols else None)
     if "bit_md" in cols and "hole_depth" in cols:
+        assert hole is not None  # set from hole_depth just above
         over = cols["bit_md"] - hole
         if over.max() > BIT_BELOW_HOLE_TOLERANCE_M:
             i = int(np.argmax(over))
@@ -480,7 +481,7 @@ def _read_las(p: Path) -> _Raw:
                          "a LAS 2.0 file") from None
     vers = las.version["VERS"].value if "VERS" in las.version else None
     try:
-        v = float(vers)
+        v = float(str(vers))
     except (TypeError, ValueError):
         v = float("nan")
     if v not in (1.2, 2.0):

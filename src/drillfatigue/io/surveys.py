@@ -328,7 +328,7 @@ def _load_witsml(p: Path) -> SurveyImport:
             if role not in cells and k > 0:
                 raise InputError(f"{loc}:{tag}", "given from this station on only",
                                  f"{tag} in every station or in none")
-            cells.setdefault(role, []).append(el.text.strip())
+            cells.setdefault(role, []).append((el.text or "").strip())
         where.append(loc)
     for role in ("tvd", "dls"):
         if role in cells and len(cells[role]) != len(where):

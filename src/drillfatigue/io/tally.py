@@ -182,10 +182,10 @@ def describe(spec: ComponentSpec, where: str = "description") -> ComponentSpec:
                 s.tj_id_in = s.tj_id_in if s.tj_id_in is not None else tj.id_in
                 refs.append(tj.reference)
         elif s.id_in is None:
-            known = ", ".join(f"{od:g}in {w:g}ppf" for od, w in DRILL_PIPE)
+            sizes = ", ".join(f"{od:g}in {w:g}ppf" for od, w in DRILL_PIPE)
             raise InputError(where, f"drill pipe {s.od_in:g}in "
                              f"{s.nominal_weight_lb_per_ft or '?'}ppf not in the catalogue",
-                             f"an ID column, or one of: {known}")
+                             f"an ID column, or one of: {sizes}")
     elif s.type == "hwdp":
         hw = next((h for od, h in HWDP.items() if _close(od, s.od_in)), None)
         if hw is not None:
@@ -226,6 +226,9 @@ def component_config(spec: ComponentSpec, length_m: float, name: str = "",
                      n_segments: int | None = None, tj_length_fraction: float | None = None,
                      field: str = "tally") -> ComponentConfig:
     """A :class:`ComponentConfig` (SI) from a complete spec and a length in metres."""
+    if spec.od_in is None or spec.id_in is None:
+        raise InputError(field, f"{spec.type}: outside and inside diameters are needed",
+                         "OD and ID columns, or a catalogue size")
     od_m = spec.od_in * units.INCH_M
     data: dict[str, Any] = {
         "type": spec.type, "name": name, "od_m": od_m, "id_m": spec.id_in * units.INCH_M,

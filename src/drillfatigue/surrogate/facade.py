@@ -37,7 +37,7 @@ from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
 
 FORMAT_VERSION = 1
-_CHUNK_ROWS = 1024  # rows per forward pass in predict_array (A/B: 1024 > 2048 > 512 >> 4096)
+_CHUNK_ROWS = 1024  # rows per forward pass in predict_array: the fastest measured of 512-4096
 _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 
 #: output columns of :meth:`Surrogate.predict`
@@ -220,8 +220,8 @@ class Surrogate:
         else:
             # many rows: 2 shares per worker (a preempted worker delays one share,
             # not half the batch), each walked in cache-sized blocks inside the
-            # TorchScript network (A/B on 1e5 rows, 2 workers: +26 % median
-            # against one Python call per block)
+            # TorchScript network (one Python call per block is slower:
+            # docs/performance.md)
             net = self.batch_module()
             parts = 2 * max(1, torch.get_num_threads())
             share = -(-n // (parts * _CHUNK_ROWS)) * _CHUNK_ROWS

@@ -18,7 +18,8 @@ Log columns: ``time_s`` (seconds) or ``time`` (date-time text or seconds),
 ``bit_md_m`` (or ``bit_md_ft``), and any model feature in user units
 (:mod:`drillfatigue.io.names`), typically ``rpm``, ``wob_kN``,
 ``rop_m_per_h``; instead of WOB a hook-load channel (``hook_load_kN``, ...)
-with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns: ``serial``, ``s_from_bit_m`` and the
+with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns:
+``serial``, ``s_from_bit_m`` and the
 per-component features (``component_type``, ``location``). Features given by
 neither (friction, mud, well) come from ``constants``; the hole geometry at
 each component's depth and at the bit (the columns of
@@ -411,15 +412,11 @@ def plot_damage_along_string(result: ReplayResult, path: str, display: Any = Non
     axis (default SI, m).
     """
     from drillfatigue.io.display import Display
+    from drillfatigue.plotting import subplots
 
     display = display if display is not None else Display("si")
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     c = result.components.sort_values(S_COLUMN)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = subplots(figsize=(7, 4))
     s = display.value("length", c[S_COLUMN].to_numpy())
     d = c["damage"].to_numpy()
     lo = c["damage_lower"].to_numpy()
@@ -440,4 +437,3 @@ def plot_damage_along_string(result: ReplayResult, path: str, display: Any = Non
     from drillfatigue.surrogate.io import save_figure
 
     save_figure(fig, path)
-    plt.close(fig)

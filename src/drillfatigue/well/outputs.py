@@ -23,17 +23,12 @@ __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
 
 
 def _figure(sv: Survey, title: str, display: Any = None):  # noqa: ANN202 - matplotlib Figure
-    import matplotlib
-
     from drillfatigue.io.display import Display
+    from drillfatigue.plotting import figure
 
     d = display if display is not None else Display("si")
     lu = d.unit("length")
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig = plt.figure(figsize=(13, 4.5))
+    fig = figure(figsize=(13, 4.5))
     ax3 = fig.add_subplot(1, 3, 1, projection="3d")
     # Draw the minimum-curvature arcs, not the chords between stations.
     _, fine, _ = resample_path(sv, 2.0, np.empty(0), math.inf)
@@ -75,16 +70,11 @@ def plot_survey(sv: Survey, path: str | Path, title: str, display: Any = None) -
 
     ``display``: a :class:`drillfatigue.io.display.Display` (default SI).
     """
-    import matplotlib.pyplot as plt
-
     path = Path(path)
     suffix = path.suffix.lower().lstrip(".")
     fig = _figure(sv, title, display)
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format=suffix, dpi=110)
-    finally:
-        plt.close(fig)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format=suffix, dpi=110)
 
 
 def cylinder_table(wb: Wellbore) -> dict[str, np.ndarray]:

@@ -40,7 +40,8 @@ from drillfatigue.well.survey import (
     tangent_vectors,
 )
 
-__all__ = ["FAMILY_END_TOLERANCE_M", "KeyPoint", "build_survey", "family_end_point", "key_points", "profile_report", "resolve_profile"]
+__all__ = ["FAMILY_END_TOLERANCE_M", "KeyPoint", "build_survey", "family_end_point", "key_points",
+           "profile_report", "resolve_profile"]
 
 _DEG_PER_30M_TO_RAD_PER_M = math.radians(1.0) / 30.0
 
