@@ -63,7 +63,7 @@ def show(tally: Path = TallyArg,
 
 @string_app.command("import")
 def import_(tally: Path = TallyArg,
-            output: Path = typer.Option(..., "--output", "-o", help="YAML file to write "
+            output: Path = typer.Option(..., "--out", "-o", help="YAML file to write "
                                         "(a string section)")) -> None:
     """Write the tally as a ``string:`` section (SI) for a case or params file."""
     import yaml
@@ -72,11 +72,11 @@ def import_(tally: Path = TallyArg,
     from drillfatigue.io.tally import load_tally
 
     if output.suffix.lower() not in (".yaml", ".yml"):
-        raise InputError("-o", f"unsupported file type {output.suffix or '(none)'!r}",
+        raise InputError("--out", f"unsupported file type {output.suffix or '(none)'!r}",
                          ".yaml, .yml")
     parent = output.parent if str(output.parent) else Path(".")
     if not parent.is_dir():
-        raise InputError("-o", f"folder {str(parent)!r} does not exist", "an existing folder")
+        raise InputError("--out", f"folder {str(parent)!r} does not exist", "an existing folder")
     t = load_tally(tally)
     data = {"string": t.string.model_dump(mode="json", exclude_none=True)}
     header = (f"# string section from the tally {tally.name} (drillfatigue string import);\n"
