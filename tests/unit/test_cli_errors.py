@@ -135,3 +135,63 @@ def test_subprocess_exit_code_2(tmp_path: Path) -> None:
     assert proc.stderr.splitlines() == [proc.stderr.strip()]
     assert proc.stderr.startswith("error: well.profiles.p.j.inc_deg: ")
     assert not (tmp_path / "fig.png").exists()
+
+
+def _all_command_paths() -> list[list[str]]:
+    """Every leaf command of the CLI as its argv prefix (``['well', 'show']``, ...)."""
+    import typer
+
+    from drillfatigue.cli import _load_commands
+    from drillfatigue.cli.app import app
+
+    _load_commands()
+    paths: list[list[str]] = []
+
+    def walk(cmd, prefix: list[str]) -> None:  # noqa: ANN001
+        subs = getattr(cmd, "commands", None)
+        if subs:
+            for name, sub in subs.items():
+                walk(sub, [*prefix, name])
+        else:
+            paths.append(prefix)
+
+    walk(typer.main.get_command(app), [])
+    return paths
+
+
+def test_every_command_is_checked() -> None:
+    names = {" ".join(p) for p in _all_command_paths()}
+    assert {"well show", "simulate", "fatigue", "query", "twin replay", "plan rank",
+            "sweep run", "dataset export", "tnd"} <= names
+
+
+@pytest.mark.parametrize("path", _all_command_paths(), ids=" ".join)
+def test_unknown_option_is_one_line_exit_2(tmp_path, monkeypatch, capsys, path) -> None:
+    """typer's usage error (its own copy of click) is one line, not a traceback, exit 2."""
+    monkeypatch.chdir(tmp_path)
+    rc = main([*path, "--no-such-option-xyz", "1"])
+    out, err = capsys.readouterr()
+    assert rc == 2
+    assert len(err.splitlines()) == 1, err
+    assert err.startswith("error: ") and "Traceback" not in err
+    assert os.listdir(tmp_path) == []
+
+
+def test_well_show_unknown_out_option(tmp_path, monkeypatch, capsys) -> None:
+    (tmp_path / "case.yaml").write_text("well: {}\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["well", "show", "case.yaml", "--out", "DIR"]) == 2
+    err = capsys.readouterr().err
+    assert err == "error: No such option: --out\n"
+    assert not (tmp_path / "DIR").exists()
+
+
+def test_unknown_option_subprocess_exit_2(tmp_path: Path) -> None:
+    src = str(Path(drillfatigue.__file__).resolve().parents[1])
+    env = dict(os.environ, PYTHONPATH=src + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.run([sys.executable, "-m", "drillfatigue", "tnd", "case.yaml",
+                           "--cell-m", "abc"], cwd=tmp_path, env=env, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 2
+    assert len(proc.stderr.splitlines()) == 1 and proc.stderr.startswith("error: ")
+    assert "--cell-m" in proc.stderr
