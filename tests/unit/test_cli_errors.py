@@ -74,6 +74,12 @@ CASES = [
      [], "s.csv:4:md_m", "increasing"),
     ("survey_inclination_200", *_survey_case("md_m,inc_deg,azi_deg\n0,0,0\n10,200,0\n"), [],
      "s.csv:3:inc_deg", "0 <= inc_deg <= 180"),
+    ("survey_md_1e300", *_survey_case("md_m,inc_deg,azi_deg\n0,0,0\n100,0,0\n1e300,10,45\n"),
+     [], "s.csv:4:md_m", "0 <= md_m <= 20000"),
+    ("survey_md_negative", *_survey_case("md_m,inc_deg,azi_deg\n-5,0,0\n100,0,0\n"),
+     [], "s.csv:2:md_m", "0 <= md_m"),
+    ("empty_case_file", "", {}, [], "case.yaml", "empty"),
+    ("comments_only_case_file", "# nothing here\n", {}, [], "case.yaml", "empty"),
 ]
 
 
@@ -195,3 +201,22 @@ def test_unknown_option_subprocess_exit_2(tmp_path: Path) -> None:
     assert proc.returncode == 2
     assert len(proc.stderr.splitlines()) == 1 and proc.stderr.startswith("error: ")
     assert "--cell-m" in proc.stderr
+
+
+@pytest.mark.parametrize("which", ["case", "survey"])
+def test_non_utf8_file_is_one_line(tmp_path, monkeypatch, capsys, which) -> None:
+    """A Latin-1 YAML or a UTF-16 survey: one line naming the file and the byte."""
+    monkeypatch.chdir(tmp_path)
+    if which == "case":
+        (tmp_path / "case.yaml").write_bytes("well:\n  min_clearance_m: 0.02 # caf\xe9\n"
+                                             .encode("latin-1"))
+        field = "case.yaml"
+    else:
+        (tmp_path / "case.yaml").write_text(_survey_case("")[0])
+        (tmp_path / "s.csv").write_bytes(GOOD_CSV.encode("utf-16"))
+        field = "s.csv"
+    assert main(["well", "show", "case.yaml"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1, err
+    assert err.startswith(f"error: {field}: not UTF-8 text (byte 0x")
+    assert "UTF-8 encoded" in err

@@ -259,3 +259,24 @@ def test_survey_geometry_features_reach_the_model() -> None:
     np.testing.assert_allclose(res["damage"], p["damage_rate_per_h"] * 1.0, rtol=1e-5)
     with pytest.raises(InputError, match="inc_deg"):
         replay_log(log, comps, geo_model, consts, survey.drop(columns="inc_deg"))
+
+
+def test_log_beyond_td_or_backwards_rpm_is_an_input_error(model: Surrogate) -> None:
+    """A bit below the survey's last MD, or a string turning backwards, is no log a rig
+    writes: an input error naming the channel and its range, not 1e35 damage."""
+    survey = pd.read_csv(EXAMPLES / "survey.csv")  # last station at MD 3000 m
+    log = pd.DataFrame({"time_s": [0.0, 60.0, 120.0], "bit_md_m": [1200.0, 1201.0, 4720.0],
+                        "rpm": 120.0, "wob_kN": 80.0, "rop_m_per_h": 10.0})
+    consts = {k: v for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"}
+    with pytest.raises(InputError, match=r"bit_md_m: 4720 m at row 3 of the log is beyond "
+                                         r"the well's total depth 3000 m"):
+        replay_log(log, _components(), model, consts, survey)
+    log.loc[2, "bit_md_m"] = 1202.0
+    log.loc[1, "rpm"] = -120.0
+    with pytest.raises(InputError, match=r"rpm: -120 is outside the physical range \(row 2\) "
+                                         r"\(allowed: 0 <= rpm <= 1000\)"):
+        replay_log(log, _components(), model, consts, survey)
+    log.loc[1, "rpm"] = 120.0
+    log["bit_md_m"] = [1.0e5, 1.0e5, 1.0e5]
+    with pytest.raises(InputError, match=r"bit_md_m: 100000 is outside the physical range"):
+        replay_log(log, _components(), model, consts)

@@ -23,6 +23,7 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.errors import InputError
+from drillfatigue.limits import check_feature_values
 
 #: SI suffix -> {accepted suffix: factor to SI}; longest suffixes are tried first.
 UNIT_FAMILIES: dict[str, dict[str, float]] = {
@@ -125,7 +126,9 @@ class Vocabulary:
 
         Columns in ``passthrough`` are copied unchanged; any other unknown
         column raises InputError, as do two names for one column, a missing
-        required column, a non-numeric, NaN or infinite value.
+        required column, a non-numeric, NaN or infinite value and a value
+        outside its physical range (:mod:`drillfatigue.limits`; a physical
+        value outside the training data is left to the out-of-domain flag).
         """
         out: dict[str, object] = {}
         source: dict[str, str] = {}
@@ -155,6 +158,7 @@ class Vocabulary:
                 self._number(key, col.iloc[i])  # raises with the offending value
                 raise InputError(key, "NaN or infinite value", "a finite number")
             out[term.column] = num * term.factor
+            check_feature_values(key, term.column, out[term.column], term.factor)
         need = self.features + self.categorical if require is None else list(require)
         missing = [self.names_for(c)[0] for c in need if c not in out]
         if missing:
