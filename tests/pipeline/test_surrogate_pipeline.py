@@ -51,3 +51,24 @@ def test_missing_dataset_exits_2(tmp_path: Path, capsys) -> None:
     assert rc == 2
     assert "none.parquet" in capsys.readouterr().err
     assert not (tmp_path / "m").exists()
+
+
+def test_train_refuses_a_foreign_out_folder_before_training(tmp_path: Path, capsys) -> None:
+    """`train.py --out DIR` with a user's file in DIR: exit 2, one line, before any
+    training (no live curves written), and the file survives."""
+    params = tmp_path / "params.yaml"
+    params.write_text("surrogate:\n  hidden_layers: [8]\n  max_epochs: 2\n  n_threads: 1\n",
+                      encoding="utf-8")
+    out = tmp_path / "models"
+    out.mkdir()
+    (out / "thesis.docx").write_bytes(b"user data")
+    live = tmp_path / "live"
+    rc = _stage("train").main(["--params", str(params), "--out", str(out), "--live", str(live),
+                               "--synthetic-cases", "20"])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1
+    assert "did not write" in err
+    assert sorted(p.name for p in out.iterdir()) == ["thesis.docx"]
+    assert (out / "thesis.docx").read_bytes() == b"user data"
+    assert not live.exists()
