@@ -132,3 +132,35 @@ def test_export_histories_partitioned_by_case(sweep, tmp_path):
     assert sorted(p.name for p in (out / "loads").iterdir()) == ["case_id=c1"]
     with pytest.raises(InputError):
         export_histories(tmp_path / "nothing", tmp_path / "h2")
+
+
+def test_export_histories_keeps_a_users_files(sweep, tmp_path, capsys):
+    """`dataset export --histories --out DIR`: an existing DIR with a user's file is
+    refused (exit 2, one line) and left as it was; in a folder of an earlier export the
+    user's file beside the export survives a rerun."""
+    from drillfatigue.cli import main
+
+    root, _, _ = sweep
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("field notes")
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(mine)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1
+    assert [p.name for p in mine.iterdir()] == ["notes.txt"]
+    out = tmp_path / "hist"
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(out)]) == 0
+    (out / "notes.txt").write_text("kept")
+    (out / "loads" / "case_id=c0" / "extra.txt").write_text("kept too")
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(out)]) == 0
+    assert (out / "notes.txt").read_text() == "kept"
+    assert (out / "loads" / "case_id=c0" / "extra.txt").read_text() == "kept too"
+    assert len(pd.read_parquet(out / "loads" / "case_id=c1")) > 0
+    # a file where the folder should be
+    (tmp_path / "afile").write_text("x")
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(tmp_path / "afile")]) == 2
+    assert "is a file" in capsys.readouterr().err
