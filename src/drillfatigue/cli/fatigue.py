@@ -47,8 +47,10 @@ def fatigue(
                                             "(default: RUN_DIR/case.yaml, else defaults)"),
 ) -> None:
     """Rainflow, S-N and critical-plane damage per joint and location of a run."""
-    from drillfatigue.fatigue.run import evaluate_run
+    from drillfatigue.fatigue.run import FATIGUE_KIND, evaluate_run
+    from drillfatigue.files import OutputFolder
 
+    OutputFolder.check(out, FATIGUE_KIND, "--out")  # at once, not after minutes of work
     if criterion is not None and criterion not in CRITERIA:
         raise InputError("--criterion", f"unknown criterion {criterion!r}", ", ".join(CRITERIA))
     sel = _parse_joints(joints)
