@@ -176,3 +176,14 @@ class OutputFolder:
     def remove_all_owned(self) -> None:
         """Delete every file this package wrote here (the marker stays)."""
         self.remove(sorted(self.owned))
+
+
+def check_output_file(path: str | Path, option: str) -> None:
+    """Raise :class:`InputError` if ``path`` cannot be written as one output file.
+
+    An existing folder of that name is refused (it would be neither replaced
+    nor written into); an existing file is replaced atomically when written.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(option, f"{p} is a folder, not a file", "a file path")

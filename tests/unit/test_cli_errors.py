@@ -220,3 +220,19 @@ def test_non_utf8_file_is_one_line(tmp_path, monkeypatch, capsys, which) -> None
     assert out == "" and err.count("\n") == 1, err
     assert err.startswith(f"error: {field}: not UTF-8 text (byte 0x")
     assert "UTF-8 encoded" in err
+
+
+@pytest.mark.parametrize("command", ["plot", "export", "tnd"])
+def test_output_file_that_is_a_folder(tmp_path, monkeypatch, capsys, command) -> None:
+    """`-o NAME` where NAME is an existing folder: one line, exit 2, folder untouched."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "case.yaml").write_text("well: {}\n")
+    name = "out.csv" if command == "export" else "fig.png"
+    (tmp_path / name).mkdir()
+    (tmp_path / name / "mine.txt").write_text("x")
+    argv = ["tnd", "case.yaml", "-o", name] if command == "tnd" else \
+        ["well", command, "case.yaml", "-o", name]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err == f"error: -o: {name} is a folder, not a file (allowed: a file path)\n"
+    assert os.listdir(tmp_path / name) == ["mine.txt"]

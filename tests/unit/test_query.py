@@ -231,3 +231,15 @@ def test_batch_absurd_row_named(model_dir: Path, tmp_path: Path, capsys) -> None
     err = capsys.readouterr().err
     assert err.startswith("error: rpm: 5000 is outside the physical range (row 3)")
     assert not out.exists()
+
+
+def test_batch_out_an_existing_folder_is_one_line(model_dir: Path, tmp_path: Path,
+                                                  capsys) -> None:
+    out = tmp_path / "pred"
+    out.mkdir()
+    (out / "mine.csv").write_text("x\n")
+    assert main(["query", "--model", str(model_dir), "--csv", str(EXAMPLES / "conditions.csv"),
+                 "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"error: --out: {out} is a folder, not a file (allowed: a file path)\n"
+    assert [p.name for p in out.iterdir()] == ["mine.csv"]

@@ -280,3 +280,28 @@ def test_log_beyond_td_or_backwards_rpm_is_an_input_error(model: Surrogate) -> N
     log["bit_md_m"] = [1.0e5, 1.0e5, 1.0e5]
     with pytest.raises(InputError, match=r"bit_md_m: 100000 is outside the physical range"):
         replay_log(log, _components(), model, consts)
+
+
+def test_cli_replay_out_with_a_users_file(model: Surrogate, tmp_path: Path, capsys) -> None:
+    """`twin replay --out DIR` with a user's file: refused before the replay, one line,
+    exit 2, the file survives; a rerun into its own folder keeps a file added beside."""
+    model.save(tmp_path / "m", export=False)
+    sets = [a for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"
+            for a in ("--set", f"{k}={v}")]
+    argv = ["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model",
+            str(tmp_path / "m"), "--components", str(EXAMPLES / "components.csv"), "--survey",
+            str(EXAMPLES / "survey.csv"), *sets, "--out"]
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "summary.json").write_text('{"mine": true}')
+    assert main([*argv, str(mine)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1
+    assert (mine / "summary.json").read_text() == '{"mine": true}'
+    assert [p.name for p in mine.iterdir()] == ["summary.json"]
+    out = tmp_path / "twin"
+    assert main([*argv, str(out)]) == 0
+    (out / "notes.txt").write_text("kept")
+    assert main([*argv, str(out)]) == 0
+    assert (out / "notes.txt").read_text() == "kept"
+    assert (out / ".drillfatigue.json").is_file()

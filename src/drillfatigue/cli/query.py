@@ -143,6 +143,10 @@ def query(ctx: typer.Context,
         raise InputError("--out", "missing", "--csv FILE --out FILE")
     if csv is not None and not csv.is_file():
         raise InputError("--csv", f"file {str(csv)!r} not found", "an existing CSV file")
+    if out is not None:
+        from drillfatigue.files import check_output_file
+
+        check_output_file(out, "--out")
     if well is None and well_profile is not None:
         raise InputError("--well-profile", "only used with --well", "--well FILE")
     sur = _load_model(model)

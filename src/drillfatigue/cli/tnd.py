@@ -20,12 +20,14 @@ from drillfatigue.cli.app import app
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.softstring import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
+from drillfatigue.files import check_output_file
 from drillfatigue.units import KN_N
 
 _PLOT_FORMATS = ("png", "pdf", "svg")
 
 
 def _check_plot_path(path: Path) -> None:
+    check_output_file(path, "-o")
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in _PLOT_FORMATS:
         raise InputError("-o", f"unsupported file type {path.suffix or '(none)'!r} of {str(path)!r}",

@@ -25,6 +25,9 @@ import typer
 from drillfatigue.cli.app import app
 from drillfatigue.errors import InputError
 
+#: Kind of the ownership marker of a twin output folder.
+TWIN_KIND = "twin"
+
 twin_app = typer.Typer(help="Digital twin: replay operating logs through the surrogate.",
                        no_args_is_help=True)
 app.add_typer(twin_app, name="twin")
@@ -92,13 +95,13 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
                                               "dls_deg_per_30m), instead of --well")) -> None:
     """Accumulate fatigue damage per component over an operating log."""
     from drillfatigue.config import StringConfig, WellConfig
+    from drillfatigue.files import OutputFolder
     from drillfatigue.surrogate import Surrogate
     from drillfatigue.surrogate.io import write_csv, write_json
     from drillfatigue.surrogate.twin import (components_from_string, plot_damage_along_string,
                                              replay_log, survey_from_well)
 
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", f"{str(out)!r} exists and is not a folder", "a folder path")
+    OutputFolder.check(out, TWIN_KIND, "--out")
     if (string is None) == (components is None):
         raise InputError("--string", "give exactly one of --string and --components",
                          "--string STRING.yaml or --components FILE.csv")
@@ -120,9 +123,9 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
                          "a folder written by the train stage")
     sur = Surrogate.load(model)
     res = replay_log(log_t, comp_t, sur, consts, survey_t)
-    out.mkdir(parents=True, exist_ok=True)
+    folder = OutputFolder(out, TWIN_KIND, "--out")
     c = res.components
-    write_csv(c, out / "components_damage.csv")
+    write_csv(c, folder.file("components_damage.csv"))
     worst = c.loc[c["damage"].idxmax()]
     write_json({
         "duration_h": res.duration_s / 3600.0,
@@ -133,8 +136,8 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
         "max_damage_serial": str(worst["serial"]),
         "total_ood_time_s": float(c["ood_time_s"].sum()),
         "ignored_log_channels": list(res.ignored_channels),
-    }, out / "summary.json")
-    plot_damage_along_string(res, str(out / "damage_along_string.png"))
+    }, folder.file("summary.json"))
+    plot_damage_along_string(res, str(folder.file("damage_along_string.png")))
     print(f"replayed {res.duration_s / 3600.0:.3g} h for {len(c)} components; "
           f"max damage {float(worst['damage']):.3g} at {worst['serial']}; wrote {out}/")
     if res.ignored_channels:

@@ -13,6 +13,7 @@ from rich.table import Table
 from drillfatigue.cli.app import app
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.errors import InputError
+from drillfatigue.files import check_output_file
 from drillfatigue.well import Survey, build_survey, key_points, write_survey_csv
 from drillfatigue.well.outputs import plot_survey
 from drillfatigue.well.profiles import resolve_profile
@@ -37,6 +38,7 @@ def _load(case: Path, profile: str | None) -> tuple[WellConfig, str, Survey]:
 
 
 def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "-o") -> str:
+    check_output_file(path, option)
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in suffixes:
         raise InputError(option, f"unsupported file type {path.suffix or '(none)'!r} of "
