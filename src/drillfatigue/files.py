@@ -162,6 +162,14 @@ class OutputFolder:
             self._save()
         return p
 
+    def record(self, names: Iterable[str]) -> None:
+        """Record files this package has just written here by other means (a library
+        that writes a whole tree) as owned."""
+        new = {str(n) for n in names} - self.owned - {MARKER}
+        if new:
+            self.owned |= new
+            self._save()
+
     def remove(self, names: Iterable[str]) -> None:
         """Delete the listed files if this package wrote them; others are kept."""
         changed = False
