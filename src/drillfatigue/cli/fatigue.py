@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import typer
 
 from drillfatigue.cli.app import app
-from drillfatigue.config import FatigueConfig, load_params, validate
+from drillfatigue.config import FatigueConfig, load_params, note_default_section, validate
 from drillfatigue.config.base import read_yaml
 from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import CRITERIA
@@ -28,7 +29,11 @@ def _parse_joints(text: str | None) -> list[int] | None:
 
 def _config(run_dir: Path, params: Path | None) -> FatigueConfig:
     if params is not None:
-        return load_params(params).fatigue
+        cfg = load_params(params).fatigue
+        note = note_default_section(params, "fatigue")
+        if note:
+            print(note, file=sys.stderr)
+        return cfg
     case = run_dir / "case.yaml"
     if case.is_file():  # the run's resolved case: use its fatigue section only
         return validate(FatigueConfig, read_yaml(case).get("fatigue") or {}, "fatigue")

@@ -12,6 +12,7 @@ nothing is written.
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import typer
@@ -38,7 +39,7 @@ def rank(
                                             "exists, else the defaults"),
 ) -> None:
     """Rank candidate well plans by the predicted life of the critical component."""
-    from drillfatigue.config import load_params
+    from drillfatigue.config import load_params, note_default_section
     from drillfatigue.config.studies import PlanConfig
     from drillfatigue.files import OutputFolder
     from drillfatigue.studies.plan import PLAN_KIND, load_candidates, rank_plans
@@ -47,6 +48,9 @@ def rank(
         params = Path("params.yaml")
     # the whole file is validated: a typo in another section is not silently ignored
     cfg = load_params(params).plan if params is not None else PlanConfig()
+    note = note_default_section(params, "plan") if params is not None else None
+    if note:
+        print(note, file=sys.stderr)
     surrogate = surrogate if surrogate is not None else Path(cfg.surrogate_dir)
     confirm = confirm if confirm is not None else cfg.confirm_top_k
     out = out if out is not None else Path(cfg.out_dir)
