@@ -164,3 +164,26 @@ def test_export_histories_keeps_a_users_files(sweep, tmp_path, capsys):
     assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
                  "--out", str(tmp_path / "afile")]) == 2
     assert "is a file" in capsys.readouterr().err
+
+
+def test_dataset_folder_with_foreign_files_is_refused(sweep, tmp_path):
+    root, cases, _ = sweep
+    mine = tmp_path / "ds"
+    mine.mkdir()
+    (mine / "README.md").write_text("my dataset notes")
+    with pytest.raises(InputError, match=r"sweep\.dataset_dir: .* did not write"):
+        write_dataset(cases, root / "sweep", root / "fatigue", mine, design=DESIGN)
+    assert [p.name for p in mine.iterdir()] == ["README.md"]
+    assert (mine / "README.md").read_text() == "my dataset notes"
+
+
+def test_committed_dataset_marker_lists_the_stage_outputs():
+    """data/dataset is git-tracked beside DVC outputs; its committed marker makes the
+    dataset stage accept it on `dvc repro` (DVC's .gitignore there is left alone)."""
+    from pathlib import Path
+
+    from drillfatigue.sweep.dataset import DATASET_FILES, DATASET_KIND
+
+    folder = Path(__file__).resolve().parents[2] / "data" / "dataset"
+    marker = json.loads((folder / ".drillfatigue.json").read_text())
+    assert marker == {"kind": DATASET_KIND, "files": sorted(DATASET_FILES)}

@@ -39,6 +39,9 @@ from drillfatigue.well.features import POSITION_COLUMNS
 
 #: Kind of the ownership marker of a history export folder.
 EXPORT_KIND = "export"
+#: Kind of the ownership marker of the dataset folder, and the files written there.
+DATASET_KIND = "dataset"
+DATASET_FILES = ("damage.parquet", "README.md", "metrics.json", "plots/damage_rate_hist.csv")
 
 __all__ = [
     "DYNAMICS_COLUMNS",
@@ -380,9 +383,15 @@ def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
     ``design`` is the ``sweep`` section as a dict (method, seed, n_cases,
     variables, window_s). Plot data: ``plots/damage_rate_hist.csv`` (log10
     damage-rate histogram per criterion). Returns the metrics dict.
+
+    ``out_dir`` is a ``dataset`` output folder (:class:`drillfatigue.files.OutputFolder`):
+    a folder holding files drillfatigue did not write is refused before the
+    dataset is assembled; only the four files above are replaced.
     """
-    out = Path(out_dir)
-    (out / "plots").mkdir(parents=True, exist_ok=True)
+    folder = OutputFolder(out_dir, DATASET_KIND, "sweep.dataset_dir")
+    out = folder.path
+    for name in DATASET_FILES:
+        folder.file(name)
     variables = [v for v in design.get("variables", {}) if v in cases.columns]
     frame = build_dataset(cases, sweep_root, fatigue_root, variables)
     metrics = dataset_metrics(
@@ -406,6 +415,7 @@ def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
             rows.append({"criterion": col[len("damage_rate_per_h_"):],
                          "log10_damage_rate_per_h": 0.5 * (lo + hi), "count": int(c)})
     hist = pd.DataFrame(rows, columns=["criterion", "log10_damage_rate_per_h", "count"])
+    (out / "plots").mkdir(exist_ok=True)
     _atomic_write_text(out / "plots" / "damage_rate_hist.csv", hist.to_csv(index=False))
     return metrics
 
