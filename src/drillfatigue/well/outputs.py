@@ -16,7 +16,11 @@ import numpy as np
 
 from drillfatigue.config.well import WellConfig
 from drillfatigue.well.profiles import build_survey
+from drillfatigue.files import OutputFolder
 from drillfatigue.well.survey import Survey, atomic_output, write_survey_csv
+
+#: Kind of the ownership marker of a well-profile output folder.
+WELL_KIND = "well"
 from drillfatigue.well.wellbore import Wellbore, build_wellbore, resample_path
 
 __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
@@ -96,8 +100,11 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
                        plot: bool = True) -> dict[str, dict[str, Any]]:
     """Build every profile of ``cfg`` and write its survey, cylinders and plot.
 
-    Everything is computed first (so bad input writes nothing), then each file
-    is written atomically.
+    Everything is computed and every profile folder ``out_dir/<name>`` is
+    checked first (so bad input writes nothing), then each file is written
+    atomically. Each profile folder is a ``well`` output folder
+    (:class:`drillfatigue.files.OutputFolder`): one holding files drillfatigue
+    did not write is refused, and only the profile's own files are replaced.
 
     Returns
     -------
@@ -114,15 +121,16 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
     for name, spec in cfg.profiles.items():
         sv = build_survey(cfg, name)
         built[name] = (spec.kind, sv, build_wellbore(cfg, name, survey=sv))
+    for name in built:
+        OutputFolder.check(out / name, WELL_KIND, f"{out / name}")
     summary: dict[str, dict[str, Any]] = {}
     for name, (kind, sv, wb) in built.items():
-        folder = out / name
-        folder.mkdir(parents=True, exist_ok=True)
-        write_survey_csv(sv, folder / "survey.csv")
-        with atomic_output(folder / "cylinders.parquet") as tmp:
+        folder = OutputFolder(out / name, WELL_KIND, f"{out / name}")
+        write_survey_csv(sv, folder.file("survey.csv"))
+        with atomic_output(folder.file("cylinders.parquet")) as tmp:
             pq.write_table(pa.table(cylinder_table(wb)), tmp)
         if plot:
-            plot_survey(sv, folder / "profile.png", f"well profile {name} ({kind})")
+            plot_survey(sv, folder.file("profile.png"), f"well profile {name} ({kind})")
         end = sv.pos_m[-1]
         summary[name] = {
             "kind": kind,
