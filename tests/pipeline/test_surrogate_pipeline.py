@@ -72,3 +72,25 @@ def test_train_refuses_a_foreign_out_folder_before_training(tmp_path: Path, caps
     assert sorted(p.name for p in out.iterdir()) == ["thesis.docx"]
     assert (out / "thesis.docx").read_bytes() == b"user data"
     assert not live.exists()
+
+
+def test_evaluate_refuses_a_foreign_plots_folder_first(tmp_path: Path, capsys) -> None:
+    """`evaluate.py --plots DIR` with a user's file: exit 2, one line, before the model is
+    even loaded (the model folder does not exist), the file untouched; the committed
+    data/surrogate/plots marker lists exactly the stage's three files."""
+    plots = tmp_path / "plots"
+    plots.mkdir()
+    (plots / "parity.png").write_bytes(b"my figure")
+    rc = _stage("evaluate").main(["--params", str(tmp_path / "none.yaml"), "--model",
+                                  str(tmp_path / "no_model"), "--metrics",
+                                  str(tmp_path / "m.json"), "--plots", str(plots)])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --plots: ") and err.count("\n") == 1
+    assert (plots / "parity.png").read_bytes() == b"my figure"
+    assert not (tmp_path / "m.json").exists()
+    committed = ROOT / "data" / "surrogate" / "plots"
+    marker = json.loads((committed / ".drillfatigue.json").read_text())
+    assert marker == {"kind": _stage("evaluate").PLOTS_KIND,
+                      "files": sorted(p.name for p in committed.iterdir()
+                                      if not p.name.startswith("."))}
