@@ -7,8 +7,10 @@ STAMP  := $(VENV)/.installed
 # dvc runs stage commands with `python`: put the venv first on PATH.
 export PATH := $(CURDIR)/$(VENV)/bin:$(PATH)
 export NUMBA_CACHE_DIR ?= $(CURDIR)/.numba_cache
+# mkdocs-material prints a banner about its successor on every build
+export NO_MKDOCS_2_WARNING := 1
 
-.PHONY: install repro test bench bench-quick clean
+.PHONY: install repro test browser serve lint types imports docs docs-serve pytest bench bench-quick clean
 
 $(STAMP): pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -22,8 +24,41 @@ install: $(STAMP)
 repro: install
 	$(VENV)/bin/dvc repro
 
-test: install
+# CI runs `make test`: lint, types, the import contract, the docs build
+# (warnings are errors) and the test suite, within the 10-minute budget.
+test: browser lint types imports docs pytest
+
+lint: install
+	$(VENV)/bin/ruff check .
+
+types: install
+	$(VENV)/bin/mypy
+
+# The import-linter contracts, when the project declares them (.importlinter
+# or [tool.importlinter] in pyproject.toml).
+imports: install
+	@if [ -f .importlinter ] || grep -q '^\[tool.importlinter\]' pyproject.toml; then \
+		PYTHONPATH=src $(VENV)/bin/lint-imports; \
+	else echo "imports: no import-linter contract declared"; fi
+
+docs: install
+	$(VENV)/bin/mkdocs build --strict --site-dir site
+
+docs-serve: install
+	$(VENV)/bin/mkdocs serve
+
+pytest: install
 	$(PY) -m pytest -q
+
+# the web-page test drives a real headless Chromium: install it (as root, CI) when missing
+browser:
+	@command -v chromium >/dev/null && command -v chromedriver >/dev/null || \
+	  { apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium chromium-driver; }
+
+# the digital twin's API and web page on http://127.0.0.1:8000/
+MODEL ?= data/surrogate/model
+serve: install
+	$(VENV)/bin/drillfatigue serve --model $(MODEL)
 
 bench: install
 	$(PY) benchmarks/run_all.py
@@ -32,4 +67,4 @@ bench-quick: install
 	$(PY) benchmarks/run_all.py --quick
 
 clean:
-	rm -rf $(VENV) .numba_cache .pytest_cache
+	rm -rf $(VENV) .numba_cache .pytest_cache .mypy_cache .ruff_cache site

@@ -1,6 +1,6 @@
 """Benchmark: critical-plane fatigue of a whole string over an 800 s window.
 
-Workload (issue 5): 120 joints x 2 locations (body, connection) x 36 surface
+Workload: 120 joints x 2 locations (body, connection) x 36 surface
 points, an 800 s history at 1 kHz (800,001 samples), Matake criterion on the
 default plane grid with refinement, S-N curve B1. Loads are synthetic but shaped
 like drill-string internal loads at 150 rpm: rotating bending in a dogleg
@@ -48,7 +48,7 @@ from drillfatigue.units import MPA_PA
 
 DT = 1e-3
 RPM = 150.0
-BODY = Section(0.127, 0.1086)  # 5 in 19.5 lb/ft drill pipe (MODEL.md)
+BODY = Section(0.127, 0.1086)  # 5 in 19.5 lb/ft drill pipe (docs/model.md)
 CONN = Section(0.168, 0.0826)  # tool joint
 SCF_BODY = SCF(1.0, 1.0, 1.0)
 SCF_CONN = SCF(3.5, 3.5, 1.5)

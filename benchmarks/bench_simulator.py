@@ -12,11 +12,11 @@ Usage: ``python benchmarks/bench_simulator.py [--quick]`` -> ``benchmarks/result
   (BDF, rtol 1e-5, max step 1 ms, as the paper) on the 30-segment case over a
   short window; the numba run of the very same case (no ROP, no lobes) gives the
   ratio. The numpy RHS is checked against the numba force kernel first.
-* Deviated drilling (issue 4): ``data/cases/case2_profile.yaml`` -- 120 segments
+* Deviated drilling: ``data/cases/case2_profile.yaml`` -- 120 segments
   on profile_1 from 480 m, wall contact, tanh-exponential friction, 150 rpm,
   drilling at 0.5 m/s (segments split off the top as it grows), 0.5 s
   relaxation; real-time factor over the run after a warm-up.
-* Friction-law cost (issue 4): ``data/cases/case1_whirl.yaml`` (5 segments,
+* Friction-law cost: ``data/cases/case1_whirl.yaml`` (5 segments,
   sustained backward whirl) with Karnopp and with tanh-exponential: wall-time
   ratio of the stepping loop (paper: 47 vs 18 min, 2.6x).
 Goals (issues 3, 4): 120 segments >= 1x real time (vertical and deviated drilling);

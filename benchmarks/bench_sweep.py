@@ -1,6 +1,6 @@
 """Sweep engine throughput: cases per hour, local process pool vs Dask LocalCluster.
 
-A CPU-bound synthetic case (:func:`drillfatigue.sweep.synthetic.synthetic_case`,
+A CPU-bound synthetic case (:func:`testkit.synthetic_sweep.synthetic_case`,
 a numba loop calibrated to ``--case-s`` seconds) is run ``--n-cases`` times
 with ``n_workers`` workers on the ``processes`` and ``local-cluster``
 schedulers, and once in series as the baseline. Reported per scheduler:
@@ -13,7 +13,7 @@ cases). The Dask vs pool ratio is the goal figure (<= +10 %); on a shared
 Unless ``--no-real``, a tiny real case (16 segments, 0.5 s simulated) is timed on
 the process pool too.
 
-Usage: ``python benchmarks/bench_sweep.py [--quick] [--no-real] [--n-workers 2]``
+Usage: ``PYTHONPATH=tests python benchmarks/bench_sweep.py [--quick] [--no-real] [--n-workers 2]``
 → ``benchmarks/results/sweep.json``.
 """
 
@@ -30,7 +30,7 @@ import time
 from pathlib import Path
 
 from drillfatigue.sweep.runner import Case, run_sweep
-from drillfatigue.sweep.synthetic import _burn, synthetic_case, warmup
+from testkit.synthetic_sweep import _burn, synthetic_case, warmup
 
 RESULT = Path(__file__).parent / "results" / "sweep.json"
 

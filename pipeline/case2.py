@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import sys
 
+from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.studies.stages import stage_main
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     return stage_main("case2", argv)
 
 

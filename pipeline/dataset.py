@@ -17,10 +17,12 @@ import sys
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.sweep.stages import dataset_stage
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--cases", default=None, help="default: sweep.cases_path")

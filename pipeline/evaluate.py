@@ -1,17 +1,17 @@
 """DVC stage ``evaluate``: score the surrogate and the GP / gradient-boosting baselines.
 
 On the model's held-out test cases (the case-wise split stored with the
-model) it writes ``metrics/surrogate.json`` (R^2, RMSE, MAE of log10 damage
+model) it writes ``data/surrogate/metrics.json`` (R^2, RMSE, MAE of log10 damage
 rate, interval coverage and width, factor-of-2 fraction, per model; the same
 errors on each case's governing damage rate and on the rows that could set
 the string's life, under ``governing``; with ``--noise-floor``, the
 replicate ceiling and the models' factor-of-2 fraction per decade of damage
 rate, under ``noise_floor.by_decade``, also printed as a table),
-``plots/surrogate/predictions.csv`` (DVC plots: y_true vs each model),
+``data/surrogate/plots/predictions.csv`` (DVC plots: y_true vs each model),
 ``parity.png`` and ``residuals.png``.
 
 Usage: ``python pipeline/evaluate.py [--params params.yaml] [--data data/dataset/damage.parquet]
-[--model models/surrogate] [--metrics metrics/surrogate.json] [--plots plots/surrogate]
+[--model data/surrogate/model] [--metrics data/surrogate/metrics.json] [--plots data/surrogate/plots]
 [--synthetic-cases N] [--noise-floor data/replicates/spread.json]``
 """
 
@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 
 
 def _cell(v: float | None, width: int) -> str:
@@ -35,12 +35,13 @@ PLOTS_KIND = "evaluation"
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--data", default="data/dataset/damage.parquet")
-    parser.add_argument("--model", default="models/surrogate")
-    parser.add_argument("--metrics", default="metrics/surrogate.json")
-    parser.add_argument("--plots", default="plots/surrogate")
+    parser.add_argument("--model", default="data/surrogate/model")
+    parser.add_argument("--metrics", default="data/surrogate/metrics.json")
+    parser.add_argument("--plots", default="data/surrogate/plots")
     parser.add_argument("--synthetic-cases", type=int, default=0)
     parser.add_argument("--noise-floor", default=None,
                         help="spread.json of the replicates stage: adds the noise floor")
@@ -50,14 +51,12 @@ def main(argv: list[str] | None = None) -> int:
         from drillfatigue.surrogate import Surrogate, make_synthetic_dataset
         from drillfatigue.surrogate.evaluation import evaluate, plot_parity, plot_residuals
         from drillfatigue.surrogate.io import write_csv, write_json
-
-        sys.path.insert(0, str(Path(__file__).parent))
-        from train import read_table
+        from drillfatigue.surrogate.data import read_dataset
 
         OutputFolder.check(args.plots, PLOTS_KIND, "--plots")  # before the evaluation
         cfg = load_params(args.params).surrogate
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
-                 if args.synthetic_cases > 0 else read_table(args.data))
+                 if args.synthetic_cases > 0 else read_dataset(args.data))
         model = Surrogate.load(args.model)
         metrics, pred = evaluate(frame, model, cfg)
         if args.noise_floor:

@@ -34,6 +34,7 @@ import time
 from pathlib import Path
 
 from drillfatigue.config.studies import Case1Config, Case2Config, Case3Config, StringSpec
+from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.studies.common import run_simulation, warm_up, write_json
 
 
@@ -84,6 +85,7 @@ def case2_full_checks(out_dir: Path) -> dict[str, object]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--case1-s", type=float, default=20.0)
     ap.add_argument("--case2-prefix-s", type=float, default=20.0)

@@ -20,11 +20,13 @@ import sys
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.sweep.replicates import replicates_stage
 from drillfatigue.sweep.runner import SweepFailedError
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--no-progress", action="store_true")

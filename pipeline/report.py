@@ -14,11 +14,13 @@ import sys
 from pathlib import Path
 
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.studies.report import write_report
 from drillfatigue.studies.stages import load_section
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--case1", default="data/case1")

@@ -2,12 +2,12 @@
 
 Reads the ``surrogate`` section of ``params.yaml`` and the damage table
 (``data/dataset/damage.parquet``, one row per case and component location);
-writes the model folder (``models/surrogate/``: weights, metadata, OOD
+writes the model folder (``data/surrogate/model/``: weights, metadata, OOD
 reference, TorchScript export) and the dvclive training curves (per member
-train/val loss per epoch, ``metrics/surrogate_training/``).
+train/val loss per epoch, ``data/surrogate/training/``).
 
 Usage: ``python pipeline/train.py [--params params.yaml] [--data data/dataset/damage.parquet]
-[--out models/surrogate] [--live metrics/surrogate_training] [--synthetic-cases N]``
+[--out data/surrogate/model] [--live data/surrogate/training] [--synthetic-cases N]``
 (``--synthetic-cases``: train on the documented synthetic table instead, for smoke tests.)
 """
 
@@ -15,39 +15,31 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
-
-import pandas as pd
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
-
-
-def read_table(path: str | Path) -> pd.DataFrame:
-    """Read the dataset (parquet or CSV by suffix)."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(str(p), "dataset file not found", "run the dataset stage first")
-    return pd.read_csv(p) if p.suffix.lower() == ".csv" else pd.read_parquet(p)
+from drillfatigue.numba_cache import scope_numba_cache
 
 
 def main(argv: list[str] | None = None) -> int:
+    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--data", default="data/dataset/damage.parquet")
-    parser.add_argument("--out", default="models/surrogate")
-    parser.add_argument("--live", default="metrics/surrogate_training")
+    parser.add_argument("--out", default="data/surrogate/model")
+    parser.add_argument("--live", default="data/surrogate/training")
     parser.add_argument("--synthetic-cases", type=int, default=0)
     args = parser.parse_args(argv)
     try:
         from drillfatigue.files import OutputFolder
         from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
         from drillfatigue.surrogate.facade import MODEL_KIND
+        from drillfatigue.surrogate.data import read_dataset
 
         cfg = load_params(args.params).surrogate
         OutputFolder.check(args.out, MODEL_KIND, "--out")  # before minutes of training
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
-                 if args.synthetic_cases > 0 else read_table(args.data))
+                 if args.synthetic_cases > 0 else read_dataset(args.data))
         model = fit_surrogate(frame, cfg, live_dir=args.live)
         model.save(args.out, option="--out")
     except InputError as exc:

@@ -1,4 +1,4 @@
-"""Case-study stages (issue 8): each reduced study writes its tables and figures,
+"""Case-study stages: each reduced study writes its tables and figures,
 the report stage writes a README citing them beside the paper's numbers, and the
 proposed stage/params files agree with the config models.
 

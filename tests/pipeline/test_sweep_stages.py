@@ -17,7 +17,7 @@ import yaml
 
 from drillfatigue.config import load_params
 from drillfatigue.sweep.stages import dataset_stage, design_stage, fatigue_stage, simulate_stage
-from drillfatigue.sweep.synthetic import synthetic_case, synthetic_fatigue
+from testkit.synthetic_sweep import synthetic_case, synthetic_fatigue
 
 ROOT = Path(__file__).parents[2]
 

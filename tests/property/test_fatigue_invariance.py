@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,8 +15,7 @@ from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Section
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from fatigue_helpers import synthetic_loads, write_run_dir  # noqa: E402
+from testkit.fatigue_runs import synthetic_loads, write_run_dir
 
 SEC = Section(0.127, 0.1086)
 LOADS = synthetic_loads(1200, seed=3)

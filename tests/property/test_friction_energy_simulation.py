@@ -1,4 +1,4 @@
-"""Wall friction never adds energy in a full simulation (MODEL.md §6, §9).
+"""Wall friction never adds energy in a full simulation (docs/model.md#friction, docs/validation.md).
 
 A short string (5 segments, 10 m of collar) in a 60 deg hole, no drive (top
 held, bit free), no mud or joint damping, wall contact on with any of the six

@@ -1,4 +1,4 @@
-"""Property tests of the six wall-friction models (MODEL.md section 6)."""
+"""Property tests of the six wall-friction models (docs/model.md#friction)."""
 
 from __future__ import annotations
 

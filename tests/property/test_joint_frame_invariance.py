@@ -3,7 +3,7 @@
 Rotating the two neighbours of a joint (positions, velocities, orientations,
 angular velocities) by the same rigid rotation leaves the joint-frame loads
 unchanged, because the joint frame is the mid frame of the two segments
-(MODEL.md §2); swapping which segment is the reference is not needed.
+(docs/model.md#joints); swapping which segment is the reference is not needed.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Unit tests of the bit-rock law (MODEL.md section 4)."""
+"""Unit tests of the bit-rock law (docs/model.md#bit)."""
 
 from __future__ import annotations
 

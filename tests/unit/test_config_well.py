@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pydantic
 import pytest
 
 from drillfatigue.config import WellConfig, case_from_dict, load_params
@@ -26,7 +27,7 @@ def test_partial_case_keeps_other_defaults() -> None:
 
 def test_config_is_frozen() -> None:
     cfg = WellConfig()
-    with pytest.raises(Exception):  # pydantic ValidationError on frozen instance
+    with pytest.raises(pydantic.ValidationError):  # frozen instance
         cfg.min_clearance_m = 0.1  # type: ignore[misc]
 
 

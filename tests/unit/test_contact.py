@@ -1,4 +1,4 @@
-"""Unit tests of the point-in-cylinder contact kernel (MODEL.md section 5)."""
+"""Unit tests of the point-in-cylinder contact kernel (docs/model.md#contact)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Drilling progression: the string grows at the ROP by splitting segments off its top (MODEL.md §3).
+"""Drilling progression: the string grows at the ROP by splitting segments off its top
+(docs/model.md#top-boundary).
 
 The top segment lengthens from its fixed top end; when it exceeds its nominal
 length by one segment a nominal segment is split off its bottom, so the

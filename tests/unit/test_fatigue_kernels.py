@@ -141,7 +141,7 @@ def test_shear_groups_pair_conjugate_planes() -> None:
         grp = next(m for m in members if j in m)
         assert j + 9 in grp
         assert n_a + j in grp and n_a + j + 9 in grp  # family B, psi = 0
-    scale = dict(zip(g.cand.tolist(), g.scale.tolist()))
+    scale = dict(zip(g.cand.tolist(), g.scale.tolist(), strict=False))
     assert scale[n_a] / scale[0] == pytest.approx(np.cos(np.radians(45.0)), rel=1e-12)
     # every candidate with shear belongs to exactly one group
     assert sorted(g.cand.tolist()) == list(range(len(planes)))
@@ -199,4 +199,4 @@ def test_refinement_beyond_the_dense_levels_never_loses_selection_damage() -> No
     d = [evaluate_location(L, sec, SCF(1, 1, 1), curve, "findley", prm, n_points=36,
                            n_refine=k, n_refine_points=1, with_uniaxial=False).damage
          for k in (0, 2, 4, 6)]
-    assert all(b >= a * (1 - 1e-12) for a, b in zip(d, d[1:]))
+    assert all(b >= a * (1 - 1e-12) for a, b in zip(d, d[1:], strict=False))

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -14,8 +13,7 @@ from drillfatigue.cli import main
 from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.fatigue.run import DAMAGE_COLUMNS, evaluate_run
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from fatigue_helpers import write_run_dir  # noqa: E402
+from testkit.fatigue_runs import write_run_dir
 
 FAST = dict(plane_step_deg=15.0, n_refine=1)
 

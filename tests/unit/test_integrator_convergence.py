@@ -1,4 +1,4 @@
-"""Convergence: a result changes by < 1 % when the step is halved (MODEL.md §7)."""
+"""Convergence: a result changes by < 1 % when the step is halved (docs/model.md#integration)."""
 
 from __future__ import annotations
 

@@ -13,8 +13,8 @@ from drillfatigue import units
 from drillfatigue.cli import main
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
+from drillfatigue.io.names import Vocabulary
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
-from drillfatigue.surrogate.query import Vocabulary
 
 TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
                        n_threads=1)
@@ -243,3 +243,23 @@ def test_batch_out_an_existing_folder_is_one_line(model_dir: Path, tmp_path: Pat
     err = capsys.readouterr().err
     assert err == f"error: --out: {out} is a folder, not a file (allowed: a file path)\n"
     assert [p.name for p in out.iterdir()] == ["mine.csv"]
+
+
+def test_batch_csv_with_field_headers(model_dir: Path, tmp_path: Path) -> None:
+    # the example conditions with an engineer's headers and units give the same predictions
+    si = pd.read_csv(EXAMPLES / "conditions.csv")
+    field = si.rename(columns={"rpm": "RPM", "wob_kN": "WOB (klbf)",
+                               "rop_m_per_h": "ROP (ft/h)", "mud_density_sg": "Mud Density (ppg)",
+                               "md_m": "MD (ft)"})
+    field["WOB (klbf)"] = si["wob_kN"] * units.KN_N / units.KLBF_N
+    field["ROP (ft/h)"] = si["rop_m_per_h"] * units.M_PER_H_M_PER_S / units.FT_PER_H_M_PER_S
+    field["Mud Density (ppg)"] = si["mud_density_sg"] * units.SG_KG_PER_M3 / units.PPG_KG_PER_M3
+    field["MD (ft)"] = si["md_m"] / units.FT_M
+    field.to_csv(tmp_path / "f.csv", index=False)
+    for name, src in (("a.csv", EXAMPLES / "conditions.csv"), ("b.csv", tmp_path / "f.csv")):
+        assert main(["query", "--model", str(model_dir), "--csv", str(src), "--out",
+                     str(tmp_path / name)]) == 0
+    a, b = pd.read_csv(tmp_path / "a.csv"), pd.read_csv(tmp_path / "b.csv")
+    # unit conversions there and back differ from the SI inputs by ~1e-16 relative,
+    # far below what moves the float32 network's output
+    np.testing.assert_allclose(b["damage_rate_per_h"], a["damage_rate_per_h"], rtol=1e-6)

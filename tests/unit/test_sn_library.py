@@ -15,7 +15,7 @@ from drillfatigue.units import MPA_PA, PSI_PA
 
 
 def test_dnv_d_curve_at_100_mpa() -> None:
-    # DNV-RP-C203 check quoted in FATIGUE.md: N = 10**(12.164 - 3*2) = 1.4588e6
+    # DNV-RP-C203 check quoted in docs/fatigue.md: N = 10**(12.164 - 3*2) = 1.4588e6
     # (4 significant digits given, so rel 5e-5)
     assert get_curve("D").cycles_to_failure(100 * MPA_PA)[0] == pytest.approx(1.4588e6, rel=5e-5)
 

@@ -1,4 +1,4 @@
-"""The kernel modules of issue 4 import only numpy, numba, math (STYLE.md habit 1).
+"""The soft-string and contact kernel modules import only numpy, numba, math (STYLE.md habit 1).
 
 ``typing``/``dataclasses``/``__future__`` are allowed, and imports guarded by
 ``if TYPE_CHECKING`` (type hints of the config classes) are not executed.

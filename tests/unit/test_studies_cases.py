@@ -85,7 +85,7 @@ def test_case3_joints_and_case():
 
 
 def test_rolling_ratio():
-    # -r_p / (R_h - r_p) with r_p = 63.5 mm, R_h = 107.95 mm (MODEL.md §6)
+    # -r_p / (R_h - r_p) with r_p = 63.5 mm, R_h = 107.95 mm (docs/model.md#friction)
     assert case1.rolling_ratio() == pytest.approx(-0.0635 / (0.10795 - 0.0635))
 
 

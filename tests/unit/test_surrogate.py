@@ -131,7 +131,7 @@ def test_fast_column_access_matches_public_pandas_path(data: pd.DataFrame,
     dup = pd.concat([rows, rows[["md_m"]]], axis=1)
     assert not dup.columns.is_unique
     cols = ["operation.rpm", "location"]
-    for a, b in zip(column_arrays(dup, cols), [rows[c].to_numpy() for c in cols]):
+    for a, b in zip(column_arrays(dup, cols), [rows[c].to_numpy() for c in cols], strict=False):
         np.testing.assert_array_equal(a, b)
     # a missing value in a nullable column is still named
     odd.loc[odd.index[1], "bit.lobes"] = pd.NA

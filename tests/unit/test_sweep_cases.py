@@ -9,7 +9,7 @@ from drillfatigue.config import FatigueConfig
 from drillfatigue.fatigue import evaluate_run
 from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks
 from drillfatigue.sweep.runner import Case, run_sweep
-from drillfatigue.sweep.synthetic import N_JOINT, synthetic_case
+from testkit.synthetic_sweep import N_JOINT, synthetic_case
 
 
 @pytest.fixture(scope="module")

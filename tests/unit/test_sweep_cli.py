@@ -8,7 +8,7 @@ import yaml
 
 from drillfatigue.cli import main
 from drillfatigue.sweep.runner import Case, run_sweep
-from drillfatigue.sweep.synthetic import synthetic_case
+from testkit.synthetic_sweep import synthetic_case
 
 
 def _params(tmp_path, variables):

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from drillfatigue.sweep.runner import FAILURES_NAME, Case, run_sweep
-from drillfatigue.sweep.synthetic import synthetic_case
+from testkit.synthetic_sweep import synthetic_case
 
 
 def _tree(root: Path) -> dict[str, bytes]:

@@ -19,7 +19,7 @@ from drillfatigue.sweep.dataset import (
     write_dataset,
 )
 from drillfatigue.sweep.runner import Case, run_sweep
-from drillfatigue.sweep.synthetic import N_JOINT, synthetic_case, synthetic_fatigue
+from testkit.synthetic_sweep import N_JOINT, synthetic_case, synthetic_fatigue
 
 DESIGN = {"method": "sobol", "seed": 1, "n_cases": 4, "window_s": 10.0,
           "variables": {"operation.rpm": {"low": 60.0, "high": 180.0},

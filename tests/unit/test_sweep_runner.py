@@ -1,6 +1,6 @@
 """Sweep engine: every case once, resume, retries and failure records, threshold, kill and rerun.
 
-The case function is :func:`drillfatigue.sweep.synthetic.synthetic_case`, a
+The case function is :func:`testkit.synthetic_sweep.synthetic_case`, a
 module-level function of the package (so it pickles by name into process-pool
 and Dask workers) whose outputs are a deterministic function of its inputs.
 """
@@ -28,7 +28,7 @@ from drillfatigue.sweep.runner import (
     is_done,
     run_sweep,
 )
-from drillfatigue.sweep.synthetic import synthetic_case
+from testkit.synthetic_sweep import synthetic_case
 
 
 def make_cases(n: int, **synthetic) -> list[Case]:
@@ -117,7 +117,7 @@ def test_worker_crash_is_retried_on_a_new_pool(tmp_path):
 _KILL_SCRIPT = textwrap.dedent("""
     import sys
     from drillfatigue.sweep.runner import Case, run_sweep
-    from drillfatigue.sweep.synthetic import synthetic_case
+    from testkit.synthetic_sweep import synthetic_case
     if __name__ == "__main__":
         cases = [Case(f"case{i:03d}", {"operation": {"rpm": 60.0 + i},
                                        "synthetic": {"sleep_s": 0.3}}) for i in range(12)]
@@ -135,7 +135,8 @@ def test_killed_sweep_rerun_matches_uninterrupted(tmp_path):
     script = tmp_path / "sweep_script.py"
     script.write_text(_KILL_SCRIPT)
     proc = subprocess.Popen([sys.executable, str(script), str(out)], start_new_session=True,
-                            env=os.environ | {"PYTHONPATH": str(Path(__file__).parents[2] / "src")})
+                            env=os.environ | {"PYTHONPATH": os.pathsep.join(
+                                str(Path(__file__).parents[2] / d) for d in ("src", "tests"))})
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
         n = len(list(out.glob(f"*/{DONE_NAME}"))) if out.exists() else 0

@@ -96,7 +96,7 @@ def test_cli_json_and_plot(tmp_path, capsys):
 @pytest.mark.parametrize(
     "args, field",
     [
-        (["-o", "{tmp}/plot.txt"], "-o"),
+        (["-o", "{tmp}/plot.txt"], "--out"),
         (["--cell-m", "0"], "--cell-m"),
         (["--wob-kN", "-3"], "--wob-kN"),
     ],
@@ -133,7 +133,8 @@ def test_inclined_straight_case_matches_closed_form():
 
 
 def test_neutral_point_at_top_of_collars_in_deviated_well():
-    """Default WOB puts the drilling-mode neutral point at the top of the collars (MODEL.md 3)."""
+    """Default WOB puts the drilling-mode neutral point at the top of the collars
+    (docs/model.md#top-boundary)."""
     td = torque_drag_for_case(case_from_dict(J_WELL), cell_m=5.0)
     k = int(np.argmin(np.abs(td.md_m - (1400.0 - 180.0))))
     assert td.md_m[k] == pytest.approx(1220.0)

@@ -20,7 +20,6 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import layout as L
 from drillfatigue.dynamics.examples import uniform_chain_case
 from drillfatigue.dynamics.forces import top_joint
 from drillfatigue.dynamics.model import build_model, straight_path

@@ -4,7 +4,7 @@ Off bottom with the top held, the top segment grows (tripping in) or shrinks
 (tripping out) at ``operation.trip_speed_m_per_s``; a short top segment merges
 with the one below; tripping out stops at a two-segment minimum. The hook load
 while moving in a straight 30 deg hole must match the soft-string closed forms
-(MODEL.md §9): pick-up w L (cos I + mu sin I), slack-off w L (cos I - mu sin I).
+(docs/validation.md): pick-up w L (cos I + mu sin I), slack-off w L (cos I - mu sin I).
 """
 
 from __future__ import annotations

@@ -39,3 +39,19 @@ def test_plot_and_export(case: Path, tmp_path: Path) -> None:
     sv = read_survey_csv(tmp_path / "s.csv")
     assert sv.pos_m[-1, 2] == pytest.approx(650.0, abs=1e-6)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["case.yaml", "fig.png", "s.csv"]
+
+
+def test_out_is_the_option_name_and_output_a_hidden_old_spelling(tmp_path, monkeypatch,
+                                                                  capsys) -> None:
+    """Every command names its output ``--out``; ``--output`` still works but is not shown."""
+    case = tmp_path / "case.yaml"
+    case.write_text("well: {}\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["well", "export", str(case), "--output", "old.csv"]) == 0
+    assert (tmp_path / "old.csv").is_file()
+    assert main(["well", "export", str(case), "--out", "a.csv", "--output", "b.csv"]) == 2
+    assert "given twice" in capsys.readouterr().err
+    assert not (tmp_path / "a.csv").exists() and not (tmp_path / "b.csv").exists()
+    assert main(["well", "plot", "--help"]) == 0
+    text = capsys.readouterr().out
+    assert "--out" in text and "--output" not in text

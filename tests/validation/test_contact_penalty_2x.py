@@ -1,4 +1,4 @@
-"""Penalty contact: results insensitive to the penalty stiffness (MODEL.md §5).
+"""Penalty contact: results insensitive to the penalty stiffness (docs/model.md#contact).
 
 The wall is a penalty spring k_c; a sound choice leaves the physics to the
 string, not to k_c. The issue's criterion: doubling k_c changes the mean

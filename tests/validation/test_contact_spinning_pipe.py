@@ -94,7 +94,7 @@ def test_climbs_to_friction_angle_and_stiffness_insensitive():
     # friction torque opposes the spin, magnitude mu N r
     assert t1 < 0
     assert -t1 == pytest.approx(mu * W * math.cos(phi) * R_PIPE, rel=0.01)
-    # 2x penalty stiffness: mean normal force and torque change by < 5 % (issue 4)
+    # 2x penalty stiffness: mean normal force and torque change by < 5 %
     assert n2 == pytest.approx(n1, rel=0.05)
     assert t2 == pytest.approx(t1, rel=0.05)
 

@@ -2,7 +2,7 @@
 
 A pipe lying on the low side of an inclined hole and compressed axially stays
 straight below F = 2 sqrt(E I w sin I / r_c) (Dawson & Paslay, SPE 11167;
-MODEL.md §9) and snakes sideways above it. 100 m of 5 in pipe (50 segments of
+docs/validation.md) and snakes sideways above it. 100 m of 5 in pipe (50 segments of
 2 m, against a ~26 m buckle wavelength) in a 60 deg hole, no wall friction
 (the closed form is frictionless), bit on bottom, top held: the top anchor is
 lowered step by step (a feedback on the mean axial force of the middle 30

@@ -1,4 +1,4 @@
-"""Energy: conserved without damping, never increasing with it (MODEL.md §9).
+"""Energy: conserved without damping, never increasing with it (docs/validation.md).
 
 Velocity Verlet is symplectic: without dissipation the energy error stays
 bounded, O((omega dt)^2), with no secular drift (Hairer, Lubich & Wanner,

@@ -1,4 +1,4 @@
-"""Critical-plane criteria against closed forms (FATIGUE.md section 4).
+"""Critical-plane criteria against closed forms (docs/fatigue.md#critical-plane).
 
 Loads are constant-amplitude cosines sampled with 400 points per period so
 that every peak is a sample (cos(2 pi k / 400) = +-1 at k = 0, 200, ...).

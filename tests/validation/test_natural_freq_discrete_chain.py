@@ -1,4 +1,4 @@
-"""Axial and torsional natural frequencies vs the discrete-chain formula (MODEL.md §9).
+"""Axial and torsional natural frequencies vs the discrete-chain formula (docs/validation.md).
 
 N equal masses m on springs k, top fixed (wall spring k), bottom free:
 omega_j = 2 sqrt(k/m) sin((2j - 1) pi / (2 (2N + 1))) -- e.g. Rao, Mechanical

@@ -1,4 +1,4 @@
-"""Soft-string torque and drag against the closed forms of MODEL.md section 9.
+"""Soft-string torque and drag against the closed forms of docs/validation.md.
 
 References: Johancsik, Friesen & Dawson, SPE 11380 (1984) for the cell
 equations; the capstan (Euler-Eytelwein) formula for a weightless rope on a bend.

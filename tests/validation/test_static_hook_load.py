@@ -1,4 +1,4 @@
-"""Static hook load in a vertical hole = buoyed weight - WOB; neutral point (MODEL.md §9).
+"""Static hook load in a vertical hole = buoyed weight - WOB; neutral point (docs/validation.md).
 
 Buoyed weight W_b = (1 - rho_mud / rho_steel) g sum(rho A L) (Archimedes, open
 pipe, mud inside and out); the neutral point is where the effective tension

@@ -1,4 +1,4 @@
-"""Torsional stick-slip from a velocity-weakening bit (Yigit & Christoforou; MODEL.md §4, §8).
+"""Torsional stick-slip from a velocity-weakening bit (Yigit & Christoforou; docs/model.md#bit).
 
 1000 m of string (200 m of collars, 800 m of drill pipe) on bottom in a
 vertical hole, the neutral point at the top of the collars (WOB ~ 250 kN),

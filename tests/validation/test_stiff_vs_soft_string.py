@@ -1,10 +1,10 @@
-"""Stiff string vs soft string (Johancsik et al., SPE 11380; MODEL.md §9).
+"""Stiff string vs soft string (Johancsik et al., SPE 11380; docs/validation.md).
 
 The 3D rigid-segment model with penalty wall contact, rotating off bottom,
 must reproduce the classic soft-string surface torque and hook load once the
 torsional start-up has settled: in a smooth low-dogleg J-well against
 :func:`torque_drag_for_case` (the soft-string march), and in a straight
-inclined hole against the closed forms of MODEL.md §9 (rotating: no axial
+inclined hole against the closed forms of docs/validation.md (rotating: no axial
 drag, hook load w cos I L; torque mu w sin I r_o L per length).
 """
 
@@ -54,7 +54,7 @@ def test_straight_inclined_hole_matches_the_closed_forms() -> None:
     r_o = float(segs.contact_radius_m[0])
     length = 250.0
     mu = cfg.friction.mu_dynamic
-    # MODEL.md §9: rotating torque mu w sin I r_o per length; hook load w cos I L
+    # docs/validation.md: rotating torque mu w sin I r_o per length; hook load w cos I L
     # (rotation takes the axial drag away). 10 % as above; measured: torque 7 %
     # low (friction angle, residual torsional oscillation), hook load 0.01 %.
     assert abs(torque - mu * w * math.sin(inc) * r_o * length) < 0.10 * mu * w * math.sin(inc) * r_o * length

@@ -1,4 +1,4 @@
-"""Whirl of a free pipe in a horizontal hole (founding paper case 1, MODEL.md §8).
+"""Whirl of a free pipe in a horizontal hole (founding paper case 1, docs/model.md#case-studies).
 
 data/cases/case1_whirl.yaml: 5 m of 5 in pipe in 5 segments, both ends free,
 horizontal 8 1/2 in hole, constant top torque. With high wall friction the

@@ -16,6 +16,7 @@ import typer
 
 from drillfatigue.cli.app import app
 from drillfatigue.errors import InputError
+from drillfatigue.numba_cache import scope_numba_cache
 
 # typer >= 0.16 carries its own copy of click: its usage errors, Exit and
 # Abort are not the classes of the installed ``click`` package. Both are
@@ -31,12 +32,14 @@ EXIT_INTERRUPTED = 130
 COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.fatigue",
     "drillfatigue.cli.well",
+    "drillfatigue.cli.string",
     "drillfatigue.cli.tnd",
     "drillfatigue.cli.query",
     "drillfatigue.cli.twin",
     "drillfatigue.cli.simulate",
     "drillfatigue.cli.sweep",
     "drillfatigue.cli.plan",
+    "drillfatigue.cli.serve",
 )
 
 
@@ -47,6 +50,7 @@ def _load_commands() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI; return the process exit code."""
+    scope_numba_cache()  # before the command modules import any kernel
     _load_commands()
     try:
         result = app(args=argv, standalone_mode=False)

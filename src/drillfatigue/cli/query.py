@@ -2,12 +2,12 @@
 
 Single query (flags built from the model's features, user units)::
 
-    drillfatigue query --model models/surrogate --rpm 120 --wob-kN 80 \\
+    drillfatigue query --model data/surrogate/model --rpm 120 --wob-kN 80 \\
         --rop-m-per-h 20 ... [--json]
 
 Batch::
 
-    drillfatigue query --model models/surrogate --csv conditions.csv --out predictions.csv
+    drillfatigue query --model data/surrogate/model --csv conditions.csv --out predictions.csv
 
 With ``--well WELL.yaml`` (a params or case file, or the bare ``well``
 section; ``--well-profile`` picks a profile) the model's hole-geometry
@@ -15,7 +15,7 @@ features (:mod:`drillfatigue.well.features`) are computed from that well's
 survey at ``md_m`` and at the bit (``md_m + s_from_bit_m``) instead of being
 given as flags or CSV columns.
 
-Feature names and units: :mod:`drillfatigue.surrogate.query`.
+Feature names and units: :mod:`drillfatigue.io.names`.
 """
 
 from __future__ import annotations
@@ -130,8 +130,8 @@ def query(ctx: typer.Context,
     """
     import pandas as pd
 
+    from drillfatigue.io.names import Vocabulary, vocabulary_name
     from drillfatigue.surrogate.io import write_csv
-    from drillfatigue.surrogate.query import Vocabulary
 
     flags = parse_feature_flags(list(ctx.args))
     if csv is not None and flags:
@@ -162,6 +162,8 @@ def query(ctx: typer.Context,
                              "a comma-separated table with a header") from None
         if len(table) == 0:
             raise InputError(str(csv), "no rows", ">= 1 condition row")
+        # field-style headers ('WOB (klbf)', 'ROP (ft/h)') to vocabulary names
+        table = table.rename(columns={c: vocabulary_name(str(c), vocab) for c in table.columns})
         frame = vocab.frame_from_table(table, require=need)
         if geometry is not None:
             frame = _add_geometry(frame, vocab, *geometry)

@@ -16,32 +16,35 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import app
+from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.softstring import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
+from drillfatigue.io.display import Display, check_system
 from drillfatigue.units import KN_N
 
 _PLOT_FORMATS = ("png", "pdf", "svg")
 
 
 def _check_plot_path(path: Path) -> None:
-    check_output_file(path, "-o")
+    check_output_file(path, "--out")
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in _PLOT_FORMATS:
-        raise InputError("-o", f"unsupported file type {path.suffix or '(none)'!r} of {str(path)!r}",
+        raise InputError("--out", f"unsupported file type {path.suffix or '(none)'!r} of {str(path)!r}",
                          ", ".join("." + s for s in _PLOT_FORMATS))
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
-        raise InputError("-o", f"folder {str(parent)!r} does not exist", "an existing folder")
+        raise InputError("--out", f"folder {str(parent)!r} does not exist", "an existing folder")
 
 
-def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str) -> None:
-    """Tension (kN) and torque (kN m) against MD for the four modes; written atomically."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
+                     display: Display | None = None) -> None:
+    """Tension and torque against MD for the four modes (kN, kN m, m or, with a field
+    ``display``, klbf, kft lbf, ft); written atomically."""
+    d = display if display is not None else Display("si")
+    fu, tu, lu = d.unit("force"), d.unit("torque"), d.unit("length")
+    md = d.value("length", td.md_m)
     from matplotlib.figure import Figure
 
     from drillfatigue.well.survey import atomic_output
@@ -50,16 +53,16 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str) -> None:
     ax1, ax2 = fig.subplots(1, 2, sharey=True)
     for name, t in (("pick-up", td.tension_pickup_N), ("slack-off", td.tension_slackoff_N),
                     ("rotating off bottom", td.tension_rotating_N), ("drilling", td.tension_drilling_N)):
-        ax1.plot(t / KN_N, td.md_m, label=name)
+        ax1.plot(d.value("force", t), md, label=name)
     ax1.axvline(0.0, color="k", lw=0.8)
-    ax1.set_xlabel("effective tension, kN (compression < 0)")
-    ax1.set_ylabel("MD, m")
+    ax1.set_xlabel(f"effective tension, {fu} (compression < 0)")
+    ax1.set_ylabel(f"MD, {lu}")
     ax1.invert_yaxis()
     ax1.legend()
     ax1.grid(alpha=0.3)
-    ax2.plot(td.torque_rotating_Nm / KN_N, td.md_m, label="rotating off bottom")
-    ax2.plot(td.torque_drilling_Nm / KN_N, td.md_m, label="drilling")
-    ax2.set_xlabel("torque, kN m")
+    ax2.plot(d.value("torque", td.torque_rotating_Nm), md, label="rotating off bottom")
+    ax2.plot(d.value("torque", td.torque_drilling_Nm), md, label="drilling")
+    ax2.set_xlabel(f"torque, {tu}")
     ax2.legend()
     ax2.grid(alpha=0.3)
     fig.suptitle(title)
@@ -71,17 +74,22 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str) -> None:
 @app.command("tnd")
 def tnd(
     case: Path = typer.Argument(..., help="case YAML file (sections as in params.yaml)"),
-    output: Path | None = typer.Option(None, "--output", "-o", help="plot file (.png/.pdf/.svg)"),
+    out: Path | None = typer.Option(None, "--out", "-o", help="plot file (.png/.pdf/.svg)"),
     as_json: bool = typer.Option(False, "--json", help="print the results as JSON (SI units)"),
     cell_m: float = typer.Option(10.0, "--cell-m", help="largest cell length, m"),
     wob_kN: float | None = typer.Option(None, "--wob-kN", help="WOB of the drilling mode, kN "
                                         "(default: from the operation section)"),
+    unit_system: str = typer.Option("si", "--units", help="table and plot units: si (kN, "
+                                    "kN m, m) or field (klbf, kft lbf, ft); --json stays SI"),
+    legacy_output: Path | None = LegacyOutputOpt,
 ) -> None:
     """Soft-string (Johancsik) hook loads and surface torque; tension/torque vs MD plot."""
+    output = pick_out(out, legacy_output)
     if not (math.isfinite(cell_m) and 0.01 <= cell_m <= 1000.0):
         raise InputError("--cell-m", f"got {cell_m}", "0.01 <= cell_m <= 1000")
     if wob_kN is not None and not (math.isfinite(wob_kN) and 0.0 <= wob_kN <= 1e5):
         raise InputError("--wob-kN", f"got {wob_kN}", "0 <= wob_kN <= 1e5")
+    d = Display(check_system(unit_system))
     if output is not None:
         _check_plot_path(output)
     cfg = load_case(case)
@@ -94,18 +102,22 @@ def tnd(
         summary["bit_md_m"] = float(td.md_m[-1])
         typer.echo(json.dumps(summary, indent=2))
     else:
+        fu, tu = d.unit("force"), d.unit("torque")
         table = Table(title=f"soft-string torque and drag: {case.name} "
-                            f"(bit at MD {td.md_m[-1]:.1f} m)")
+                            f"(bit at MD {d.value('length', float(td.md_m[-1])):.1f} "
+                            f"{d.unit('length')})")
         table.add_column("mode")
-        table.add_column("hook load, kN", justify="right")
-        table.add_column("surface torque, kN m", justify="right")
+        table.add_column(f"hook load, {fu}", justify="right")
+        table.add_column(f"surface torque, {tu}", justify="right")
         for label, key, tq in (("pick-up", "pickup", None), ("slack-off", "slackoff", None),
                                ("rotating off bottom", "rotating", "rotating"),
                                ("drilling", "drilling", "drilling")):
-            torque = "-" if tq is None else f"{summary[f'surface_torque_{tq}_Nm'] / KN_N:.2f}"
-            table.add_row(label, f"{summary[f'hookload_{key}_N'] / KN_N:.1f}", torque)
+            torque = ("-" if tq is None else
+                      f"{d.value('torque', summary[f'surface_torque_{tq}_Nm']):.2f}")
+            table.add_row(label, f"{d.value('force', summary[f'hookload_{key}_N']):.1f}", torque)
         console = Console(width=max(Console().width, 90))
         console.print(table)
-        console.print(f"drilling: WOB {td.wob_N / KN_N:.1f} kN, TOB {td.tob_Nm / KN_N:.2f} kN m")
+        console.print(f"drilling: WOB {d.value('force', td.wob_N):.1f} {fu}, "
+                      f"TOB {d.value('torque', td.tob_Nm):.2f} {tu}")
     if output is not None:
-        plot_torque_drag(td, output, f"soft-string torque and drag: {case.name}")
+        plot_torque_drag(td, output, f"soft-string torque and drag: {case.name}", d)

@@ -1,13 +1,19 @@
-"""``drillfatigue twin replay LOG.csv``: the digital twin's operating-log replay.
+"""``drillfatigue twin replay LOG``: the digital twin's operating-log replay.
 
     drillfatigue twin replay LOG.csv --string STRING.yaml --well WELL.yaml \\
-        --model models/surrogate --set mu_static=0.35 ... --out runs/twin
+        --model data/surrogate/model --set mu_static=0.35 ... --out runs/twin
     drillfatigue twin replay data/examples/operating_log.csv \\
-        --model models/surrogate --components data/examples/components.csv \\
+        --model data/surrogate/model --components data/examples/components.csv \\
         --survey data/examples/survey.csv --set mu_static=0.35 ... --out runs/twin
 
+The log is a LAS 2.0 file, a WITSML 1.4.1.1 log or a CSV, read by
+:mod:`drillfatigue.io.logs` (channel aliases, units, fill rules; what was
+filled is printed and reported in ``summary.json``).
 ``--string``/``--well`` take a case or params file (its ``string``/``well``
-section) or the bare section; ``--components``/``--survey`` take CSV tables.
+section) or the bare section, ``--string`` also a tally CSV
+(:mod:`drillfatigue.io.tally`); ``--components`` takes a CSV table and
+``--survey`` a survey file (:mod:`drillfatigue.io.surveys`). ``--units
+field`` prints and plots in ft.
 The log may carry a hook-load channel instead of WOB (``hook_load_kN`` with
 ``--set off_bottom_hook_load_kN=...``).
 
@@ -24,6 +30,8 @@ import typer
 
 from drillfatigue.cli.app import app
 from drillfatigue.errors import InputError
+from drillfatigue.io.display import check_system
+from drillfatigue.io.logs import DEFAULT_MAX_FILL_S, DEFAULT_MAX_GAP_S
 
 #: Kind of the ownership marker of a twin output folder.
 TWIN_KIND = "twin"
@@ -48,16 +56,16 @@ def _read_csv(path: Path, option: str):  # noqa: ANN202
     return table
 
 
-def parse_settings(items: list[str]) -> dict[str, str]:
+def parse_settings(items: list[str], option: str = "--set") -> dict[str, str]:
     """``['mu_static=0.3']`` -> ``{'mu_static': '0.3'}`` (values converted later)."""
     out: dict[str, str] = {}
     for it in items:
         if "=" not in it:
-            raise InputError("--set", f"{it!r} is not NAME=VALUE", "NAME=VALUE")
+            raise InputError(option, f"{it!r} is not NAME=VALUE", "NAME=VALUE")
         k, v = it.split("=", 1)
         k = k.strip().replace("-", "_")
         if k in out:
-            raise InputError("--set", f"{k!r} given twice", "each name once")
+            raise InputError(option, f"{k!r} given twice", "each name once")
         out[k] = v.strip()
     return out
 
@@ -76,13 +84,14 @@ def read_section(path: Path, key: str, option: str, model: type) -> object:
 
 
 @twin_app.command("replay")
-def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_md_m, rpm, "
-                                      "wob_kN or hook_load_kN, rop_m_per_h, ...)"),
+def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), WITSML 1.4.1.1 "
+                                      "log (.xml) or CSV (field headers such as 'WOB (klbf)', "
+                                      "or time_s, bit_md_m, rpm, wob_kN, rop_m_per_h, ...)"),
            model: Path = typer.Option(..., "--model", help="surrogate model folder"),
            out: Path = typer.Option(..., "--out", help="output folder"),
            string: Path | None = typer.Option(None, "--string", help="string YAML (a case or "
-                                              "params file, or the string section): tracks "
-                                              "every segment's body and connection"),
+                                              "params file, or the string section) or a tally "
+                                              "CSV: tracks every segment's body and connection"),
            well: Path | None = typer.Option(None, "--well", help="well YAML (a case or params "
                                             "file, or the well section): local dogleg along "
                                             "the hole"),
@@ -91,16 +100,36 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
                                                   "s_from_bit_m), instead of --string"),
            settings: list[str] = typer.Option([], "--set", help="constant feature NAME=VALUE "
                                               "(user units, e.g. mud_density_sg=1.2)"),
-           survey: Path | None = typer.Option(None, "--survey", help="survey CSV (md_m, "
-                                              "dls_deg_per_30m), instead of --well")) -> None:
+           survey: Path | None = typer.Option(None, "--survey", help="survey file (CSV in m or "
+                                              "ft, WITSML trajectory XML) or a geometry table "
+                                              "(md_m, dls_deg_per_30m), instead of --well"),
+           channels: list[str] = typer.Option([], "--channel", help="STEM=MNEMONIC: the log "
+                                              "channel to use for a quantity, e.g. "
+                                              "rpm=SURF_RPM"),
+           max_fill_s: float = typer.Option(DEFAULT_MAX_FILL_S, "--max-fill-s",
+                                            help="longest run of null values held from the "
+                                            "previous value, s"),
+           max_gap_s: float = typer.Option(DEFAULT_MAX_GAP_S, "--max-gap-s",
+                                           help="longest step between log samples, s"),
+           unit_system: str = typer.Option("si", "--units", help="units of the printed "
+                                           "summary and the plot: si or field")) -> None:
     """Accumulate fatigue damage per component over an operating log."""
     from drillfatigue.config import StringConfig, WellConfig
     from drillfatigue.files import OutputFolder
+    from drillfatigue.io.display import Display
+    from drillfatigue.io.logs import load_log
+    from drillfatigue.io.surveys import twin_survey_table
+    from drillfatigue.io.tally import load_tally
     from drillfatigue.surrogate import Surrogate
     from drillfatigue.surrogate.io import write_csv, write_json
-    from drillfatigue.surrogate.twin import (components_from_string, plot_damage_along_string,
-                                             replay_log, survey_from_well)
+    from drillfatigue.surrogate.twin import (
+        components_from_string,
+        plot_damage_along_string,
+        replay_log,
+        survey_from_well,
+    )
 
+    display = Display(check_system(unit_system))
     OutputFolder.check(out, TWIN_KIND, "--out")
     if (string is None) == (components is None):
         raise InputError("--string", "give exactly one of --string and --components",
@@ -108,15 +137,22 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
     if well is not None and survey is not None:
         raise InputError("--well", "give at most one of --well and --survey",
                          "--well WELL.yaml or --survey FILE.csv")
-    log_t = _read_csv(log, "LOG")
-    if string is not None:
+    imported = load_log(log, parse_settings(list(channels), "--channel"), max_fill_s, max_gap_s)
+    log_t = imported.table
+    if string is not None and string.suffix.lower() == ".csv":
+        comp_t = components_from_string(load_tally(string).string)
+    elif string is not None:
         comp_t = components_from_string(read_section(string, "string", "--string", StringConfig))
     else:
         comp_t = _read_csv(components, "--components")
     if well is not None:
         survey_t = survey_from_well(read_section(well, "well", "--well", WellConfig))
+    elif survey is not None:
+        if not survey.is_file():
+            raise InputError("--survey", f"file {str(survey)!r} not found", "an existing file")
+        survey_t = twin_survey_table(survey)
     else:
-        survey_t = _read_csv(survey, "--survey") if survey is not None else None
+        survey_t = None
     consts = parse_settings(list(settings))
     if not (model / "metadata.json").is_file():
         raise InputError("--model", f"{str(model)!r} is not a surrogate model folder",
@@ -136,9 +172,20 @@ def replay(log: Path = typer.Argument(..., help="operating log CSV (time_s, bit_
         "max_damage_serial": str(worst["serial"]),
         "total_ood_time_s": float(c["ood_time_s"].sum()),
         "ignored_log_channels": list(res.ignored_channels),
+        "log": imported.report(),
     }, folder.file("summary.json"))
-    plot_damage_along_string(res, str(folder.file("damage_along_string.png")))
+    plot_damage_along_string(res, str(folder.file("damage_along_string.png")), display)
+    s_worst = display.value("length", float(worst["s_from_bit_m"]))
     print(f"replayed {res.duration_s / 3600.0:.3g} h for {len(c)} components; "
-          f"max damage {float(worst['damage']):.3g} at {worst['serial']}; wrote {out}/")
-    if res.ignored_channels:
-        print(f"log channels not used by the model: {', '.join(res.ignored_channels)}")
+          f"max damage {float(worst['damage']):.3g} at {worst['serial']} "
+          f"({s_worst:.1f} {display.unit('length')} from the bit); wrote {out}/")
+    if res.ignored_channels or imported.ignored:
+        print("log channels not used by the model: "
+              + ", ".join([*res.ignored_channels, *imported.ignored]))
+    for name, info in imported.filled.items():
+        print(f"{name}: {info['samples']} null value(s) held from the previous sample "
+              f"(longest gap {info['longest_gap_s']:.0f} s)")
+    if imported.dropped_repeated_rows:
+        print(f"{imported.dropped_repeated_rows} repeated row(s) dropped")
+    for note in imported.notes:
+        print(note)

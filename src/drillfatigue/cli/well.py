@@ -10,11 +10,13 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import app
+from drillfatigue.cli.app import LegacyOutputOpt, app, require_out
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
-from drillfatigue.well import Survey, build_survey, key_points, write_survey_csv
+from drillfatigue.io.display import Display, check_system
+from drillfatigue.io.surveys import write_survey
+from drillfatigue.well import Survey, build_survey, key_points
 from drillfatigue.well.outputs import plot_survey
 from drillfatigue.well.profiles import resolve_profile
 
@@ -26,6 +28,7 @@ _PLOT_FORMATS = ("png", "pdf", "svg")
 
 CaseArg = typer.Argument(..., help="case YAML file (sections as in params.yaml)")
 ProfileOpt = typer.Option(None, "--profile", "-p", help="profile name (default: well.profile)")
+UnitsOpt = typer.Option("si", "--units", help="si (m, deg/30m) or field (ft, deg/100ft)")
 
 
 def _load(case: Path, profile: str | None) -> tuple[WellConfig, str, Survey]:
@@ -37,7 +40,7 @@ def _load(case: Path, profile: str | None) -> tuple[WellConfig, str, Survey]:
     return cfg, name, build_survey(cfg, name)
 
 
-def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "-o") -> str:
+def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "--out") -> str:
     check_output_file(path, option)
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in suffixes:
@@ -50,43 +53,57 @@ def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "-o") -> 
 
 
 @well_app.command("show")
-def show(case: Path = CaseArg, profile: str | None = ProfileOpt) -> None:
+def show(case: Path = CaseArg, profile: str | None = ProfileOpt,
+         unit_system: str = UnitsOpt) -> None:
     """Print MD, inclination, azimuth, TVD, N, E and DLS at the key points."""
+    d = Display(check_system(unit_system))
     cfg, name, sv = _load(case, profile)
     keys = key_points(cfg, name)
     table = Table(title=f"well profile {name!r} ({cfg.profiles[name].kind})")
-    for col in ("point", "MD m", "inc deg", "azi deg", "TVD m", "N m", "E m", "DLS deg/30m"):
+    lu, du = d.unit("length"), d.unit("dogleg")
+    for col in ("point", f"MD {lu}", "inc deg", "azi deg", f"TVD {lu}", f"N {lu}", f"E {lu}",
+                f"DLS {du}"):
         table.add_column(col, justify="left" if col == "point" else "right", no_wrap=True)
-    dls = sv.dls_deg_per_30m
+    dls = d.value("dogleg", sv.dls_deg_per_30m)
+    md = d.value("length", sv.md_m)
+    pos = d.value("length", sv.pos_m)
     rows = [(k.label, int(np.argmin(np.abs(sv.md_m - k.md_m)))) for k in keys]
     imax = int(np.argmax(dls))
     rows.append(("max DLS", imax))
     for label, i in rows:
-        n, e, tvd = sv.pos_m[i]
-        table.add_row(label, f"{sv.md_m[i]:.1f}", f"{math.degrees(sv.inc_rad[i]):.2f}",
+        n, e, tvd = pos[i]
+        table.add_row(label, f"{md[i]:.1f}", f"{math.degrees(sv.inc_rad[i]):.2f}",
                       f"{math.degrees(sv.azi_rad[i]):.2f}", f"{tvd:.2f}", f"{n:.2f}",
                       f"{e:.2f}", f"{dls[i]:.2f}")
     console = Console(width=max(Console().width, 100))
     console.print(table)
-    console.print(f"max DLS: {dls.max():.3f} deg/30m = {sv.dls_deg_per_100ft.max():.3f} "
-                  f"deg/100ft at MD {sv.md_m[imax]:.1f} m; TD {sv.md_m[-1]:.1f} m")
+    console.print(f"max DLS: {sv.dls_deg_per_30m.max():.3f} deg/30m = "
+                  f"{sv.dls_deg_per_100ft.max():.3f} deg/100ft at MD {md[imax]:.1f} {lu}; "
+                  f"TD {md[-1]:.1f} {lu}")
 
 
 @well_app.command("plot")
 def plot(case: Path = CaseArg,
-         output: Path = typer.Option(..., "--output", "-o", help="figure file (.png/.pdf/.svg)"),
-         profile: str | None = ProfileOpt) -> None:
+         out: Path | None = typer.Option(None, "--out", "-o", help="figure file (.png/.pdf/.svg)"),
+         profile: str | None = ProfileOpt, unit_system: str = UnitsOpt,
+         legacy_output: Path | None = LegacyOutputOpt) -> None:
     """Draw the 3D view, the vertical section and DLS vs MD."""
+    output = require_out(out, legacy_output)
+    d = Display(check_system(unit_system))
     _check_output(output, _PLOT_FORMATS)
     _, name, sv = _load(case, profile)
-    plot_survey(sv, output, f"well profile {name}")
+    plot_survey(sv, output, f"well profile {name}", d)
 
 
 @well_app.command("export")
 def export(case: Path = CaseArg,
-           output: Path = typer.Option(..., "--output", "-o", help="survey CSV file"),
-           profile: str | None = ProfileOpt) -> None:
-    """Write the profile's survey as CSV (md_m,inc_deg,azi_deg)."""
+           out: Path | None = typer.Option(None, "--out", "-o", help="survey CSV file"),
+           profile: str | None = ProfileOpt, unit_system: str = UnitsOpt,
+           legacy_output: Path | None = LegacyOutputOpt) -> None:
+    """Write the profile's survey as CSV: md_m,inc_deg,azi_deg, or in field units
+    (MD and TVD in ft, DLS in deg/100ft; reads back to the same SI stations)."""
+    output = require_out(out, legacy_output)
+    system = check_system(unit_system)
     _check_output(output, ("csv",))
     _, _, sv = _load(case, profile)
-    write_survey_csv(sv, output)
+    write_survey(sv, output, system)

@@ -7,6 +7,7 @@ with a dotted field path and the allowed range, so the CLI can print one line.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -47,7 +48,7 @@ def _loc_to_path(prefix: str, loc: tuple[Any, ...]) -> str:
     return ".".join(parts) or "<root>"
 
 
-def _allowed_from_ctx(err: dict[str, Any]) -> str | None:
+def _allowed_from_ctx(err: Mapping[str, Any]) -> str | None:
     ctx = err.get("ctx") or {}
     bits = [f"{_CONSTRAINT_WORDS[k]} {ctx[k]}" for k in _CONSTRAINT_WORDS if k in ctx]
     if "expected" in ctx:
@@ -59,7 +60,11 @@ def _allowed_from_ctx(err: dict[str, Any]) -> str | None:
 
 def input_error_from_validation(exc: ValidationError, prefix: str = "") -> InputError:
     """Convert the first error of a pydantic ``ValidationError`` to an InputError."""
-    err = exc.errors(include_url=False)[0]
+    return input_error_from_error(exc.errors(include_url=False)[0], prefix)
+
+
+def input_error_from_error(err: Mapping[str, Any], prefix: str = "") -> InputError:
+    """Convert one pydantic error entry (``ValidationError.errors()[i]``) to an InputError."""
     # Custom validators inside unions report the branch name in loc; drop
     # function-style tags such as 'function-after[...]'.
     loc = tuple(p for p in err["loc"] if not (isinstance(p, str) and "[" in p and "]" in p))

@@ -1,4 +1,4 @@
-"""``bit`` section of params.yaml: the bit-rock interaction law (MODEL.md section 4).
+"""``bit`` section of params.yaml: the bit-rock interaction law (docs/model.md#bit).
 
 Kernel: :mod:`drillfatigue.dynamics.bitrock`. Defaults: the public parameter set
 of the Yigit & Christoforou torque-on-bit shape, b0 = r_b mu0 = 0.0239 m,
@@ -19,7 +19,7 @@ from drillfatigue.units import INCH_M
 
 #: Bit radius of an 8 1/2 in bit, m.
 DEFAULT_BIT_RADIUS_M = 0.5 * 8.5 * INCH_M
-#: Public value of r_b mu0 for the TOB law, m (MODEL.md section 4).
+#: Public value of r_b mu0 for the TOB law, m (docs/model.md#bit).
 DEFAULT_RB_MU0_M = 0.0239
 
 

@@ -1,6 +1,6 @@
 """``contact`` section of params.yaml: penalty wall contact and contact-point placement.
 
-Kernel: :mod:`drillfatigue.dynamics.contact` (MODEL.md section 5). Choice of
+Kernel: :mod:`drillfatigue.dynamics.contact` (docs/model.md#contact). Choice of
 the defaults (see that module's docstring): k_c = 5e7 N/m keeps the contact
 spring softer than the joint springs, so the explicit step stays set by the
 joints (``contact.stable_dt(k_c, m_min)`` gives the contact limit), while the
@@ -30,7 +30,7 @@ class ContactConfig(StrictModel):
     damping_ratio : float
         Fraction of critical damping of the contact dash-pot,
         ``c_c = 2 zeta sqrt(k_c m)`` with m the mass carried by the contact
-        point; 0..1, default 0.2 (MODEL.md: 10-30 %).
+        point; 0..1, default 0.2 (docs/model.md: 10-30 %).
     c_c_N_s_per_m : float or None
         Fixed dash-pot value instead of ``damping_ratio`` (N s/m), >= 0.
     points : str

@@ -1,7 +1,7 @@
 """``fatigue`` section of params.yaml: criterion, S-N curves, SCFs, counting options.
 
 Default stress concentration factors (all engineering ASSUMPTIONS, overridable
-per component type and location under ``scf``; FATIGUE.md section 1):
+per component type and location under ``scf``; docs/fatigue.md#stresses):
 
 * pipe body (every component type): 1.0 in tension, bending and torsion: the
   nominal body stress away from upsets (set ~2, literature range 1.5-2.5, to

@@ -1,4 +1,4 @@
-"""``operation`` section of params.yaml: what the rig does (MODEL.md §3, §4).
+"""``operation`` section of params.yaml: what the rig does (docs/model.md#top-boundary, docs/model.md#bit).
 
 Top: rotary speed profile (ramp then hold, or a table) and an axial condition,
 either a given hook load, a hook load solved so that the neutral point sits at a

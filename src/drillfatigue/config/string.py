@@ -1,6 +1,6 @@
 """``string`` section of params.yaml: the drill string, listed from the bit up.
 
-Defaults (MODEL.md §1; typical API values, the paper's Table 2 is not available):
+Defaults (docs/model.md#bodies; typical API values, the paper's Table 2 is not available):
 5 in 19.5 lb/ft drill pipe (OD 127.0 mm, ID 108.6 mm, tool joint OD 168.3 mm,
 ID 82.6 mm), 6 3/4 in drill collars (OD 171.45 mm, ID 71.4 mm) for an 8 1/2 in
 (215.9 mm) hole; steel E = 207 GPa, nu = 0.3, rho = 7850 kg/m^3.
@@ -107,7 +107,7 @@ class StringConfig(StrictModel):
     """Settings of the ``string`` section: components from the bit up.
 
     ``shear_coefficient`` is Timoshenko's kappa for the shear springs
-    k = kappa G A / L (about 0.5 for thin tubes, MODEL.md §2).
+    k = kappa G A / L (about 0.5 for thin tubes, docs/model.md#joints).
     """
 
     components: list[ComponentConfig] = Field(default_factory=_default_components, min_length=1)

@@ -1,6 +1,6 @@
 """``case1``, ``case2``, ``case3``, ``plan`` and ``report`` sections: the paper's case studies.
 
-Each section configures one study of :mod:`drillfatigue.studies` (MODEL.md §8).
+Each section configures one study of :mod:`drillfatigue.studies` (docs/model.md#case-studies).
 Defaults are REDUCED versions that run in a few minutes on two cores; the
 paper-scale values are given in each field's description and collected in
 ``params.yaml`` (comment block above ``case1``) and ``data/report/README.md``.
@@ -29,7 +29,7 @@ _MD_MAX = 20000.0
 
 
 class StringSpec(StrictModel):
-    """The case-2/3 string: drill collars at the bit, drill pipe above (MODEL.md §1 sizes)."""
+    """The case-2/3 string: drill collars at the bit, drill pipe above (docs/model.md#bodies sizes)."""
 
     dc_length_m: float = Field(180.0, gt=0.0, le=2000.0, description="collar length, m")
     dc_segments: int = Field(9, ge=1, le=1000, description="collar segments (paper: 20)")
@@ -77,7 +77,7 @@ class Case2Config(StrictModel):
     rpm: float = Field(150.0, gt=0.0, le=400.0)
     rop_m_per_s: float = Field(0.5, gt=0.0, le=1.0)
     lobe_amplitude_m: float = Field(0.001, ge=0.0, le=0.05,
-                                    description="lobed axial bit motion (MODEL.md §4: ~1 mm)")
+                                    description="lobed axial bit motion (docs/model.md#bit: ~1 mm)")
     n_samples: int = Field(8, ge=1, le=1000, description="short windows along the 800 s; paper 1")
     sample_s: float = Field(4.0, gt=0.0, le=1e5, description="simulated length of each window")
     settle_s: float = Field(2.0, ge=0.0, le=1e4,

@@ -25,8 +25,11 @@ specifications are a union discriminated on ``kind``:
     member 3 two builds with a tangent between them. The build rate is solved
     so each member lands horizontal at the shared end point (< 0.1 m).
 ``survey_file``
-    A CSV survey (columns ``md_m,inc_deg,azi_deg``; path relative to the
-    working directory).
+    A survey file, path relative to the working directory: CSV in m or ft
+    with common header spellings (``md_m,inc_deg,azi_deg``, ``MD (ft), Incl,
+    Azim, TVD, DLS (deg/100ft)``) or WITSML 1.4.1.1 trajectory XML, read by
+    :mod:`drillfatigue.io.surveys` (``depth_unit`` for depth columns whose
+    header names no unit).
 
 Angles are given in degrees at this boundary and converted to radians once,
 in :mod:`drillfatigue.well.profiles`. Lengths are metres.
@@ -135,10 +138,13 @@ class FamilyMemberProfile(StrictModel):
 
 
 class SurveyFileProfile(StrictModel):
-    """Survey read from a CSV file with columns ``md_m,inc_deg,azi_deg``."""
+    """Survey read from a file: CSV in m or ft, or WITSML trajectory XML."""
 
     kind: Literal["survey_file"] = "survey_file"
-    path: str = Field(min_length=1, description="CSV path, relative to the working directory")
+    path: str = Field(min_length=1, description="CSV or XML path, relative to the working "
+                      "directory")
+    depth_unit: Literal["m", "ft"] | None = Field(
+        None, description="unit of depth columns whose header names none")
 
 
 ProfileSpec = Annotated[

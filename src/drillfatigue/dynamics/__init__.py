@@ -1,4 +1,4 @@
-"""Numba rigid-segment drill-string dynamics (MODEL.md §1-4, §7).
+"""Numba rigid-segment drill-string dynamics (docs/model.md).
 
 Kernel modules (numpy/numba/math only): :mod:`rigid` (quaternions, Newton-Euler
 kick), :mod:`joints` (joint spring-dampers and loads), :mod:`forces` (force

@@ -1,7 +1,7 @@
 """Bit-rock interaction: torque on bit and rate of penetration.
 
 Torque on bit after Yigit & Christoforou (J. Sound Vib. 1998/2000; the
-standard form, MODEL.md section 4)::
+standard form, docs/model.md#bit)::
 
     TOB = WOB r_b mu_b(Omega),   mu_b = mu0 [tanh(b1 Omega) + b2 Omega / (1 + b3 Omega^2)]
 
@@ -105,7 +105,7 @@ def bit_response(model, p, wob_N, omega_bit_rad_s, out):
 
     References
     ----------
-    Yigit & Christoforou (1998, 2000); Sarker, Rideout & Butt (2012); MODEL.md section 4.
+    Yigit & Christoforou (1998, 2000); Sarker, Rideout & Butt (2012); docs/model.md#bit.
     """
     out[0] = 0.0
     out[1] = 0.0

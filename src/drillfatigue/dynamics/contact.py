@@ -6,7 +6,7 @@ the survey by minimum curvature and resampled finely enough that the chord
 error is far below the clearance (:func:`build_cylinder_chain`).
 
 For a contact point X of a segment with contact (outer) radius r, and
-cylinder i (MODEL.md section 5; Liyanarachchi & Rideout, Math. Comput. Model.
+cylinder i (docs/model.md#contact; Liyanarachchi & Rideout, Math. Comput. Model.
 Dyn. Syst. 30 (2024) 417-443)::
 
     v = X - P_i,   s = v . a_i,   q = v . v - s**2
@@ -137,7 +137,7 @@ def find_contact(x, r_contact, p0, axis, length, radius, hint, out):
     square root is taken for the cylinder finally used (to report delta and
     the distance, from the explicit perpendicular vector so that it is exact
     near the axis too), two more only if neighbouring cylinders have
-    different radii. References: MODEL.md section 5; Liyanarachchi & Rideout (2024).
+    different radii. References: docs/model.md#contact; Liyanarachchi & Rideout (2024).
     """
     n = length.shape[0]
     i = hint
@@ -268,7 +268,7 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
     segment's centre line, n the outward hole normal), so the slip velocity
     includes the surface speed ``r omega`` of a spinning pipe: friction torque,
     whirl, and rolling without slip (zero slip at Y, i.e. backward whirl) all
-    come out of this one mechanism (MODEL.md section 6).
+    come out of this one mechanism (docs/model.md#friction).
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """Small reference cases for the validation tests and benchmarks.
 
-:func:`uniform_chain_case` is the textbook chain of MODEL.md §9: one uniform
+:func:`uniform_chain_case` is the textbook chain of docs/validation.md: one uniform
 tube (6 3/4 in collar section by default) cut into ``n`` equal segments, hanging
 in a straight hole, top held, bit free (off bottom), no mud, damping optional.
 """
@@ -66,13 +66,13 @@ def j_well_rotating_case(*, kop_m: float = 60.0, dls_deg_per_30m: float = 3.0,
                          extra: dict[str, Any] | None = None) -> CaseConfig:
     """5 in drill pipe (no tool joints) rotating off bottom in a J-well, top held.
 
-    The stiff-string vs soft-string check of MODEL.md §9: vertical to
+    The stiff-string vs soft-string check of docs/validation.md: vertical to
     ``kop_m``, build at ``dls_deg_per_30m`` to ``inc_deg``, hold to 500 m; the
     string spans ``top_md_m`` .. ``bit_md_m`` in ``n_segments`` segments,
     rotates at ``rpm`` (ramped over 0.5 s) after a 0.5 s relaxation, wall
     contact with the default penalty and tanh-exponential friction. With
     ``kop_m`` ~ 0 and a 60 deg/30 m build the string from 50 m down lies in a
-    straight hole at ``inc_deg`` (closed forms of MODEL.md §9). Sizes: 5 in
+    straight hole at ``inc_deg`` (closed forms of docs/validation.md). Sizes: 5 in
     19.5 ppf pipe body (OD 127 mm, ID 108.6 mm) in an 8 1/2 in hole.
     """
     data: dict[str, Any] = {

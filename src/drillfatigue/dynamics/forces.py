@@ -1,6 +1,6 @@
 """Force assembly: every force and moment on every segment at one instant.
 
-One kernel, :func:`compute_forces`, sums (MODEL.md §1-4):
+One kernel, :func:`compute_forces`, sums (docs/model.md):
 
 * gravity and buoyancy, ``seg[:, S_W]`` along +z (world z = TVD, down);
 * viscous mud damping, lateral / axial / rotational, proportional to length;

@@ -4,7 +4,7 @@ All models return the tangential friction force on the string at a contact
 point, given the tangential slip velocity ``v`` (3D, the caller removes the
 normal component) and the normal force magnitude ``N``. Except Karnopp inside
 its stick band, the force is anti-parallel to the slip,
-``F = -N mu(|v|) v/|v|``, with the coefficient shapes (MODEL.md section 6):
+``F = -N mu(|v|) v/|v|``, with the coefficient shapes (docs/model.md#friction):
 
 ``COULOMB`` (regularised)
     ``mu = mu_d min(|v|/v_reg, 1)``: Coulomb with a linear (viscous) ramp
@@ -31,7 +31,7 @@ its stick band, the force is anti-parallel to the slip,
     the static peak), ``mu = mu_d + (mu_s - mu_d)(1 + cos(pi(|v| - v_p)/v_w))/2``
     for ``v_p < |v| < v_p + v_w`` (half-cosine Stribeck decay), ``mu_d`` beyond.
     C1-continuous at the peak and at the end of the decay.
-``TANH_EXP`` (the paper's hybrid tanh-exponential, plausible form, MODEL.md 6)
+``TANH_EXP`` (the paper's hybrid tanh-exponential, plausible form, docs/model.md#friction)
     ``mu = tanh(|v|/v_t) [mu_d + (mu_s - mu_d) exp(-|v|/v_s)]``, ``v_t << v_s``.
 
 Invariants (tested): ``F.v <= 0``; ``|F| <= mu_s N`` exactly (no tolerance
@@ -162,7 +162,7 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
 
     References
     ----------
-    MODEL.md section 6 and the module docstring.
+    docs/model.md#friction and the module docstring.
     """
     out[0] = 0.0
     out[1] = 0.0

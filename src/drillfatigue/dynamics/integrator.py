@@ -1,4 +1,4 @@
-"""Time integration: explicit velocity Verlet with a fixed step (MODEL.md §7).
+"""Time integration: explicit velocity Verlet with a fixed step (docs/model.md#integration).
 
 Choice and justification
 ------------------------
@@ -32,7 +32,7 @@ free-rotor drift, which removed an O(dt) energy drift of the explicit form
 * Penalty contact and regularised friction enter the force evaluation only;
   the contact stiffness enters the stable-step bound (a mass m / points on k_c).
 
-Drilling and tripping (MODEL.md §3). Each step the string length changes by
+Drilling and tripping (docs/model.md#top-boundary). Each step the string length changes by
 dL = ROP dt (bit on bottom: the ROP of the bit law or the prescribed one; the
 rock face MD advances by the same amount) or trip_speed dt (off bottom). The
 top segment grows (or shrinks) from its fixed top end. When it is longer than

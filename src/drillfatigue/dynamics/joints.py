@@ -1,4 +1,4 @@
-"""Joint between two neighbouring rigid segments (MODEL.md §2).
+"""Joint between two neighbouring rigid segments (docs/model.md#joints).
 
 The upper end of the lower segment, P_lo = c_lo - h_lo e3_lo, and the lower end
 of the upper segment, P_up = c_up + h_up e3_up (e3 = body axis, pointing

@@ -1,4 +1,4 @@
-"""Rigid-body kinematics: unit quaternions and the Newton-Euler update (MODEL.md §1).
+"""Rigid-body kinematics: unit quaternions and the Newton-Euler update (docs/model.md#bodies).
 
 Quaternions are stored scalar first, q = (w, x, y, z), and rotate body-frame
 vectors to the world frame (v_world = R(q) v_body). Orientation has no

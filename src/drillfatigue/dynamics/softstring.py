@@ -18,7 +18,7 @@ The bit end starts at ``T = -WOB`` (compression) and ``M = TOB`` when
 drilling, 0 otherwise. Axial friction is zero when rotating (the slip is
 almost all circumferential, so the friction vector is circumferential).
 
-Closed forms that the discrete equations reproduce (MODEL.md section 9):
+Closed forms that the discrete equations reproduce (docs/validation.md):
 straight inclined hole ``dT/dL = w cos I +- mu w sin I``, rotating torque
 ``mu w sin I r`` per length; weightless pipe round a bend of angle theta:
 ``T_up / T_low -> exp(+- mu theta)`` as the cell size shrinks (the product of

@@ -2,7 +2,7 @@
 
 The outer surface is in plane stress (sigma = sigma_z, tau = tau_z-theta) in the
 local axes (z axial, theta hoop, r radial, r the free-surface normal). Candidate
-planes (FATIGUE.md section 4):
+planes (docs/fatigue.md#critical-plane):
 
 * family A, planes perpendicular to the surface, normal n = (cos t, sin t, 0) at
   angle t to the pipe axis: sigma_n = sigma cos^2 t + tau sin 2t; one shear

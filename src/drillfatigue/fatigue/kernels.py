@@ -417,8 +417,8 @@ def _push_count(sv, sx, sy, ms, g, v, x, y, buf, law, acc):
     return st
 
 
-# samples per block of the per-sample stages (A/B: 2048 is 2-3 % faster than
-# 4096; 1024 and 8192 are not)
+# samples per block of the per-sample stages: the fastest measured of
+# 1024-8192 (docs/performance.md)
 BLOCK = 2048
 STACK_PAD = 9
 CYCLE_BATCH = 256  # closed cycles buffered per group before their damage is evaluated

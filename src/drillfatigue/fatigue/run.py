@@ -156,7 +156,7 @@ def api_rp7g_baseline(loads: pd.DataFrame, joints: pd.DataFrame, case: Any,
     baseline's plain-beam limit), the case's rpm, the body section of
     ``joints.parquet``, the body S-N curve, body bending SCF and Goodman
     correction of ``cfg``; one fully reversed cycle per revolution
-    (FATIGUE.md section 5, :func:`drillfatigue.fatigue.rp7g.rp7g_damage_rate_profile`).
+    (docs/fatigue.md#api-rp7g, :func:`drillfatigue.fatigue.rp7g.rp7g_damage_rate_profile`).
     The maximum permissible dogleg (RP7G endurance line) is given for grades
     E-75 and S-135 only (NaN otherwise); joint spacing 30 ft (L = 180 in).
 
@@ -430,10 +430,7 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
 def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, joint: int,
            cfg: FatigueConfig, rp7g: pd.DataFrame | None = None,
            duration_s: float = 1.0) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     section, scf, point = info
     t, L, _ = per_joint[joint]
@@ -444,10 +441,9 @@ def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, jo
         fd, tmp = tempfile.mkstemp(dir=out, prefix=f".{name}.", suffix=".png")
         os.close(fd)
         fig.savefig(tmp, dpi=100)
-        plt.close(fig)
         os.replace(tmp, out / name)
 
-    fig, ax = plt.subplots(figsize=(7, 3.5))
+    fig, ax = subplots(figsize=(7, 3.5))
     ax.plot(t, sig / 1e6, lw=0.6, label="sigma_z")
     ax.plot(t, tau / 1e6, lw=0.6, label="tau_z-theta")
     ax.set(xlabel="time (s)", ylabel="stress (MPa)",
@@ -457,7 +453,7 @@ def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, jo
     save(fig, "stress_history.png")
 
     mat, edges = rainflow_matrix(find_cycles(sig, "half"))
-    fig, ax = plt.subplots(figsize=(5, 4.5))
+    fig, ax = subplots(figsize=(5, 4.5))
     im = ax.imshow(mat, origin="lower", extent=[edges[0] / 1e6, edges[-1] / 1e6,
                                                 edges[0] / 1e6, edges[-1] / 1e6], cmap="viridis")
     fig.colorbar(im, ax=ax, label="cycles")
@@ -465,7 +461,7 @@ def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, jo
     fig.tight_layout()
     save(fig, "rainflow_matrix.png")
 
-    fig, ax = plt.subplots(figsize=(7, 3.5))
+    fig, ax = subplots(figsize=(7, 3.5))
     for loc, grp in df.groupby("location"):
         grp = grp.sort_values("s_from_bit_m")
         ax.semilogy(grp["s_from_bit_m"], grp["damage"].clip(lower=1e-30), "o-", ms=3, label=loc)

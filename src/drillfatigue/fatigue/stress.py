@@ -20,7 +20,7 @@ pressure is not included (Lame hoop/radial terms could be added later).
 References
 ----------
 Pilkey, W. D., *Formulas for Stress, Strain and Structural Matrices*, 2nd ed.,
-Wiley 2005, ch. 15 (thin-walled shear flow); FATIGUE.md section 1.
+Wiley 2005, ch. 15 (thin-walled shear flow); docs/fatigue.md#stresses.
 """
 
 from __future__ import annotations

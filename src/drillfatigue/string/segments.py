@@ -1,10 +1,10 @@
-"""Segmentation of the string into rigid segments (MODEL.md §1, §2).
+"""Segmentation of the string into rigid segments (docs/model.md#bodies, docs/model.md#joints).
 
 Each component of ``n_segments`` is cut into equal rigid segments. Segment
 properties are those of a tube of the body section; tool joints (a fraction
 ``tool_joint_length_fraction`` of the length with the connection section) add
 mass and set the contact radius but not stiffness (standard stiff-string
-practice). Inertia of a tube segment (MODEL.md §1):
+practice). Inertia of a tube segment (docs/model.md#bodies):
 I_axial = m (r_o^2 + r_i^2) / 2, I_transverse = m (3 (r_o^2 + r_i^2) + L^2) / 12.
 Buoyancy uses the displaced steel volume m / rho_steel (open-ended pipe, mud
 inside and out: the buoyed weight is the effective weight).

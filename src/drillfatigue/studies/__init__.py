@@ -1,4 +1,4 @@
-"""The founding paper's case studies and the well-plan ranking tool (MODEL.md §8).
+"""The founding paper's case studies and the well-plan ranking tool (docs/model.md#case-studies).
 
 - :mod:`~drillfatigue.studies.case1`: whirl of a 5 m pipe, Karnopp vs tanh-exponential.
 - :mod:`~drillfatigue.studies.case2`: three profiles with shared end points, lives in

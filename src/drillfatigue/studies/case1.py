@@ -1,6 +1,6 @@
 """Case study 1 of the founding paper: whirl of a short pipe and the friction models.
 
-MODEL.md §8.1 and §6: a 5 m pipe cut into 5 segments, free ends, in a
+docs/model.md#case-studies and docs/model.md#friction: a 5 m pipe cut into 5 segments, free ends, in a
 horizontal hole, driven by a constant torque at the top; Karnopp against the
 hybrid tanh-exponential friction model, at low and high friction. The paper
 saw the pipe climb the wall and slide back at low friction, and continuous
@@ -48,12 +48,12 @@ CASE_FILE = Path(__file__).resolve().parents[3] / "data" / "cases" / "case1_whir
 PIPE_OD_M = 0.127
 PIPE_ID_M = 0.1086
 HOLE_D_M = 0.2159
-#: The paper's wall times of the whirl runs, minutes (MODEL.md §8).
+#: The paper's wall times of the whirl runs, minutes (docs/model.md#case-studies).
 PAPER_WALL_MIN: dict[str, float] = {"karnopp": 47.0, "tanh_exp": 18.0}
 
 
 def rolling_ratio() -> float:
-    """Omega_w / omega of rolling without slip: -r_p / (R_h - r_p) (MODEL.md §6)."""
+    """Omega_w / omega of rolling without slip: -r_p / (R_h - r_p) (docs/model.md#friction)."""
     r_p, r_h = PIPE_OD_M / 2, HOLE_D_M / 2
     return -r_p / (r_h - r_p)
 
@@ -172,15 +172,12 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
 
 def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame],
              spins: dict[str, tuple[np.ndarray, np.ndarray]], dpi: int) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     names = list(orbits)
     ncol = min(len(names), 2)
     nrow = math.ceil(len(names) / ncol)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 4.2 * nrow), squeeze=False)
+    fig, axes = subplots(nrow, ncol, figsize=(4.2 * ncol, 4.2 * nrow), squeeze=False)
     r_h = HOLE_D_M / 2
     clear = r_h - PIPE_OD_M / 2
     ang = np.linspace(0, 2 * np.pi, 200)
@@ -199,7 +196,7 @@ def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame],
     fig.suptitle("Case 1: orbits of the segment centres in the hole cross-section")
     save_figure(fig, out_dir / "case1_orbits.png", dpi)
 
-    fig, ax = plt.subplots(figsize=(8, 4))
+    fig, ax = subplots(figsize=(8, 4))
     for i, name in enumerate(names):
         kin = orbits[name]
         g = kin.groupby("time_s")["theta_rad"].mean()

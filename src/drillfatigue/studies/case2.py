@@ -1,12 +1,12 @@
 """Case study 2 of the founding paper: three well profiles with the same start and end.
 
-MODEL.md §8.2: 100 drill-pipe + 20 collar segments, 150 rpm, ROP 0.5 m/s, hook
+docs/model.md#case-studies: 100 drill-pipe + 20 collar segments, 150 rpm, ROP 0.5 m/s, hook
 load putting the neutral point at the top of the collars, 800 s of drilling
 from just above the kick-off into the horizontal (the string grows 480 -> 880
 m). Reported: internal force and torque of the segment 40 m behind the bit as
 it passes through the build, the stress history at its connection, and the
 fatigue life in repetitions of the 800 s window by the critical-plane
-criterion (default Matake, FATIGUE.md) and by API RP7G (Lubinski). The paper's
+criterion (default Matake, docs/fatigue.md) and by API RP7G (Lubinski). The paper's
 lives: profile 2: 12.8 > profile 1: 10.3 > profile 3: 5.9 windows.
 
 Reduced mode (``n_samples > 1``): the 800 s are represented by ``n_samples``
@@ -42,9 +42,9 @@ from drillfatigue.studies.common import (
     write_json,
 )
 
-#: The paper's lives in 800 s windows (MODEL.md §8.2).
+#: The paper's lives in 800 s windows (docs/model.md#case-studies).
 PAPER_LIFE_WINDOWS: dict[str, float] = {"profile_1": 10.3, "profile_2": 12.8, "profile_3": 5.9}
-#: The paper's run time for the three 800 s profiles, hours (MODEL.md §8).
+#: The paper's run time for the three 800 s profiles, hours (docs/model.md#case-studies).
 PAPER_WALL_H = 38.0
 
 
@@ -198,14 +198,11 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
 def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataFrame]],
              table: pd.DataFrame, joint: int, s_joint: float, dpi: int,
              fat: FatigueConfig) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 
-    fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    fig, ax = subplots(3, 1, figsize=(8, 8), sharex=True)
     for i, (profile, parts) in enumerate(histories.items()):
         series = [(h["md_m"].to_numpy(), h["axial_N"].to_numpy() / 1e3,
                    h["torque_Nm"].to_numpy() / 1e3,
@@ -235,7 +232,7 @@ def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataF
     save_figure(fig, out_dir / "case2_loads.png", dpi)
 
     s = fat.scf["drill_pipe" if s_joint > cfg.string.dc_length_m else "collar"].connection
-    fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, ax = subplots(2, 1, figsize=(8, 6), sharex=True)
     k_show = min(cfg.n_samples // 2, cfg.n_samples - 1)
     for i, (profile, parts) in enumerate(histories.items()):
         h = parts[k_show]
@@ -258,7 +255,7 @@ def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataF
                     "largest range")
     save_figure(fig, out_dir / "case2_connection_stress.png", dpi)
 
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = subplots(figsize=(7, 4))
     x = np.arange(len(table))
     w = 0.27
     def fin(col: str) -> np.ndarray:  # an infinite life (no damage) is left out of the bars

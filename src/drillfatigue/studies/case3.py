@@ -1,6 +1,6 @@
 """Case study 3 of the founding paper: the horizontal section of profile 1.
 
-MODEL.md §8.3: the string trips in for 800 s, the top drive ramps to 50 rpm
+docs/model.md#case-studies: the string trips in for 800 s, the top drive ramps to 50 rpm
 within 40 s, then a 60 s window is recorded; loads 8, 40 and 80 m behind the
 bit; lives in hours (paper: 191, 625, 677 h, the location nearest the build
 section lowest).
@@ -45,7 +45,7 @@ from drillfatigue.studies.common import (
     write_json,
 )
 
-#: The paper's lives at 8, 40, 80 m behind the bit, hours (MODEL.md §8.3).
+#: The paper's lives at 8, 40, 80 m behind the bit, hours (docs/model.md#case-studies).
 PAPER_LIFE_H: dict[float, float] = {8.0: 191.0, 40.0: 625.0, 80.0: 677.0}
 #: The paper's run time of the 60 s window, hours.
 PAPER_WALL_H = 2.0
@@ -140,12 +140,9 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
 
 def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
              cfg: Case3Config, table: pd.DataFrame, dpi: int) -> None:
-    import matplotlib
+    from drillfatigue.plotting import subplots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    fig, ax = subplots(3, 1, figsize=(8, 8), sharex=True)
     for j, s in picks:
         h = loads[loads["joint"] == j]
         kw = {"lw": 0.6, "label": f"{s:.0f} m behind the bit"}
@@ -160,7 +157,7 @@ def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
     ax[0].set_title(f"Case 3: {cfg.profile} horizontal section, {cfg.rpm:.0f} rpm window")
     save_figure(fig, out_dir / "case3_loads.png", dpi)
 
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = subplots(figsize=(6, 4))
     x = np.arange(len(table))
     life = table["life_h"].to_numpy(dtype=float)
     ax.bar(x - 0.2, np.where(np.isfinite(life), life, np.nan), 0.4,

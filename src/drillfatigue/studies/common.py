@@ -1,6 +1,6 @@
 """Shared pieces of the case studies: the paper's string, case builders, fatigue helpers.
 
-String sizes are MODEL.md §1's typical values (the paper's Table 2 is not
+String sizes are docs/model.md#bodies's typical values (the paper's Table 2 is not
 available): 6 3/4 in collars (OD 171.45 mm, ID 71.4 mm), 5 in 19.5 lb/ft drill
 pipe (OD 127.0 mm, ID 108.6 mm, tool joint 168.3 x 82.6 mm).
 """
@@ -76,13 +76,10 @@ def write_csv(path: Path, frame: pd.DataFrame) -> None:
 
 
 def save_figure(fig: Any, path: Path, dpi: int = 110) -> None:
-    """Save a matplotlib figure atomically as PNG and close it."""
-    import matplotlib.pyplot as plt
-
+    """Save a matplotlib figure atomically as PNG."""
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp.png")
     fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
     os.replace(tmp, path)
 
 
@@ -129,7 +126,7 @@ def rp7g_rates(run_dir: Path, case: dict[str, Any], fatigue: FatigueConfig) -> p
 
 
 def study_fatigue() -> FatigueConfig:
-    """Fatigue settings of the studies: project defaults (FATIGUE.md), plots off."""
+    """Fatigue settings of the studies: project defaults (docs/fatigue.md), plots off."""
     return FatigueConfig(plots=False)
 
 

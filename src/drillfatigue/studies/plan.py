@@ -317,12 +317,9 @@ def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int 
 
 
 def _plot(table: pd.DataFrame, path: Path, dpi: int) -> None:
-    import matplotlib
+    from drillfatigue.plotting import subplots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(max(5.0, 1.2 * len(table)), 4))
+    fig, ax = subplots(figsize=(max(5.0, 1.2 * len(table)), 4))
     x = np.arange(len(table))
     y = table["life_windows_surrogate"].to_numpy()
     lo = y - table["life_windows_surrogate_lower"].to_numpy()

@@ -4,7 +4,7 @@ Public API: :class:`Surrogate` (``Surrogate.load(path).predict(frame)``),
 :func:`fit_surrogate`, :class:`DeepEnsembleRegressor`, :class:`SplitConformal`,
 :class:`DomainChecker`, :func:`make_synthetic_dataset`. Operating-log replay
 (the digital twin) is in :mod:`drillfatigue.surrogate.twin`; the user-facing
-query vocabulary (units) in :mod:`drillfatigue.surrogate.query`.
+query vocabulary (units) in :mod:`drillfatigue.io.names`.
 """
 
 from __future__ import annotations

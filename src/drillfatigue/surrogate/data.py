@@ -12,6 +12,7 @@ while the simulated dataset does not exist.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -20,6 +21,14 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 
 CRITERIA = ("matake", "findley", "uniaxial", "rp7g")
+
+
+def read_dataset(path: str | Path) -> pd.DataFrame:
+    """Read the damage table (parquet, or CSV by suffix); InputError if the file is missing."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(str(p), "dataset file not found", "run the dataset stage first")
+    return pd.read_csv(p) if p.suffix.lower() == ".csv" else pd.read_parquet(p)
 
 
 def log10_target(rate_per_h: np.ndarray, floor_per_h: float) -> np.ndarray:
@@ -132,7 +141,7 @@ def synthetic_noise_sigma(frame: pd.DataFrame) -> np.ndarray:
 
 def make_synthetic_dataset(n_cases: int = 100, seed: int = 0,
                            components: tuple[tuple[float, str], ...] = _POSITIONS) -> pd.DataFrame:
-    """Synthetic damage table with the dataset schema (issue 6), for tests and benchmarks.
+    """Synthetic damage table with the dataset schema, for tests, benchmarks and smoke runs.
 
     Each case draws operating conditions uniformly (rpm 40-200, WOB 20-200 kN,
     ROP 1-21 mm/s, mu_static 0.2-0.5 with mu_dynamic 0.6-0.95 of it, mud
@@ -179,6 +188,6 @@ def make_synthetic_dataset(n_cases: int = 100, seed: int = 0,
     df["local_dls_deg_per_30m"] = np.where(in_build, df["well.dls_deg_per_30m"], 0.0)
     y_true = synthetic_log10_rate(df)
     y = y_true + rng.normal(0.0, 1.0, len(df)) * synthetic_noise_sigma(df)
-    for crit, off in zip(CRITERIA, (0.0, 0.1, -0.2, -0.5)):
+    for crit, off in zip(CRITERIA, (0.0, 0.1, -0.2, -0.5), strict=False):
         df[f"damage_rate_per_h_{crit}"] = np.where(y_true + off < -10.0, 0.0, 10.0 ** (y + off))
     return df.sort_values(["case_id", "s_from_bit_m", "location"], ignore_index=True)

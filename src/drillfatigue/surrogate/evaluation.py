@@ -310,18 +310,15 @@ def noise_floor_metrics(spread: dict[str, Any], y_test: np.ndarray,
 
 def plot_parity(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
     """Predicted vs simulated log10 damage rate, one panel per model (PNG)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     from drillfatigue.surrogate.io import save_figure
 
     models = tuple(m for m in models if m in pred.columns)
-    fig, axes = plt.subplots(1, len(models), figsize=(4.2 * len(models), 4), squeeze=False)
+    fig, axes = subplots(1, len(models), figsize=(4.2 * len(models), 4), squeeze=False)
     y = pred["y_true"].to_numpy()
     lim = (float(np.min(y)) - 0.5, float(np.max(y)) + 0.5)
-    for ax, m in zip(axes[0], models):
+    for ax, m in zip(axes[0], models, strict=False):
         ax.plot(lim, lim, "k-", lw=1)
         ax.fill_between(lim, np.array(lim) - LOG10_2, np.array(lim) + LOG10_2, color="0.85",
                         label="factor 2")
@@ -334,20 +331,17 @@ def plot_parity(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensem
         ax.legend(loc="upper left")
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
-def plot_residuals(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
+def plot_residuals(pred: pd.DataFrame, path: str,
+                   models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
     """Residual (predicted - simulated) vs predicted log10 damage rate (PNG)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from drillfatigue.plotting import subplots
 
     from drillfatigue.surrogate.io import save_figure
 
     models = tuple(m for m in models if m in pred.columns)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = subplots(figsize=(7, 4))
     for m in models:
         ax.plot(pred[m], pred[m] - pred["y_true"], ".", ms=3, alpha=0.5, label=m)
     ax.axhline(0.0, color="k", lw=1)
@@ -358,4 +352,3 @@ def plot_residuals(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("en
     ax.legend()
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)

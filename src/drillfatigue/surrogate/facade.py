@@ -41,7 +41,7 @@ FORMAT_VERSION = 1
 MODEL_KIND = "model"
 #: Files a model folder may hold (the exports only when saved with ``export=True``).
 MODEL_FILES = ("metadata.json", "ensemble.pt", "ood_reference.npy", "model.ts", "model.onnx")
-_CHUNK_ROWS = 1024  # rows per forward pass in predict_array (A/B: 1024 > 2048 > 512 >> 4096)
+_CHUNK_ROWS = 1024  # rows per forward pass in predict_array: the fastest measured of 512-4096
 _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 
 #: output columns of :meth:`Surrogate.predict`
@@ -224,8 +224,8 @@ class Surrogate:
         else:
             # many rows: 2 shares per worker (a preempted worker delays one share,
             # not half the batch), each walked in cache-sized blocks inside the
-            # TorchScript network (A/B on 1e5 rows, 2 workers: +26 % median
-            # against one Python call per block)
+            # TorchScript network (one Python call per block is slower:
+            # docs/performance.md)
             net = self.batch_module()
             parts = 2 * max(1, torch.get_num_threads())
             share = -(-n // (parts * _CHUNK_ROWS)) * _CHUNK_ROWS
@@ -367,13 +367,12 @@ def _sha256(path: Path) -> str:
     return h.hexdigest()
 
 
-def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
-                     index: Any = None) -> pd.DataFrame:
-    """Assemble the :data:`PREDICTION_COLUMNS` frame from :meth:`Surrogate.predict_array` output."""
+def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray) -> dict[str, np.ndarray]:
+    """The :data:`PREDICTION_COLUMNS` as arrays from :meth:`Surrogate.predict_array` output."""
     rate = 10.0 ** r["log10"]
     lo = 10.0 ** r["lower"]
     hi = 10.0 ** r["upper"]
-    return pd.DataFrame({
+    return {
         "log10_damage_rate_per_h": r["log10"],
         "log10_damage_rate_per_h_lower": r["lower"],
         "log10_damage_rate_per_h_upper": r["upper"],
@@ -381,7 +380,13 @@ def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
         "damage_rate_per_h": rate, "damage_rate_per_h_lower": lo, "damage_rate_per_h_upper": hi,
         "life_h": 1.0 / rate, "life_h_lower": 1.0 / hi, "life_h_upper": 1.0 / lo,
         "ood": r["ood"], "ood_reason": reasons,
-    }, index=index)
+    }
+
+
+def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
+                     index: Any = None) -> pd.DataFrame:
+    """Assemble the :data:`PREDICTION_COLUMNS` frame from :meth:`Surrogate.predict_array` output."""
+    return pd.DataFrame(prediction_columns(r, reasons), index=index)
 
 
 def _open_live(live_dir: str | Path) -> Any:

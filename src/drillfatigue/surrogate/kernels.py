@@ -13,8 +13,8 @@ def outside_ranges(x: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Rows of ``x`` (n, d) with any value below ``lo`` or above ``hi`` (per column).
 
     One pass, stopping at a row's first offending column (NaN is never
-    outside). Replaces four (n, d) temporaries of the numpy expression: the
-    range check no longer costs a sizeable part of a batched prediction.
+    outside). Needs none of the four (n, d) temporaries of the numpy
+    expression, so the range check costs little of a batched prediction.
     """
     n, d = x.shape
     out = np.zeros(n, dtype=np.bool_)

@@ -130,7 +130,7 @@ class Preprocessor:
         for col in self.categorical:
             self._require(frame, col)
         for j, (col, values) in enumerate(zip(self.categorical,
-                                              column_arrays(frame, self.categorical))):
+                                              column_arrays(frame, self.categorical), strict=False)):
             out[:, j] = self.codes_for(col, values)
         return out
 
@@ -208,7 +208,8 @@ class EnsembleModule(nn.Module):
         sizes = [self.n_numeric + len(cat_col), *self.hidden, 2 if self.gaussian else 1]
         self.n_layers = len(sizes) - 1
         self.weights = nn.ParameterList(
-            [nn.Parameter(torch.zeros(self.n_members, a, b)) for a, b in zip(sizes[:-1], sizes[1:])])
+            [nn.Parameter(torch.zeros(self.n_members, a, b))
+             for a, b in zip(sizes[:-1], sizes[1:], strict=True)])
         self.biases = nn.ParameterList(
             [nn.Parameter(torch.zeros(self.n_members, 1, b)) for b in sizes[1:]])
 
@@ -217,7 +218,7 @@ class EnsembleModule(nn.Module):
         with torch.no_grad():
             for m, seed in enumerate(seeds):
                 gen = torch.Generator().manual_seed(int(seed))
-                for w, b in zip(self.weights, self.biases):
+                for w, b in zip(self.weights, self.biases, strict=False):
                     bound = 1.0 / math.sqrt(w.shape[1])
                     w[m].copy_(torch.rand(w.shape[1:], generator=gen) * 2 * bound - bound)
                     b[m].copy_(torch.rand(b.shape[1:], generator=gen) * 2 * bound - bound)
@@ -257,7 +258,7 @@ class EnsembleModule(nn.Module):
         if z.dim() == 2:
             return self._members_shared(z)
         h = z
-        for i, (w, b) in enumerate(zip(self.weights, self.biases)):
+        for i, (w, b) in enumerate(zip(self.weights, self.biases)):  # noqa: B905 - TorchScript: no strict=
             h = torch.baddbmm(b, h, w)
             if i < self.n_layers - 1:
                 h = self._act(h)
@@ -266,7 +267,7 @@ class EnsembleModule(nn.Module):
     def _members_shared(self, z: Tensor) -> tuple[Tensor, Tensor]:
         n = z.shape[0]
         h = z.t()
-        for i, (w, b) in enumerate(zip(self.weights, self.biases)):
+        for i, (w, b) in enumerate(zip(self.weights, self.biases)):  # noqa: B905 - TorchScript: no strict=
             if i == 0:
                 width = w.shape[2]
                 rows = self.n_members * width
@@ -546,7 +547,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                 break
         with torch.no_grad():
             for m in range(M):
-                for p, s in zip(module.parameters(), best_state[m]):
+                for p, s in zip(module.parameters(), best_state[m], strict=False):
                     p[m].copy_(s)
         return {"train_loss": np.asarray(train_hist), "val_loss": np.asarray(val_hist),
                 "best_epoch": best_epoch, "best_val_loss": best}

@@ -16,9 +16,10 @@ component spends at out-of-domain conditions is summed as well.
 
 Log columns: ``time_s`` (seconds) or ``time`` (date-time text or seconds),
 ``bit_md_m`` (or ``bit_md_ft``), and any model feature in user units
-(:mod:`drillfatigue.surrogate.query`), typically ``rpm``, ``wob_kN``,
+(:mod:`drillfatigue.io.names`), typically ``rpm``, ``wob_kN``,
 ``rop_m_per_h``; instead of WOB a hook-load channel (``hook_load_kN``, ...)
-with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns: ``serial``, ``s_from_bit_m`` and the
+with the off-bottom hook load as a constant (:func:`wob_from_hook_load`). Component columns:
+``serial``, ``s_from_bit_m`` and the
 per-component features (``component_type``, ``location``). Features given by
 neither (friction, mud, well) come from ``constants``; the hole geometry at
 each component's depth and at the bit (the columns of
@@ -40,9 +41,9 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.errors import InputError
-from drillfatigue.limits import check_feature_values
+from drillfatigue.io.logs import log_bit_md_m, log_times_s
+from drillfatigue.io.names import Vocabulary, channel_stem, force_column
 from drillfatigue.surrogate.facade import Surrogate
-from drillfatigue.surrogate.query import Vocabulary
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
 
 MD_COLUMN = "md_m"
@@ -92,45 +93,6 @@ def components_from_table(table: pd.DataFrame) -> pd.DataFrame:
     out["serial"] = out["serial"].astype(str)
     out[S_COLUMN] = s
     return out.reset_index(drop=True)
-
-
-def log_times_s(log: pd.DataFrame) -> np.ndarray:
-    """Time stamps of a log in seconds (``time_s``, or ``time`` as date-time or seconds)."""
-    if "time_s" in log.columns:
-        t = pd.to_numeric(log["time_s"], errors="coerce").to_numpy(dtype=np.float64)
-        name = "time_s"
-    elif "time" in log.columns:
-        name = "time"
-        t = pd.to_numeric(log["time"], errors="coerce").to_numpy(dtype=np.float64)
-        if not np.all(np.isfinite(t)):
-            try:
-                ts = pd.to_datetime(log["time"], errors="raise", utc=True)
-            except (ValueError, TypeError):
-                raise InputError("time", "not seconds nor date-time text",
-                                 "seconds or ISO 8601 date-times") from None
-            t = (ts - ts.iloc[0]).dt.total_seconds().to_numpy(dtype=np.float64)
-    else:
-        raise InputError("time_s", "missing column in the log", "time_s or time")
-    if not np.all(np.isfinite(t)):
-        raise InputError(name, "non-numeric or NaN time", "finite times")
-    if t.size < 2 or np.any(np.diff(t) < 0):
-        raise InputError(name, "fewer than 2 rows or time going backwards",
-                         ">= 2 rows, non-decreasing time")
-    return t
-
-
-def _bit_md(log: pd.DataFrame) -> np.ndarray:
-    if "bit_md_m" in log.columns:
-        name, fac = "bit_md_m", 1.0
-    elif "bit_md_ft" in log.columns:
-        name, fac = "bit_md_ft", units.FT_M
-    else:
-        raise InputError("bit_md_m", "missing column in the log", "bit_md_m or bit_md_ft")
-    v = pd.to_numeric(log[name], errors="coerce").to_numpy(dtype=np.float64)
-    if not np.all(np.isfinite(v)):
-        raise InputError(name, "non-numeric or NaN value", "finite depths")
-    check_feature_values(name, "bit_md_m", v * fac, fac)
-    return v * fac
 
 
 def components_from_string(string_cfg: Any,
@@ -195,32 +157,8 @@ SURFACE_CHANNELS: frozenset[str] = frozenset({
     "hole_md"})
 
 
-def _channel_stem(name: str) -> str:
-    """``wob_kN`` -> ``wob``: a log column name without its unit suffix."""
-    from drillfatigue.surrogate.query import UNIT_FAMILIES
-
-    suffixes = {suf for fam in UNIT_FAMILIES.values() for suf in fam}
-    suffixes |= {"_Nm", "_kNm", "_kft_lbf", "_Pa", "_kPa", "_MPa", "_psi", "_bar", "_bbl_per_min",
-                 "_gpm", "_l_per_min", "_m3_per_s", "_m3_per_min"}
-    for suf in sorted(suffixes, key=len, reverse=True):
-        if name.endswith(suf) and len(name) > len(suf):
-            return name[: -len(suf)]
-    return name
-
-
 HOOK_LOAD_STEM = "hook_load"
 OFF_BOTTOM_STEM = "off_bottom_hook_load"
-
-
-def _force_column(names: Any, stem: str) -> tuple[str, float] | None:
-    """(name, factor to N) of the first ``<stem>_N|_kN|_klbf`` name in ``names``."""
-    from drillfatigue.surrogate.query import UNIT_FAMILIES
-
-    for name in names:
-        for suf, fac in UNIT_FAMILIES["_N"].items():
-            if str(name) == stem + suf:
-                return str(name), fac
-    return None
 
 
 def wob_from_hook_load(log: pd.DataFrame, constants: Mapping[str, Any] | None
@@ -230,21 +168,24 @@ def wob_from_hook_load(log: pd.DataFrame, constants: Mapping[str, Any] | None
     WOB = off-bottom (free-rotating) hook load - on-bottom hook load, the
     driller's definition; the off-bottom value comes from the constants
     (``off_bottom_hook_load_kN`` etc.) or from a log column of that name.
-    A log that already has a WOB channel, or no hook-load channel, is
-    returned unchanged. Returns the log (with ``wob_N`` instead of the hook
+    A log that already has a WOB channel (field logs carry both), or no
+    hook-load channel, is returned unchanged. Returns the log (with ``wob_N`` instead of the hook
     load) and the constants without the off-bottom entry.
     """
     consts = dict(constants or {})
-    hl = _force_column(log.columns, HOOK_LOAD_STEM)
-    ob_c = _force_column(consts, OFF_BOTTOM_STEM)
-    ob_l = _force_column(log.columns, OFF_BOTTOM_STEM)
+    hl = force_column(log.columns, HOOK_LOAD_STEM)
+    ob_c = force_column(consts, OFF_BOTTOM_STEM)
+    ob_l = force_column(log.columns, OFF_BOTTOM_STEM)
     has_wob = any(str(c).startswith("wob_") or str(c) == "operation.wob_N" for c in log.columns)
     if hl is None:
         if ob_c is not None:
             consts.pop(ob_c[0])
         return log, consts
     if has_wob:
-        raise InputError(hl[0], "given together with a WOB channel", "either WOB or hook load")
+        # a measured WOB channel wins; the hook load stays a surface channel (reported)
+        if ob_c is not None:
+            consts.pop(ob_c[0])
+        return log, consts
     if ob_c is None and ob_l is None:
         raise InputError(OFF_BOTTOM_STEM + "_kN", "needed to turn hook load into WOB",
                          "--set off_bottom_hook_load_kN=VALUE (free-rotating hook load)")
@@ -342,12 +283,13 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     comps = components_from_table(components)
     log, constants = wob_from_hook_load(log, constants)
     t = log_times_s(log)
-    bit_md = _bit_md(log)
+    bit_md = log_bit_md_m(log)
     vocab = Vocabulary(model.features, model.categorical)
-    skip = {"time_s", "time", "bit_md_m", "bit_md_ft"}
+    skip = {"time_s", "time",
+            *(c for c in map(str, log.columns) if channel_stem(c) == "bit_md")}
     ignored = tuple(str(c) for c in log.columns
                     if c not in skip and str(c) not in vocab.terms
-                    and _channel_stem(str(c)) in SURFACE_CHANNELS)
+                    and channel_stem(str(c)) in SURFACE_CHANNELS)
     skip |= set(ignored)
     log_si = vocab.frame_from_table(log[[c for c in log.columns if c not in skip]], require=())
     comp_si = vocab.frame_from_table(comps.drop(columns=["serial"]), require=(),
@@ -469,16 +411,19 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
                         ignored_channels=ignored)
 
 
-def plot_damage_along_string(result: ReplayResult, path: str) -> None:
-    """Accumulated damage (with interval) versus distance from the bit, log scale, PNG."""
-    import matplotlib
+def plot_damage_along_string(result: ReplayResult, path: str, display: Any = None) -> None:
+    """Accumulated damage (with interval) versus distance from the bit, log scale, PNG.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    ``display``: a :class:`drillfatigue.io.display.Display` for the distance
+    axis (default SI, m).
+    """
+    from drillfatigue.io.display import Display
+    from drillfatigue.plotting import subplots
 
+    display = display if display is not None else Display("si")
     c = result.components.sort_values(S_COLUMN)
-    fig, ax = plt.subplots(figsize=(7, 4))
-    s = c[S_COLUMN].to_numpy()
+    fig, ax = subplots(figsize=(7, 4))
+    s = display.value("length", c[S_COLUMN].to_numpy())
     d = c["damage"].to_numpy()
     lo = c["damage_lower"].to_numpy()
     hi = c["damage_upper"].to_numpy()
@@ -489,7 +434,7 @@ def plot_damage_along_string(result: ReplayResult, path: str) -> None:
         m = (c["ood_time_s"].to_numpy() > 0) & pos
         ax.plot(s[m], d[m], "rx", ms=8, label="some time out of domain")
     ax.set_yscale("log")
-    ax.set_xlabel("distance from bit (m)")
+    ax.set_xlabel(f"distance from bit ({display.unit('length')})")
     ax.set_ylabel("Miner damage (-)")
     ax.set_title(f"Accumulated damage over {result.duration_s / units.HOUR_S:.3g} h")
     ax.grid(True, which="both", alpha=0.3)
@@ -498,4 +443,3 @@ def plot_damage_along_string(result: ReplayResult, path: str) -> None:
     from drillfatigue.surrogate.io import save_figure
 
     save_figure(fig, path)
-    plt.close(fig)

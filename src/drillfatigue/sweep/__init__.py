@@ -4,7 +4,6 @@
 - :mod:`~drillfatigue.sweep.runner`: :func:`run_sweep` on a process pool or Dask.
 - :mod:`~drillfatigue.sweep.cases`: the per-case functions (simulate, fatigue).
 - :mod:`~drillfatigue.sweep.dataset`: ``damage.parquet``, dataset card, history export.
-- :mod:`~drillfatigue.sweep.synthetic`: fake case functions for tests and benchmarks.
 """
 
 from __future__ import annotations

@@ -20,8 +20,9 @@ inputs of the first case to run (so it compiles the kernels that case's
 options select, e.g. on a shortened copy of it). numba's on-disk cache
 (``NUMBA_CACHE_DIR`` or ``__pycache__``, shared with local workers) is then
 complete and workers only read it: concurrent cache writes can crash. On a
-remote Dask cluster the hook runs on one worker at a time for the same
-reason. ``serial`` needs no warm-up.
+remote Dask cluster each worker first calls
+:func:`drillfatigue.numba_cache.scope_numba_cache`, then the hook runs on one
+worker at a time for the same reason. ``serial`` needs no warm-up.
 
 Resume: each case runs in ``out_root/.tmp/<id>.<pid>.<attempt>.<rand>/``; when
 the case function returns, a ``DONE`` marker holding the case id and the
@@ -75,6 +76,7 @@ import pandas as pd
 
 from drillfatigue.errors import InputError
 from drillfatigue.files import MARKER, OutputFolder, atomic_write_json
+from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.sweep.design import inputs_sha256
 
 __all__ = [
@@ -301,6 +303,11 @@ def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case
     try:
         workers = client.scheduler_info().get("workers", {})
         slots = sum(int(w.get("nthreads", 1)) for w in workers.values()) or n_workers
+        if cluster is None:
+            # Remote workers do not inherit this process's environment: key
+            # their numba cache by their installed kernels before any case
+            # module is unpickled there (local workers inherit NUMBA_CACHE_DIR).
+            client.run(scope_numba_cache)
         if cluster is None and hook is not None:
             for address in workers:  # one worker at a time: no concurrent cache writes
                 client.run(hook, first.inputs, workers=[address])
@@ -532,7 +539,7 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
                         record = died(case, exc)
                     handle(case, record)
                 if broken:  # the pool is dead: charge the cases in flight, start a new one
-                    for fut, case in list(pending.items()):
+                    for case in list(pending.values()):
                         handle(case, died(case, BrokenProcessPool("worker process died")))
                     pending.clear()
                     executor = make()

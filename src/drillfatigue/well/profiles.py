@@ -37,11 +37,11 @@ from drillfatigue.well.survey import (
     Survey,
     dogleg_rad,
     minimum_curvature,
-    read_survey_csv,
     tangent_vectors,
 )
 
-__all__ = ["FAMILY_END_TOLERANCE_M", "KeyPoint", "build_survey", "family_end_point", "key_points", "profile_report", "resolve_profile"]
+__all__ = ["FAMILY_END_TOLERANCE_M", "KeyPoint", "build_survey", "family_end_point", "key_points",
+           "profile_report", "resolve_profile"]
 
 _DEG_PER_30M_TO_RAD_PER_M = math.radians(1.0) / 30.0
 
@@ -162,7 +162,10 @@ def _family_legs(spec: FamilyMemberProfile, fam: FamilySpec, field: str,
 def _design(spec: object, cfg: WellConfig, field: str) -> tuple[Survey, list[KeyPoint]]:
     down = np.array([0.0, 0.0, 1.0])
     if isinstance(spec, SurveyFileProfile):
-        sv = read_survey_csv(spec.path)
+        # imported here: drillfatigue.io.surveys builds on drillfatigue.well.survey
+        from drillfatigue.io.surveys import read_survey
+
+        sv = read_survey(spec.path, spec.depth_unit)
         keys = [KeyPoint("surface", float(sv.md_m[0])), KeyPoint("TD", float(sv.md_m[-1]))]
         return sv, keys
     azi_deg = 0.0

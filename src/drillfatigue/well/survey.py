@@ -227,7 +227,7 @@ def read_survey_csv(path: str | Path) -> Survey:
         raise InputError(f"{p}:1", f"unexpected or repeated columns {extra or header}",
                          "columns md_m,inc_deg,azi_deg")
     idx = [header.index(c) for c in SURVEY_COLUMNS]
-    data = []
+    data: list[tuple[float, float, float]] = []
     for r, row in enumerate(rows[1:], start=2):
         if not row or all(not c.strip() for c in row):
             continue

@@ -1,7 +1,7 @@
 """The wellbore as a chain of straight cylinders for the contact model.
 
 The survey's minimum-curvature path is resampled into nodes; consecutive
-nodes are the end points of straight cylinders (MODEL.md section 5). Every
+nodes are the end points of straight cylinders (docs/model.md#contact). Every
 survey station and every hole-size change is a node, so each node interval
 lies on a single circular arc of curvature ``kappa`` and a single hole size.
 Inside an arc the node spacing ``L`` keeps the chord (sagitta) error

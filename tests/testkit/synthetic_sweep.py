@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 from drillfatigue.errors import SimulationError
-from drillfatigue.sweep.synthetic_kernels import burn as _burn
+from testkit.synthetic_kernels import burn as _burn
 from drillfatigue.units import HOUR_S
 
 __all__ = ["synthetic_case", "synthetic_fatigue", "warmup"]

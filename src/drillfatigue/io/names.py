@@ -1,4 +1,6 @@
-"""User-facing query vocabulary: names with units, converted to the model's SI columns.
+"""Names with units: the one parser of unit suffixes (``_ft``, ``_klbf``, ``_ppg``, ...).
+
+User-facing query vocabulary: names with units, converted to the model's SI columns.
 
 Every numeric model column gets user names from its last dotted part: the SI
 unit suffix of the column (``_N``, ``_m_per_s``, ``_m``, ``_kg_per_m3``,
@@ -10,12 +12,16 @@ name. If two columns would share a short name, the full column name with dots
 turned into underscores is used instead. The full SI column name itself is
 always accepted. CLI flags are the same names with ``-`` for ``_``
 (``--wob-kN``). Unit factors come from :mod:`drillfatigue.units` only.
+
+Log channels (:func:`channel_stem`, :func:`force_column`) use the same
+suffixes plus those of quantities no model column has (torque, pressure,
+flow rate, :data:`CHANNEL_FAMILIES`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +29,7 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.errors import InputError
+from drillfatigue.io.headers import UNIT_SPELLINGS, normalise_unit, split_header
 from drillfatigue.limits import check_feature_values
 
 #: SI suffix -> {accepted suffix: factor to SI}; longest suffixes are tried first.
@@ -157,8 +164,9 @@ class Vocabulary:
                 i = int(np.argmax(bad))
                 self._number(key, col.iloc[i])  # raises with the offending value
                 raise InputError(key, "NaN or infinite value", "a finite number")
-            out[term.column] = num * term.factor
-            check_feature_values(key, term.column, out[term.column], term.factor)
+            si = num * term.factor
+            check_feature_values(key, term.column, si, term.factor)
+            out[term.column] = si
         need = self.features + self.categorical if require is None else list(require)
         missing = [self.names_for(c)[0] for c in need if c not in out]
         if missing:
@@ -166,3 +174,56 @@ class Vocabulary:
             raise InputError(", ".join(missing), "missing", "give each, e.g. "
                              + " or ".join(self.names_for(first)[:3]))
         return pd.DataFrame(out, index=table.index)
+
+
+#: Unit families of surface channels that no model column has (SI suffix first).
+CHANNEL_FAMILIES: dict[str, dict[str, float]] = {
+    "_Nm": {"_Nm": 1.0, "_kNm": units.KNM_NM, "_kft_lbf": units.KFT_LBF_NM,
+            "_ft_lbf": units.LBF_FT_NM},
+    "_Pa": {"_Pa": 1.0, "_kPa": units.KPA_PA, "_MPa": units.MPA_PA, "_psi": units.PSI_PA,
+            "_bar": units.BAR_PA},
+    "_m3_per_s": {"_m3_per_s": 1.0, "_m3_per_min": units.M3_PER_MIN_M3_PER_S,
+                  "_l_per_min": units.L_PER_MIN_M3_PER_S, "_gpm": units.US_GPM_M3_PER_S,
+                  "_bbl_per_min": units.BBL_PER_MIN_M3_PER_S},
+}
+
+
+def channel_stem(name: str) -> str:
+    """``wob_kN`` -> ``wob``: a log column name without its unit suffix."""
+    suffixes = {suf for fams in (UNIT_FAMILIES, CHANNEL_FAMILIES)
+                for fam in fams.values() for suf in fam}
+    for suf in sorted(suffixes, key=len, reverse=True):
+        if name.endswith(suf) and len(name) > len(suf):
+            return name[: -len(suf)]
+    return name
+
+
+def force_column(names: Iterable[object], stem: str) -> tuple[str, float] | None:
+    """(name, factor to N) of the first ``<stem>_N|_kN|_klbf`` name in ``names``."""
+    for name in names:
+        for suf, fac in UNIT_FAMILIES["_N"].items():
+            if str(name) == stem + suf:
+                return str(name), fac
+    return None
+
+
+def vocabulary_name(header: str, vocab: Vocabulary) -> str:
+    """The vocabulary name of a field-style header: ``'WOB (klbf)'`` -> ``'wob_klbf'``.
+
+    A header the vocabulary knows, or one it cannot match to exactly one name
+    (stem and unit factor both equal), is returned unchanged, so the
+    vocabulary's own error names it.
+    """
+    if header in vocab.terms:
+        return header
+    name, unit = split_header(header)
+    if unit is None:  # 'RPM', 'Component Type'
+        key = name.replace(" ", "_")
+        return key if key in vocab.terms else header
+    u = normalise_unit(unit)
+    factors = {t[u] for t in UNIT_SPELLINGS.values() if u in t}
+    stem = name.replace(" ", "_")
+    hits = [k for k, term in vocab.terms.items()
+            if k.startswith(stem + "_") and "." not in k and term.factor in factors
+            and channel_stem(k) == stem]
+    return hits[0] if len(hits) == 1 else header

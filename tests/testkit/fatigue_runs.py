@@ -1,4 +1,4 @@
-"""Synthetic simulator run directories for the fatigue tests (engineer D).
+"""Synthetic simulator run directories for the fatigue tests.
 
 ``write_run_dir`` writes the run-directory contract of the simulator:
 ``loads.parquet``, ``joints.parquet``, ``summary.json``, ``case.yaml``.

@@ -1,0 +1,120 @@
+"""Query rows (user-named values) to model arrays and back, without pandas.
+
+``POST /v1/query`` is the service's hot path: most requests carry one
+condition, and building DataFrames for one row costs several times the
+network's own time. These functions apply the rules of
+:meth:`drillfatigue.io.names.Vocabulary.frame_from_table` (one name
+per feature, every feature given, finite numbers, known categories) with the
+same messages, directly on the parsed JSON rows.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from drillfatigue.errors import InputError
+from drillfatigue.service.registry import LoadedModel
+from drillfatigue.surrogate.facade import PREDICTION_COLUMNS, prediction_columns
+from drillfatigue.io.names import Term
+
+
+def _plan(lm: LoadedModel, names: Sequence[str], field: str) -> list[Term]:
+    """The model column (and unit factor) of each name; unknown/double/missing names raise."""
+    vocab = lm.vocab
+    terms: list[Term] = []
+    source: dict[str, str] = {}
+    for name in names:
+        term = vocab.terms.get(name)
+        if term is None:
+            raise InputError(f"{field}.{name}", "unknown name (or unit)", vocab.allowed())
+        if term.column in source:
+            raise InputError(f"{field}.{name}", f"given twice (also as {source[term.column]!r})",
+                             "one name per feature")
+        source[term.column] = name
+        terms.append(term)
+    need = lm.surrogate.features + lm.surrogate.categorical
+    missing = [c for c in need if c not in source]
+    if missing:
+        raise InputError(f"{field}." + ", ".join(vocab.names_for(c)[0] for c in missing),
+                         "missing", "give each, e.g. " + " or ".join(
+                             vocab.names_for(missing[0])[:3]))
+    return terms
+
+
+def _number(value: Any, name: str, field: str) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{field}.{name}", f"non-numeric value {value!r}",
+                         "a finite number") from None
+    if not math.isfinite(v):
+        raise InputError(f"{field}.{name}", f"value {value!r} is NaN or infinite",
+                         "a finite number")
+    return v
+
+
+def encode_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "rows"
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Model arrays of ``rows`` (every row with the same names, user units).
+
+    Returns
+    -------
+    x_num : ndarray, shape (n, n_numeric)
+        SI values in the model's feature order.
+    x_cat : ndarray of int64, shape (n, n_categorical)
+        Level codes.
+    """
+    names = list(rows[0])
+    for i, row in enumerate(rows):
+        if row.keys() != rows[0].keys():
+            odd = sorted(set(row) ^ set(rows[0]))[0]
+            raise InputError(f"{field}[{i}].{odd}", "names differ from the first row's",
+                             "the same names in every row")
+    terms = _plan(lm, names, field)
+    sur = lm.surrogate
+    num_index = {c: j for j, c in enumerate(sur.features)}
+    cat_index = {c: j for j, c in enumerate(sur.categorical)}
+    n = len(rows)
+    x_num = np.empty((n, len(sur.features)))
+    x_cat = np.empty((n, len(sur.categorical)), dtype=np.int64)
+    for name, term in zip(names, terms, strict=True):
+        values = [row[name] for row in rows]
+        if term.categorical:
+            text = [str(v).strip() for v in values]
+            levels = sur.preprocessor.categories_[term.column]
+            unseen = set(text).difference(levels)
+            if unseen:
+                raise InputError(f"{field}.{name}", f"value {sorted(unseen)[0]!r} not seen in "
+                                 "training", ", ".join(levels))
+            x_cat[:, cat_index[term.column]] = sur.preprocessor.codes_for(term.column, text)
+        else:
+            x_num[:, num_index[term.column]] = [_number(v, name, field) * term.factor
+                                                for v in values]
+    return x_num, x_cat
+
+
+def predict_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "rows"
+                 ) -> tuple[list[str], list[dict[str, Any]]]:
+    """Columns and rows of a query answer: the inputs as given, then the predictions.
+
+    The predictions are those of :meth:`Surrogate.predict` (same arrays, same
+    formulas); infinite or NaN numbers become None (JSON null).
+    """
+    sur = lm.surrogate
+    x_num, x_cat = encode_rows(lm, rows, field)
+    r = sur.predict_array(x_num, x_cat)
+    reasons = sur.domain.reasons(x_num, r["knn_distance"], r["ood"])
+    cols = prediction_columns(r, reasons)
+    lists = {c: np.asarray(cols[c]).tolist() for c in PREDICTION_COLUMNS}
+    out = []
+    for i, row in enumerate(rows):
+        rec = dict(row)
+        for c in PREDICTION_COLUMNS:
+            v = lists[c][i]
+            rec[c] = None if isinstance(v, float) and not math.isfinite(v) else v
+        out.append(rec)
+    return list(rows[0]) + list(PREDICTION_COLUMNS), out

@@ -1,0 +1,231 @@
+"""Request and response models of the HTTP API (pydantic; they make the OpenAPI schema).
+
+Feature values use the user vocabulary of :mod:`drillfatigue.io.names`
+(``rpm``, ``wob_kN``, ``rop_m_per_h``, ``mud_density_sg``, ``component_type``,
+...), as the CLI's flags and CSV columns do. The string, the well and the
+well-plan candidates are the CLI's own configuration models
+(:class:`~drillfatigue.config.StringConfig`,
+:class:`~drillfatigue.config.WellConfig`,
+:class:`~drillfatigue.studies.plan.CandidateFile`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from drillfatigue.config import StringConfig, WellConfig
+from drillfatigue.studies.plan import CandidateFile
+from drillfatigue.surrogate.window import MAX_NODES, MIN_NODES
+
+#: a feature value: a number in the unit its name carries, or a category name
+Value = float | str
+#: one output cell: numbers (None for an infinite life), flags, texts
+Cell = float | bool | str | None
+
+
+class Request(BaseModel):
+    """Base of the request bodies: unknown keys are rejected."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    model: str | None = Field(default=None, description="model name (GET /v1/models); default: the "
+                              "first one the service was started with")
+
+
+class Answer(BaseModel):
+    """Which model answered."""
+
+    model: str = Field(description="model name")
+    generation: int = Field(description="how many times this model was loaded (1 at start, "
+                            "+1 per reload)")
+    criterion: str = Field(description="fatigue criterion the model predicts")
+    coverage: float = Field(description="calibrated coverage of the intervals")
+
+
+class ErrorResponse(BaseModel):
+    """A refused request: one line naming the field, the problem and the allowed values."""
+
+    detail: str = Field(description="'field: problem (allowed: ...)'")
+    field: str | None = None
+    problem: str | None = None
+    allowed: str | None = None
+
+
+# -- query ------------------------------------------------------------------
+class QueryRequest(Request):
+    """Operating conditions to predict, one mapping of user names per row."""
+
+    rows: list[dict[str, Value]] = Field(
+        min_length=1, description="one condition per row, e.g. {\"rpm\": 120, \"wob_kN\": 80, "
+        "\"rop_m_per_h\": 20, ..., \"component_type\": \"collar\"}",
+        examples=[[{"rpm": 120, "wob_kN": 80, "rop_m_per_h": 20}]])
+
+
+class QueryResponse(Answer):
+    """The columns of ``drillfatigue query --csv``: the inputs, then the predictions."""
+
+    columns: list[str]
+    rows: list[dict[str, Cell]]
+
+
+# -- twin replay ---------------------------------------------------------------
+class LogInput(BaseModel):
+    """An operating log as the file's text."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    format: str = Field(default="csv", description="log format (GET /v1/model lists them)")
+    text: str = Field(min_length=1, description="the log file's content")
+
+
+class ReplayRequest(Request):
+    """An operating log and the string (and optionally the well) it was drilled with."""
+
+    log: LogInput
+    components: list[dict[str, Value]] | None = Field(
+        default=None,
+        description="component list rows: serial, s_from_bit_m, component_type, location")
+    components_csv: str | None = Field(default=None, description="the component list as CSV text")
+    string: StringConfig | None = Field(
+        default=None, description="a string section: every segment's body and connection "
+        "is tracked")
+    survey: list[dict[str, float]] | None = Field(
+        default=None, description="survey rows: md_m, dls_deg_per_30m (and inc_deg)")
+    well: WellConfig | None = Field(default=None, description="a well section, instead of survey")
+    constants: dict[str, Value] = Field(default_factory=dict,
+                                        description="features constant over the log, user "
+                                        "names (mu_static, mud_density_sg, ...)")
+    retire_at_damage: float = Field(default=0.5, gt=0.0, le=1.0, description="retire a component "
+                                    "whose upper-bound damage reaches this")
+    retire_within_h: float | None = Field(default=None, gt=0.0, description="also retire one whose "
+                                          "lower-bound remaining life is shorter (h)")
+
+
+class RetireEntry(BaseModel):
+    serial: str
+    s_from_bit_m: float
+    damage: float
+    damage_upper: float
+    remaining_life_h_lower: float | None
+    reason: str
+
+
+class ReplayResponse(Answer):
+    duration_h: float
+    n_components: int
+    max_damage: float
+    max_damage_serial: str
+    total_ood_time_s: float
+    ignored_log_channels: list[str]
+    columns: list[str]
+    components: list[dict[str, Cell]] = Field(description="one row per component, columns "
+                                              "of components_damage.csv")
+    retire: list[RetireEntry] = Field(description="components to retire, most damaged first")
+
+
+# -- plan ranking -----------------------------------------------------------------
+class PlanRankRequest(Request):
+    """Candidate well plans: the candidates file as an object or as YAML text."""
+
+    candidates: CandidateFile | None = None
+    candidates_yaml: str | None = Field(default=None, description="a candidates file's YAML text")
+
+
+class PlanRankResponse(Answer):
+    best: str
+    window_s: float
+    columns: list[str]
+    rows: list[dict[str, Cell]] = Field(description="best first, columns of ranking.csv")
+
+
+# -- operating window -------------------------------------------------------------
+class AxisSpec(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    name: str = Field(description="numeric feature, user name (rpm, wob_kN, rop_m_per_h, ...)")
+    start: float
+    stop: float
+    n: int = Field(default=21, ge=MIN_NODES, le=MAX_NODES, description="nodes, ends included")
+
+
+class WindowRequest(Request):
+    """Grid of two operating parameters at one location and depth, the rest fixed."""
+
+    x: AxisSpec = Field(examples=[{"name": "rpm", "start": 40, "stop": 200, "n": 33}])
+    y: AxisSpec = Field(examples=[{"name": "wob_kN", "start": 20, "stop": 200, "n": 31}])
+    fixed: dict[str, Value] = Field(description="every other feature, user names: md_m, "
+                                    "s_from_bit_m, component_type, location, ...")
+    survey: list[dict[str, float]] | None = Field(
+        default=None, description="survey rows (md_m, dls_deg_per_30m, inc_deg): the hole geometry "
+        "at md_m and at the bit instead of fixed values")
+
+
+class AxisValues(BaseModel):
+    name: str
+    values: list[float]
+
+
+class WindowResponse(Answer):
+    x: AxisValues
+    y: AxisValues
+    life_h: list[list[float | None]] = Field(description="[i_y][i_x], hours; null: infinite")
+    life_h_lower: list[list[float | None]]
+    life_h_upper: list[list[float | None]]
+    ood: list[list[bool]]
+    ood_fraction: float
+    best_in_domain: dict[str, float] | None
+    fixed: dict[str, Any]
+
+
+# -- models -------------------------------------------------------------------------
+class FeatureInfo(BaseModel):
+    column: str = Field(description="SI column of the training data")
+    names: list[str] = Field(description="accepted user names (first: the short SI one)")
+    min: float | None = Field(default=None, description="training minimum, SI")
+    max: float | None = Field(default=None, description="training maximum, SI")
+    levels: list[str] | None = Field(default=None, description="categories seen in training")
+
+
+class ModelCard(Answer):
+    path: str
+    loaded_at_utc: str
+    target: str
+    n_calibration: int | None
+    features: list[FeatureInfo]
+    categorical: list[FeatureInfo]
+    training: dict[str, Any]
+    split: dict[str, int] = Field(description="number of cases per part of the split")
+    architecture: dict[str, Any]
+    metrics: dict[str, Any] | None = Field(default=None, description="metrics.json of the evaluate "
+                                           "stage, when next to the model folder")
+    log_formats: list[str]
+    limits: dict[str, int]
+
+
+class ModelSummary(BaseModel):
+    name: str
+    generation: int
+    criterion: str
+    loaded_at_utc: str
+
+
+class ModelsResponse(BaseModel):
+    default: str
+    models: list[ModelSummary]
+
+
+class ReloadRequest(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    model: str | None = Field(default=None, description="model to reload; default: all")
+
+
+class ReloadResponse(BaseModel):
+    reloaded: list[ModelSummary]
+
+
+class HealthResponse(BaseModel):
+    status: str
+    models: dict[str, int] = Field(description="model name -> generation")

@@ -1,0 +1,364 @@
+// drillfatigue digital twin web page: talks to the /v1 API of the same server.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const state = { card: null, components: [], autoConstants: true };
+// inputs the log or the component list usually carries (not prefilled as constants)
+const LOG_STEMS = ["rpm", "wob", "rop", "md", "s_from_bit", "component_type", "location",
+                   "hook_load"];
+
+function setStatus(text, kind) {
+  const el = $("status");
+  el.textContent = text;
+  el.className = "status" + (kind ? " " + kind : "");
+}
+
+async function api(method, path, body) {
+  const opts = { method: method, headers: {} };
+  if (body !== undefined) {
+    opts.headers["content-type"] = "application/json";
+    opts.body = JSON.stringify(body);
+  }
+  const resp = await fetch(path, opts);
+  const data = await resp.json().catch(() => ({ detail: resp.status + " " + resp.statusText }));
+  if (!resp.ok) { throw new Error(data.detail || ("HTTP " + resp.status)); }
+  return data;
+}
+
+function fmt(v, digits) {
+  if (v === null || v === undefined) { return "inf"; }
+  if (typeof v !== "number") { return String(v); }
+  if (Number.isInteger(v) && Math.abs(v) < 1e6) { return String(v); }
+  return Number(v).toPrecision(digits || 3);
+}
+
+// -- CSV and NAME=VALUE helpers ------------------------------------------------------
+function parseCsv(text) {
+  const lines = text.split(/\r?\n/).map((l) => l.trim()).filter((l) => l.length > 0);
+  if (lines.length === 0) { return []; }
+  const head = lines[0].split(",").map((h) => h.trim());
+  return lines.slice(1).map((line) => {
+    const cells = line.split(",");
+    const row = {};
+    head.forEach((h, i) => {
+      const raw = (cells[i] || "").trim();
+      const num = Number(raw);
+      row[h] = raw !== "" && !Number.isNaN(num) ? num : raw;
+    });
+    return row;
+  });
+}
+
+function parseConstants(text) {
+  const out = {};
+  text.split(/\r?\n/).forEach((line, i) => {
+    const l = line.replace(/#.*/, "").trim();
+    if (!l) { return; }
+    const k = l.indexOf("=");
+    if (k < 1) { throw new Error("constant inputs, line " + (i + 1) + ": '" + l + "' is not NAME=VALUE"); }
+    const name = l.slice(0, k).trim();
+    const raw = l.slice(k + 1).trim();
+    const num = Number(raw);
+    out[name] = raw !== "" && !Number.isNaN(num) ? num : raw;
+  });
+  return out;
+}
+
+function acceptedNames() {
+  const names = new Set();
+  if (!state.card) { return names; }
+  state.card.features.concat(state.card.categorical).forEach((f) => f.names.forEach((n) => names.add(n)));
+  return names;
+}
+
+function stemOf(name) {
+  return LOG_STEMS.find((s) => name === s || name.startsWith(s + "_")) || null;
+}
+
+// hole-geometry inputs: computed from the survey when one is given
+function dropGeometry(values) {
+  if (!state.card) { return; }
+  state.card.features.forEach((f) => {
+    if (/^(local_|bit_|build_to_bit)/.test(f.column)) { f.names.forEach((n) => delete values[n]); }
+  });
+}
+
+// -- model -----------------------------------------------------------------------------
+function prefillConstants(card) {
+  const lines = [];
+  card.features.forEach((f) => {
+    if (stemOf(f.names[0])) { return; }
+    const mid = 0.5 * (f.min + f.max);
+    lines.push(f.names[0] + "=" + Number(mid.toPrecision(4)));
+  });
+  card.categorical.forEach((f) => {
+    if (stemOf(f.names[0])) { return; }
+    lines.push(f.names[0] + "=" + f.levels[0]);
+  });
+  $("constants-text").value = lines.join("\n");
+}
+
+async function loadCard() {
+  const name = $("model-select").value;
+  const card = await api("GET", "/v1/model?name=" + encodeURIComponent(name));
+  state.card = card;
+  $("model-info").textContent = card.criterion + " criterion, " + Math.round(100 * card.coverage) +
+    " % intervals, " + card.features.length + " numeric + " + card.categorical.length +
+    " categorical inputs, generation " + card.generation + ", loaded " + card.loaded_at_utc;
+  const fmtSel = $("log-format");
+  fmtSel.innerHTML = "";
+  card.log_formats.forEach((f) => { const o = document.createElement("option"); o.value = f; o.textContent = f; fmtSel.appendChild(o); });
+  if (state.autoConstants) { prefillConstants(card); }
+}
+
+async function loadModels() {
+  const data = await api("GET", "/v1/models");
+  const sel = $("model-select");
+  sel.innerHTML = "";
+  data.models.forEach((m) => {
+    const o = document.createElement("option");
+    o.value = m.name; o.textContent = m.name;
+    if (m.name === data.default) { o.selected = true; }
+    sel.appendChild(o);
+  });
+  await loadCard();
+}
+
+// -- replay ----------------------------------------------------------------------------
+function fillTable(table, columns, rows, empty) {
+  table.innerHTML = "";
+  if (rows.length === 0) {
+    table.innerHTML = "<tbody><tr><td class='muted'>" + empty + "</td></tr></tbody>";
+    return;
+  }
+  const head = document.createElement("thead");
+  head.innerHTML = "<tr>" + columns.map((c) => "<th>" + c[1] + "</th>").join("") + "</tr>";
+  const body = document.createElement("tbody");
+  rows.forEach((r) => {
+    const tr = document.createElement("tr");
+    columns.forEach((c) => { const td = document.createElement("td"); td.textContent = fmt(r[c[0]]); tr.appendChild(td); });
+    body.appendChild(tr);
+  });
+  table.appendChild(head);
+  table.appendChild(body);
+}
+
+function plotDamage(res) {
+  const byLoc = {};
+  res.components.forEach((c) => {
+    if (!(c.damage > 0)) { return; }
+    const key = c.location || c.component_type || "component";
+    (byLoc[key] = byLoc[key] || []).push(c);
+  });
+  const traces = Object.keys(byLoc).sort().map((loc) => {
+    const rows = byLoc[loc].sort((a, b) => a.s_from_bit_m - b.s_from_bit_m);
+    return {
+      type: "scatter", mode: "markers", name: loc,
+      x: rows.map((r) => r.s_from_bit_m), y: rows.map((r) => r.damage),
+      text: rows.map((r) => r.serial + (r.ood_time_s > 0 ? " (some time out of domain)" : "")),
+      marker: { size: 9, symbol: rows.map((r) => (r.ood_time_s > 0 ? "x" : "circle")) },
+      error_y: { type: "data", symmetric: false,
+                 array: rows.map((r) => r.damage_upper - r.damage),
+                 arrayminus: rows.map((r) => r.damage - r.damage_lower) },
+      hovertemplate: "%{text}<br>s = %{x} m<br>damage %{y:.3g}<extra></extra>",
+    };
+  });
+  Plotly.newPlot("damage-plot", traces, {
+    title: { text: "Accumulated damage along the string (" + fmt(res.duration_h) + " h)", font: { size: 13 } },
+    xaxis: { title: { text: "distance from bit (m)" } },
+    yaxis: { title: { text: "Miner damage (-), " + Math.round(100 * res.coverage) + " % interval" }, type: "log", exponentformat: "power" },
+    margin: { t: 36, r: 10, b: 46, l: 70 }, legend: { orientation: "h", y: 1.08, x: 1, xanchor: "right" },
+  }, { displaylogo: false, responsive: true });
+}
+
+function setComponents(rows) {
+  state.components = rows.filter((r) => r.s_from_bit_m !== undefined && r.s_from_bit_m !== "");
+  const sel = $("window-component");
+  sel.innerHTML = "";
+  state.components.forEach((c, i) => {
+    const o = document.createElement("option");
+    o.value = String(i);
+    o.textContent = (c.serial || "#" + i) + ": " + (c.component_type || "") + " " + (c.location || "") + ", " + c.s_from_bit_m + " m from bit";
+    sel.appendChild(o);
+  });
+}
+
+async function replay() {
+  setStatus("replaying ...");
+  const surveyText = $("survey-text").value.trim();
+  const body = {
+    model: $("model-select").value,
+    log: { format: $("log-format").value || "csv", text: $("log-text").value },
+    components_csv: $("components-text").value,
+    survey: surveyText ? parseCsv(surveyText) : null,
+    constants: parseConstants($("constants-text").value),
+    retire_at_damage: Number($("retire-damage").value),
+    retire_within_h: $("retire-hours").value ? Number($("retire-hours").value) : null,
+  };
+  if (body.survey) { dropGeometry(body.constants); }
+  const res = await api("POST", "/v1/twin/replay", body);
+  plotDamage(res);
+  $("replay-summary").innerHTML = "<b>" + res.n_components + "</b> components over <b>" + fmt(res.duration_h) +
+    " h</b>; largest damage " + fmt(res.max_damage) + " at <b>" + res.max_damage_serial + "</b>; " +
+    (res.total_ood_time_s > 0 ? "<span class='bad'>" + fmt(res.total_ood_time_s) + " component-seconds out of domain</span>" : "all in the training domain") +
+    (res.ignored_log_channels.length ? "; unused log channels: " + res.ignored_log_channels.join(", ") : "");
+  const notInHole = res.components.filter((c) => !(c.damage > 0)).length;
+  if (notInHole) { $("replay-summary").innerHTML += "; " + notInHole + " without damage (not in the hole), not plotted"; }
+  fillTable($("retire-table"), [["serial", "serial"], ["s_from_bit_m", "s from bit (m)"], ["damage", "damage"],
+    ["damage_upper", "upper bound"], ["remaining_life_h_lower", "remaining life, lower (h)"], ["reason", "reason"]],
+    res.retire, "none: no component reaches the retirement limits");
+  const worst = res.components.slice().sort((a, b) => b.damage - a.damage).slice(0, 8);
+  fillTable($("damage-table"), [["serial", "serial"], ["component_type", "type"], ["location", "location"],
+    ["s_from_bit_m", "s from bit (m)"], ["damage", "damage"], ["remaining_life_h", "remaining life (h)"]],
+    worst, "no component");
+  setComponents(res.components);
+  const bit = parseCsv($("log-text").value).map((r) => r.bit_md_m).filter((v) => typeof v === "number");
+  if (bit.length) { $("window-bit-md").value = Math.round(bit[bit.length - 1]); }
+  setStatus("replayed " + res.n_components + " components with model " + res.model, "ok");
+}
+
+// -- operating window ---------------------------------------------------------------------
+function otherAxis() {
+  return $("y-name").value === "wob_kN" ? ["rop_m_per_h", "ROP (m/h)", 20] : ["wob_kN", "WOB (kN)", 80];
+}
+
+function updateFixedLabel() {
+  const o = otherAxis();
+  $("fixed-label").firstChild.textContent = o[1] + " held at ";
+  if ($("y-name").value === "wob_kN") { $("y-start").value = 20; $("y-stop").value = 200; }
+  else { $("y-start").value = 4; $("y-stop").value = 72; }
+  $("fixed-value").value = o[2];
+}
+
+function cellEdges(v) {
+  const e = [v[0] - (v[1] - v[0]) / 2];
+  for (let i = 0; i < v.length - 1; i++) { e.push((v[i] + v[i + 1]) / 2); }
+  e.push(v[v.length - 1] + (v[v.length - 1] - v[v.length - 2]) / 2);
+  return e;
+}
+
+function plotWindow(res) {
+  const z = res.life_h.map((row) => row.map((v) => (v === null ? null : Math.log10(v))));
+  const xe = cellEdges(res.x.values), ye = cellEdges(res.y.values);
+  const hx = [], hy = [];
+  res.ood.forEach((row, i) => row.forEach((flag, j) => {
+    if (!flag) { return; }
+    hx.push(xe[j], xe[j + 1], xe[j + 1], xe[j], xe[j], null);
+    hy.push(ye[i], ye[i], ye[i + 1], ye[i + 1], ye[i], null);
+  }));
+  const traces = [{
+    type: "heatmap", x: res.x.values, y: res.y.values, z: z, colorscale: "Viridis",
+    colorbar: { title: { text: "life, log10(h)", side: "right" } },
+    hovertemplate: res.x.name + " %{x}<br>" + res.y.name + " %{y}<br>log10 life %{z:.2f}<extra></extra>",
+  }];
+  if (hx.length) {
+    traces.push({ type: "scatter", mode: "lines", x: hx, y: hy, fill: "toself", name: "outside training domain",
+                  line: { width: 0 }, fillcolor: "rgba(255,255,255,0.15)", hoverinfo: "skip",
+                  fillpattern: { shape: "/", fgcolor: "white", size: 7, solidity: 0.3 } });
+  }
+  if (res.best_in_domain) {
+    traces.push({ type: "scatter", mode: "markers", name: "longest life in domain",
+                  x: [res.best_in_domain[res.x.name]], y: [res.best_in_domain[res.y.name]],
+                  marker: { symbol: "star", size: 16, color: "red", line: { color: "white", width: 1 } } });
+  }
+  Plotly.newPlot("window-plot", traces, {
+    title: { text: "Predicted life (" + res.criterion + "), hatched: outside the training domain", font: { size: 13 } },
+    xaxis: { title: { text: res.x.name }, range: [xe[0], xe[xe.length - 1]] },
+    yaxis: { title: { text: res.y.name }, range: [ye[0], ye[ye.length - 1]] },
+    margin: { t: 36, r: 10, b: 46, l: 60 }, legend: { orientation: "h", y: -0.2 },
+  }, { displaylogo: false, responsive: true });
+}
+
+async function mapWindow() {
+  const c = state.components[Number($("window-component").value)];
+  if (!c) { throw new Error("window: no component; replay a log or fill in the component list first"); }
+  const accepted = acceptedNames();
+  const yName = $("y-name").value;
+  const other = otherAxis();
+  const fixed = {};
+  Object.entries(parseConstants($("constants-text").value)).forEach(([k, v]) => {
+    const s = stemOf(k);
+    if (s === "rpm" || s === "wob" || s === "rop") { return; }
+    fixed[k] = v;
+  });
+  const bit = Number($("window-bit-md").value);
+  const s = Number(c.s_from_bit_m);
+  const place = { md_m: bit - s, s_from_bit_m: s, component_type: c.component_type, location: c.location };
+  Object.entries(place).forEach(([k, v]) => { if (accepted.has(k) && v !== undefined) { fixed[k] = v; } });
+  fixed[other[0]] = Number($("fixed-value").value);
+  const surveyText = $("survey-text").value.trim();
+  const body = {
+    model: $("model-select").value,
+    x: { name: "rpm", start: Number($("x-start").value), stop: Number($("x-stop").value), n: Number($("x-n").value) },
+    y: { name: yName, start: Number($("y-start").value), stop: Number($("y-stop").value), n: Number($("y-n").value) },
+    fixed: fixed,
+    survey: surveyText ? parseCsv(surveyText) : null,
+  };
+  if (body.survey) { dropGeometry(body.fixed); }
+  setStatus("mapping ...");
+  const res = await api("POST", "/v1/window", body);
+  plotWindow(res);
+  const b = res.best_in_domain;
+  $("window-summary").innerHTML = (c.serial || "component") + " at " + fmt(bit - s, 5) + " m MD: " +
+    Math.round(100 * res.ood_fraction) + " % of the grid out of domain" +
+    (b ? "; longest life in domain at <b>" + fmt(b[res.x.name]) + " " + res.x.name + ", " + fmt(b[res.y.name]) + " " + res.y.name +
+         "</b>: " + fmt(b.life_h) + " h (lower bound " + fmt(b.life_h_lower) + " h)" : "");
+  setStatus("window map ready", "ok");
+}
+
+// -- plan ranking ------------------------------------------------------------------------------
+async function rankPlans() {
+  setStatus("ranking ...");
+  const res = await api("POST", "/v1/plan/rank", { model: $("model-select").value, candidates_yaml: $("plan-text").value });
+  const rows = res.rows;
+  Plotly.newPlot("plan-plot", [{
+    type: "bar", x: rows.map((r) => r.candidate), y: rows.map((r) => r.life_windows_surrogate),
+    error_y: { type: "data", symmetric: false,
+               array: rows.map((r) => (r.life_windows_surrogate_upper === null ? 0 : r.life_windows_surrogate_upper - r.life_windows_surrogate)),
+               arrayminus: rows.map((r) => r.life_windows_surrogate - r.life_windows_surrogate_lower) },
+    marker: { color: rows.map((r) => (r.ood_fraction > 0 ? "#d98c2b" : "#2a6fdb")) },
+  }], {
+    title: { text: "Life of the critical component, drilling windows (best first)", font: { size: 13 } },
+    yaxis: { type: "log", title: { text: "windows" } }, margin: { t: 36, r: 10, b: 60, l: 60 },
+  }, { displaylogo: false, responsive: true });
+  fillTable($("plan-table"), [["rank_surrogate", "rank"], ["candidate", "candidate"], ["life_windows_surrogate", "life (windows)"],
+    ["life_windows_surrogate_lower", "lower"], ["life_windows_surrogate_upper", "upper"], ["critical_component", "critical"],
+    ["critical_s_from_bit_m", "s from bit (m)"], ["ood_fraction", "OOD share"]], rows, "no candidate");
+  $("plan-summary").innerHTML = "best: <b>" + res.best + "</b> (window " + fmt(res.window_s) + " s; orange bars: some rows out of domain)";
+  setStatus("ranked " + rows.length + " candidates", "ok");
+}
+
+// -- wiring -----------------------------------------------------------------------------------
+function readInto(fileInput, textarea, after) {
+  fileInput.addEventListener("change", () => {
+    const f = fileInput.files[0];
+    if (!f) { return; }
+    const reader = new FileReader();
+    reader.onload = () => { textarea.value = reader.result; if (after) { after(); } };
+    reader.readAsText(f);
+  });
+}
+
+function guarded(fn) {
+  return () => fn().catch((e) => setStatus("error: " + e.message, "error"));
+}
+
+document.addEventListener("DOMContentLoaded", () => {
+  readInto($("log-file"), $("log-text"));
+  readInto($("components-file"), $("components-text"), () => setComponents(parseCsv($("components-text").value)));
+  readInto($("survey-file"), $("survey-text"));
+  readInto($("plan-file"), $("plan-text"));
+  $("components-text").addEventListener("change", () => setComponents(parseCsv($("components-text").value)));
+  $("constants-text").addEventListener("input", () => { state.autoConstants = false; });
+  $("model-select").addEventListener("change", guarded(loadCard));
+  $("reload-button").addEventListener("click", guarded(async () => {
+    const r = await api("POST", "/v1/model/reload", { model: $("model-select").value });
+    await loadCard();
+    setStatus("reloaded " + r.reloaded.map((m) => m.name + " (generation " + m.generation + ")").join(", "), "ok");
+  }));
+  $("replay-button").addEventListener("click", guarded(replay));
+  $("window-button").addEventListener("click", guarded(mapWindow));
+  $("plan-button").addEventListener("click", guarded(rankPlans));
+  $("y-name").addEventListener("change", updateFixedLabel);
+  guarded(loadModels)();
+});

@@ -1,0 +1,61 @@
+"""A tiny surrogate with the pipeline's feature set, trained in seconds.
+
+Stands in for ``data/surrogate/model`` (a DVC output) where a test runs a
+command that needs a trained model. The table draws every feature of
+``params.yaml``'s ``surrogate`` section uniformly over the sweep's ranges and
+takes a smooth made-up log10 damage rate; the model is only as right as that.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from drillfatigue.config import load_params
+
+_RANGES = {
+    "operation.rpm": (80.0, 180.0),
+    "operation.rop_m_per_s": (0.0014, 0.015),
+    "operation.lobe_amplitude_m": (0.0, 0.002),
+    "operation.mud_density_kg_per_m3": (1000.0, 1600.0),
+    "friction.mu_dynamic": (0.15, 0.4),
+    "md_m": (400.0, 800.0),
+    "s_from_bit_m": (5.0, 200.0),
+    "local_dls_deg_per_30m": (0.0, 9.0),
+    "local_inc_deg": (0.0, 90.0),
+    "local_max_dls_deg_per_30m": (0.0, 9.0),
+    "bit_inc_deg": (0.0, 90.0),
+    "bit_dls_deg_per_30m": (0.0, 9.0),
+    "build_to_bit_deg_per_30m": (0.0, 9.0),
+}
+
+
+def tiny_table(features: tuple[str, ...], n_cases: int = 40, seed: int = 0) -> pd.DataFrame:
+    """Rows of ``n_cases`` cases x (collar, drill_pipe) x (body, connection)."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for case in range(n_cases):
+        values = {f: rng.uniform(*_RANGES.get(f, (0.0, 1.0))) for f in features}
+        for ctype in ("collar", "drill_pipe"):
+            for loc in ("body", "connection"):
+                rows.append({"case_id": f"case{case:03d}", "component_type": ctype,
+                             "location": loc, **values})
+    frame = pd.DataFrame(rows)
+    log_rate = (-6.0 + 2.0 * frame.get("local_dls_deg_per_30m", 0.0) / 9.0
+                + frame["location"].eq("connection") * 0.5 + rng.normal(0.0, 0.05, len(frame)))
+    for crit in ("matake", "findley", "uniaxial", "api_rp7g"):
+        frame[f"damage_rate_per_h_{crit}"] = 10.0 ** log_rate
+    return frame
+
+
+def train_tiny_surrogate(params_path: Path, out_dir: Path) -> Path:
+    """Fit 5 one-layer members for a few epochs on :func:`tiny_table`; save to ``out_dir``."""
+    from drillfatigue.surrogate import fit_surrogate
+
+    cfg = load_params(params_path).surrogate.model_copy(
+        update={"hidden_layers": (8,), "max_epochs": 20, "patience": 5})
+    model = fit_surrogate(tiny_table(cfg.features), cfg)
+    model.save(out_dir)
+    return out_dir
