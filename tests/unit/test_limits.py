@@ -28,7 +28,7 @@ def test_bounds_match_the_documented_values() -> None:
     assert (FEATURE_BOUNDS["rpm"].lo, FEATURE_BOUNDS["rpm"].hi) == (0.0, 1000.0)
     assert FEATURE_BOUNDS["mud_density_kg_per_m3"].lo == 0.0
     docs = (Path(__file__).resolve().parents[2] / "docs" / "trust.md").read_text()
-    for name, b in FEATURE_BOUNDS.items():
+    for name in FEATURE_BOUNDS:
         assert f"`{name}`" in docs, name
 
 

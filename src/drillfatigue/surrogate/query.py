@@ -157,8 +157,9 @@ class Vocabulary:
                 i = int(np.argmax(bad))
                 self._number(key, col.iloc[i])  # raises with the offending value
                 raise InputError(key, "NaN or infinite value", "a finite number")
-            out[term.column] = num * term.factor
-            check_feature_values(key, term.column, out[term.column], term.factor)
+            si = num * term.factor
+            check_feature_values(key, term.column, si, term.factor)
+            out[term.column] = si
         need = self.features + self.categorical if require is None else list(require)
         missing = [self.names_for(c)[0] for c in need if c not in out]
         if missing:

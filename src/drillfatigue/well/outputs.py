@@ -15,15 +15,15 @@ from typing import Any
 import numpy as np
 
 from drillfatigue.config.well import WellConfig
-from drillfatigue.well.profiles import build_survey
 from drillfatigue.files import OutputFolder
+from drillfatigue.well.profiles import build_survey
 from drillfatigue.well.survey import Survey, atomic_output, write_survey_csv
-
-#: Kind of the ownership marker of a well-profile output folder.
-WELL_KIND = "well"
 from drillfatigue.well.wellbore import Wellbore, build_wellbore, resample_path
 
 __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
+
+#: Kind of the ownership marker of a well-profile output folder.
+WELL_KIND = "well"
 
 
 def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
