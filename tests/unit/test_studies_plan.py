@@ -174,3 +174,16 @@ def test_out_folder_with_foreign_files_refused_before_loading(tmp_path, capsys):
     assert err.startswith("error: --out: ") and "did not write" in err
     assert (out / "ranking.csv").read_text() == "my own ranking\n"
     assert [p.name for p in out.iterdir()] == ["ranking.csv"]
+
+
+def test_params_without_plan_section_is_noted(tmp_path, capsys):
+    """A --params file without a `plan` section: its defaults apply wholesale, and the
+    command says so on stderr (here before failing on the missing surrogate)."""
+    path = _write(tmp_path, {"candidates": PROFILES})
+    params = tmp_path / "params.yaml"
+    params.write_text("fatigue: {}\n")
+    assert main(["plan", "rank", str(path), "--params", str(params), "--surrogate",
+                 str(tmp_path / "nope"), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err[0] == f"note: {params} has no 'plan' section; using its defaults"
+    assert err[1].startswith("error: --surrogate:")
