@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
@@ -29,6 +28,10 @@ from drillfatigue.numba_cache import scope_numba_cache
 def _cell(v: float | None, width: int) -> str:
     """A fraction to 3 decimals, or '-' where the decade has no rows."""
     return f"{v:{width}.3f}" if v is not None else f"{'-':>{width}s}"
+
+
+#: Kind of the ownership marker of the evaluation plots folder.
+PLOTS_KIND = "evaluation"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -44,11 +47,13 @@ def main(argv: list[str] | None = None) -> int:
                         help="spread.json of the replicates stage: adds the noise floor")
     args = parser.parse_args(argv)
     try:
+        from drillfatigue.files import OutputFolder
         from drillfatigue.surrogate import Surrogate, make_synthetic_dataset
         from drillfatigue.surrogate.evaluation import evaluate, plot_parity, plot_residuals
         from drillfatigue.surrogate.io import write_csv, write_json
         from drillfatigue.surrogate.data import read_dataset
 
+        OutputFolder.check(args.plots, PLOTS_KIND, "--plots")  # before the evaluation
         cfg = load_params(args.params).surrogate
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
                  if args.synthetic_cases > 0 else read_dataset(args.data))
@@ -63,11 +68,11 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2
-    plots = Path(args.plots)
+    plots = OutputFolder(args.plots, PLOTS_KIND, "--plots")
     write_json(metrics, args.metrics)
-    write_csv(pred, plots / "predictions.csv")
-    plot_parity(pred, str(plots / "parity.png"))
-    plot_residuals(pred, str(plots / "residuals.png"))
+    write_csv(pred, plots.file("predictions.csv"))
+    plot_parity(pred, str(plots.file("parity.png")))
+    plot_residuals(pred, str(plots.file("residuals.png")))
     for m in ("ensemble", "gp", "hgb"):
         s = metrics[m]
         g = metrics["governing"][m]

@@ -31,14 +31,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--synthetic-cases", type=int, default=0)
     args = parser.parse_args(argv)
     try:
+        from drillfatigue.files import OutputFolder
         from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
+        from drillfatigue.surrogate.facade import MODEL_KIND
         from drillfatigue.surrogate.data import read_dataset
 
         cfg = load_params(args.params).surrogate
+        OutputFolder.check(args.out, MODEL_KIND, "--out")  # before minutes of training
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
                  if args.synthetic_cases > 0 else read_dataset(args.data))
         model = fit_surrogate(frame, cfg, live_dir=args.live)
-        model.save(args.out)
+        model.save(args.out, option="--out")
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2

@@ -162,6 +162,14 @@ class OutputFolder:
             self._save()
         return p
 
+    def record(self, names: Iterable[str]) -> None:
+        """Record files this package has just written here by other means (a library
+        that writes a whole tree) as owned."""
+        new = {str(n) for n in names} - self.owned - {MARKER}
+        if new:
+            self.owned |= new
+            self._save()
+
     def remove(self, names: Iterable[str]) -> None:
         """Delete the listed files if this package wrote them; others are kept."""
         changed = False
@@ -176,3 +184,14 @@ class OutputFolder:
     def remove_all_owned(self) -> None:
         """Delete every file this package wrote here (the marker stays)."""
         self.remove(sorted(self.owned))
+
+
+def check_output_file(path: str | Path, option: str) -> None:
+    """Raise :class:`InputError` if ``path`` cannot be written as one output file.
+
+    An existing folder of that name is refused (it would be neither replaced
+    nor written into); an existing file is replaced atomically when written.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(option, f"{p} is a folder, not a file", "a file path")

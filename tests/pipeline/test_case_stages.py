@@ -141,3 +141,41 @@ def test_project_dvc_yaml_is_valid_to_dvc():
     assert r.returncode == 0, r.stderr
     for stage in ("wells", "simulate", "train", "evaluate", "case2", "plan", "report"):
         assert stage in r.stdout
+
+
+def test_study_and_report_refuse_a_folder_with_foreign_files(tmp_path, capsys):
+    """`drillfatigue study` and the report stage with an --out folder holding a user's
+    file: exit 2, one line, before any simulation; the file survives. The report
+    rewritten into its own folder keeps a user's file beside it."""
+    params = tmp_path / "params.yaml"
+    params.write_text(yaml.safe_dump(TINY))
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "case2_life.csv").write_text("my numbers\n")
+    assert main(["study", "case2", "--params", str(params), "--out", str(mine)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and "did not write" in err and err.count("\n") == 1
+    assert [p.name for p in mine.iterdir()] == ["case2_life.csv"]
+    assert _run("report", "--params", str(params), "--case1", str(tmp_path / "n1"),
+                "--case2", str(tmp_path / "n2"), "--case3", str(tmp_path / "n3"),
+                "--out", str(mine)) == 2
+    assert "did not write" in capsys.readouterr().err
+    assert (mine / "case2_life.csv").read_text() == "my numbers\n"
+    out = tmp_path / "report"
+    args = ["--params", str(params), "--case1", str(tmp_path / "n1"), "--case2",
+            str(tmp_path / "n2"), "--case3", str(tmp_path / "n3"), "--out", str(out)]
+    assert _run("report", *args) == 0
+    (out / "notes.md").write_text("mine")
+    assert _run("report", *args) == 0
+    assert (out / "notes.md").read_text() == "mine"
+
+
+def test_committed_report_marker_lists_the_committed_report() -> None:
+    """data/report is git-tracked (a DVC out without cache): its ownership marker is
+    committed with it, listing exactly the report's files, so the report stage accepts
+    the folder on `dvc repro`."""
+    folder = ROOT / "data" / "report"
+    marker = json.loads((folder / ".drillfatigue.json").read_text())
+    assert marker["kind"] == "report"
+    assert marker["files"] == sorted(p.name for p in folder.iterdir()
+                                     if not p.name.startswith("."))

@@ -51,3 +51,46 @@ def test_missing_dataset_exits_2(tmp_path: Path, capsys) -> None:
     assert rc == 2
     assert "none.parquet" in capsys.readouterr().err
     assert not (tmp_path / "m").exists()
+
+
+def test_train_refuses_a_foreign_out_folder_before_training(tmp_path: Path, capsys) -> None:
+    """`train.py --out DIR` with a user's file in DIR: exit 2, one line, before any
+    training (no live curves written), and the file survives."""
+    params = tmp_path / "params.yaml"
+    params.write_text("surrogate:\n  hidden_layers: [8]\n  max_epochs: 2\n  n_threads: 1\n",
+                      encoding="utf-8")
+    out = tmp_path / "models"
+    out.mkdir()
+    (out / "thesis.docx").write_bytes(b"user data")
+    live = tmp_path / "live"
+    rc = _stage("train").main(["--params", str(params), "--out", str(out), "--live", str(live),
+                               "--synthetic-cases", "20"])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1
+    assert "did not write" in err
+    assert sorted(p.name for p in out.iterdir()) == ["thesis.docx"]
+    assert (out / "thesis.docx").read_bytes() == b"user data"
+    assert not live.exists()
+
+
+def test_evaluate_refuses_a_foreign_plots_folder_first(tmp_path: Path, capsys) -> None:
+    """`evaluate.py --plots DIR` with a user's file: exit 2, one line, before the model is
+    even loaded (the model folder does not exist), the file untouched; the committed
+    data/surrogate/plots marker lists exactly the stage's three files."""
+    plots = tmp_path / "plots"
+    plots.mkdir()
+    (plots / "parity.png").write_bytes(b"my figure")
+    rc = _stage("evaluate").main(["--params", str(tmp_path / "none.yaml"), "--model",
+                                  str(tmp_path / "no_model"), "--metrics",
+                                  str(tmp_path / "m.json"), "--plots", str(plots)])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --plots: ") and err.count("\n") == 1
+    assert (plots / "parity.png").read_bytes() == b"my figure"
+    assert not (tmp_path / "m.json").exists()
+    committed = ROOT / "data" / "surrogate" / "plots"
+    marker = json.loads((committed / ".drillfatigue.json").read_text())
+    assert marker == {"kind": _stage("evaluate").PLOTS_KIND,
+                      "files": sorted(p.name for p in committed.iterdir()
+                                      if not p.name.startswith("."))}

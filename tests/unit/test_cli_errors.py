@@ -74,6 +74,12 @@ CASES = [
      [], "s.csv:4:md_m", "increasing"),
     ("survey_inclination_200", *_survey_case("md_m,inc_deg,azi_deg\n0,0,0\n10,200,0\n"), [],
      "s.csv:3:inc_deg", "0 <= inc_deg <= 180"),
+    ("survey_md_1e300", *_survey_case("md_m,inc_deg,azi_deg\n0,0,0\n100,0,0\n1e300,10,45\n"),
+     [], "s.csv:4:md_m", "0 <= md_m <= 20000"),
+    ("survey_md_negative", *_survey_case("md_m,inc_deg,azi_deg\n-5,0,0\n100,0,0\n"),
+     [], "s.csv:2:md_m", "0 <= md_m"),
+    ("empty_case_file", "", {}, [], "case.yaml", "empty"),
+    ("comments_only_case_file", "# nothing here\n", {}, [], "case.yaml", "empty"),
 ]
 
 
@@ -135,3 +141,97 @@ def test_subprocess_exit_code_2(tmp_path: Path) -> None:
     assert proc.stderr.splitlines() == [proc.stderr.strip()]
     assert proc.stderr.startswith("error: well.profiles.p.j.inc_deg: ")
     assert not (tmp_path / "fig.png").exists()
+
+
+def _all_command_paths() -> list[list[str]]:
+    """Every leaf command of the CLI as its argv prefix (``['well', 'show']``, ...)."""
+    import typer
+
+    from drillfatigue.cli import _load_commands
+    from drillfatigue.cli.app import app
+
+    _load_commands()
+    paths: list[list[str]] = []
+
+    def walk(cmd, prefix: list[str]) -> None:  # noqa: ANN001
+        subs = getattr(cmd, "commands", None)
+        if subs:
+            for name, sub in subs.items():
+                walk(sub, [*prefix, name])
+        else:
+            paths.append(prefix)
+
+    walk(typer.main.get_command(app), [])
+    return paths
+
+
+def test_every_command_is_checked() -> None:
+    names = {" ".join(p) for p in _all_command_paths()}
+    assert {"well show", "simulate", "fatigue", "query", "twin replay", "plan rank",
+            "sweep run", "dataset export", "tnd"} <= names
+
+
+@pytest.mark.parametrize("path", _all_command_paths(), ids=" ".join)
+def test_unknown_option_is_one_line_exit_2(tmp_path, monkeypatch, capsys, path) -> None:
+    """typer's usage error (its own copy of click) is one line, not a traceback, exit 2."""
+    monkeypatch.chdir(tmp_path)
+    rc = main([*path, "--no-such-option-xyz", "1"])
+    out, err = capsys.readouterr()
+    assert rc == 2
+    assert len(err.splitlines()) == 1, err
+    assert err.startswith("error: ") and "Traceback" not in err
+    assert os.listdir(tmp_path) == []
+
+
+def test_well_show_unknown_out_option(tmp_path, monkeypatch, capsys) -> None:
+    (tmp_path / "case.yaml").write_text("well: {}\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["well", "show", "case.yaml", "--out", "DIR"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: No such option: --out") and err.count("\n") == 1
+    assert not (tmp_path / "DIR").exists()
+
+
+def test_unknown_option_subprocess_exit_2(tmp_path: Path) -> None:
+    src = str(Path(drillfatigue.__file__).resolve().parents[1])
+    env = dict(os.environ, PYTHONPATH=src + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.run([sys.executable, "-m", "drillfatigue", "tnd", "case.yaml",
+                           "--cell-m", "abc"], cwd=tmp_path, env=env, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 2
+    assert len(proc.stderr.splitlines()) == 1 and proc.stderr.startswith("error: ")
+    assert "--cell-m" in proc.stderr
+
+
+@pytest.mark.parametrize("which", ["case", "survey"])
+def test_non_utf8_file_is_one_line(tmp_path, monkeypatch, capsys, which) -> None:
+    """A Latin-1 YAML or a UTF-16 survey: one line naming the file and the byte."""
+    monkeypatch.chdir(tmp_path)
+    if which == "case":
+        (tmp_path / "case.yaml").write_bytes("well:\n  min_clearance_m: 0.02 # caf\xe9\n"
+                                             .encode("latin-1"))
+        field = "case.yaml"
+    else:
+        (tmp_path / "case.yaml").write_text(_survey_case("")[0])
+        (tmp_path / "s.csv").write_bytes(GOOD_CSV.encode("utf-16"))
+        field = "s.csv"
+    assert main(["well", "show", "case.yaml"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1, err
+    assert err.startswith(f"error: {field}: not ") and "UTF-8" in err
+
+
+@pytest.mark.parametrize("command", ["plot", "export", "tnd"])
+def test_output_file_that_is_a_folder(tmp_path, monkeypatch, capsys, command) -> None:
+    """`-o NAME` where NAME is an existing folder: one line, exit 2, folder untouched."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "case.yaml").write_text("well: {}\n")
+    name = "out.csv" if command == "export" else "fig.png"
+    (tmp_path / name).mkdir()
+    (tmp_path / name / "mine.txt").write_text("x")
+    argv = ["tnd", "case.yaml", "-o", name] if command == "tnd" else \
+        ["well", command, "case.yaml", "-o", name]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err == f"error: --out: {name} is a folder, not a file (allowed: a file path)\n"
+    assert os.listdir(tmp_path / name) == ["mine.txt"]

@@ -143,3 +143,41 @@ def test_api_rp7g_side_by_side_from_the_run_case(tmp_path: Path) -> None:
     out2 = tmp_path / "fat2"
     evaluate_run(write_run_dir(tmp_path / "r2", n_joints=1, n_t=300), FatigueConfig(**FAST), out2)
     assert not (out2 / "api_rp7g.parquet").exists()
+
+
+def test_out_folder_with_a_users_file_is_refused_at_once(run_dir: Path, tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str],
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """`fatigue --out DIR` with a user's file in DIR, or `--out FILE`: exit 2, one line,
+    before the run is even read (checked: the loader is never called), and the user's
+    file is untouched."""
+    import drillfatigue.fatigue.run as run_mod
+
+    def no_work(*_a: object, **_k: object) -> None:
+        raise AssertionError("the run was read before the output was checked")
+
+    monkeypatch.setattr(run_mod, "read_run", no_work)
+    mine = tmp_path / "results"
+    mine.mkdir()
+    (mine / "summary.docx").write_bytes(b"my report")
+    assert main(["fatigue", str(run_dir), "--out", str(mine)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1
+    assert "did not write" in err
+    assert sorted(p.name for p in mine.iterdir()) == ["summary.docx"]
+    afile = tmp_path / "damage.txt"
+    afile.write_text("x")
+    assert main(["fatigue", str(run_dir), "--out", str(afile)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and "is a file" in err and err.count("\n") == 1
+    assert afile.read_text() == "x"
+
+
+def test_rerun_replaces_only_its_own_files(run_dir: Path, tmp_path: Path) -> None:
+    out = tmp_path / "fat"
+    evaluate_run(run_dir, FatigueConfig(**FAST), out)
+    (out / "notes.txt").write_text("mine")
+    evaluate_run(run_dir, FatigueConfig(plots=False, **FAST), out)  # drops its own figures
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [".drillfatigue.json", "damage.parquet", "notes.txt", "summary.json"]
+    assert (out / "notes.txt").read_text() == "mine"

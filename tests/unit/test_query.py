@@ -149,11 +149,12 @@ def test_well_gives_the_geometry_features(tmp_path: Path, capsys) -> None:
         d, export=False)
     i = FLAGS.index("--local-dls-deg-per-30m")
     base = FLAGS[:i] + FLAGS[i + 2:]  # every geometry feature comes from the well
+    base[base.index("--md-m") + 1] = "900"  # within profile_1 (TD 1021 m), bit at 940 m
     assert main(["query", "--model", str(d), *base, "--well", str(params), "--well-profile",
                  "profile_1", "--json"]) == 0
     derived = json.loads(capsys.readouterr().out)
     geo = ("local_dls_deg_per_30m", *cols)
-    g = survey_features(survey, np.array([1400.0]), np.array([1440.0]), geo)
+    g = survey_features(survey, np.array([900.0]), np.array([940.0]), geo)
     explicit = [x for c in geo for x in (f"--{c.replace('_', '-')}", repr(float(g[c][0])))]
     assert main(["query", "--model", str(d), *base, *explicit, "--json"]) == 0
     given = json.loads(capsys.readouterr().out)
@@ -181,6 +182,67 @@ def test_well_gives_the_geometry_features(tmp_path: Path, capsys) -> None:
     # float32 network: batch-size dependent round-off ~1e-7 in log10 (see test_twin)
     np.testing.assert_allclose(out["log10_damage_rate_per_h"],
                                given["log10_damage_rate_per_h"], atol=1e-6)
+    # a location below the well's TD is an input error, not an extrapolation
+    flags = list(base)
+    flags[flags.index("--md-m") + 1] = "5000"
+    assert main(["query", "--model", str(d), *flags, "--well", str(params), "--well-profile",
+                 "profile_1"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: md_m: 5000 m is beyond the well's total depth ")
+    assert err.count("\n") == 1
+
+
+@pytest.mark.parametrize("flag, value, word", [
+    ("--rpm", "1e9", "0 <= rpm <= 1000"),                  # no rig turns this fast
+    ("--rpm", "-50", "0 <= rpm <= 1000"),                  # backwards would unscrew the string
+    ("--mud-density-sg", "-1", "0 <= mud_density_sg <= 3"),  # negative density
+    ("--md-m", "99999", "0 <= md_m <= 20000"),             # deeper than any well
+    ("--wob-kN", "-10", "0 <= wob_kN <= 1000"),            # WOB is a compression
+])
+def test_physically_absurd_query_is_an_input_error(model_dir: Path, capsys, flag, value,
+                                                   word) -> None:
+    flags = list(FLAGS)
+    flags[flags.index(flag) + 1] = value
+    assert main(["query", "--model", str(model_dir), *flags]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    name = flag[2:].replace("-", "_")
+    assert err.startswith(f"error: {name}: ") and "outside the physical range" in err
+    assert f"(allowed: {word})" in err
+
+
+def test_physical_but_untrained_value_keeps_the_ood_flag(model_dir: Path, capsys) -> None:
+    """rpm 900 is physical (motor drilling) but far outside the training data: answered
+    with the out-of-domain flag, not an error."""
+    flags = list(FLAGS)
+    flags[flags.index("--rpm") + 1] = "900"
+    assert main(["query", "--model", str(model_dir), *flags, "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["out_of_domain"] is True and "operation.rpm" in res["ood_reason"]
+
+
+def test_batch_absurd_row_named(model_dir: Path, tmp_path: Path, capsys) -> None:
+    table = pd.read_csv(EXAMPLES / "conditions.csv")
+    table.loc[2, "rpm"] = 5000.0
+    bad = tmp_path / "bad.csv"
+    table.to_csv(bad, index=False)
+    out = tmp_path / "pred.csv"
+    assert main(["query", "--model", str(model_dir), "--csv", str(bad), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: rpm: 5000 is outside the physical range (row 3)")
+    assert not out.exists()
+
+
+def test_batch_out_an_existing_folder_is_one_line(model_dir: Path, tmp_path: Path,
+                                                  capsys) -> None:
+    out = tmp_path / "pred"
+    out.mkdir()
+    (out / "mine.csv").write_text("x\n")
+    assert main(["query", "--model", str(model_dir), "--csv", str(EXAMPLES / "conditions.csv"),
+                 "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"error: --out: {out} is a folder, not a file (allowed: a file path)\n"
+    assert [p.name for p in out.iterdir()] == ["mine.csv"]
 
 
 def test_batch_csv_with_field_headers(model_dir: Path, tmp_path: Path) -> None:

@@ -145,3 +145,45 @@ def test_surrogate_ranking_agrees_with_simulator(tmp_path):
     assert table["life_windows_simulator"].iloc[1:].isna().all()
     for f in ("ranking.csv", "ranking.json", "ranking.png"):
         assert (tmp_path / "plan" / f).stat().st_size > 0
+
+
+def test_params_file_is_validated_whole(tmp_path, capsys):
+    """`plan rank --params FILE`: a typo in any section of FILE is an error, not only in
+    `plan`; a --params file that does not exist is one too."""
+    path = _write(tmp_path, {"candidates": PROFILES})
+    params = tmp_path / "params.yaml"
+    params.write_text("plan:\n  confirm_top_k: 0\nsweep:\n  n_casess: 3\n")
+    assert main(["plan", "rank", str(path), "--params", str(params), "--out",
+                 str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: sweep.n_casess: unknown key") and err.count("\n") == 1
+    assert main(["plan", "rank", str(path), "--params", str(tmp_path / "none.yaml")]) == 2
+    assert "none.yaml: file not found" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_out_folder_with_foreign_files_refused_before_loading(tmp_path, capsys):
+    path = _write(tmp_path, {"candidates": PROFILES})
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "ranking.csv").write_text("my own ranking\n")
+    # the surrogate folder does not exist either: the output is checked first
+    assert main(["plan", "rank", str(path), "--surrogate", str(tmp_path / "nope"),
+                 "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and "did not write" in err
+    assert (out / "ranking.csv").read_text() == "my own ranking\n"
+    assert [p.name for p in out.iterdir()] == ["ranking.csv"]
+
+
+def test_params_without_plan_section_is_noted(tmp_path, capsys):
+    """A --params file without a `plan` section: its defaults apply wholesale, and the
+    command says so on stderr (here before failing on the missing surrogate)."""
+    path = _write(tmp_path, {"candidates": PROFILES})
+    params = tmp_path / "params.yaml"
+    params.write_text("fatigue: {}\n")
+    assert main(["plan", "rank", str(path), "--params", str(params), "--surrogate",
+                 str(tmp_path / "nope"), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err[0] == f"note: {params} has no 'plan' section; using its defaults"
+    assert err[1].startswith("error: --surrogate:")

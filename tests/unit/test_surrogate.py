@@ -365,3 +365,84 @@ def test_governing_metrics_by_hand() -> None:
     assert none["n"] == 0 and np.isnan(none["rmse"])
     with pytest.raises(ValueError, match="relevant_life_h"):
         governing_metrics(pred, relevant_life_h=0.0)
+
+
+# --- the model folder: ownership marker, no data loss, damaged files named -------
+TINY = SurrogateConfig(hidden_layers=(8,), max_epochs=3, patience=3, batch_size=128,
+                       n_threads=1)
+
+
+@pytest.fixture(scope="module")
+def tiny() -> Surrogate:
+    return fit_surrogate(make_synthetic_dataset(20, seed=2), TINY)
+
+
+def test_save_refuses_a_folder_with_foreign_files(tiny: Surrogate, tmp_path) -> None:
+    """Saving into a user's folder neither moves it aside nor deletes it: refused."""
+    d = tmp_path / "models"
+    d.mkdir()
+    (d / "notes.txt").write_text("mine")
+    with pytest.raises(InputError, match="holds files drillfatigue did not write"):
+        tiny.save(d, export=False)
+    assert sorted(p.name for p in d.iterdir()) == ["notes.txt"]
+    assert (d / "notes.txt").read_text() == "mine"
+
+
+def test_resave_keeps_user_files_and_drops_stale_exports(tiny: Surrogate, tmp_path) -> None:
+    d = tmp_path / "m"
+    tiny.save(d, export=True)
+    assert {"model.ts", "model.onnx", ".drillfatigue.json"} <= {p.name for p in d.iterdir()}
+    (d / "README.txt").write_text("trained for the field trial")
+    tiny.save(d, export=False)
+    names = {p.name for p in d.iterdir()}
+    assert names == {".drillfatigue.json", "metadata.json", "ensemble.pt", "ood_reference.npy",
+                     "README.txt"}
+    assert (d / "README.txt").read_text() == "trained for the field trial"
+    Surrogate.load(d)
+    with pytest.raises(InputError, match="run folder, not a model|not a model output"):
+        (tmp_path / "r").mkdir()
+        (tmp_path / "r" / ".drillfatigue.json").write_text('{"kind": "run", "files": []}')
+        tiny.save(tmp_path / "r", export=False)
+
+
+@pytest.mark.parametrize("damage, field, word", [
+    ("missing_weights", "ensemble.pt", "missing"),
+    ("truncated_weights", "ensemble.pt", "does not match metadata.json"),
+    ("truncated_reference", "ood_reference.npy", "does not match metadata.json"),
+    ("malformed_metadata", "metadata.json", "malformed"),
+    ("metadata_not_object", "metadata.json", "malformed"),
+    ("old_folder_truncated_weights", "ensemble.pt", "truncated or malformed"),
+    ("old_folder_missing_reference", "ood_reference.npy", "missing"),
+])
+def test_damaged_model_folder_is_one_line(tiny: Surrogate, tmp_path, capsys, damage, field,
+                                          word) -> None:
+    """Missing, truncated or malformed files of a model folder: one line naming the file,
+    exit 2 through the CLI (no json/torch/numpy traceback)."""
+    import json
+
+    from drillfatigue.cli import main
+
+    d = tmp_path / "m"
+    tiny.save(d, export=False)
+    if damage.startswith("old_folder"):  # a folder from before the checksums
+        meta = json.loads((d / "metadata.json").read_text())
+        del meta["files_sha256"]
+        (d / "metadata.json").write_text(json.dumps(meta))
+    if damage in ("missing_weights",):
+        (d / "ensemble.pt").unlink()
+    elif damage == "old_folder_missing_reference":
+        (d / "ood_reference.npy").unlink()
+    elif damage.endswith("truncated_weights"):
+        (d / "ensemble.pt").write_bytes((d / "ensemble.pt").read_bytes()[:100])
+    elif damage == "truncated_reference":
+        (d / "ood_reference.npy").write_bytes((d / "ood_reference.npy").read_bytes()[:50])
+    elif damage == "malformed_metadata":
+        (d / "metadata.json").write_text('{"format_version": 1, "architecture": ')
+    elif damage == "metadata_not_object":
+        (d / "metadata.json").write_text("[1, 2]")
+    with pytest.raises(InputError) as e:
+        Surrogate.load(d)
+    assert e.value.field == str(d / field) and word in e.value.problem
+    assert main(["query", "--model", str(d), "--rpm", "100"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {d / field}: ")

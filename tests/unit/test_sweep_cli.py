@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pandas as pd
+import pytest
 import yaml
 
 from drillfatigue.cli import main
@@ -49,3 +50,22 @@ def test_dataset_export_histories(tmp_path):
     assert main(["dataset", "export", "--histories", "--params", str(path), "--out", str(out)]) == 0
     loads = pd.read_parquet(out / "loads")
     assert sorted(loads["case_id"].astype(str).unique()) == ["c0", "c1", "c2"]
+
+
+@pytest.mark.parametrize("argv", [["sweep", "design"], ["sweep", "run"], ["dataset", "build"],
+                                  ["dataset", "export", "--histories"]])
+def test_params_without_sweep_section_is_an_error(tmp_path, capsys, argv):
+    """A params file with no `sweep` section would design one case of defaults: the
+    commands that need the section say so (one line, exit 2, nothing written)."""
+    path = tmp_path / "params.yaml"
+    path.write_text("operation:\n  rpm: 100\n")
+    assert main([*argv, "--params", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {path}: has no 'sweep' section") and err.count("\n") == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["params.yaml"]
+
+
+def test_params_with_an_empty_sweep_section_is_accepted(tmp_path, capsys):
+    path = tmp_path / "params.yaml"
+    path.write_text(f"sweep:\n  n_cases: 2\n  cases_path: {tmp_path / 'c.parquet'}\n")
+    assert main(["sweep", "design", "--params", str(path)]) == 0

@@ -132,3 +132,58 @@ def test_export_histories_partitioned_by_case(sweep, tmp_path):
     assert sorted(p.name for p in (out / "loads").iterdir()) == ["case_id=c1"]
     with pytest.raises(InputError):
         export_histories(tmp_path / "nothing", tmp_path / "h2")
+
+
+def test_export_histories_keeps_a_users_files(sweep, tmp_path, capsys):
+    """`dataset export --histories --out DIR`: an existing DIR with a user's file is
+    refused (exit 2, one line) and left as it was; in a folder of an earlier export the
+    user's file beside the export survives a rerun."""
+    from drillfatigue.cli import main
+
+    root, _, _ = sweep
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("field notes")
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(mine)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1
+    assert [p.name for p in mine.iterdir()] == ["notes.txt"]
+    out = tmp_path / "hist"
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(out)]) == 0
+    (out / "notes.txt").write_text("kept")
+    (out / "loads" / "case_id=c0" / "extra.txt").write_text("kept too")
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(out)]) == 0
+    assert (out / "notes.txt").read_text() == "kept"
+    assert (out / "loads" / "case_id=c0" / "extra.txt").read_text() == "kept too"
+    assert len(pd.read_parquet(out / "loads" / "case_id=c1")) > 0
+    # a file where the folder should be
+    (tmp_path / "afile").write_text("x")
+    assert main(["dataset", "export", "--histories", "--sweep-dir", str(root / "sweep"),
+                 "--out", str(tmp_path / "afile")]) == 2
+    assert "is a file" in capsys.readouterr().err
+
+
+def test_dataset_folder_with_foreign_files_is_refused(sweep, tmp_path):
+    root, cases, _ = sweep
+    mine = tmp_path / "ds"
+    mine.mkdir()
+    (mine / "README.md").write_text("my dataset notes")
+    with pytest.raises(InputError, match=r"sweep\.dataset_dir: .* did not write"):
+        write_dataset(cases, root / "sweep", root / "fatigue", mine, design=DESIGN)
+    assert [p.name for p in mine.iterdir()] == ["README.md"]
+    assert (mine / "README.md").read_text() == "my dataset notes"
+
+
+def test_committed_dataset_marker_lists_the_stage_outputs():
+    """data/dataset is git-tracked beside DVC outputs; its committed marker makes the
+    dataset stage accept it on `dvc repro` (DVC's .gitignore there is left alone)."""
+    from pathlib import Path
+
+    from drillfatigue.sweep.dataset import DATASET_FILES, DATASET_KIND
+
+    folder = Path(__file__).resolve().parents[2] / "data" / "dataset"
+    marker = json.loads((folder / ".drillfatigue.json").read_text())
+    assert marker == {"kind": DATASET_KIND, "files": sorted(DATASET_FILES)}

@@ -166,3 +166,48 @@ def test_code_change_invalidates_done_markers(tmp_path, monkeypatch):
     assert len(marker["code_sha256"]) == 64
     monkeypatch.setattr(runner, "code_sha256", lambda: "0" * 64)  # the code changed
     assert not runner.is_done(case, tmp_path)
+
+
+def test_failures_history_is_kept_and_printed(tmp_path, capsys):
+    """A case that failed in run 1 and succeeds in run 2: the run-1 record stays in
+    failures.parquet (with its run number and time), and each run says on stderr what
+    failed."""
+    from drillfatigue.sweep.runner import latest_failures, read_failures
+
+    flaky = Case("flaky", {"synthetic": {"fail_times": 1, "counter_dir": str(tmp_path / "n")}})
+    cases = [*make_cases(2), flaky]
+    out = tmp_path / "out"
+    r1 = run_sweep(cases, synthetic_case, out, scheduler="serial", max_retries=0,
+                   failure_threshold=1.0)
+    assert (r1.run, r1.n_failed) == (1, 1)
+    err = capsys.readouterr().err
+    assert "sweep run 1: 1 case(s) failed at least once, 1 still failed" in err
+    assert "flaky: failed after 1 attempt(s); SimulationError: synthetic divergence" in err
+    r2 = run_sweep(cases, synthetic_case, out, scheduler="serial", max_retries=0,
+                   failure_threshold=1.0)
+    assert (r2.run, r2.n_done, r2.n_failed) == (2, 1, 0)
+    assert capsys.readouterr().err == ""
+    hist = read_failures(out / FAILURES_NAME)
+    assert hist["case_id"].tolist() == ["flaky"] and hist["run"].tolist() == [1]
+    assert bool(hist["final"].iloc[0]) is True
+    assert time.strptime(hist["time_utc"].iloc[0], "%Y-%m-%dT%H:%M:%SZ")
+    assert latest_failures(out).empty  # the latest run has no failure left
+    assert json.loads((out / "sweep.json").read_text())["run"] == 2
+
+
+def test_sweep_refuses_a_folder_with_foreign_files(tmp_path):
+    (tmp_path / "thesis.docx").write_bytes(b"x")
+    with pytest.raises(InputError, match="holds files drillfatigue did not write"):
+        run_sweep(make_cases(1), synthetic_case, tmp_path, scheduler="serial")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["thesis.docx"]
+
+
+def test_unmarked_sweep_folder_is_adopted(tmp_path):
+    """A sweep folder written before the ownership marker (it has sweep.json) resumes."""
+    from drillfatigue.files import MARKER
+
+    cases = make_cases(2)
+    run_sweep(cases, synthetic_case, tmp_path, scheduler="serial")
+    (tmp_path / MARKER).unlink()
+    again = run_sweep(cases, synthetic_case, tmp_path, scheduler="serial")
+    assert again.n_skipped == 2 and (tmp_path / MARKER).is_file()

@@ -259,3 +259,49 @@ def test_survey_geometry_features_reach_the_model() -> None:
     np.testing.assert_allclose(res["damage"], p["damage_rate_per_h"] * 1.0, rtol=1e-5)
     with pytest.raises(InputError, match="inc_deg"):
         replay_log(log, comps, geo_model, consts, survey.drop(columns="inc_deg"))
+
+
+def test_log_beyond_td_or_backwards_rpm_is_an_input_error(model: Surrogate) -> None:
+    """A bit below the survey's last MD, or a string turning backwards, is no log a rig
+    writes: an input error naming the channel and its range, not 1e35 damage."""
+    survey = pd.read_csv(EXAMPLES / "survey.csv")  # last station at MD 3000 m
+    log = pd.DataFrame({"time_s": [0.0, 60.0, 120.0], "bit_md_m": [1200.0, 1201.0, 4720.0],
+                        "rpm": 120.0, "wob_kN": 80.0, "rop_m_per_h": 10.0})
+    consts = {k: v for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"}
+    with pytest.raises(InputError, match=r"bit_md_m: 4720 m at row 3 of the log is beyond "
+                                         r"the well's total depth 3000 m"):
+        replay_log(log, _components(), model, consts, survey)
+    log.loc[2, "bit_md_m"] = 1202.0
+    log.loc[1, "rpm"] = -120.0
+    with pytest.raises(InputError, match=r"rpm: -120 is outside the physical range \(row 2\) "
+                                         r"\(allowed: 0 <= rpm <= 1000\)"):
+        replay_log(log, _components(), model, consts, survey)
+    log.loc[1, "rpm"] = 120.0
+    log["bit_md_m"] = [1.0e5, 1.0e5, 1.0e5]
+    with pytest.raises(InputError, match=r"bit_md_m: 100000 is outside the physical range"):
+        replay_log(log, _components(), model, consts)
+
+
+def test_cli_replay_out_with_a_users_file(model: Surrogate, tmp_path: Path, capsys) -> None:
+    """`twin replay --out DIR` with a user's file: refused before the replay, one line,
+    exit 2, the file survives; a rerun into its own folder keeps a file added beside."""
+    model.save(tmp_path / "m", export=False)
+    sets = [a for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"
+            for a in ("--set", f"{k}={v}")]
+    argv = ["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model",
+            str(tmp_path / "m"), "--components", str(EXAMPLES / "components.csv"), "--survey",
+            str(EXAMPLES / "survey.csv"), *sets, "--out"]
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "summary.json").write_text('{"mine": true}')
+    assert main([*argv, str(mine)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --out: ") and err.count("\n") == 1
+    assert (mine / "summary.json").read_text() == '{"mine": true}'
+    assert [p.name for p in mine.iterdir()] == ["summary.json"]
+    out = tmp_path / "twin"
+    assert main([*argv, str(out)]) == 0
+    (out / "notes.txt").write_text("kept")
+    assert main([*argv, str(out)]) == 0
+    assert (out / "notes.txt").read_text() == "kept"
+    assert (out / ".drillfatigue.json").is_file()

@@ -53,3 +53,24 @@ def test_stage_bad_params_writes_nothing(tmp_path: Path, capsys) -> None:
     assert _stage().main(["--params", str(tmp_path / "params.yaml"), "--out", str(out)]) == 2
     assert capsys.readouterr().err.startswith("error: well.profile: ")
     assert not out.exists()
+
+
+def test_stage_refuses_a_profile_folder_with_foreign_files(tmp_path: Path, capsys) -> None:
+    """A user's file in the folder a profile is written to: exit 2, one line, nothing of
+    any profile written, the file untouched; a rerun keeps a file added beside its own."""
+    (tmp_path / "params.yaml").write_text(PARAMS)
+    out = tmp_path / "wells"
+    (out / "b").mkdir(parents=True)
+    (out / "b" / "survey.csv").write_text("my survey\n")
+    argv = ["--params", str(tmp_path / "params.yaml"), "--out", str(out)]
+    assert _stage().main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {out / 'b'}: ") and "did not write" in err
+    assert err.count("\n") == 1
+    assert sorted(p.name for p in out.iterdir()) == ["b"]
+    assert (out / "b" / "survey.csv").read_text() == "my survey\n"
+    (out / "b" / "survey.csv").unlink()
+    assert _stage().main(argv) == 0
+    (out / "a" / "notes.txt").write_text("mine")
+    assert _stage().main(argv) == 0
+    assert (out / "a" / "notes.txt").read_text() == "mine"

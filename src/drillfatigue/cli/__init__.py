@@ -12,10 +12,21 @@ import importlib
 import sys
 
 import click
+import typer
 
 from drillfatigue.cli.app import app
 from drillfatigue.errors import InputError
 from drillfatigue.numba_cache import scope_numba_cache
+
+# typer >= 0.16 carries its own copy of click: its usage errors, Exit and
+# Abort are not the classes of the installed ``click`` package. Both are
+# handled so that the CLI behaves the same with either.
+_CLICK_ERRORS: tuple[type[Exception], ...] = (click.ClickException, typer.TyperException)
+_EXIT: tuple[type[Exception], ...] = (click.exceptions.Exit, typer.Exit)
+_ABORT: tuple[type[Exception], ...] = (click.exceptions.Abort, typer.Abort)
+
+#: Exit code of an interrupted command (128 + SIGINT), as a shell reports it.
+EXIT_INTERRUPTED = 130
 
 # Command modules, imported for their registration side effect.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -46,17 +57,26 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2
-    except click.exceptions.Abort:
+    except _ABORT:
         print("error: interrupted", file=sys.stderr)
-        return 130
-    except click.exceptions.Exit as exc:
-        return int(exc.exit_code)
-    except click.ClickException as exc:
-        print(f"error: {exc.format_message()}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except _EXIT as exc:
+        return int(exc.exit_code)  # type: ignore[attr-defined]
+    except _CLICK_ERRORS as exc:
+        text = exc.format_message() if hasattr(exc, "format_message") else str(exc)
+        if type(exc).__name__ == "NoArgsIsHelpError":
+            # a group called without a command: its help is the answer
+            print(text)
+            return 2
+        # usage errors (unknown option, missing argument, bad value) as one line
+        print(f"error: {' '.join(str(text).split())}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("error: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    if result == EXIT_INTERRUPTED:
+        # typer turns Ctrl-C into a silent exit code 130; say what happened
+        print("error: interrupted", file=sys.stderr)
     return int(result) if isinstance(result, int) else 0
 
 

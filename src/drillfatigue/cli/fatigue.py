@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import typer
 
 from drillfatigue.cli.app import app
-from drillfatigue.config import FatigueConfig, load_params, validate
+from drillfatigue.config import FatigueConfig, load_params, note_default_section, validate
 from drillfatigue.config.base import read_yaml
 from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import CRITERIA
@@ -28,7 +29,11 @@ def _parse_joints(text: str | None) -> list[int] | None:
 
 def _config(run_dir: Path, params: Path | None) -> FatigueConfig:
     if params is not None:
-        return load_params(params).fatigue
+        cfg = load_params(params).fatigue
+        note = note_default_section(params, "fatigue")
+        if note:
+            print(note, file=sys.stderr)
+        return cfg
     case = run_dir / "case.yaml"
     if case.is_file():  # the run's resolved case: use its fatigue section only
         return validate(FatigueConfig, read_yaml(case).get("fatigue") or {}, "fatigue")
@@ -47,8 +52,10 @@ def fatigue(
                                             "(default: RUN_DIR/case.yaml, else defaults)"),
 ) -> None:
     """Rainflow, S-N and critical-plane damage per joint and location of a run."""
-    from drillfatigue.fatigue.run import evaluate_run
+    from drillfatigue.fatigue.run import FATIGUE_KIND, evaluate_run
+    from drillfatigue.files import OutputFolder
 
+    OutputFolder.check(out, FATIGUE_KIND, "--out")  # at once, not after minutes of work
     if criterion is not None and criterion not in CRITERIA:
         raise InputError("--criterion", f"unknown criterion {criterion!r}", ", ".join(CRITERIA))
     sel = _parse_joints(joints)

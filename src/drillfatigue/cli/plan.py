@@ -12,6 +12,7 @@ nothing is written.
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import typer
@@ -32,18 +33,28 @@ def rank(
     confirm: int = typer.Option(None, "--confirm",
                                 help="simulate the top K (default: plan.confirm_top_k)"),
     out: Path = typer.Option(None, "--out", help="output folder (default: plan.out_dir)"),
-    params: Path = typer.Option(Path("params.yaml"), "--params",
-                                help="read the plan section from here when the file exists"),
+    params: Path | None = typer.Option(None, "--params",
+                                       help="params file whose plan section to use (the whole "
+                                            "file is validated); default: params.yaml when it "
+                                            "exists, else the defaults"),
 ) -> None:
     """Rank candidate well plans by the predicted life of the critical component."""
+    from drillfatigue.config import load_params, note_default_section
     from drillfatigue.config.studies import PlanConfig
-    from drillfatigue.studies.plan import load_candidates, rank_plans
-    from drillfatigue.studies.stages import load_section
+    from drillfatigue.files import OutputFolder
+    from drillfatigue.studies.plan import PLAN_KIND, load_candidates, rank_plans
 
-    cfg = load_section(params, "plan") if params.is_file() else PlanConfig()
+    if params is None and Path("params.yaml").is_file():
+        params = Path("params.yaml")
+    # the whole file is validated: a typo in another section is not silently ignored
+    cfg = load_params(params).plan if params is not None else PlanConfig()
+    note = note_default_section(params, "plan") if params is not None else None
+    if note:
+        print(note, file=sys.stderr)
     surrogate = surrogate if surrogate is not None else Path(cfg.surrogate_dir)
     confirm = confirm if confirm is not None else cfg.confirm_top_k
     out = out if out is not None else Path(cfg.out_dir)
+    OutputFolder.check(out, PLAN_KIND, "--out")
     if confirm < 0 or confirm > 50:
         raise InputError("--confirm", f"got {confirm}", "0 <= K <= 50")
     cset = load_candidates(candidates)

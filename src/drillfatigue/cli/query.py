@@ -90,6 +90,8 @@ def _geometry_from_well(sur, well: Path, profile: str | None):  # noqa: ANN001, 
 
 def _add_geometry(frame, vocab, cols, survey):  # noqa: ANN001, ANN202
     """``frame`` (SI columns) with the geometry columns from the survey."""
+    import numpy as np
+
     from drillfatigue.well.features import survey_features
 
     for c in cols:
@@ -97,6 +99,14 @@ def _add_geometry(frame, vocab, cols, survey):  # noqa: ANN001, ANN202
             raise InputError(vocab.names_for(c)[0], "given together with --well",
                              "either the value or --well")
     md = frame["md_m"].to_numpy(dtype=float)
+    bit = md + frame["s_from_bit_m"].to_numpy(dtype=float)
+    td_m = float(survey.md_m[-1])
+    for name, values in (("md_m", md), ("md_m + s_from_bit_m (the bit)", bit)):
+        if np.any(values > td_m):
+            i = int(np.argmax(values > td_m))
+            row = f" (row {i + 1})" if values.size > 1 else ""
+            raise InputError(name, f"{values[i]:.6g} m is beyond the well's total depth "
+                             f"{td_m:.6g} m{row}", f"<= {td_m:.6g} m, the TD of --well")
     return frame.assign(**survey_features(survey, md,
                                           md + frame["s_from_bit_m"].to_numpy(dtype=float), cols))
 
@@ -133,6 +143,10 @@ def query(ctx: typer.Context,
         raise InputError("--out", "missing", "--csv FILE --out FILE")
     if csv is not None and not csv.is_file():
         raise InputError("--csv", f"file {str(csv)!r} not found", "an existing CSV file")
+    if out is not None:
+        from drillfatigue.files import check_output_file
+
+        check_output_file(out, "--out")
     if well is None and well_profile is not None:
         raise InputError("--well-profile", "only used with --well", "--well FILE")
     sur = _load_model(model)

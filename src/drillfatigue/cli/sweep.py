@@ -14,7 +14,7 @@ from pathlib import Path
 import typer
 
 from drillfatigue.cli.app import app
-from drillfatigue.config import load_params
+from drillfatigue.config import load_params_requiring
 from drillfatigue.errors import InputError
 
 sweep_app = typer.Typer(help="Case design and parallel, resumable sweeps.", no_args_is_help=True)
@@ -38,7 +38,7 @@ def design(params: Path = ParamsOpt,
     """Sample the cases of params.yaml's sweep section into cases.parquet."""
     from drillfatigue.sweep.stages import design_stage
 
-    p = load_params(params)
+    p = load_params_requiring(params, "sweep", "sweep design")
     frame = design_stage(p, out)
     print(f"{len(frame)} cases -> {out or p.sweep.cases_path}")
 
@@ -56,7 +56,7 @@ def run(params: Path = ParamsOpt,
     from drillfatigue.sweep.stages import (dataset_stage, design_stage, fatigue_stage,
                                            simulate_stage)
 
-    p = load_params(params)
+    p = load_params_requiring(params, "sweep", "sweep run")
     if scheduler is not None:  # validate the override like the config field
         validate(SweepConfig, {"scheduler": scheduler}, "sweep")
     design_stage(p)
@@ -76,7 +76,7 @@ def build(params: Path = ParamsOpt) -> None:
     """Assemble damage.parquet, README.md and metrics.json from finished cases."""
     from drillfatigue.sweep.stages import dataset_stage
 
-    p = load_params(params)
+    p = load_params_requiring(params, "sweep", "dataset build")
     metrics = dataset_stage(p)
     print(f"{metrics['n_rows']} rows from {metrics['n_cases_in_dataset']} cases -> "
           f"{p.sweep.dataset_dir}")
@@ -100,6 +100,7 @@ def export(histories: bool = typer.Option(False, "--histories",
 
     if not histories:
         raise InputError("dataset export", "nothing selected to export", "--histories")
-    root = sweep_dir if sweep_dir is not None else Path(load_params(params).sweep.sweep_dir)
+    root = sweep_dir if sweep_dir is not None else Path(load_params_requiring(
+        params, "sweep", "dataset export without --sweep-dir").sweep.sweep_dir)
     path = export_histories(root, out)
     print(f"histories -> {path}/loads, {path}/channels (partitioned by case_id)")

@@ -20,6 +20,7 @@ from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.softstring import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
+from drillfatigue.files import check_output_file
 from drillfatigue.io.display import Display, check_system
 from drillfatigue.units import KN_N
 
@@ -27,6 +28,7 @@ _PLOT_FORMATS = ("png", "pdf", "svg")
 
 
 def _check_plot_path(path: Path) -> None:
+    check_output_file(path, "--out")
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in _PLOT_FORMATS:
         raise InputError("--out", f"unsupported file type {path.suffix or '(none)'!r} of {str(path)!r}",

@@ -33,6 +33,9 @@ from drillfatigue.errors import InputError
 from drillfatigue.io.display import check_system
 from drillfatigue.io.logs import DEFAULT_MAX_FILL_S, DEFAULT_MAX_GAP_S
 
+#: Kind of the ownership marker of a twin output folder.
+TWIN_KIND = "twin"
+
 twin_app = typer.Typer(help="Digital twin: replay operating logs through the surrogate.",
                        no_args_is_help=True)
 app.add_typer(twin_app, name="twin")
@@ -112,6 +115,7 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
                                            "summary and the plot: si or field")) -> None:
     """Accumulate fatigue damage per component over an operating log."""
     from drillfatigue.config import StringConfig, WellConfig
+    from drillfatigue.files import OutputFolder
     from drillfatigue.io.display import Display
     from drillfatigue.io.logs import load_log
     from drillfatigue.io.surveys import twin_survey_table
@@ -126,8 +130,7 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
     )
 
     display = Display(check_system(unit_system))
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", f"{str(out)!r} exists and is not a folder", "a folder path")
+    OutputFolder.check(out, TWIN_KIND, "--out")
     if (string is None) == (components is None):
         raise InputError("--string", "give exactly one of --string and --components",
                          "--string STRING.yaml or --components FILE.csv")
@@ -156,9 +159,9 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
                          "a folder written by the train stage")
     sur = Surrogate.load(model)
     res = replay_log(log_t, comp_t, sur, consts, survey_t)
-    out.mkdir(parents=True, exist_ok=True)
+    folder = OutputFolder(out, TWIN_KIND, "--out")
     c = res.components
-    write_csv(c, out / "components_damage.csv")
+    write_csv(c, folder.file("components_damage.csv"))
     worst = c.loc[c["damage"].idxmax()]
     write_json({
         "duration_h": res.duration_s / 3600.0,
@@ -170,8 +173,8 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
         "total_ood_time_s": float(c["ood_time_s"].sum()),
         "ignored_log_channels": list(res.ignored_channels),
         "log": imported.report(),
-    }, out / "summary.json")
-    plot_damage_along_string(res, str(out / "damage_along_string.png"), display)
+    }, folder.file("summary.json"))
+    plot_damage_along_string(res, str(folder.file("damage_along_string.png")), display)
     s_worst = display.value("length", float(worst["s_from_bit_m"]))
     print(f"replayed {res.duration_s / 3600.0:.3g} h for {len(c)} components; "
           f"max damage {float(worst['damage']):.3g} at {worst['serial']} "

@@ -13,6 +13,7 @@ from rich.table import Table
 from drillfatigue.cli.app import LegacyOutputOpt, app, require_out
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.errors import InputError
+from drillfatigue.files import check_output_file
 from drillfatigue.io.display import Display, check_system
 from drillfatigue.io.surveys import write_survey
 from drillfatigue.well import Survey, build_survey, key_points
@@ -40,6 +41,7 @@ def _load(case: Path, profile: str | None) -> tuple[WellConfig, str, Survey]:
 
 
 def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "--out") -> str:
+    check_output_file(path, option)
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in suffixes:
         raise InputError(option, f"unsupported file type {path.suffix or '(none)'!r} of "

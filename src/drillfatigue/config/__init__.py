@@ -27,6 +27,7 @@ from drillfatigue.config.studies import (Case1Config, Case2Config, Case3Config, 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.config.sweep import SweepConfig
 from drillfatigue.config.well import WellConfig
+from drillfatigue.errors import InputError
 
 __all__ = [
     "BitConfig",
@@ -45,6 +46,8 @@ __all__ = [
     "WellConfig",
     "load_case",
     "load_params",
+    "load_params_requiring",
+    "note_default_section",
     "validate",
 ]
 
@@ -93,6 +96,30 @@ class Params(CaseConfig):
 def load_params(path: str | Path = "params.yaml") -> Params:
     """Load and validate a ``params.yaml``."""
     return validate(Params, read_yaml(path))
+
+
+def load_params_requiring(path: str | Path, section: str, command: str) -> Params:
+    """:func:`load_params` for a command that needs ``section`` to be in the file.
+
+    A params file without that section would silently run on the section's
+    defaults (for ``sweep``: a design of cases nobody asked for); that is an
+    InputError naming the file and the section.
+    """
+    data = read_yaml(path)
+    if section not in data:
+        raise InputError(str(path), f"has no {section!r} section, which {command} needs "
+                         f"(without it every {section} setting would be a default)",
+                         f"a params file with a {section} section (see params.yaml); "
+                         f"write '{section}: {{}}' for the defaults")
+    return validate(Params, data)
+
+
+def note_default_section(path: str | Path, section: str) -> str | None:
+    """A one-line note when the params file at ``path`` lacks ``section`` (its defaults
+    apply wholesale), else None."""
+    if section in read_yaml(path):
+        return None
+    return f"note: {path} has no {section!r} section; using its defaults"
 
 
 #: Sections of params.yaml that configure the pipeline, not one simulation.

@@ -96,20 +96,37 @@ def validate(model: type[M], data: Any, prefix: str = "") -> M:
         raise input_error_from_validation(exc, prefix) from None
 
 
+def read_utf8(path: str | Path, allowed: str = "a UTF-8 encoded text file") -> str:
+    """The text of ``path``; a file that is not UTF-8 raises InputError naming the byte."""
+    p = Path(path)
+    try:
+        return p.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(str(p), f"not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
+                         f"offset {exc.start})", allowed) from None
+    except OSError as exc:
+        raise InputError(str(p), f"cannot be read ({exc.strerror or type(exc).__name__})",
+                         "a readable file") from None
+
+
 def read_yaml(path: str | Path) -> dict[str, Any]:
-    """Read a YAML mapping; a missing file or bad syntax raises InputError."""
+    """Read a YAML mapping; a missing, empty, non-UTF-8 file or bad syntax raises InputError."""
     p = Path(path)
     if not p.is_file():
         raise InputError(str(p), "file not found", "an existing YAML file")
+    text = read_utf8(p, "a UTF-8 encoded YAML file")
     try:
-        data = yaml.safe_load(p.read_text(encoding="utf-8"))
+        data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
         problem = getattr(exc, "problem", None) or "invalid YAML"
         raise InputError(str(p), f"YAML syntax error{where}: {problem}", "valid YAML") from None
     if data is None:
-        data = {}
+        # an empty file is a mistake (a wrong path, a truncated copy), not a
+        # request for the defaults: ``{}`` asks for those explicitly
+        raise InputError(str(p), "the file is empty (no YAML content)",
+                         "a YAML mapping of sections; write {} for all defaults")
     if not isinstance(data, dict):
         raise InputError(str(p), f"top level must be a mapping, got {type(data).__name__}",
                          "a YAML mapping of sections")

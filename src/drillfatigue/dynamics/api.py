@@ -67,6 +67,7 @@ from drillfatigue.dynamics.model import (
     path_from_wellbore,
 )
 from drillfatigue.errors import InputError, SimulationError
+from drillfatigue.limits import check_run_inputs
 
 LOAD_COLUMNS = ("axial_N", "shear_x_N", "shear_y_N", "bending_x_Nm", "bending_y_Nm", "torque_Nm")
 CHANNEL_COLUMNS = ("surface_torque_Nm", "hook_load_N", "wob_N", "tob_Nm", "top_rpm", "bit_rpm",
@@ -166,6 +167,7 @@ class Runner:
         self.path = path if path is not None else _wellpath(config)
         self.model, self.state = build_model(config, self.path)
         m = self.model
+        check_run_inputs(config, float(self.path.node_md_m[-1]), m.dt)
         rec = config.recording
         n_j = m.n0 - 1
         if rec.joints is None:

@@ -28,6 +28,7 @@ from drillfatigue.fatigue.critical_plane import (CRITERIA, CriterionParams, eval
 from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, rainflow_matrix
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress, get_curve, get_grade, user_curve
 from drillfatigue.fatigue.stress import LOAD_COLUMNS, SCF, Section, surface_coefficients
+from drillfatigue.files import OutputFolder
 from drillfatigue.units import HOUR_S
 
 LOADS_COLUMNS: tuple[str, ...] = ("time_s", "joint", "md_m") + LOAD_COLUMNS
@@ -38,6 +39,10 @@ DAMAGE_COLUMNS: tuple[str, ...] = (
     "damage", "damage_rate_per_h", "life_h", "life_windows", "critical_angle_deg",
     "critical_plane_deg", "uniaxial_damage")
 LOCATIONS: tuple[str, ...] = ("body", "connection")
+#: Kind of the ownership marker of a fatigue output folder.
+FATIGUE_KIND = "fatigue"
+#: Figures written with ``fatigue.plots``.
+PLOT_FILES: list[str] = ["stress_history.png", "rainflow_matrix.png", "damage_along_string.png"]
 
 
 def _atomic_write_bytes(path: Path, data: bytes) -> None:
@@ -241,7 +246,10 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     cfg : FatigueConfig
     out_dir : Path, optional
         Where to write ``damage.parquet``, ``summary.json`` and plots; nothing
-        is written when None.
+        is written when None. A ``fatigue`` output folder
+        (:class:`drillfatigue.files.OutputFolder`): a folder holding files
+        drillfatigue did not write is refused before any work, and a rerun
+        replaces only the files an earlier evaluation wrote there.
     joints : sequence of int, optional
         Joints to evaluate (default ``cfg.joints``, else all).
     criterion : str, optional
@@ -261,6 +269,8 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     if crit not in CRITERIA:
         raise InputError("criterion", f"unknown criterion {crit!r}", ", ".join(CRITERIA))
     run_dir = Path(run_dir)
+    if out_dir is not None:
+        OutputFolder.check(out_dir, FATIGUE_KIND)
     loads, jt, summary = read_run(run_dir)
     duration_s = float(summary["duration_s"])
     sel = list(joints) if joints is not None else cfg.joints
@@ -368,10 +378,12 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
                    crit_info: dict[tuple[int, str], Any], cfg: FatigueConfig, crit: str,
                    duration_s: float, run_dir: Path, curves: dict[str, SNCurve],
                    rp7g: pd.DataFrame | None = None) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    _atomic_write_parquet(df, out / "damage.parquet")
+    folder = OutputFolder(out, FATIGUE_KIND)
+    written = ["damage.parquet", "summary.json"]
+    _atomic_write_parquet(df, folder.file("damage.parquet"))
     if rp7g is not None:
-        _atomic_write_parquet(rp7g, out / "api_rp7g.parquet")
+        _atomic_write_parquet(rp7g, folder.file("api_rp7g.parquet"))
+        written.append("api_rp7g.parquet")
     g = df.loc[df["damage"].idxmax()] if len(df) and df["damage"].max() > 0 else None
     summary: dict[str, Any] = {
         "run_dir": str(run_dir), "criterion": crit, "duration_s": duration_s,
@@ -403,11 +415,16 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
                 float(rp7g["max_permissible_dls_deg_per_30m"].min()),
             "max_hole_dls_deg_per_30m": float(rp7g["hole_dls_deg_per_30m"].max()),
         }
-    _atomic_write_bytes(out / "summary.json",
+    _atomic_write_bytes(folder.file("summary.json"),
                         json.dumps(summary, indent=2, default=float).encode("utf-8"))
     if cfg.plots and g is not None:
+        for name in PLOT_FILES:
+            folder.file(name)
         _plots(out, df, per_joint, crit_info[(int(g["joint"]), str(g["location"]))],
                int(g["joint"]), cfg, rp7g, duration_s)
+        written += PLOT_FILES
+    # outputs of an earlier evaluation this one did not write (no baseline, no plots)
+    folder.remove(n for n in sorted(folder.owned) if n not in written)
 
 
 def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, joint: int,

@@ -69,6 +69,7 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.limits import check_feature_values
 from drillfatigue.io.headers import UNIT_SPELLINGS, split_header, unit_factor
 from drillfatigue.io.names import CHANNEL_FAMILIES, UNIT_FAMILIES, channel_stem
 
@@ -463,6 +464,7 @@ def log_bit_md_m(log: pd.DataFrame) -> np.ndarray:
     v = pd.to_numeric(log[name], errors="coerce").to_numpy(dtype=np.float64)
     if not np.all(np.isfinite(v)):
         raise InputError(name, "non-numeric or NaN value", "finite depths")
+    check_feature_values(name, "bit_md_m", v * fac, fac)
     return v * fac
 
 

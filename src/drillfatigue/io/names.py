@@ -30,6 +30,7 @@ import pandas as pd
 from drillfatigue import units
 from drillfatigue.errors import InputError
 from drillfatigue.io.headers import UNIT_SPELLINGS, normalise_unit, split_header
+from drillfatigue.limits import check_feature_values
 
 #: SI suffix -> {accepted suffix: factor to SI}; longest suffixes are tried first.
 UNIT_FAMILIES: dict[str, dict[str, float]] = {
@@ -132,7 +133,9 @@ class Vocabulary:
 
         Columns in ``passthrough`` are copied unchanged; any other unknown
         column raises InputError, as do two names for one column, a missing
-        required column, a non-numeric, NaN or infinite value.
+        required column, a non-numeric, NaN or infinite value and a value
+        outside its physical range (:mod:`drillfatigue.limits`; a physical
+        value outside the training data is left to the out-of-domain flag).
         """
         out: dict[str, object] = {}
         source: dict[str, str] = {}
@@ -161,7 +164,9 @@ class Vocabulary:
                 i = int(np.argmax(bad))
                 self._number(key, col.iloc[i])  # raises with the offending value
                 raise InputError(key, "NaN or infinite value", "a finite number")
-            out[term.column] = num * term.factor
+            si = num * term.factor
+            check_feature_values(key, term.column, si, term.factor)
+            out[term.column] = si
         need = self.features + self.categorical if require is None else list(require)
         missing = [self.names_for(c)[0] for c in need if c not in out]
         if missing:

@@ -59,6 +59,7 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.limits import MD_MAX_M
 from drillfatigue.io.headers import si_from_text, split_header, unit_factor
 from drillfatigue.well.survey import Survey, minimum_curvature
 
@@ -144,6 +145,9 @@ def _assemble(source: str, cells: dict[str, list[str]], unit_of: dict[str, str],
         if not 0.0 <= azi[i] <= 360.0:
             raise InputError(f"{rows[i]}:{label_of['azi']}", f"azimuth {azi[i]:g} deg out of "
                              "range", f"0 <= {label_of['azi']} <= 360 (deg)")
+        if not 0.0 <= md[i] <= MD_MAX_M:
+            raise InputError(f"{rows[i]}:{label_of['md']}", f"MD {md[i]:.6g} m out of range",
+                             f"0 <= md_m <= {MD_MAX_M:.0f} (the deepest wells are about 15 km)")
         if i and md[i] <= md[i - 1]:
             raise InputError(f"{rows[i]}:{label_of['md']}", f"MD {md[i]:g} m not greater than "
                              f"the previous {md[i - 1]:g} m", "strictly increasing measured depth")

@@ -53,7 +53,11 @@ from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.config.studies import Case2Config
 from drillfatigue.config.well import FamilySpec, ProfileSpec
 from drillfatigue.errors import InputError
+from drillfatigue.files import OutputFolder
 from drillfatigue.studies.common import save_figure, write_csv, write_json
+
+#: Kind of the ownership marker of a plan-ranking output folder.
+PLAN_KIND = "plan"
 
 #: Tolerance on the shared end point, m.
 END_POINT_TOL_M = 1.0
@@ -278,34 +282,37 @@ def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int 
                dpi: int = 110) -> pd.DataFrame:
     """Rank the candidates by surrogate life, confirm the top ``confirm`` by simulation.
 
-    Writes ``ranking.csv``, ``ranking.json`` and ``ranking.png`` in ``out_dir``;
-    returns the table (best first).
+    Writes ``ranking.csv``, ``ranking.json`` and ``ranking.png`` in ``out_dir``
+    (and the confirmation runs under ``out_dir/runs``); returns the table (best
+    first). ``out_dir`` is a ``plan`` output folder
+    (:class:`drillfatigue.files.OutputFolder`): a folder holding files
+    drillfatigue did not write is refused before any work.
     """
     out_dir = Path(out_dir)
+    folder = OutputFolder(out_dir, PLAN_KIND)
     table = predict_candidates(cset, surrogate)
     table = table.sort_values("life_windows_surrogate", ascending=False, kind="stable")
     table["rank_surrogate"] = np.arange(1, len(table) + 1)
     table = table.reset_index(drop=True)
     k = min(confirm, len(table))
     if k:
-        conf = pd.DataFrame([confirm_candidate(cset, n, out_dir / "runs")
+        conf = pd.DataFrame([confirm_candidate(cset, n, folder.file("runs"))
                              for n in table["candidate"].iloc[:k]])
         table = table.merge(conf, on="candidate", how="left")
         ranks = table["life_windows_simulator"].rank(ascending=False, method="min")
         table["rank_simulator"] = ranks.astype("Int64")
-    out_dir.mkdir(parents=True, exist_ok=True)
-    write_csv(out_dir / "ranking.csv", table)
+    write_csv(folder.file("ranking.csv"), table)
     agree = None
     if k:
         sub = table.iloc[:k]
         agree = bool(list(sub.sort_values("life_windows_simulator", ascending=False)["candidate"])
                      == list(sub["candidate"]))
-    write_json(out_dir / "ranking.json", {"best": table["candidate"].iloc[0],
+    write_json(folder.file("ranking.json"), {"best": table["candidate"].iloc[0],
                                           "order_surrogate": list(table["candidate"]),
                                           "confirmed": k, "simulator_agrees": agree,
                                           "window_s": cset.window.window_s,
                                           "rows": table.to_dict(orient="records")})
-    _plot(table, out_dir / "ranking.png", dpi)
+    _plot(table, folder.file("ranking.png"), dpi)
     return table
 
 

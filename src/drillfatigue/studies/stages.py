@@ -23,6 +23,7 @@ from drillfatigue.config.studies import (
     ReportConfig,
 )
 from drillfatigue.errors import InputError
+from drillfatigue.files import OutputFolder
 from drillfatigue.studies.common import write_json
 
 SECTIONS: dict[str, type] = {"case1": Case1Config, "case2": Case2Config, "case3": Case3Config,
@@ -53,11 +54,19 @@ def shared_sections(params_path: str | Path) -> tuple[dict[str, Any], FatigueCon
 
 def run_study(name: str, params_path: str | Path, out_dir: str | Path,
               metrics_path: str | Path | None = None, dpi: int = 110) -> dict[str, Any]:
-    """Run study ``case1``, ``case2`` or ``case3`` into ``out_dir``; return its summary."""
+    """Run study ``case1``, ``case2`` or ``case3`` into ``out_dir``; return its summary.
+
+    ``out_dir`` is an output folder of the study's kind
+    (:class:`drillfatigue.files.OutputFolder`): a folder holding files
+    drillfatigue did not write is refused before the study runs; the files
+    the study writes are recorded in its marker.
+    """
     if name not in ("case1", "case2", "case3"):
         raise InputError("study", f"unknown study {name!r}", "case1, case2, case3")
     cfg = load_section(params_path, name)
     well, fatigue = shared_sections(params_path)
+    folder = OutputFolder(out_dir, name)
+    foreign = _files_under(folder.path) - folder.owned
     t0 = time.perf_counter()
     if name == "case1":
         from drillfatigue.studies.case1 import run_case1
@@ -69,9 +78,16 @@ def run_study(name: str, params_path: str | Path, out_dir: str | Path,
         from drillfatigue.studies.case3 import run_case3
         summary = run_case3(cfg, Path(out_dir), dpi=dpi, well=well, fatigue=fatigue)
     wall = time.perf_counter() - t0
+    folder.record(_files_under(folder.path) - foreign)
     if metrics_path is not None:
         write_json(Path(metrics_path), _metrics(name, summary, wall))
     return summary
+
+
+def _files_under(root: Path) -> set[str]:
+    """Relative paths of the files under ``root`` (temporary dot-files excluded)."""
+    return {str(p.relative_to(root)) for p in root.rglob("*")
+            if p.is_file() and not p.name.startswith(".")}
 
 
 def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:

@@ -13,11 +13,10 @@ is a folder::
 
 from __future__ import annotations
 
+import hashlib
 import json
-import os
+import pickle
 import platform
-import shutil
-import tempfile
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -30,6 +29,7 @@ import torch
 from drillfatigue import __version__
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
+from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
@@ -37,6 +37,10 @@ from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
 
 FORMAT_VERSION = 1
+#: Kind of the ownership marker of a model folder (:class:`drillfatigue.files.OutputFolder`).
+MODEL_KIND = "model"
+#: Files a model folder may hold (the exports only when saved with ``export=True``).
+MODEL_FILES = ("metadata.json", "ensemble.pt", "ood_reference.npy", "model.ts", "model.onnx")
 _CHUNK_ROWS = 1024  # rows per forward pass in predict_array: the fastest measured of 512-4096
 _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 
@@ -263,60 +267,104 @@ class Surrogate:
         return prediction_frame(r, reasons, frame.index)
 
     # -- persistence --------------------------------------------------------
-    def save(self, path: str | Path, export: bool = True) -> Path:
-        """Write the model folder atomically (temp folder, then rename)."""
-        dest = Path(path)
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{dest.name}.", dir=dest.parent))
-        try:
-            torch.save(self.module.state_dict(), tmp / "ensemble.pt")
-            np.save(tmp / "ood_reference.npy", self.domain.reference_)
-            meta = dict(self.metadata)
-            meta["preprocessor"] = self.preprocessor.to_dict()
-            meta["domain"] = self.domain.to_dict()
-            meta["conformal_quantile"] = self.conformal_quantile
-            meta["versions"] = {"drillfatigue": __version__, "torch": torch.__version__,
-                                "numpy": np.__version__, "python": platform.python_version()}
-            (tmp / "metadata.json").write_text(json.dumps(meta, indent=2), encoding="utf-8")
-            if export:
-                from drillfatigue.surrogate.export import export_onnx, export_torchscript
-                export_torchscript(self, tmp / "model.ts")
-                export_onnx(self, tmp / "model.onnx")
-            old = None
-            if dest.exists():
-                old = dest.with_name(f".{dest.name}.old")
-                if old.exists():
-                    shutil.rmtree(old)
-                os.replace(dest, old)
-            os.replace(tmp, dest)
-            if old is not None:
-                shutil.rmtree(old)
-        except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
-            raise
-        return dest
+    def save(self, path: str | Path, export: bool = True, *, option: str = "--out") -> Path:
+        """Write the model folder ``path``.
+
+        The folder carries the ``model`` ownership marker
+        (:class:`drillfatigue.files.OutputFolder`): a new or empty folder, or
+        one an earlier save wrote, is accepted; any other is refused with
+        :class:`InputError` (field ``option``) before anything is written,
+        and a file of someone else's in it is never touched. Each file is
+        written under a temporary name and renamed onto its final name;
+        ``metadata.json``, which records the SHA-256 of the others, comes
+        last, so :meth:`load` recognises a folder left half-rewritten. Model
+        files of an earlier save that this one does not write (the exports
+        when ``export`` is false) are removed.
+        """
+        folder = OutputFolder(path, MODEL_KIND, option)
+        digests: dict[str, str] = {}
+
+        def put(name: str, write: Callable[[Path], Any]) -> None:
+            with atomic_output(folder.file(name)) as tmp:
+                write(tmp)
+                digests[name] = _sha256(tmp)
+
+        put("ensemble.pt", lambda t: torch.save(self.module.state_dict(), t))
+        put("ood_reference.npy", lambda t: np.save(t, self.domain.reference_))
+        if export:
+            from drillfatigue.surrogate.export import export_onnx, export_torchscript
+            put("model.ts", lambda t: export_torchscript(self, t))
+            put("model.onnx", lambda t: export_onnx(self, t))
+        meta = dict(self.metadata)
+        meta["preprocessor"] = self.preprocessor.to_dict()
+        meta["domain"] = self.domain.to_dict()
+        meta["conformal_quantile"] = self.conformal_quantile
+        meta["versions"] = {"drillfatigue": __version__, "torch": torch.__version__,
+                            "numpy": np.__version__, "python": platform.python_version()}
+        meta["files_sha256"] = digests
+        with atomic_output(folder.file("metadata.json")) as tmp:
+            tmp.write_text(json.dumps(meta, indent=2), encoding="utf-8")
+        folder.remove(n for n in MODEL_FILES if n not in digests and n != "metadata.json")
+        return folder.path
 
     @classmethod
     def load(cls, path: str | Path) -> Surrogate:
-        """Load a model folder written by :meth:`save`."""
+        """Load a model folder written by :meth:`save`.
+
+        A missing, truncated or malformed file raises :class:`InputError`
+        naming the file (never a traceback from json, torch or numpy).
+        """
         p = Path(path)
+        allowed = "a complete model folder written by the train stage"
         meta_path = p / "metadata.json"
         if not meta_path.is_file():
             raise InputError(str(p), "not a surrogate model folder (no metadata.json)",
                              "a folder written by the train stage")
-        meta = json.loads(meta_path.read_text(encoding="utf-8"))
+        try:
+            meta = json.loads(meta_path.read_text(encoding="utf-8"))
+            if not isinstance(meta, dict):
+                raise TypeError("not a JSON object")
+        except (ValueError, TypeError) as exc:  # JSON and UTF-8 errors are ValueErrors
+            raise InputError(str(meta_path), f"malformed ({type(exc).__name__}: "
+                             f"{str(exc)[:80]})", allowed) from None
         if meta.get("format_version") != FORMAT_VERSION:
             raise InputError(str(p), f"model format {meta.get('format_version')!r}",
                              f"format {FORMAT_VERSION}")
-        a = meta["architecture"]
-        module = EnsembleModule(a["n_numeric"], a["n_levels"], a["n_members"], a["hidden"],
-                                a["activation"], a["gaussian"])
-        module.load_state_dict(torch.load(p / "ensemble.pt", weights_only=True))
-        pre = Preprocessor.from_dict(meta.pop("preprocessor"))
-        domain = DomainChecker.from_dict(meta.pop("domain"), np.load(p / "ood_reference.npy"))
+        for name, digest in (meta.get("files_sha256") or {}).items():
+            f = p / str(name)
+            if not f.is_file():
+                raise InputError(str(f), "missing from the model folder", allowed)
+            if _sha256(f) != digest:
+                raise InputError(str(f), "does not match metadata.json (truncated, changed or "
+                                 "left from another save)", allowed)
+        what = str(meta_path)
+        try:
+            a = meta["architecture"]
+            module = EnsembleModule(a["n_numeric"], a["n_levels"], a["n_members"], a["hidden"],
+                                    a["activation"], a["gaussian"])
+            pre = Preprocessor.from_dict(meta.pop("preprocessor"))
+            what = str(p / "ensemble.pt")
+            module.load_state_dict(torch.load(p / "ensemble.pt", weights_only=True))
+            what = str(p / "ood_reference.npy")
+            domain = DomainChecker.from_dict(meta.pop("domain"), np.load(p / "ood_reference.npy"))
+        except FileNotFoundError:
+            raise InputError(what, "missing from the model folder", allowed) from None
+        except (KeyError, TypeError, ValueError, RuntimeError, EOFError, OSError,
+                pickle.UnpicklingError) as exc:
+            raise InputError(what, f"truncated or malformed ({type(exc).__name__})",
+                             allowed) from None
         meta.pop("conformal_quantile", None)
         meta.pop("versions", None)
+        meta.pop("files_sha256", None)
         return cls(module, pre, domain, meta)
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
 
 
 def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray) -> dict[str, np.ndarray]:

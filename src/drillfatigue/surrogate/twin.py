@@ -309,6 +309,12 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         survey_cols = check_survey(survey["md_m"], survey["dls_deg_per_30m"],
                                    survey["inc_deg"] if "inc_deg" in survey.columns else None,
                                    geo_cols)
+        td_m = float(np.max(survey_cols[0]))
+        if np.any(bit_md > td_m):
+            i = int(np.argmax(bit_md > td_m))
+            raise InputError("bit_md_m", f"{bit_md[i]:.6g} m at row {i + 1} of the log is "
+                             f"beyond the well's total depth {td_m:.6g} m",
+                             f"0 <= bit_md_m <= {td_m:.6g} (the survey's last MD)")
     sources: dict[str, str] = {}
     for col in model.features + model.categorical:
         where = [name for name, fr in (("log", log_si), ("components", comp_si),

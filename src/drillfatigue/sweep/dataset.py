@@ -24,7 +24,6 @@ import os
 import platform
 import re
 import shutil
-import uuid
 from collections.abc import Mapping, Sequence
 from importlib import metadata
 from pathlib import Path
@@ -34,8 +33,15 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.well.features import DESCRIPTIONS as POSITION_DESCRIPTIONS
 from drillfatigue.well.features import POSITION_COLUMNS
+
+#: Kind of the ownership marker of a history export folder.
+EXPORT_KIND = "export"
+#: Kind of the ownership marker of the dataset folder, and the files written there.
+DATASET_KIND = "dataset"
+DATASET_FILES = ("damage.parquet", "README.md", "metrics.json", "plots/damage_rate_hist.csv")
 
 __all__ = [
     "DYNAMICS_COLUMNS",
@@ -362,11 +368,11 @@ def _atomic_write_text(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
-def _failed_count(path: Path) -> int:
-    if not path.is_file():
-        return 0
-    frame = pd.read_parquet(path, columns=["final"])
-    return int(frame["final"].sum())
+def _failed_count(root: Path) -> int:
+    """Cases still failed at the end of the latest sweep run in ``root``."""
+    from drillfatigue.sweep.runner import latest_failures
+
+    return int(latest_failures(root)["final"].sum())
 
 
 def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str | Path,
@@ -377,15 +383,21 @@ def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
     ``design`` is the ``sweep`` section as a dict (method, seed, n_cases,
     variables, window_s). Plot data: ``plots/damage_rate_hist.csv`` (log10
     damage-rate histogram per criterion). Returns the metrics dict.
+
+    ``out_dir`` is a ``dataset`` output folder (:class:`drillfatigue.files.OutputFolder`):
+    a folder holding files drillfatigue did not write is refused before the
+    dataset is assembled; only the four files above are replaced.
     """
-    out = Path(out_dir)
-    (out / "plots").mkdir(parents=True, exist_ok=True)
+    folder = OutputFolder(out_dir, DATASET_KIND, "sweep.dataset_dir")
+    out = folder.path
+    for name in DATASET_FILES:
+        folder.file(name)
     variables = [v for v in design.get("variables", {}) if v in cases.columns]
     frame = build_dataset(cases, sweep_root, fatigue_root, variables)
     metrics = dataset_metrics(
         frame, n_designed=len(cases),
-        n_sim_failed=_failed_count(Path(sweep_root) / "failures.parquet"),
-        n_fatigue_failed=_failed_count(Path(fatigue_root) / "failures.parquet"))
+        n_sim_failed=_failed_count(Path(sweep_root)),
+        n_fatigue_failed=_failed_count(Path(fatigue_root)))
     tmp = out / f".damage.parquet.{os.getpid()}.tmp"
     frame.to_parquet(tmp, index=False)
     os.replace(tmp, out / "damage.parquet")
@@ -403,6 +415,7 @@ def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
             rows.append({"criterion": col[len("damage_rate_per_h_"):],
                          "log10_damage_rate_per_h": 0.5 * (lo + hi), "count": int(c)})
     hist = pd.DataFrame(rows, columns=["criterion", "log10_damage_rate_per_h", "count"])
+    (out / "plots").mkdir(exist_ok=True)
     _atomic_write_text(out / "plots" / "damage_rate_hist.csv", hist.to_csv(index=False))
     return metrics
 
@@ -414,14 +427,21 @@ def export_histories(sweep_root: str | Path, out: str | Path,
 
     Writes ``out/<table>/case_id=<id>/part-0.parquet`` for each table
     (``loads``: internal loads per joint; ``channels``: surface and bit
-    channels) of every completed case (a ``DONE`` marker), built in a
-    temporary folder and moved into place. Read back with
-    ``pd.read_parquet(out / "loads")`` (``case_id`` becomes a column).
+    channels) of every completed case (a ``DONE`` marker), each file under a
+    temporary name first. Read back with ``pd.read_parquet(out / "loads")``
+    (``case_id`` becomes a column).
+
+    ``out`` is an ``export`` output folder (:class:`drillfatigue.files.OutputFolder`):
+    a new or empty folder, or one an earlier export wrote. A rerun replaces
+    the files it wrote and removes those of cases no longer exported; any
+    other file in ``out`` is kept.
 
     Raises
     ------
     InputError
-        ``sweep_root`` missing or holding no completed case.
+        ``sweep_root`` missing or holding no completed case; ``out`` a file or
+        a folder holding files drillfatigue did not write (checked before
+        anything is written).
     """
     root = Path(sweep_root)
     if not root.is_dir():
@@ -431,23 +451,22 @@ def export_histories(sweep_root: str | Path, out: str | Path,
     ids = [i for i in ids if (root / i / "DONE").is_file()]
     if not ids:
         raise InputError(str(root), "no completed case to export", "a folder with finished cases")
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.{uuid.uuid4().hex[:8]}.tmp")
-    try:
-        for table in tables:
-            for cid in ids:
-                src = root / cid / f"{table}.parquet"
-                if not src.is_file():
-                    continue
-                dest = tmp / table / f"case_id={cid}"
-                dest.mkdir(parents=True)
-                shutil.copyfile(src, dest / "part-0.parquet")
-        old = out.with_name(f".{out.name}.{uuid.uuid4().hex[:8]}.old")
-        if out.exists():
-            os.replace(out, old)
-        os.replace(tmp, out)
-        shutil.rmtree(old, ignore_errors=True)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return out
+    folder = OutputFolder(out, EXPORT_KIND)
+    written: set[str] = set()
+    for table in tables:
+        for cid in ids:
+            src = root / cid / f"{table}.parquet"
+            if not src.is_file():
+                continue
+            name = f"{table}/case_id={cid}/part-0.parquet"
+            with atomic_output(folder.file(name)) as tmp:
+                shutil.copyfile(src, tmp)
+            written.add(name)
+    stale = sorted(n for n in folder.owned if n not in written)
+    folder.remove(stale)
+    for name in stale:  # drop partition folders left empty (only ever this export's)
+        d = (folder.path / name).parent
+        while d != folder.path and d.is_dir() and not any(d.iterdir()):
+            d.rmdir()
+            d = d.parent
+    return folder.path

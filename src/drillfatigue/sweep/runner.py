@@ -31,10 +31,19 @@ SHA-256 of the case inputs and of the package source is written and the folder i
 sweep rerun finishes only what is missing; leftovers in ``.tmp`` are removed
 at start. Ctrl-C cancels queued cases and leaves finished ones in place.
 
+The sweep folder carries the ``sweep`` ownership marker
+(:class:`drillfatigue.files.OutputFolder`): a folder holding anything else is
+refused before any case runs. A sweep folder written without a marker (it
+holds ``sweep.json``) is adopted.
+
 Failures: an exception in the case function (or a worker process dying) is
 one failed attempt; a case is retried up to ``max_retries`` times. Every case
-that failed at least once is recorded in ``out_root/failures.parquet`` (error
-type and text, traceback tail, attempts, ``final`` = still failed at the end).
+that failed at least once in a run is appended to ``out_root/failures.parquet``
+(error type and text, traceback tail, attempts, ``final`` = still failed at the
+end of that run, ``run`` = the number of the sweep run in this folder and
+``time_utc`` = when it was recorded); earlier runs' rows are kept, so a worker
+that died in a run is not forgotten when a rerun succeeds. The failures of a
+run are also printed on stderr.
 If the fraction of finally failed cases exceeds ``failure_threshold`` the
 sweep raises :class:`SweepFailedError` (the CLI exits with code 1). When a
 local worker process dies, every case in flight on that pool is charged one
@@ -66,6 +75,7 @@ from typing import Any
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.files import MARKER, OutputFolder, atomic_write_json
 from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.sweep.design import inputs_sha256
 
@@ -76,8 +86,11 @@ __all__ = [
     "SweepFailedError",
     "SweepReport",
     "cases_from_frame",
+    "claim_sweep_folder",
     "execute_case",
     "is_done",
+    "latest_failures",
+    "read_failures",
     "run_sweep",
 ]
 
@@ -87,7 +100,11 @@ FAILURES_NAME = "failures.parquet"
 REPORT_NAME = "sweep.json"
 TAIL_CHARS = 2000
 FAILURE_COLUMNS = ["case_id", "attempts", "final", "error_type", "error", "traceback_tail",
-                   "worker", "inputs_json"]
+                   "worker", "inputs_json", "run", "time_utc"]
+#: Kind of the ownership marker of a sweep folder.
+SWEEP_KIND = "sweep"
+#: Failure lines printed on stderr at the end of a run before "... and N more".
+PRINT_FAILURES = 10
 
 CaseFn = Callable[[dict[str, Any], Path], Any]
 
@@ -122,6 +139,7 @@ class SweepReport:
     scheduler: str = "processes"
     n_workers: int = 1
     out_root: str = ""
+    run: int = 1
 
     @property
     def failure_fraction(self) -> float:
@@ -301,14 +319,88 @@ def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case
             cluster.close()
 
 
-def _write_failures(path: Path, records: dict[str, dict[str, Any]]) -> None:
-    frame = pd.DataFrame([records[k] for k in sorted(records)], columns=FAILURE_COLUMNS)
-    frame = frame.astype({"case_id": "string", "attempts": "int64", "final": "bool",
-                          "error_type": "string", "error": "string", "traceback_tail": "string",
-                          "worker": "string", "inputs_json": "string"})
+_FAILURE_DTYPES = {"case_id": "string", "attempts": "int64", "final": "bool",
+                   "error_type": "string", "error": "string", "traceback_tail": "string",
+                   "worker": "string", "inputs_json": "string", "run": "int64",
+                   "time_utc": "string"}
+
+
+def read_failures(path: str | Path) -> pd.DataFrame:
+    """All failure rows of a sweep folder's ``failures.parquet`` (every run), oldest first.
+
+    Rows written before the ``run``/``time_utc`` columns existed get run 0
+    and an empty time.
+    """
+    p = Path(path)
+    if not p.is_file():
+        return pd.DataFrame({c: pd.Series(dtype=t) for c, t in _FAILURE_DTYPES.items()})
+    frame = pd.read_parquet(p)
+    if "run" not in frame.columns:
+        frame["run"] = 0
+    if "time_utc" not in frame.columns:
+        frame["time_utc"] = ""
+    return frame[FAILURE_COLUMNS].astype(_FAILURE_DTYPES)
+
+
+def latest_failures(root: str | Path) -> pd.DataFrame:
+    """The failure rows of the latest sweep run in ``root`` (per its ``sweep.json``)."""
+    r = Path(root)
+    frame = read_failures(r / FAILURES_NAME)
+    report = r / REPORT_NAME
+    if report.is_file():
+        try:
+            latest = int(json.loads(report.read_text(encoding="utf-8")).get("run", 0))
+        except (ValueError, TypeError, AttributeError):
+            latest = 0
+        if latest > 0:
+            return frame[frame["run"] == latest].reset_index(drop=True)
+    if frame.empty:
+        return frame
+    return frame[frame["run"] == frame["run"].max()].reset_index(drop=True)
+
+
+def _next_run(root: Path) -> int:
+    """Number of the sweep run about to start in ``root`` (1 for a new folder)."""
+    last = 0
+    report = root / REPORT_NAME
+    if report.is_file():
+        try:
+            last = int(json.loads(report.read_text(encoding="utf-8")).get("run", 1))
+        except (ValueError, TypeError, AttributeError):
+            last = 1
+    runs = read_failures(root / FAILURES_NAME)["run"]
+    return max(last, int(runs.max()) if len(runs) else 0) + 1
+
+
+def _write_failures(path: Path, records: dict[str, dict[str, Any]], run: int) -> None:
+    """Append this run's failure records to ``path`` (earlier runs' rows are kept)."""
+    now = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    rows = [dict(records[k], run=run, time_utc=now) for k in sorted(records)]
+    new = pd.DataFrame(rows, columns=FAILURE_COLUMNS).astype(_FAILURE_DTYPES)
+    old = read_failures(path)
+    old = old[old["run"] != run]
+    frame = pd.concat([old, new], ignore_index=True) if len(old) else new
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    frame.to_parquet(tmp, index=False)
+    frame.astype(_FAILURE_DTYPES).to_parquet(tmp, index=False)
     os.replace(tmp, path)
+
+
+def _print_failures(records: dict[str, dict[str, Any]], run: int, path: Path) -> None:
+    """One line per case that failed in this run, on stderr."""
+    if not records:
+        return
+    ids = sorted(records)
+    n_final = sum(1 for k in ids if records[k]["final"])
+    print(f"sweep run {run}: {len(ids)} case(s) failed at least once, {n_final} still failed "
+          f"(details in {path}):", file=sys.stderr)
+    for k in ids[:PRINT_FAILURES]:
+        r = records[k]
+        state = "failed" if r["final"] else "recovered on retry"
+        text = " ".join(str(r["error"]).split())[:160]
+        print(f"  {k}: {state} after {r['attempts']} attempt(s); {r['error_type']}: {text}",
+              file=sys.stderr)
+    if len(ids) > PRINT_FAILURES:
+        print(f"  ... and {len(ids) - PRINT_FAILURES} more", file=sys.stderr)
 
 
 def _write_json(path: Path, data: Any) -> None:
@@ -383,10 +475,10 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
         raise InputError("cases", f"duplicate case ids {dup}", "unique case ids")
     t0 = time.perf_counter()
     root = Path(out_root)
-    root.mkdir(parents=True, exist_ok=True)
+    claim_sweep_folder(root)
     shutil.rmtree(root / TMP_NAME, ignore_errors=True)  # leftovers of a killed run
     report = SweepReport(n_cases=len(cases), scheduler=scheduler, n_workers=n_workers,
-                         out_root=str(root))
+                         out_root=str(root), run=_next_run(root))
     todo: deque[Case] = deque(c for c in cases if not is_done(c, root))
     report.n_skipped = len(cases) - len(todo)
     failures: dict[str, dict[str, Any]] = {}
@@ -461,14 +553,33 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
     finally:
         report.failed_ids = sorted(k for k, v in failures.items() if v["final"])
         report.wall_s = time.perf_counter() - t0
-        _write_failures(root / FAILURES_NAME, failures)
+        _write_failures(root / FAILURES_NAME, failures, report.run)
         _write_json(root / REPORT_NAME, report.to_dict())
+        _print_failures(failures, report.run, root / FAILURES_NAME)
     if report.n_failed and report.failure_fraction > failure_threshold:
         raise SweepFailedError(
             f"{report.n_failed} of {report.n_cases} cases failed "
             f"({report.failure_fraction:.1%} > failure_threshold {failure_threshold:.1%}); "
             f"errors in {root / FAILURES_NAME}")
     return report
+
+
+def claim_sweep_folder(root: str | Path, option: str = "sweep folder") -> OutputFolder:
+    """Claim ``root`` as a sweep folder (marker ``sweep``); InputError if it is not one.
+
+    Accepted: a new or empty folder, one with a ``sweep`` marker, or one
+    written without a marker that holds a sweep report (``sweep.json``),
+    which is adopted. The report, failures table and per-case folders are
+    the sweep's; nothing else in the folder is touched.
+    """
+    p = Path(root)
+    if p.is_dir() and not (p / MARKER).exists() and (p / REPORT_NAME).is_file():
+        atomic_write_json(p / MARKER, {"kind": SWEEP_KIND, "files": sorted(
+            n for n in (FAILURES_NAME, REPORT_NAME) if (p / n).is_file())})
+    folder = OutputFolder(p, SWEEP_KIND, option)
+    for name in (FAILURES_NAME, REPORT_NAME):
+        folder.file(name)
+    return folder
 
 
 def run_sweep_from_frame(frame: pd.DataFrame, case_fn: CaseFn, out_root: str | Path,

@@ -15,32 +15,36 @@ from typing import Any
 import numpy as np
 
 from drillfatigue.config.well import WellConfig
+from drillfatigue.files import OutputFolder
 from drillfatigue.well.profiles import build_survey
 from drillfatigue.well.survey import Survey, atomic_output, write_survey_csv
 from drillfatigue.well.wellbore import Wellbore, build_wellbore, resample_path
 
 __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
 
+#: Kind of the ownership marker of a well-profile output folder.
+WELL_KIND = "well"
 
-def _figure(sv: Survey, title: str, display: Any = None):  # noqa: ANN202 - matplotlib Figure
-    from drillfatigue.io.display import Display
-    from drillfatigue.plotting import figure
 
-    d = display if display is not None else Display("si")
-    lu = d.unit("length")
-    fig = figure(figsize=(13, 4.5))
+def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(13, 4.5))
     ax3 = fig.add_subplot(1, 3, 1, projection="3d")
     # Draw the minimum-curvature arcs, not the chords between stations.
     _, fine, _ = resample_path(sv, 2.0, np.empty(0), math.inf)
-    n, e, tvd = (d.value("length", v) for v in fine.T)
+    n, e, tvd = fine.T
     ax3.plot(e, n, tvd, lw=1.5)
     half = 0.5 * max(np.ptp(n), np.ptp(e), np.ptp(tvd), 1.0)
     for setter, v in ((ax3.set_xlim, e), (ax3.set_ylim, n), (ax3.set_zlim, tvd)):
         mid = 0.5 * (v.min() + v.max())
         setter(mid - half, mid + half)
-    ax3.set_xlabel(f"east, {lu}")
-    ax3.set_ylabel(f"north, {lu}")
-    ax3.set_zlabel(f"TVD, {lu}")
+    ax3.set_xlabel("east, m")
+    ax3.set_ylabel("north, m")
+    ax3.set_zlabel("TVD, m")
     ax3.invert_zaxis()
     ax3.set_title("3D view")
     end = sv.pos_m[-1]
@@ -50,14 +54,14 @@ def _figure(sv: Survey, title: str, display: Any = None):  # noqa: ANN202 - matp
     ax.plot(vs, tvd, lw=1.5)
     ax.invert_yaxis()
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(f"vertical section at {math.degrees(az) % 360:.1f} deg, {lu}")
-    ax.set_ylabel(f"TVD, {lu}")
+    ax.set_xlabel(f"vertical section at {math.degrees(az) % 360:.1f} deg, m")
+    ax.set_ylabel("TVD, m")
     ax.set_title("vertical section")
     ax.grid(alpha=0.3)
     ax = fig.add_subplot(1, 3, 3)
-    ax.step(d.value("length", sv.md_m), d.value("dogleg", sv.dls_deg_per_30m), where="pre")
-    ax.set_xlabel(f"MD, {lu}")
-    ax.set_ylabel(f"DLS, {d.unit('dogleg')}")
+    ax.step(sv.md_m, sv.dls_deg_per_30m, where="pre")
+    ax.set_xlabel("MD, m")
+    ax.set_ylabel("DLS, deg/30 m")
     ax.set_title("dogleg severity")
     ax.grid(alpha=0.3)
     fig.suptitle(title)
@@ -65,16 +69,18 @@ def _figure(sv: Survey, title: str, display: Any = None):  # noqa: ANN202 - matp
     return fig
 
 
-def plot_survey(sv: Survey, path: str | Path, title: str, display: Any = None) -> None:
-    """Draw 3D view, vertical section and DLS vs MD; write ``path`` atomically.
+def plot_survey(sv: Survey, path: str | Path, title: str) -> None:
+    """Draw 3D view, vertical section and DLS vs MD; write ``path`` atomically."""
+    import matplotlib.pyplot as plt
 
-    ``display``: a :class:`drillfatigue.io.display.Display` (default SI).
-    """
     path = Path(path)
     suffix = path.suffix.lower().lstrip(".")
-    fig = _figure(sv, title, display)
-    with atomic_output(path) as tmp:
-        fig.savefig(tmp, format=suffix, dpi=110)
+    fig = _figure(sv, title)
+    try:
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format=suffix, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def cylinder_table(wb: Wellbore) -> dict[str, np.ndarray]:
@@ -94,8 +100,11 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
                        plot: bool = True) -> dict[str, dict[str, Any]]:
     """Build every profile of ``cfg`` and write its survey, cylinders and plot.
 
-    Everything is computed first (so bad input writes nothing), then each file
-    is written atomically.
+    Everything is computed and every profile folder ``out_dir/<name>`` is
+    checked first (so bad input writes nothing), then each file is written
+    atomically. Each profile folder is a ``well`` output folder
+    (:class:`drillfatigue.files.OutputFolder`): one holding files drillfatigue
+    did not write is refused, and only the profile's own files are replaced.
 
     Returns
     -------
@@ -112,15 +121,16 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
     for name, spec in cfg.profiles.items():
         sv = build_survey(cfg, name)
         built[name] = (spec.kind, sv, build_wellbore(cfg, name, survey=sv))
+    for name in built:
+        OutputFolder.check(out / name, WELL_KIND, f"{out / name}")
     summary: dict[str, dict[str, Any]] = {}
     for name, (kind, sv, wb) in built.items():
-        folder = out / name
-        folder.mkdir(parents=True, exist_ok=True)
-        write_survey_csv(sv, folder / "survey.csv")
-        with atomic_output(folder / "cylinders.parquet") as tmp:
+        folder = OutputFolder(out / name, WELL_KIND, f"{out / name}")
+        write_survey_csv(sv, folder.file("survey.csv"))
+        with atomic_output(folder.file("cylinders.parquet")) as tmp:
             pq.write_table(pa.table(cylinder_table(wb)), tmp)
         if plot:
-            plot_survey(sv, folder / "profile.png", f"well profile {name} ({kind})")
+            plot_survey(sv, folder.file("profile.png"), f"well profile {name} ({kind})")
         end = sv.pos_m[-1]
         summary[name] = {
             "kind": kind,

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from drillfatigue.errors import InputError
+from drillfatigue.limits import MD_MAX_M
 from drillfatigue.units import FT_M
 
 __all__ = [
@@ -200,15 +201,20 @@ def read_survey_csv(path: str | Path) -> Survey:
     Raises
     ------
     InputError
-        Missing file or column, unparsable or NaN cell, MD not strictly
-        increasing, inclination outside [0, 180] or azimuth outside [0, 360);
+        Missing or non-UTF-8 file, missing column, unparsable or NaN cell, MD
+        outside [0, 20 000] m or not strictly increasing, inclination outside
+        [0, 180] or azimuth outside [0, 360);
         the field names ``file:row`` (row 1 is the header) and the column.
     """
     p = Path(path)
     if not p.is_file():
         raise InputError(str(p), "survey file not found", "an existing CSV file")
-    with p.open(newline="", encoding="utf-8") as fh:
-        rows = list(csv.reader(fh))
+    try:
+        with p.open(newline="", encoding="utf-8") as fh:
+            rows = list(csv.reader(fh))
+    except UnicodeDecodeError as exc:
+        raise InputError(str(p), f"not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
+                         f"offset {exc.start})", "a UTF-8 encoded CSV file") from None
     if not rows:
         raise InputError(f"{p}:1", "empty survey file", "header md_m,inc_deg,azi_deg")
     header = [h.strip() for h in rows[0]]
@@ -239,6 +245,9 @@ def read_survey_csv(path: str | Path) -> Survey:
                 raise InputError(f"{p}:{r}:{col}", f"{cell!r} is not finite", "a finite number")
             vals.append(v)
         md, inc, azi = vals
+        if not 0.0 <= md <= MD_MAX_M:
+            raise InputError(f"{p}:{r}:md_m", f"MD {md:.6g} m out of range",
+                             f"0 <= md_m <= {MD_MAX_M:.0f} (the deepest wells are about 15 km)")
         if not 0.0 <= inc <= 180.0:
             raise InputError(f"{p}:{r}:inc_deg", f"inclination {inc} out of range",
                              "0 <= inc_deg <= 180")

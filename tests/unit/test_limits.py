@@ -1,0 +1,86 @@
+"""Physical input bounds (:mod:`drillfatigue.limits`): what no rig or well can have is an
+input error naming the field and the allowed range, before any work is done."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from drillfatigue.cli import main
+from drillfatigue.config import case_from_dict, load_case
+from drillfatigue.dynamics.api import simulate
+from drillfatigue.dynamics.model import straight_path
+from drillfatigue.errors import InputError
+from drillfatigue.limits import (FEATURE_BOUNDS, MD_MAX_M, RPM_MAX, check_feature_values,
+                                 check_recording_rates)
+
+CASES = Path(__file__).resolve().parents[2] / "data" / "cases"
+STRING = {"components": [
+    {"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 20.0, "n_segments": 2},
+    {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 40.0, "n_segments": 4}]}
+
+
+def test_bounds_match_the_documented_values() -> None:
+    assert RPM_MAX == 1000.0 and MD_MAX_M == 20000.0
+    assert (FEATURE_BOUNDS["rpm"].lo, FEATURE_BOUNDS["rpm"].hi) == (0.0, 1000.0)
+    assert FEATURE_BOUNDS["mud_density_kg_per_m3"].lo == 0.0
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "trust.md").read_text()
+    for name in FEATURE_BOUNDS:
+        assert f"`{name}`" in docs, name
+
+
+def test_bound_message_in_user_units() -> None:
+    with pytest.raises(InputError) as e:
+        check_feature_values("wob_klbf", "operation.wob_N", np.array([10e3, 2e6]), 4448.2216152605)
+    assert e.value.field == "wob_klbf"
+    assert "(row 2)" in e.value.problem
+    assert e.value.allowed == "0 <= wob_klbf <= 224.809"
+    check_feature_values("rpm", "operation.rpm", [0.0, 1000.0])  # both ends allowed
+    check_feature_values("x", "some.unbounded_column", [-1e300])  # no bound, no error
+
+
+def test_simulate_bit_below_td_is_an_input_error() -> None:
+    cfg = case_from_dict({"string": STRING, "operation": {"bit_md_m": 150.0}})
+    with pytest.raises(InputError, match=r"operation\.bit_md_m: 150 m is beyond the well's "
+                                         r"total depth 100 m"):
+        simulate(cfg, None, progress=False, path=straight_path(100.0))
+
+
+def test_recording_rate_above_the_integrator_rate_is_an_input_error() -> None:
+    cfg = case_from_dict({"string": STRING, "operation": {"bit_md_m": 60.0},
+                          "recording": {"channels_rate_hz": 50000.0}})
+    with pytest.raises(InputError) as e:
+        simulate(cfg, None, progress=False, path=straight_path(100.0))
+    assert e.value.field == "recording.channels_rate_hz"
+    assert e.value.allowed.startswith("<= ") and "integrator rate" in e.value.allowed
+    top = float(e.value.allowed.split()[1])
+    assert 100.0 < top < 50000.0
+    # the named rate is accepted, a rate just above it is not
+    check_recording_rates(cfg.recording.model_copy(update={"channels_rate_hz": top}),
+                          1.0 / (top + 1e-3))
+    with pytest.raises(InputError):
+        check_recording_rates(cfg.recording.model_copy(update={"loads_rate_hz": 1001.0}), 1e-3)
+
+
+def test_cli_simulate_bit_below_td_writes_nothing(tmp_path, monkeypatch, capsys) -> None:
+    text = (CASES / "vertical_quick.yaml").read_text().replace("bit_md_m: 300.0",
+                                                              "bit_md_m: 500.0")
+    (tmp_path / "case.yaml").write_text(text)
+    monkeypatch.chdir(tmp_path)
+    assert main(["simulate", "case.yaml", "--out", "run", "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err == ("error: operation.bit_md_m: 500 m is beyond the well's total depth 400 m "
+                   "(allowed: 0 < bit_md_m <= 400 (the TD of the well profile))\n")
+    assert sorted(os.listdir(tmp_path)) == ["case.yaml"]
+
+
+def test_reference_cases_are_within_bounds() -> None:
+    """Every shipped case starts its bit inside its well (the check rejects none of them)."""
+    from drillfatigue.dynamics.api import _wellpath
+
+    for f in sorted(CASES.glob("*.yaml")):
+        cfg = load_case(f)
+        assert cfg.operation.bit_md_m <= _wellpath(cfg).node_md_m[-1], f.name
