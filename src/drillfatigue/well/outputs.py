@@ -26,25 +26,25 @@ __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
 WELL_KIND = "well"
 
 
-def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
-    import matplotlib
+def _figure(sv: Survey, title: str, display: Any = None):  # noqa: ANN202 - matplotlib Figure
+    from drillfatigue.io.display import Display
+    from drillfatigue.plotting import figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig = plt.figure(figsize=(13, 4.5))
+    d = display if display is not None else Display("si")
+    lu = d.unit("length")
+    fig = figure(figsize=(13, 4.5))
     ax3 = fig.add_subplot(1, 3, 1, projection="3d")
     # Draw the minimum-curvature arcs, not the chords between stations.
     _, fine, _ = resample_path(sv, 2.0, np.empty(0), math.inf)
-    n, e, tvd = fine.T
+    n, e, tvd = (d.value("length", v) for v in fine.T)
     ax3.plot(e, n, tvd, lw=1.5)
     half = 0.5 * max(np.ptp(n), np.ptp(e), np.ptp(tvd), 1.0)
     for setter, v in ((ax3.set_xlim, e), (ax3.set_ylim, n), (ax3.set_zlim, tvd)):
         mid = 0.5 * (v.min() + v.max())
         setter(mid - half, mid + half)
-    ax3.set_xlabel("east, m")
-    ax3.set_ylabel("north, m")
-    ax3.set_zlabel("TVD, m")
+    ax3.set_xlabel(f"east, {lu}")
+    ax3.set_ylabel(f"north, {lu}")
+    ax3.set_zlabel(f"TVD, {lu}")
     ax3.invert_zaxis()
     ax3.set_title("3D view")
     end = sv.pos_m[-1]
@@ -54,14 +54,14 @@ def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
     ax.plot(vs, tvd, lw=1.5)
     ax.invert_yaxis()
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(f"vertical section at {math.degrees(az) % 360:.1f} deg, m")
-    ax.set_ylabel("TVD, m")
+    ax.set_xlabel(f"vertical section at {math.degrees(az) % 360:.1f} deg, {lu}")
+    ax.set_ylabel(f"TVD, {lu}")
     ax.set_title("vertical section")
     ax.grid(alpha=0.3)
     ax = fig.add_subplot(1, 3, 3)
-    ax.step(sv.md_m, sv.dls_deg_per_30m, where="pre")
-    ax.set_xlabel("MD, m")
-    ax.set_ylabel("DLS, deg/30 m")
+    ax.step(d.value("length", sv.md_m), d.value("dogleg", sv.dls_deg_per_30m), where="pre")
+    ax.set_xlabel(f"MD, {lu}")
+    ax.set_ylabel(f"DLS, {d.unit('dogleg')}")
     ax.set_title("dogleg severity")
     ax.grid(alpha=0.3)
     fig.suptitle(title)
@@ -69,18 +69,16 @@ def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
     return fig
 
 
-def plot_survey(sv: Survey, path: str | Path, title: str) -> None:
-    """Draw 3D view, vertical section and DLS vs MD; write ``path`` atomically."""
-    import matplotlib.pyplot as plt
+def plot_survey(sv: Survey, path: str | Path, title: str, display: Any = None) -> None:
+    """Draw 3D view, vertical section and DLS vs MD; write ``path`` atomically.
 
+    ``display``: a :class:`drillfatigue.io.display.Display` (default SI).
+    """
     path = Path(path)
     suffix = path.suffix.lower().lstrip(".")
-    fig = _figure(sv, title)
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format=suffix, dpi=110)
-    finally:
-        plt.close(fig)
+    fig = _figure(sv, title, display)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format=suffix, dpi=110)
 
 
 def cylinder_table(wb: Wellbore) -> dict[str, np.ndarray]:
