@@ -57,15 +57,17 @@ import yaml
 
 from drillfatigue.config import CaseConfig
 from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.integrator import advance
+from drillfatigue.dynamics.bundles import new_records
+from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.model import (
     Model,
     State,
     WellPath,
     build_model,
-    evaluate_forces,
     path_from_wellbore,
+    raise_for_status,
 )
+from drillfatigue.dynamics.status import OK as ST_OK
 from drillfatigue.errors import InputError, SimulationError
 
 LOAD_COLUMNS = ("axial_N", "shear_x_N", "shear_y_N", "bending_x_Nm", "bending_y_Nm", "torque_Nm")
@@ -198,8 +200,7 @@ class Runner:
 
     # --- energy -------------------------------------------------------------------------
     def _energy_now(self) -> float:
-        from drillfatigue.dynamics.integrator import kinetic_energy
-        ch = self.model.work["ch"]
+        ch = self.model.work.ch
         return float(kinetic_energy(self.state.v, self.state.w, self.model.seg)
                      + ch[L.H_PE] + ch[L.H_PG])
 
@@ -293,7 +294,7 @@ class Runner:
                 "wstats": self.wstats.state(), "e0": self.e0,
                 "emax": self.energy_err_max, "eref": self.energy_ref, "wall": wall}
         tmp = self.out_dir / ".checkpoint.tmp.npz"
-        np.savez(tmp, meta=np.array(json.dumps(meta)), R=self.model.work["R"],
+        np.savez(tmp, meta=np.array(json.dumps(meta)), R=self.model.work.R,
                  seg=self.model.seg, jp=self.model.jp, topp=self.model.topp,
                  **self.state.arrays())
         os.replace(tmp, self.out_dir / "checkpoint.npz")
@@ -310,7 +311,7 @@ class Runner:
                                  "different configuration", "the same case file as the run")
             for k in ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint", "cst"):
                 getattr(self.state, k)[...] = z[k]
-            self.model.work["R"][...] = z["R"]
+            self.model.work.R[...] = z["R"]
             self.model.seg[...] = z["seg"]
             self.model.jp[...] = z["jp"]
             self.model.topp[...] = z["topp"]
@@ -349,14 +350,9 @@ class Runner:
             self._write_joints()
         m, s = self.model, self.state
         wk = m.work
-        p = m.path
-        n = m.n
-        counts = np.zeros(3, dtype=np.int64)
-        info = np.zeros(3)
+        params = m.params
         rows = [self.chunk // e + 2 for e in self.every]
-        buf_l = np.zeros((rows[0], 1 + 6 * self.sel.size))
-        buf_c = np.zeros((rows[1], 4 + L.N_CH))
-        buf_k = np.zeros((rows[2], 1 + 8 * n))
+        rec0 = new_records(self.sel, tuple(self.every), tuple(rows), m.n)
         status = "incomplete"
         error: SimulationError | None = None
         t_wall0 = time.perf_counter()
@@ -373,22 +369,22 @@ class Runner:
                 # no recording before start_s: large 'every' values
                 rec_on = step + k > self.start_step
                 ev = self.every if rec_on else [10 ** 15] * 3
-                counts[:] = 0
-                st = advance(k, m.dt, s.x, s.v, s.q, s.w, s.Fw, s.Mw, s.Mb, s.sc, m.seg, m.jp, m.bp,
-                             m.topp, m.anchor, m.tab_t, m.tab_w, p.node_md_m, p.node_pos_m,
-                             p.node_tan, p.wall, m.cpar, s.hint, s.cst, wk["R"], wk["wW"],
-                             wk["loads"], wk["ch"], self.sel, ev[0], buf_l, ev[1], buf_c, ev[2], buf_k, counts, info,
-                             wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
-                bl = buf_l[: counts[0]]
-                bc = buf_c[: counts[1]]
-                bk = buf_k[: counts[2]]
+                rec = rec0._replace(every_l=ev[0], every_c=ev[1], every_k=ev[2])
+                rec.counts[:] = 0
+                st = advance(k, s, params, wk, rec)
+                bl = rec.buf_l[: rec.counts[0]]
+                bc = rec.buf_c[: rec.counts[1]]
+                bk = rec.buf_k[: rec.counts[2]]
                 if rec_on and self.start_step > step:
                     t0 = self.start_step * m.dt - 0.5 * m.dt
                     bl, bc, bk = bl[bl[:, 0] >= t0], bc[bc[:, 0] >= t0], bk[bk[:, 0] >= t0]
                 self._account(bc)
                 self._write(self._tables(bl, bc, bk))
-                if st != L.ST_OK:
-                    error = _divergence_error(st, info, m)
+                if st != ST_OK:
+                    try:
+                        raise_for_status(st, rec.info, m)
+                    except SimulationError as exc:
+                        error = exc
                     status = "failed"
                     break
                 new_step = int(s.sc[L.C_STEP])

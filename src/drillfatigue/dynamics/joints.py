@@ -30,6 +30,9 @@ import math
 
 from numba import njit
 
+from drillfatigue.dynamics.layout import (
+    H_PDISS, H_PE, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, S_H,
+)
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_log, quat_mul, quat_to_rot
 
 
@@ -152,3 +155,50 @@ def joint_force(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_
                    + k_b * (th0 * th0 + th1 * th1) + k_t * th2 * th2)
     ed[1] = (c_s * (ul0 * ul0 + ul1 * ul1) + c_a * ul2 * ul2
              + c_b * (ol0 * ol0 + ol1 * ol1) + c_t * ol2 * ol2)
+
+
+@njit(cache=True)
+def joint_forces(n, growth, s, p, wk):
+    """Loads of the n - 1 joints between the active segments, added to the segments.
+
+    ``growth`` (m/s): the rate at which the top segment's lower end moves along
+    its axis by drilling or tripping (on top of its rigid motion), which the
+    damper of the joint below it sees. Reads ``s.x, s.v, s.q``, ``wk.R, wk.wW``,
+    ``p.seg, p.jp``; adds to ``s.Fw, s.Mw``; writes ``wk.loads[0:n-1]`` and adds
+    the spring energy and damper power to ``wk.ch[H_PE]``, ``wk.ch[H_PDISS]``.
+    """
+    x = s.x
+    v = s.v
+    q = s.q
+    Fw = s.Fw
+    Mw = s.Mw
+    R = wk.R
+    wW = wk.wW
+    seg = p.seg
+    jp = p.jp
+    loads = wk.loads
+    ch = wk.ch
+    jw = wk.joint
+    Fl = jw.f
+    Ml = jw.m_lo
+    Mu = jw.m_up
+    ed = jw.energy
+    vtop = jw.v_up
+    for j in range(n - 1):
+        vu = v[j + 1]
+        if j == n - 2 and growth != 0.0:
+            for k in range(3):
+                vtop[k] = v[j + 1, k] + growth * R[j + 1, k, 2]
+            vu = vtop
+        joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
+                    x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
+                    jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
+                    jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
+                    jw.qr, jw.qh, jw.qm, jw.Rm, Fl, Ml, Mu, loads[j], ed)
+        ch[H_PE] += ed[0]
+        ch[H_PDISS] += ed[1]
+        for k in range(3):
+            Fw[j, k] += Fl[k]
+            Fw[j + 1, k] -= Fl[k]
+            Mw[j, k] += Ml[k]
+            Mw[j + 1, k] += Mu[k]

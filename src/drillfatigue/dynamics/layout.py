@@ -27,8 +27,7 @@ W_RAD = 7    # hole radius (m)
 N_WALL = 8
 
 # cpar -- wall contact and friction parameters, packed by the contact/friction layer.
-# cpar[P_ON] == 0 switches wall contact off (this issue); the remaining layout
-# is owned by the contact / friction modules.
+# cpar[P_ON] == 0 switches wall contact off.
 P_ON = 0
 P_KC = 1         # penalty stiffness k_c (N/m)
 P_FMODEL = 2     # friction model id (drillfatigue.dynamics.friction)
@@ -157,8 +156,18 @@ H_FCMAX = 13    # largest segment normal force now (N)
 H_NSEG = 14     # active segments
 N_CH = 15
 
-# status codes returned by the kernels
-ST_OK = 0
-ST_NONFINITE = 1
-ST_BLOWUP = 2
-ST_FORCES = 3
+# wall contact points: at most MAX_CONTACT_POINTS per segment; the contact-cylinder
+# hint of point p of segment i is hint[MAX_CONTACT_POINTS * i + p]
+MAX_CONTACT_POINTS = 3
+
+# info[:] written by contact.wall_force for one contact point
+WI_DELTA = 0     # penetration (m), > 0 in contact
+WI_NX = 1        # 1..3: outward unit normal from the hole centre line
+WI_S = 4         # position along the located cylinder's axis (m)
+WI_DIST = 5      # distance from the hole centre line (m)
+WI_N = 6         # normal force (N)
+WI_SLIP = 7      # slip speed at the surface contact point (m/s)
+WI_VS = 8        # 8..10: slip velocity (m/s)
+WI_FO = 11       # 11..13: tangential part of the other force (N, scratch)
+WI_CYL = 14      # cylinder located (the next hint), or -1 beyond the chain's ends
+WALL_INFO_SIZE = 15

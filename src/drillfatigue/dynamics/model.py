@@ -27,12 +27,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillfatigue.config import CaseConfig
+from drillfatigue.dynamics import bitrock, friction, status
 from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.forces import compute_forces, update_top
-from drillfatigue.well.kernels import path_point
-from drillfatigue.dynamics.rigid import quat_from_rot
-from drillfatigue.errors import InputError
+from drillfatigue.dynamics.bundles import Params, State, Work, new_records, new_work
+from drillfatigue.dynamics.contact import contact_damping
+from drillfatigue.dynamics.forces import compute_forces
+from drillfatigue.dynamics.growth import update_top
+from drillfatigue.dynamics.integrator import advance, kinetic_energy
+from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
+from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
+from drillfatigue.well.kernels import path_point
 
 G = 9.80665
 RAD_S_PER_RPM = 2.0 * math.pi / 60.0
@@ -91,37 +96,6 @@ def path_from_wellbore(wb: object) -> WellPath:
 
 
 @dataclass
-class State:
-    """Integrator state (all float64): x, v (n, 3); q (n, 4); w (n, 3) body frame;
-    forces Fw, Mw, Mb (n, 3) at the current state; scalars sc (N_SC,); contact
-    cylinder hints ``hint`` (n,) int64."""
-
-    x: np.ndarray
-    v: np.ndarray
-    q: np.ndarray
-    w: np.ndarray
-    Fw: np.ndarray
-    Mw: np.ndarray
-    Mb: np.ndarray
-    sc: np.ndarray
-    hint: np.ndarray
-    cst: np.ndarray = field(default_factory=lambda: np.zeros((0, L.N_CST)))
-
-    def copy(self) -> State:
-        return State(*(a.copy() for a in (self.x, self.v, self.q, self.w, self.Fw, self.Mw,
-                                           self.Mb, self.sc, self.hint, self.cst)))
-
-    def arrays(self) -> dict[str, np.ndarray]:
-        return {"x": self.x, "v": self.v, "q": self.q, "w": self.w, "Fw": self.Fw,
-                "Mw": self.Mw, "Mb": self.Mb, "sc": self.sc, "hint": self.hint, "cst": self.cst}
-
-    @property
-    def n_active(self) -> int:
-        """Active segments now."""
-        return int(self.sc[L.C_NACT])
-
-
-@dataclass
 class Model:
     """Packed parameters of one simulation (see :mod:`layout` for the columns)."""
 
@@ -140,7 +114,7 @@ class Model:
     neutral_point_s_from_bit_m: float | None
     top_length_m: float
     cpar: np.ndarray = field(default_factory=lambda: np.zeros(L.N_CPAR))
-    work: dict[str, np.ndarray] = field(default_factory=dict)
+    work: Work | None = None
     n0: int = 0
     segment_length_m: float = 0.0
 
@@ -151,12 +125,16 @@ class Model:
 
     def new_work(self) -> None:
         """Allocate the work arrays of the kernels."""
-        n = self.n
-        self.work = {
-            "R": np.zeros((n, 3, 3)), "wW": np.zeros((n, 3)), "loads": np.zeros((n, 6)),
-            "ch": np.zeros(L.N_CH), "scq": np.zeros((5, 4)), "scm": np.zeros((2, 3, 3)),
-            "scv": np.zeros((12, 3)), "ed": np.zeros(2), "cw": np.zeros(32),
-        }
+        self.work = new_work(self.n)
+
+    @property
+    def params(self) -> Params:
+        """The kernels' view of the model (the same arrays, no copies)."""
+        p = self.path
+        return Params(dt=self.dt, seg=self.seg, jp=self.jp, bp=self.bp, topp=self.topp,
+                      anchor=self.anchor, tab_t=self.tab_t, tab_w=self.tab_w, cpar=self.cpar,
+                      node_md=p.node_md_m, node_pos=p.node_pos_m, node_tan=p.node_tan,
+                      wall=p.wall)
 
 
 def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> np.ndarray:
@@ -219,7 +197,7 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
     dt_f = math.inf
     zc = 0.0
     if cpar is not None and cpar[L.P_ON] != 0.0:
-        from drillfatigue.dynamics import friction as fr
+        fr = friction
         kc = cpar[L.P_KC]
         npts = cpar[L.P_NPTS]
         rows[:, 0] += npts * kc / m + 2.0 * kc * h / np.sqrt(m * it)
@@ -466,7 +444,6 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     tob0 = bp[L.B_TOB] * math.tanh(omega0 / OMEGA_REF_RAD_S)
     if op.bit_on_bottom and config.bit.model != "given_tob":
         # the bit law's torque at the initial WOB and speed (no start-up kick)
-        from drillfatigue.dynamics import bitrock
         bid, bpar = bitrock.pack_bit_params(config.bit, op.rop_m_per_s)
         out2 = np.zeros(2)
         bitrock.bit_response(bid, bpar, wob, omega0, out2)
@@ -504,7 +481,6 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     if not config.contact.tool_joints:
         seg[:, L.S_RC] = 0.5 * segs.od_m
     if cpar[L.P_ON] != 0.0:
-        from drillfatigue.dynamics.contact import contact_damping
         npts = cpar[L.P_NPTS]
         seg[:, L.S_CC] = [contact_damping(config.contact, float(mi) / npts) for mi in m]
     model.cpar = cpar
@@ -554,7 +530,7 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     cst[:, L.CS_ONT] = -1.0
     state = State(x=pad(np.ascontiguousarray(centres)), v=pad(v), q=qp, w=pad(w),
                   Fw=np.zeros((nmax, 3)), Mw=np.zeros((nmax, 3)), Mb=np.zeros((nmax, 3)), sc=sc,
-                  hint=np.zeros(3 * nmax, dtype=np.int64), cst=cst)
+                  hint=np.zeros(L.MAX_CONTACT_POINTS * nmax, dtype=np.int64), cst=cst)
     _init_hints(model, state)
     model.new_work()
     evaluate_forces(model, state)
@@ -617,25 +593,50 @@ def relax_state(model: Model, state: State, relax_s: float) -> None:
     evaluate_forces(model, state)
 
 
+def raise_for_status(st: int, info: np.ndarray, model: Model) -> None:
+    """Turn a kernel status code into :class:`SimulationError` (nothing for ``OK``).
+
+    ``info`` = [step, segment (-1 unknown), value] as :func:`integrator.advance`
+    writes it. The message names the time, the segment (and its distance from
+    the bit), what went wrong and the likely causes.
+    """
+    if st == status.OK:
+        return
+    t = info[0] * model.dt
+    i = int(info[1])
+    if 0 <= i < model.n:
+        h = model.seg[: i + 1, L.S_H]
+        where = f"segment {i} ({2.0 * float(h[:i].sum()) + float(h[i]):.1f} m from the bit)"
+    else:
+        where = "an unknown segment"
+    if st == status.SPEED:
+        why = (f"a speed above the divergence bound ({status.MAX_SPEED_M_PER_S:g} m/s or "
+               f"{status.MAX_SPIN_RAD_S:g} rad/s, {math.sqrt(info[2]):.3g} x the bound)")
+    elif st == status.NONFINITE:
+        why = "a non-finite state"
+    elif st == status.BLOWUP:
+        why = f"kinetic energy {info[2]:.3g} J above the blow-up limit {model.bp[L.B_ESCALE]:.3g} J"
+    elif st in (status.UNKNOWN_FRICTION, status.UNKNOWN_BIT):
+        raise SimulationError(f"the force evaluation failed at t = {t:.6g} s: "
+                              f"{status.MESSAGES[st]} (friction id {int(model.cpar[L.P_FMODEL])}, "
+                              f"bit id {int(model.cpar[L.P_BITMODEL])})")
+    else:
+        why = f"status {st}"
+    raise SimulationError(
+        f"simulation diverged at t = {t:.6g} s in {where}: {why}; likely cause: a step too large "
+        f"for the stiffest element (dt = {model.dt:.3g} s; lower solver.safety_factor or "
+        "solver.dt_s) or an unphysical input (stiffness, contact penalty, speed, torque)")
+
+
 def evaluate_forces(model: Model, state: State) -> np.ndarray:
-    """Fill ``state.Fw/Mw/Mb`` and ``model.work['loads'/'ch']`` at the current state; return ch."""
-    wk = model.work
-    p = model.path
-    st = compute_forces(model.dt, state.x, state.v, state.q, state.w, model.seg, model.jp,
-                        model.bp, model.anchor, model.tab_t, model.tab_w, p.node_md_m,
-                        p.node_pos_m, p.node_tan, p.wall, model.cpar, state.hint, state.cst,
-                        state.sc, wk["R"], wk["wW"], state.Fw, state.Mw, state.Mb, wk["loads"],
-                        wk["ch"], wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
-    if st != 0:
-        from drillfatigue.errors import SimulationError
-        raise SimulationError(f"force evaluation failed (code {st})")
-    return wk["ch"]
+    """Fill ``state.Fw/Mw/Mb`` and ``model.work.loads/ch`` at the current state; return ch."""
+    st = compute_forces(state, model.params, model.work)
+    raise_for_status(st, np.array([state.sc[L.C_STEP], -1.0, 0.0]), model)
+    return model.work.ch
 
 
 def pack_contact(config: CaseConfig) -> np.ndarray:
     """``cpar`` (shape (N_CPAR,)): wall contact, friction and bit-law parameters (see :mod:`layout`)."""
-    from drillfatigue.dynamics import bitrock, friction
-
     cpar = np.zeros(L.N_CPAR)
     c = config.contact
     cpar[L.P_ON] = 1.0 if c.enabled else 0.0
@@ -688,13 +689,12 @@ def _init_hints(model: Model, state: State) -> None:
     p0 = wall[:, L.W_P0:L.W_P0 + 3]
     n = model.n0
     R = np.zeros((3, 3))
-    from drillfatigue.dynamics.rigid import quat_to_rot
     for i in range(n):
         quat_to_rot(state.q[i], R)
         h = model.seg[i, L.S_H]
         for p, off in enumerate((h, -h, 0.0)):
             X = state.x[i] + off * R[:, 2]
-            state.hint[3 * i + p] = int(np.argmin(((p0 - X) ** 2).sum(axis=1)))
+            state.hint[L.MAX_CONTACT_POINTS * i + p] = int(np.argmin(((p0 - X) ** 2).sum(axis=1)))
 
 
 def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarray | None = None,
@@ -712,36 +712,20 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     SimulationError
         When the kernel reports a non-finite state or an energy blow-up.
     """
-    from drillfatigue.dynamics.integrator import advance
-    from drillfatigue.errors import SimulationError
-
     n = model.n
     sel = np.arange(model.n0 - 1, dtype=np.int64) if joints is None else np.asarray(joints, dtype=np.int64)
-    wk = model.work
-    p = model.path
-    counts = np.zeros(3, dtype=np.int64)
-    info = np.zeros(3)
     rows = min(chunk, n_steps) // every + 2
     out_l, out_c, out_k = [], [], []
     done = 0
+    params = model.params
     while done < n_steps:
         k = min(chunk, n_steps - done)
-        buf_l = np.zeros((rows, 1 + 6 * sel.size))
-        buf_c = np.zeros((rows, 4 + L.N_CH))
-        buf_k = np.zeros((rows, 1 + 8 * n))
-        counts[:] = 0
-        st = advance(k, model.dt, state.x, state.v, state.q, state.w, state.Fw, state.Mw, state.Mb,
-                     state.sc, model.seg, model.jp, model.bp, model.topp, model.anchor, model.tab_t,
-                     model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan, p.wall, model.cpar,
-                     state.hint, state.cst, wk["R"], wk["wW"],
-                     wk["loads"], wk["ch"], sel, every, buf_l, every, buf_c, every, buf_k, counts,
-                     info, wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
-        if st != L.ST_OK:
-            raise SimulationError(f"diverged at t = {info[0] * model.dt:.6g} s, segment "
-                                  f"{int(info[1])} (status {st})")
-        out_l.append(buf_l[: counts[0]])
-        out_c.append(buf_c[: counts[1]])
-        out_k.append(buf_k[: counts[2]])
+        rec = new_records(sel, (every, every, every), (rows, rows, rows), n)
+        st = advance(k, state, params, model.work, rec)
+        raise_for_status(st, rec.info, model)
+        out_l.append(rec.buf_l[: rec.counts[0]])
+        out_c.append(rec.buf_c[: rec.counts[1]])
+        out_k.append(rec.buf_k[: rec.counts[2]])
         done += k
     bl = np.concatenate(out_l)
     bc = np.concatenate(out_c)
@@ -753,8 +737,6 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
 
 def total_energy(model: Model, state: State) -> float:
     """Kinetic + spring + boundary + gravity potential energy (J) at the current state."""
-    from drillfatigue.dynamics.integrator import kinetic_energy
-
     saved = state.sc.copy()
     ch = evaluate_forces(model, state)
     state.sc[...] = saved
