@@ -29,6 +29,19 @@ the bend. The search is O(1): it starts from the cylinder found at the last
 call (``hint``), walks along the chain only while s lies outside [0, l], and
 then compares the located cylinder with its two neighbours.
 
+The wall loop (:func:`wall_contact`) runs over the active segments and their
+contact points (:func:`contact_point`: the ends, with the tool-joint or
+stabilizer radius, and optionally the middle), calls :func:`wall_force` (normal
+force plus the friction law of :mod:`friction`) at each, estimates Karnopp's
+"other" force first, caps the smooth laws' friction so one step cannot reverse
+a slip, and records contact statistics and whirl angles (:mod:`events`).
+Arrays: reads the state's positions and velocities, ``wk.R``/``wk.wW``,
+``p.seg`` (radii ``S_RC``/``S_RB``, dash-pot ``S_CC``), ``p.wall`` (the
+cylinders: columns ``W_*``), ``p.cpar`` (``P_*``: penalty, friction law and
+parameters, points per segment); updates the hints ``s.hint`` (one per
+contact point, ``MAX_CONTACT_POINTS`` per segment) and ``s.cst``; adds to
+``s.Fw``, ``s.Mw`` and the energy channels.
+
 Penalty stiffness and the stable step. The wall is a spring k_c (N/m) with
 dash-pot c_c (N s/m). With an explicit (symplectic Euler / central
 difference) integrator a mass m on a spring k is stable for

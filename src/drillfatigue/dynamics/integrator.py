@@ -14,8 +14,8 @@ explicit, second-order, symplectic velocity-Verlet (kick-drift-kick) scheme:
 
 The rotational part is the symplectic splitting of Dullweber, Leimkuhler &
 McLachlan (1997): the gyroscopic term w x I w is integrated exactly in the
-free-rotor drift, which removed an O(dt) energy drift of the explicit form
-(measured 1 % over 1e5 steps for a spinning string in an inclined hole).
+free-rotor drift (the explicit form of that term drifts in energy by O(dt):
+1 % over 1e5 steps for a spinning string in an inclined hole).
 
 * The coupling is nearest-neighbour and the force evaluation is O(n) with no
   linear solves, so one step costs a few microseconds for 120 segments.
@@ -49,6 +49,10 @@ Numba caching: numba tracks no dependencies across files, so an edit to the
 force, contact or friction kernels alone would not invalidate the cached
 ``advance``; ``drillfatigue/__init__.py`` therefore keys the whole cache folder
 by a digest of every kernel module's source (a fresh cache after any edit).
+
+Arrays: the bundles of :mod:`drillfatigue.dynamics.bundles` -- the state
+(updated), the parameters (the top rows change with growth), the work arrays
+and the record buffers (:func:`advance`).
 
 The loop runs a chunk of steps per call in one numba kernel; Python handles
 progress, recording buffers and checkpoints between chunks. The time is

@@ -18,6 +18,10 @@ the discrete model conservative for finite twists (Barfoot, State Estimation
 for Robotics, 2017, eq. 7.77 for J_r^-1). Half of the couple d x F goes to each
 body so that angular momentum is conserved.
 
+:func:`joint_forces` applies :func:`joint_force` to every joint of the active
+string (reads the state, ``wk.R``/``wk.wW``, ``p.seg``, ``p.jp``; adds to
+``s.Fw``/``s.Mw``; writes ``wk.loads``; scratch ``wk.joint``).
+
 Recorded loads (the internal force and moment the upper part exerts on the
 lower part, in the joint frame, z downhole along the pipe axis):
 [axial_N (tension > 0), shear_x_N, shear_y_N, bending_x_Nm, bending_y_Nm,

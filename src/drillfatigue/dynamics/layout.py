@@ -1,7 +1,9 @@
 """Column layout of the packed parameter and state arrays shared by the kernels.
 
 Plain integer constants (numba treats module-level ints as compile-time
-constants). Python code builds the arrays with these indices; kernels read them.
+constants). The packers of :mod:`drillfatigue.dynamics.model` build the arrays
+with these indices; the kernels read them. The arrays travel in the bundles of
+:mod:`drillfatigue.dynamics.bundles`.
 """
 
 # seg[i, :] -- per-segment parameters, shape (n, N_SEG)

@@ -159,7 +159,7 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
     rolling/spinning), with N estimated as twice the segment's buoyed weight;
     the smaller step is taken. The smooth friction laws need no such limit:
     the force kernel caps their tangential force so one step cannot reverse
-    the slip (:func:`drillfatigue.dynamics.forces.compute_forces`, Notes).
+    the slip (:func:`drillfatigue.dynamics.contact.wall_contact`).
     """
     n = seg.shape[0]
     m = seg[:, L.S_M]
