@@ -10,6 +10,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import drillfatigue
+from drillfatigue import rundir
 from drillfatigue.cli import main
 from drillfatigue.config import case_from_dict, load_case
 from drillfatigue.dynamics import api
@@ -61,6 +62,12 @@ def test_run_directory_has_the_contracted_files_and_columns(tmp_path: Path) -> N
     assert summary["figures"]["bit_rpm"]["max"] > 50.0
     assert summary["energy_balance_error_rel"] < 0.01
     assert not (run / "checkpoint.npz").exists() and not (run / ".parts").exists()
+    # the one definition of the format is what the files hold
+    assert tuple(loads.column_names) == rundir.LOADS_COLUMNS
+    assert tuple(joints.columns) == rundir.JOINTS_COLUMNS
+    assert tuple(ch.column_names) == rundir.CHANNELS_COLUMNS
+    assert tuple(kin.column_names) == rundir.KINEMATICS_COLUMNS
+    assert tuple(pq.read_table(run / rundir.CONTACTS).column_names) == rundir.CONTACTS_COLUMNS
     # loads: md = bit md - distance from the bit; tension in the pipe near the top
     df = loads.to_pandas()
     last = df[df["time_s"] == df["time_s"].max()]

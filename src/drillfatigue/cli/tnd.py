@@ -18,7 +18,7 @@ from rich.table import Table
 
 from drillfatigue.cli.app import app
 from drillfatigue.config import load_case
-from drillfatigue.dynamics.softstring import TorqueDrag, torque_drag_for_case
+from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
 from drillfatigue.units import KN_N
 
@@ -37,12 +37,14 @@ def _check_plot_path(path: Path) -> None:
 
 def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str) -> None:
     """Tension (kN) and torque (kN m) against MD for the four modes; written atomically."""
+    # matplotlib is imported where a figure is drawn: its backend is chosen here, and
+    # choosing it at module import would be a global side effect
     import matplotlib
 
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
-    from drillfatigue.well.survey import atomic_output
+    from drillfatigue.files import atomic_output
 
     fig = Figure(figsize=(11, 5.5))
     ax1, ax2 = fig.subplots(1, 2, sharey=True)

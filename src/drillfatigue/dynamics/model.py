@@ -27,8 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillfatigue.config import CaseConfig
-from drillfatigue.dynamics import bitrock, friction, status
-from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics import bitrock, friction, layout as L, status
 from drillfatigue.dynamics.bundles import Params, State, Work, new_records, new_work
 from drillfatigue.dynamics.contact import contact_damping
 from drillfatigue.dynamics.forces import compute_forces

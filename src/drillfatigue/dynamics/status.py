@@ -1,7 +1,9 @@
 """Status codes of the dynamics kernels: the one enumeration for the package.
 
 Kernels never raise; they return one of these integers (and, where it helps,
-say where in an ``info`` array). The Python layer turns a code other than
+say where in an ``info`` array). The numba kernels read these module-level
+ints as compile-time constants (so this module counts as kernel source for
+the numba cache key of :mod:`drillfatigue`). The Python layer turns a code other than
 ``OK`` into an exception in one place,
 :func:`drillfatigue.dynamics.model.raise_for_status`.
 """

@@ -32,6 +32,7 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
+from drillfatigue.surrogate.export import export_onnx, export_torchscript
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
@@ -279,7 +280,6 @@ class Surrogate:
                                 "numpy": np.__version__, "python": platform.python_version()}
             (tmp / "metadata.json").write_text(json.dumps(meta, indent=2), encoding="utf-8")
             if export:
-                from drillfatigue.surrogate.export import export_onnx, export_torchscript
                 export_torchscript(self, tmp / "model.ts")
                 export_onnx(self, tmp / "model.onnx")
             old = None
@@ -343,6 +343,7 @@ def _open_live(live_dir: str | Path) -> Any:
     git repo") before the first commit (``git init; dvc init; dvc repro``);
     the curves do not need a revision, so retry as outside a repository.
     """
+    # dvclive: optional, only to log training curves for DVC
     import dvclive.live as dl
 
     kwargs = {"dir": str(live_dir), "dvcyaml": None, "save_dvc_exp": False, "report": None}

@@ -40,8 +40,11 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.errors import InputError
+from drillfatigue.string.segments import build_segments
 from drillfatigue.surrogate.facade import Surrogate
-from drillfatigue.surrogate.query import Vocabulary
+from drillfatigue.surrogate.io import save_figure
+from drillfatigue.surrogate.query import UNIT_FAMILIES, Vocabulary
+from drillfatigue.well import build_survey
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
 
 MD_COLUMN = "md_m"
@@ -150,8 +153,6 @@ def components_from_string(string_cfg: Any,
         ``location`` and ``s_from_bit_m`` (segment centre, m), as
         :func:`components_from_table` expects.
     """
-    from drillfatigue.string.segments import build_segments
-
     seg = build_segments(string_cfg, 1000.0)  # mud density only sets buoyancy: unused here
     rows = []
     counter: dict[int, int] = {}
@@ -178,8 +179,6 @@ def survey_from_well(well_cfg: Any, profile: str | None = None) -> pd.DataFrame:
     profile : str, optional
         Profile name (default: the section's active profile).
     """
-    from drillfatigue.well import build_survey
-
     sv = build_survey(well_cfg, profile)
     return pd.DataFrame({"md_m": sv.md_m, "inc_deg": np.degrees(sv.inc_rad),
                          "dls_deg_per_30m": sv.dls_deg_per_30m})
@@ -195,8 +194,6 @@ SURFACE_CHANNELS: frozenset[str] = frozenset({
 
 def _channel_stem(name: str) -> str:
     """``wob_kN`` -> ``wob``: a log column name without its unit suffix."""
-    from drillfatigue.surrogate.query import UNIT_FAMILIES
-
     suffixes = {suf for fam in UNIT_FAMILIES.values() for suf in fam}
     suffixes |= {"_Nm", "_kNm", "_kft_lbf", "_Pa", "_kPa", "_MPa", "_psi", "_bar", "_bbl_per_min",
                  "_gpm", "_l_per_min", "_m3_per_s", "_m3_per_min"}
@@ -212,8 +209,6 @@ OFF_BOTTOM_STEM = "off_bottom_hook_load"
 
 def _force_column(names: Any, stem: str) -> tuple[str, float] | None:
     """(name, factor to N) of the first ``<stem>_N|_kN|_klbf`` name in ``names``."""
-    from drillfatigue.surrogate.query import UNIT_FAMILIES
-
     for name in names:
         for suf, fac in UNIT_FAMILIES["_N"].items():
             if str(name) == stem + suf:
@@ -463,6 +458,8 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
 
 def plot_damage_along_string(result: ReplayResult, path: str) -> None:
     """Accumulated damage (with interval) versus distance from the bit, log scale, PNG."""
+    # matplotlib is imported where a figure is drawn: its backend is chosen here, and
+    # choosing it at module import would be a global side effect
     import matplotlib
 
     matplotlib.use("Agg")
@@ -487,7 +484,5 @@ def plot_damage_along_string(result: ReplayResult, path: str) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    from drillfatigue.surrogate.io import save_figure
-
     save_figure(fig, path)
     plt.close(fig)

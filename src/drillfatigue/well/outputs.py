@@ -13,16 +13,21 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
 
 from drillfatigue.config.well import WellConfig
+from drillfatigue.files import atomic_output
 from drillfatigue.well.profiles import build_survey
-from drillfatigue.well.survey import Survey, atomic_output, write_survey_csv
+from drillfatigue.well.survey import Survey, write_survey_csv
 from drillfatigue.well.wellbore import Wellbore, build_wellbore, resample_path
 
 __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
 
 
 def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
+    # matplotlib is imported where a figure is drawn: its backend is chosen here, and
+    # choosing it at module import would be a global side effect
     import matplotlib
 
     matplotlib.use("Agg")
@@ -67,6 +72,8 @@ def _figure(sv: Survey, title: str):  # noqa: ANN202 - matplotlib Figure
 
 def plot_survey(sv: Survey, path: str | Path, title: str) -> None:
     """Draw 3D view, vertical section and DLS vs MD; write ``path`` atomically."""
+    # matplotlib is imported where a figure is drawn: its backend is chosen here, and
+    # choosing it at module import would be a global side effect
     import matplotlib.pyplot as plt
 
     path = Path(path)
@@ -106,9 +113,6 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
         max_dls_deg_per_30m, max_dls_deg_per_100ft, n_cylinders,
         min_cylinder_length_m}}``.
     """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
     out = Path(out_dir)
     built = {}
     for name, spec in cfg.profiles.items():
