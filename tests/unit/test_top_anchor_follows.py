@@ -48,7 +48,7 @@ def _top_loads(top_axial: str, axial_offset_m: float, tilt_rad: float) -> tuple[
     wk = new_work(model.n)._replace(R=Rs, wW=wW)
     s = state.copy()._replace(x=x, v=v, q=q)
     top_joint(0.0, top, s, model.params, wk, np.zeros(6))
-    return wk.joint.f.copy(), wk.joint.m_lo.copy()
+    return wk.vec[L.V_J_F, :3].copy(), wk.vec[L.V_J_MLO, :3].copy()
 
 
 @pytest.mark.parametrize("offset_m", [0.5, 3.0, 6.7])

@@ -30,10 +30,14 @@ says ``failed``.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
+import signal
+import threading
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -160,6 +164,27 @@ class RunFigures:
         self.e0 = float(meta["e0"])
         self.energy_err_max = float(meta["emax"])
         self.energy_ref = float(meta["eref"])
+
+
+@contextlib.contextmanager
+def _interrupt_after() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) until the block has finished, then raise KeyboardInterrupt.
+
+    Around writing a checkpoint and the final files, so that an interrupt never
+    leaves a half-renamed part or a checkpoint without its parts. Only in the
+    main thread (elsewhere signals are not delivered to Python anyway).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
 
 
 class Runner:
@@ -289,14 +314,16 @@ class Runner:
                 new_step = int(s.sc[L.C_STEP])
                 if self.folder is not None and self.ck_steps and new_step % self.ck_steps == 0 \
                         and new_step < self.n_steps_total:
-                    self._checkpoint(self.wall_before + time.perf_counter() - t_wall0)
+                    with _interrupt_after():
+                        self._checkpoint(self.wall_before + time.perf_counter() - t_wall0)
                 if bar is not None:
                     bar.update(new_step * m.dt, self.wall_before + time.perf_counter() - t_wall0)
         finally:
             if bar is not None:
                 bar.close()
             wall = self.wall_before + time.perf_counter() - t_wall0
-            result = self._finish(status, wall, error)
+            with _interrupt_after():
+                result = self._finish(status, wall, error)
         if error is not None:
             raise error
         return result

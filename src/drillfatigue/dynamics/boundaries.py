@@ -24,7 +24,8 @@ p.tab_t, p.tab_w, p.cpar`` and the path nodes, ``wk.R, wk.wW``; writes
 ``s.Fw, s.Mw, s.Mb`` (adds), ``wk.loads[n-1]`` (the top boundary's loads),
 ``wk.ch`` (surface torque, hook load, rpms, WOB, TOB, ROP, bit MD; adds the
 boundary terms of the energy and power channels) and the scalar state
-(``sc[C_HINT]``, ``sc[C_ROPNOW]``, bit bounce).
+(``sc[C_HINT]``, ``sc[C_ROPNOW]``, bit bounce); scratch rows ``V_D_*``,
+``V_B_*``, ``V_J_*`` of ``wk.vec`` and ``M_D_R``, ``M_J_RM`` of ``wk.mat``.
 """
 
 from __future__ import annotations
@@ -40,7 +41,9 @@ from drillfatigue.dynamics.layout import (
     B_AXMODE, B_BITON, B_CBIT, B_FREEZE, B_HL, B_KBIT, B_LOBE, B_NLOBE, B_ROP, B_TOB, B_TOPMODE,
     B_TOPTQ, B_TRAMP, B_WREF, C_HINT, C_MDROCK, C_PHIB, C_PHID, C_ROPNOW, H_BITMD, H_BITRPM,
     H_HOOK, H_PDISS, H_PE, H_PIN, H_ROP, H_TOB, H_TOPRPM, H_TSURF, H_WOB, J_CA, J_CB, J_CS, J_CT,
-    J_KA, J_KB, J_KS, J_KT, P_BITLAW, P_BITMODEL, P_BP, S_H,
+    J_KA, J_KB, J_KS, J_KT, M_D_R, M_J_RM, P_BITLAW, P_BITMODEL, P_BP, S_H, V_B_DV, V_B_DX,
+    V_B_F, V_B_OUT, V_B_P2, V_B_POS, V_B_T2, V_B_TAN, V_D_P, V_D_Q, V_D_QZ, V_D_V, V_D_W,
+    V_J_ED, V_J_F, V_J_MLO, V_J_MUP, V_J_QH, V_J_QM, V_J_QR,
 )
 from drillfatigue.dynamics.rigid import quat_mul, quat_to_rot
 from drillfatigue.dynamics.status import OK
@@ -64,14 +67,14 @@ def drive_omega(t, tab_t, tab_w):
     return (1.0 - f) * tab_w[i] + f * tab_w[i + 1]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def top_joint(t, top, s, p, wk, loads_row):
     """Loads of the top boundary: the top segment's upper end tied to the top drive.
 
-    ``top`` is the row of the top segment. Writes ``wk.joint.f`` (force on the
-    top segment, world), ``wk.joint.m_lo`` (its moment), ``wk.joint.m_up`` (moment
-    on the drive), ``wk.drive.w`` (drive angular velocity), ``loads_row`` and
-    ``wk.joint.energy``. Returns the drive speed (rad/s).
+    ``top`` is the row of the top segment. Writes ``wk.vec[V_J_F]`` (force on the
+    top segment, world), ``wk.vec[V_J_MLO]`` (its moment), ``wk.vec[V_J_MUP]``
+    (moment on the drive), ``wk.vec[V_D_W]`` (drive angular velocity),
+    ``loads_row`` and ``wk.vec[V_J_ED]``. Returns the drive speed (rad/s).
 
     With the hook-load force at the top (no axial spring, ``jp[top, J_KA] == 0``)
     the drive follows the top of the string axially, as a travelling block does:
@@ -88,25 +91,24 @@ def top_joint(t, top, s, p, wk, loads_row):
     seg = p.seg
     jp = p.jp
     anchor = p.anchor
-    dw = wk.drive
-    jw = wk.joint
+    vec = wk.vec
     omega_d = drive_omega(t, p.tab_t, p.tab_w)
     phid = s.sc[C_PHID]
-    qz = dw.qz
+    qz = vec[V_D_QZ]
     qz[0] = math.cos(0.5 * phid)
     qz[1] = 0.0
     qz[2] = 0.0
     qz[3] = math.sin(0.5 * phid)
-    qa = dw.q
+    qa = vec[V_D_Q]
     quat_mul(anchor[3:7], qz, qa)
-    Ra = dw.R
+    Ra = wk.mat[M_D_R]
     quat_to_rot(qa, Ra)
-    wa = dw.w
-    va = dw.v
+    wa = vec[V_D_W]
+    va = vec[V_D_V]
     for k in range(3):
         wa[k] = omega_d * anchor[7 + k]
         va[k] = 0.0
-    pa = dw.p
+    pa = vec[V_D_P]
     for k in range(3):
         pa[k] = anchor[k]
     if jp[top, J_KA] == 0.0:
@@ -129,11 +131,12 @@ def top_joint(t, top, s, p, wk, loads_row):
                 pa, va, Ra, qa, wa, 0.0,
                 jp[top, J_KA], jp[top, J_KS], jp[top, J_KB], jp[top, J_KT],
                 jp[top, J_CA], jp[top, J_CS], jp[top, J_CB], jp[top, J_CT],
-                jw.qr, jw.qh, jw.qm, jw.Rm, jw.f, jw.m_lo, jw.m_up, loads_row, jw.energy)
+                vec[V_J_QR], vec[V_J_QH], vec[V_J_QM], wk.mat[M_J_RM], vec[V_J_F], vec[V_J_MLO],
+                vec[V_J_MUP], loads_row, vec[V_J_ED])
     return omega_d
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def top_boundary(t, n, s, p, wk):
     """Top drive and hoisting system on the top segment (row n-1); see the module docstring."""
     x = s.x
@@ -146,15 +149,15 @@ def top_boundary(t, n, s, p, wk):
     loads = wk.loads
     bp = p.bp
     anchor = p.anchor
-    jw = wk.joint
+    vec = wk.vec
     top = n - 1
     omega_d = top_joint(t, top, s, p, wk, loads[top])
-    Fl = jw.f
-    Ml = jw.m_lo
-    Mu = jw.m_up
-    wa = wk.drive.w
-    ch[H_PE] += jw.energy[0]
-    ch[H_PDISS] += jw.energy[1]
+    Fl = vec[V_J_F]
+    Ml = vec[V_J_MLO]
+    Mu = vec[V_J_MUP]
+    wa = vec[V_D_W]
+    ch[H_PE] += vec[V_J_ED, 0]
+    ch[H_PDISS] += vec[V_J_ED, 1]
     for k in range(3):
         Fw[top, k] += Fl[k]
         Mw[top, k] += Ml[k]
@@ -197,7 +200,7 @@ def top_boundary(t, n, s, p, wk):
         ch[H_HOOK] = loads[top, 0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def bit_guide(s, p, wk):
     """The bit boundary on segment 0; see the module docstring. Returns a status code."""
     x = s.x
@@ -224,9 +227,9 @@ def bit_guide(s, p, wk):
         ch[H_WOB] = 0.0
         ch[H_TOB] = 0.0
         return OK
-    bw = wk.bit
-    pos = bw.pos
-    tan = bw.tan
+    vec = wk.vec
+    pos = vec[V_B_POS]
+    tan = vec[V_B_TAN]
     sc[C_HINT] = path_point(md_bit, node_md, node_pos, node_tan, int(sc[C_HINT]), pos, tan)
     nl = bp[B_NLOBE]
     s0 = bp[B_LOBE]
@@ -237,8 +240,8 @@ def bit_guide(s, p, wk):
     kb = bp[B_KBIT]
     cb = bp[B_CBIT]
     # bit face A = x0 + h0 e3 relative to the rock target (face + lobe), and its velocity
-    dx = bw.dx
-    dv = bw.dv
+    dx = vec[V_B_DX]
+    dv = vec[V_B_DV]
     for k in range(3):
         r = h0 * R[0, k, 2]
         dx[k] = x[0, k] + r - (pos[k] + lob * tan[k])
@@ -251,10 +254,10 @@ def bit_guide(s, p, wk):
     # rock target; a bit lifted off by s_ax < 0 is guided by the path s_ax
     # above it, not pulled towards the tangent line at the rock face (in a
     # curved hole that line leaves the hole a few metres above the face).
-    fb = bw.f
+    fb = vec[V_B_F]
     if s_ax < 0.0:
-        p2 = bw.p2
-        t2 = bw.t2
+        p2 = vec[V_B_P2]
+        t2 = vec[V_B_T2]
         # the bit's own depth: the path point whose normal plane holds the bit
         # face, by Newton steps on the arc length from the tangent estimate
         md_b = md_bit + lob + s_ax
@@ -311,7 +314,7 @@ def bit_guide(s, p, wk):
     ch[H_WOB] = wob_f
     # torque on bit, opposing the bit rotation
     if cpar.size > P_BITLAW and cpar[P_BITLAW] == 1.0:
-        out2 = wk.bit.out
+        out2 = vec[V_B_OUT]
         st = bit_response(int(cpar[P_BITMODEL]), cpar[P_BP:P_BP + 10], wob_f, w[0, 2], out2)
         if st != OK:
             return st

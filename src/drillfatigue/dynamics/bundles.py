@@ -22,9 +22,9 @@ access, and the caller passes the same arrays it holds, no copies):
 :class:`Work`
     What one force evaluation writes (rotation matrices ``R``, world angular
     velocities ``wW``, joint loads ``loads`` (n, 6; row n-1 the top boundary),
-    channels ``ch`` (N_CH,)) and the scratch of each submodel, one named
-    array per use, grouped per room: :class:`RotorWork`, :class:`JointWork`,
-    :class:`DriveWork`, :class:`BitWork`, :class:`WallWork`, :class:`GrowthWork`.
+    channels ``ch`` (N_CH,)) and the scratch of the kernels: vectors ``vec``
+    and 3 x 3 matrices ``mat``, one named row per use (``V_*``, ``M_*`` of
+    :mod:`layout`: ``vec[V_J_F]`` is the joint force and nothing else).
 :class:`Records`
     The recording request and buffers of one :func:`integrator.advance` call.
 """
@@ -33,7 +33,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from drillfatigue.dynamics.layout import C_NACT, N_CH, WALL_INFO_SIZE
+from drillfatigue.dynamics.layout import C_NACT, N_CH, N_MAT, N_VEC, N_VECW
 
 STATE_FIELDS = ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint", "cst")
 
@@ -66,33 +66,10 @@ def new_state(x, v, q, w, sc, hint, cst) -> State:
 Params = namedtuple("Params", ("dt", "seg", "jp", "bp", "topp", "anchor", "tab_t", "tab_w",
                                "cpar", "node_md", "node_pos", "node_tan", "wall"))
 
-#: free rotation of a rigid body (:func:`rigid.free_rotation`): two quaternions
-RotorWork = namedtuple("RotorWork", ("qa", "qb"))
-#: one joint (:func:`joints.joint_force`): relative, half and mid quaternions, the
-#: joint frame, the force and moments it returns, its energy and damper power,
-#: and the velocity of the growing top segment's lower end
-JointWork = namedtuple("JointWork", ("qr", "qh", "qm", "Rm", "f", "m_lo", "m_up", "energy",
-                                     "v_up"))
-#: the top drive (:func:`boundaries.top_joint`): drive angle quaternion, drive
-#: orientation and its matrix, drive angular velocity, velocity and attachment point
-DriveWork = namedtuple("DriveWork", ("qz", "q", "R", "w", "v", "p"))
-#: the bit guide (:func:`boundaries.bit_guide`): path point and tangent at the
-#: rock face, bit-face offset and velocity, guide force, path point and tangent at
-#: the bit's own depth, [TOB, ROP] of the bit law
-BitWork = namedtuple("BitWork", ("pos", "tan", "dx", "dv", "f", "p2", "t2", "out"))
-#: wall contact (:func:`contact.wall_contact`): wall_force's info, the contact
-#: point, segment axis, Karnopp's other force, the wall force and its moment,
-#: Karnopp's linear and angular acceleration estimates, the whirl direction
-#: (unit radial offset, 3, and its length)
-WallWork = namedtuple("WallWork", ("info", "x", "axis", "f_other", "force", "moment", "a_lin",
-                                   "alpha", "whirl"))
-#: growth (:mod:`growth`): world angular velocity of the old top, lever arm,
-#: velocities of the split-off piece and of the new top, old centre, two
-#: quaternions and a rotation vector, and the ends of the two merged segments
-GrowthWork = namedtuple("GrowthWork", ("w", "r", "v_piece", "xc", "v_top", "q", "q2", "theta",
-                                       "low_end", "top_end"))
-Work = namedtuple("Work", ("R", "wW", "loads", "ch", "rotor", "joint", "drive", "bit", "wall",
-                           "growth"))
+#: one force evaluation's outputs and the kernels' scratch: ``vec`` (N_VEC, N_VECW) and
+#: ``mat`` (N_MAT, 3, 3), one named row per use (``V_*``, ``M_*`` of :mod:`layout`). Few
+#: arrays on purpose: numba passes a bundle's arrays one by one at every call.
+Work = namedtuple("Work", ("R", "wW", "loads", "ch", "vec", "mat"))
 
 Records = namedtuple("Records", ("sel", "every_l", "buf_l", "every_c", "buf_c", "every_k",
                                  "buf_k", "counts", "info"))
@@ -102,22 +79,8 @@ N_INFO = 3
 
 def new_work(n: int) -> Work:
     """Work arrays for ``n`` allocated segment rows."""
-    def v3() -> np.ndarray:
-        return np.zeros(3)
-
-    def q4() -> np.ndarray:
-        return np.zeros(4)
-
-    return Work(
-        R=np.zeros((n, 3, 3)), wW=np.zeros((n, 3)), loads=np.zeros((n, 6)), ch=np.zeros(N_CH),
-        rotor=RotorWork(q4(), q4()),
-        joint=JointWork(q4(), q4(), q4(), np.zeros((3, 3)), v3(), v3(), v3(), np.zeros(2), v3()),
-        drive=DriveWork(q4(), q4(), np.zeros((3, 3)), v3(), v3(), v3()),
-        bit=BitWork(v3(), v3(), v3(), v3(), v3(), v3(), v3(), np.zeros(2)),
-        wall=WallWork(np.zeros(WALL_INFO_SIZE), v3(), v3(), v3(), v3(), v3(), v3(), v3(),
-                      np.zeros(4)),
-        growth=GrowthWork(v3(), v3(), v3(), v3(), v3(), q4(), q4(), v3(), v3(), v3()),
-    )
+    return Work(R=np.zeros((n, 3, 3)), wW=np.zeros((n, 3)), loads=np.zeros((n, 6)),
+                ch=np.zeros(N_CH), vec=np.zeros((N_VEC, N_VECW)), mat=np.zeros((N_MAT, 3, 3)))
 
 
 def new_records(sel: np.ndarray, every: tuple[int, int, int], rows: tuple[int, int, int],

@@ -69,7 +69,8 @@ from drillfatigue.dynamics.friction import KARNOPP, friction_force_split
 from drillfatigue.dynamics.layout import (
     B_TWIN, C_MDROCK, H_FCMAX, H_NCON, H_NSEG, H_PDISS, H_PE, MAX_CONTACT_POINTS, P_FMODEL, P_FP,
     P_KC, P_NPTS, P_ON, S_CC, S_H, S_IA, S_IT, S_M, S_RB, S_RC, WALL_INFO_SIZE, WI_CYL, WI_DELTA,
-    WI_DIST, WI_FO, WI_N, WI_NX, WI_SLIP, WI_VS,
+    WI_DIST, WI_FO, WI_N, WI_NX, WI_SLIP, WI_VS, V_W_ALIN, V_W_ALPHA, V_W_AX, V_W_F, V_W_FO,
+    V_W_INFO, V_W_M, V_W_WHIRL, V_W_X,
 )
 from drillfatigue.dynamics.status import OK
 
@@ -453,15 +454,16 @@ def wall_contact(t, n, s, p, wk):
         axc = wall[:, 3:6]
         lnc = wall[:, 6]
         rad = wall[:, 7]
-        ww = wk.wall
-        info = ww.info
-        X = ww.x
-        tax = ww.axis
-        fo = ww.f_other
-        force = ww.force
-        moment = ww.moment
-        alin = ww.a_lin
-        alpha = ww.alpha
+        vec = wk.vec
+        info = vec[V_W_INFO]
+        X = vec[V_W_X]
+        tax = vec[V_W_AX]
+        fo = vec[V_W_FO]
+        force = vec[V_W_F]
+        moment = vec[V_W_M]
+        alin = vec[V_W_ALIN]
+        alpha = vec[V_W_ALPHA]
+        whirl = vec[V_W_WHIRL]
         t_win = p.bp[B_TWIN]
         md_bit = s.sc[C_MDROCK]
         karn = fmodel == KARNOPP
@@ -547,7 +549,7 @@ def wall_contact(t, n, s, p, wk):
                     fcmax = nsum
             if t >= t_win:
                 track_whirl(i, x[i], wW[i], seg[i, S_RC], wall, hint[MAX_CONTACT_POINTS * i], dt,
-                            cst, ww.whirl)
+                            cst, whirl)
     ch[H_NCON] = ncon
     ch[H_FCMAX] = fcmax
     ch[H_NSEG] = n

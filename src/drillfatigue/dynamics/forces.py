@@ -23,6 +23,12 @@ force, N), ``s.Mw`` (world moment about the centre, N m) and ``s.Mb``
 and contact energy, ``H_PG`` gravity energy, ``H_PDISS`` dissipated power,
 ``H_PIN`` power put in by the boundaries), which start from zero here.
 The integrator never changes when a force kind is added.
+
+The per-kind kernels that take the bundles are compiled with
+``inline="always"``: numba passes a bundle's arrays one by one at every call
+of a separately compiled function, so a call that crossed the bundles would
+cost more than a small kernel's work (the wall loop, heavy and called once,
+stays a call).
 """
 
 from __future__ import annotations
@@ -40,7 +46,7 @@ from drillfatigue.dynamics.rigid import quat_to_rot
 from drillfatigue.dynamics.status import OK
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rotations(n, q, w, R, wW):
     """Rotation matrices ``R`` (n, 3, 3) and world angular velocities ``wW`` (n, 3) of the
     first ``n`` segments from their quaternions ``q`` and body angular velocities ``w``."""
@@ -50,7 +56,7 @@ def rotations(n, q, w, R, wW):
             wW[i, k] = R[i, k, 0] * w[i, 0] + R[i, k, 1] * w[i, 1] + R[i, k, 2] * w[i, 2]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def body_forces(n, s, p, wk):
     """Gravity with buoyancy and viscous mud damping; sets ``s.Fw``, ``s.Mw`` (zero) and
     ``s.Mb`` of the first ``n`` segments, adds to ``wk.ch[H_PG]`` and ``wk.ch[H_PDISS]``."""
@@ -85,7 +91,7 @@ def body_forces(n, s, p, wk):
         ch[H_PDISS] += seg[i, S_CRL] * (w[i, 0] ** 2 + w[i, 1] ** 2) + seg[i, S_CRA] * w[i, 2] ** 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def moments_to_body(n, R, Mw, Mb):
     """Add the world moments ``Mw`` to the body-frame moments ``Mb`` (Mb += R^T Mw)."""
     for i in range(n):

@@ -23,7 +23,7 @@ up there.
 Arrays: the state ``s`` (x, v, q, w, sc, hint, cst: rows moved, added or
 cleared), the top rows of ``p.seg`` and ``p.jp`` and the section ``p.topp``
 (rebuilt by :func:`update_top`), ``wk.R``/``wk.wW``/``wk.loads`` of the top
-rows, scratch ``wk.growth``.
+rows, scratch rows ``V_G_*`` (and the joint rows) of ``wk.vec``.
 """
 
 from __future__ import annotations
@@ -40,7 +40,8 @@ from drillfatigue.dynamics.layout import (
     C_WIN, CS_ONT, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, MAX_CONTACT_POINTS, S_CA, S_CC,
     S_CL, S_CRA, S_CRL, S_H, S_IA, S_IT, S_M, S_RB, S_RC, S_W, T_CAPL, T_CLPL, T_CRAPL, T_CRLPL,
     T_EA, T_EA2, T_EI, T_EI2, T_GJ, T_GJ2, T_KA_TOP, T_KGA, T_KGA2, T_KPAR_B, T_KPAR_S, T_KT_TOP,
-    T_MPL, T_R2, T_WPL,
+    T_MPL, T_R2, T_WPL, M_J_RM, V_G_LOW, V_G_Q, V_G_Q2, V_G_R, V_G_TH, V_G_TOP, V_G_VPIECE,
+    V_G_VTOP, V_G_W, V_G_XC, V_J_ED, V_J_F, V_J_MLO, V_J_MUP, V_J_QH, V_J_QM, V_J_QR,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_exp_mul, quat_log, quat_to_rot
 
@@ -118,7 +119,7 @@ def update_top(h, n, seg, jp, topp, bp):
     jp[top, J_CT] = 2.0 * zb * math.sqrt(kt * seg[top, S_IA])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def growth_rate(bp, sc):
     """Rate (m/s) at which the top segment's lower end moves along its axis by growth:
     the ROP on bottom, the trip speed off bottom, 0 while frozen or stopped."""
@@ -132,7 +133,7 @@ def growth_rate(bp, sc):
     return g
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def tail_energy(lo, t, s, p, wk):
     """Energy (J) of segments lo..n-1 (kinetic + gravity), the joints lo-1..n-2 and the top boundary.
 
@@ -149,7 +150,7 @@ def tail_energy(lo, t, s, p, wk):
     R = wk.R
     wW = wk.wW
     loads = wk.loads
-    jw = wk.joint
+    vec = wk.vec
     n = int(s.sc[C_NACT])
     top = n - 1
     first = max(lo - 1, 0)
@@ -167,10 +168,11 @@ def tail_energy(lo, t, s, p, wk):
                     x[j + 1], v[j + 1], R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
                     jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
                     jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
-                    jw.qr, jw.qh, jw.qm, jw.Rm, jw.f, jw.m_lo, jw.m_up, loads[j], jw.energy)
-        e += jw.energy[0]
+                    vec[V_J_QR], vec[V_J_QH], vec[V_J_QM], wk.mat[M_J_RM], vec[V_J_F],
+                    vec[V_J_MLO], vec[V_J_MUP], loads[j], vec[V_J_ED])
+        e += vec[V_J_ED, 0]
     top_joint(t, top, s, p, wk, loads[top])
-    e += jw.energy[0]
+    e += vec[V_J_ED, 0]
     return e
 
 
@@ -218,7 +220,7 @@ def split_top(s, p, wk, growth):
     topp = p.topp
     bp = p.bp
     R = wk.R
-    gw = wk.growth
+    vec = wk.vec
     n = int(sc[C_NACT])
     top = n - 1
     new = n
@@ -231,9 +233,9 @@ def split_top(s, p, wk, growth):
     tw_old = 0.0
     ka_old = 0.0
     kt_old = 0.0
-    qt = gw.q
-    qt2 = gw.q2
-    th = gw.theta
+    qt = vec[V_G_Q]
+    qt2 = vec[V_G_Q2]
+    th = vec[V_G_TH]
     if lo >= 0:
         quat_to_rot(q[lo], R[lo])
         for k in range(3):
@@ -244,21 +246,21 @@ def split_top(s, p, wk, growth):
         tw_old = th[2]
         ka_old = jp[lo, J_KA]
         kt_old = jp[lo, J_KT]
-    wv = gw.w
-    r = gw.r
-    vel = gw.v_piece
+    wv = vec[V_G_W]
+    r = vec[V_G_R]
+    vel = vec[V_G_VPIECE]
     for k in range(3):
         wv[k] = R[top, k, 0] * w[top, 0] + R[top, k, 1] * w[top, 1] + R[top, k, 2] * w[top, 2]
     h1 = 0.5 * ln
     h2 = h - h1
-    xc = gw.xc
+    xc = vec[V_G_XC]
     for k in range(3):
         xc[k] = x[top, k]
     # lower piece: centre (h - h1) below the old centre along e3; new top: (h - h2) above it
     for k in range(3):
         r[k] = (h - h1) * R[top, k, 2]
     _rigid_point_velocity(v[top], wv, r, vel)
-    vnew = gw.v_top
+    vnew = vec[V_G_VTOP]
     for k in range(3):
         r[k] = -(h - h2) * R[top, k, 2]
     _rigid_point_velocity(v[top], wv, r, vnew)
@@ -344,8 +346,8 @@ def merge_top(s, p, wk):
     m2 = seg[top, S_M]
     i1 = seg[lo, S_IT]
     i2 = seg[top, S_IT]
-    lowend = wk.growth.low_end
-    topend = wk.growth.top_end
+    lowend = wk.vec[V_G_LOW]
+    topend = wk.vec[V_G_TOP]
     for k in range(3):
         lowend[k] = x[lo, k] + seg[lo, S_H] * R[lo, k, 2]
         topend[k] = x[top, k] - seg[top, S_H] * R[top, k, 2]
@@ -373,7 +375,7 @@ def merge_top(s, p, wk):
     return n - 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def grow_top(n, t1, s, p, wk):
     """One step of growth of the string (see the module docstring); returns the active count.
 

@@ -71,7 +71,7 @@ from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
     B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, S_IA, S_IT,
-    S_M,
+    S_M, V_ROT_QA, V_ROT_QB,
 )
 from drillfatigue.dynamics.rigid import free_rotation, kick
 from drillfatigue.dynamics.status import (
@@ -89,7 +89,7 @@ def kinetic_energy(v, w, seg):
     return e
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def speed_excess(v, w):
     """The larger of (|v| / MAX_SPEED_M_PER_S)^2 and (|w| / MAX_SPIN_RAD_S)^2 for one
     segment; infinite for a non-finite velocity."""
@@ -100,7 +100,7 @@ def speed_excess(v, w):
     return max(rv, rw)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def record(step, t1, n, s, p, wk, rec):
     """Append the loads / channels / kinematics rows due at ``step`` (time ``t1``) to ``rec``."""
     loads = wk.loads
@@ -185,14 +185,15 @@ def advance(n_steps, s, p, wk, rec):
     info = rec.info
     n = int(sc[C_NACT])
     hdt = 0.5 * dt
-    rotor = wk.rotor
+    qa = wk.vec[V_ROT_QA]
+    qb = wk.vec[V_ROT_QB]
     for _s in range(n_steps):
         for i in range(n):
             kick(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
         for i in range(n):
             for k in range(3):
                 x[i, k] += dt * v[i, k]
-            free_rotation(q[i], w[i], seg[i, S_IT], seg[i, S_IA], dt, rotor.qa, rotor.qb)
+            free_rotation(q[i], w[i], seg[i, S_IT], seg[i, S_IA], dt, qa, qb)
         sc[C_PHIB] += dt * w[0, 2]
         t0 = sc[C_STEP] * dt
         sc[C_STEP] += 1.0

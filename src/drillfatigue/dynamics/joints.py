@@ -20,7 +20,7 @@ body so that angular momentum is conserved.
 
 :func:`joint_forces` applies :func:`joint_force` to every joint of the active
 string (reads the state, ``wk.R``/``wk.wW``, ``p.seg``, ``p.jp``; adds to
-``s.Fw``/``s.Mw``; writes ``wk.loads``; scratch ``wk.joint``).
+``s.Fw``/``s.Mw``; writes ``wk.loads``; scratch rows ``V_J_*``, ``M_J_RM``).
 
 Recorded loads (the internal force and moment the upper part exerts on the
 lower part, in the joint frame, z downhole along the pipe axis):
@@ -35,7 +35,8 @@ import math
 from numba import njit
 
 from drillfatigue.dynamics.layout import (
-    H_PDISS, H_PE, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, S_H,
+    H_PDISS, H_PE, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, M_J_RM, S_H, V_J_ED, V_J_F,
+    V_J_MLO, V_J_MUP, V_J_QH, V_J_QM, V_J_QR, V_J_VUP,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_log, quat_mul, quat_to_rot
 
@@ -161,7 +162,7 @@ def joint_force(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_
              + c_b * (ol0 * ol0 + ol1 * ol1) + c_t * ol2 * ol2)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def joint_forces(n, growth, s, p, wk):
     """Loads of the n - 1 joints between the active segments, added to the segments.
 
@@ -182,12 +183,16 @@ def joint_forces(n, growth, s, p, wk):
     jp = p.jp
     loads = wk.loads
     ch = wk.ch
-    jw = wk.joint
-    Fl = jw.f
-    Ml = jw.m_lo
-    Mu = jw.m_up
-    ed = jw.energy
-    vtop = jw.v_up
+    vec = wk.vec
+    Fl = vec[V_J_F]
+    Ml = vec[V_J_MLO]
+    Mu = vec[V_J_MUP]
+    ed = vec[V_J_ED]
+    vtop = vec[V_J_VUP]
+    qr = vec[V_J_QR]
+    qh = vec[V_J_QH]
+    qm = vec[V_J_QM]
+    Rm = wk.mat[M_J_RM]
     for j in range(n - 1):
         vu = v[j + 1]
         if j == n - 2 and growth != 0.0:
@@ -198,7 +203,7 @@ def joint_forces(n, growth, s, p, wk):
                     x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
                     jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
                     jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
-                    jw.qr, jw.qh, jw.qm, jw.Rm, Fl, Ml, Mu, loads[j], ed)
+                    qr, qh, qm, Rm, Fl, Ml, Mu, loads[j], ed)
         ch[H_PE] += ed[0]
         ch[H_PDISS] += ed[1]
         for k in range(3):

@@ -171,14 +171,13 @@ class Recorder:
         """Close the open part files (they become final parts)."""
         if self.folder is None:
             return
-        for k, w in self.writers.items():
-            w.close()
+        for k in list(self.writers):
+            self.writers.pop(k).close()
             name = rundir.part_name(k, self.part, True)
             final = rundir.part_name(k, self.part)
             self.folder.file(final)
             os.replace(self.folder.path / name, self.folder.path / final)
             self.folder.remove([name])
-        self.writers = {}
         self.part += 1
 
     def resume_at(self, part: int) -> None:
