@@ -103,7 +103,7 @@ def moments_to_body(n, R, Mw, Mb):
         Mb[i, 2] += R[i, 0, 2] * m0 + R[i, 1, 2] * m1 + R[i, 2, 2] * m2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def compute_forces(s, p, wk):
     """All forces at the current state ``s`` (:class:`bundles.State`) of the model ``p``
     (:class:`bundles.Params`) into ``s.Fw, s.Mw, s.Mb``, the joint loads ``wk.loads`` and

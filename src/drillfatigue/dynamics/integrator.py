@@ -187,9 +187,14 @@ def advance(n_steps, s, p, wk, rec):
     hdt = 0.5 * dt
     qa = wk.vec[V_ROT_QA]
     qb = wk.vec[V_ROT_QB]
+    Fw = s.Fw
+    Mb = s.Mb
+    ch = wk.ch
+    tab_t = p.tab_t
+    tab_w = p.tab_w
     for _s in range(n_steps):
         for i in range(n):
-            kick(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
         for i in range(n):
             for k in range(3):
                 x[i, k] += dt * v[i, k]
@@ -198,7 +203,7 @@ def advance(n_steps, s, p, wk, rec):
         t0 = sc[C_STEP] * dt
         sc[C_STEP] += 1.0
         t1 = sc[C_STEP] * dt
-        sc[C_PHID] += 0.5 * dt * (drive_omega(t0, p.tab_t, p.tab_w) + drive_omega(t1, p.tab_t, p.tab_w))
+        sc[C_PHID] += 0.5 * dt * (drive_omega(t0, tab_t, tab_w) + drive_omega(t1, tab_t, tab_w))
         n = grow_top(n, t1, s, p, wk)
         fst = compute_forces(s, p, wk)
         if fst != OK:
@@ -206,12 +211,12 @@ def advance(n_steps, s, p, wk, rec):
             info[1] = -1.0
             info[2] = 0.0
             return fst
-        sc[C_WIN] += dt * wk.ch[H_PIN]
-        sc[C_DISS] += dt * wk.ch[H_PDISS]
+        sc[C_WIN] += dt * ch[H_PIN]
+        sc[C_DISS] += dt * ch[H_PDISS]
         worst = 1.0
         iworst = -1
         for i in range(n):
-            kick(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
             r = speed_excess(v[i], w[i])
             if r > worst:
                 worst = r
@@ -224,7 +229,6 @@ def advance(n_steps, s, p, wk, rec):
             return SPEED
         record(step, t1, n, s, p, wk, rec)
         if step % 32 == 0 or _s == n_steps - 1:
-            ch = wk.ch
             ke = kinetic_energy(v, w, seg)
             if not math.isfinite(ke) or not math.isfinite(ch[0] + ch[1] + ch[2]):
                 info[0] = step
