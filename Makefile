@@ -1,4 +1,5 @@
-# drillfatigue: `make repro` runs the DVC pipeline, `make test` runs the tests.
+# drillfatigue: `make repro` runs the DVC pipeline, `make test` checks the layering
+# contracts (import-linter, pyproject.toml) and runs the tests.
 # Both create .venv and install the pinned dependencies (requirements.lock) first.
 PYTHON ?= $(shell command -v python3)
 VENV   := .venv

@@ -296,9 +296,9 @@ def scipy_baseline(window: float) -> dict:
     # the numpy RHS is the same model: compare with the numba kernel at a disturbed state
     rng = np.random.default_rng(0)
     st = state.copy()
-    st.v += rng.normal(0, 0.01, st.v.shape)
-    st.w += rng.normal(0, 0.05, st.w.shape)
-    st.x += rng.normal(0, 1e-5, st.x.shape)
+    st.v[...] += rng.normal(0, 0.01, st.v.shape)
+    st.w[...] += rng.normal(0, 0.05, st.w.shape)
+    st.x[...] += rng.normal(0, 1e-5, st.x.shape)
     evaluate_forces(model, st)
     F_np, Mb_np = nm.forces(0.0, st.x, st.q, st.v, st.w)
     scale_f = np.abs(st.Fw).max()

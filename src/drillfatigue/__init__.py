@@ -22,7 +22,12 @@ __version__ = "0.1.0"
 
 
 def __getattr__(name: str) -> object:
-    """Lazy top-level API: ``drillfatigue.simulate`` (keeps ``import drillfatigue`` fast)."""
+    """Lazy top-level API: ``drillfatigue.simulate``.
+
+    Imported on first use, not at the top: the simulator imports this package
+    (a real cycle at import time), and its numba kernels must load only after
+    :func:`_scope_numba_cache` has chosen the cache folder.
+    """
     if name == "simulate":
         from drillfatigue.dynamics.api import simulate
 

@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drillfatigue.config.friction import FrictionConfig
+from drillfatigue.dynamics import status
 from drillfatigue.dynamics.friction import (
     KARNOPP,
     MODEL_IDS,
@@ -25,7 +26,7 @@ force_vec = st.tuples(*(st.floats(-5e3, 5e3, allow_subnormal=False),) * 3)
 def force(model, v, N, f_other=(0.0, 0.0, 0.0), cfg=None):
     mid, p = pack_friction_params(cfg or FrictionConfig(model=model))
     out = np.empty(3)
-    assert friction_force(mid, p, np.array(v, float), N, np.array(f_other, float), 1e-4, out) == 0
+    assert friction_force(mid, p, np.array(v, float), N, np.array(f_other, float), 1e-4, out) == status.OK
     return out
 
 
@@ -106,7 +107,7 @@ def test_axial_split_scales_only_the_axial_component():
 def test_unknown_model_status():
     _, p = pack_friction_params(FrictionConfig())
     out = np.ones(3)
-    assert friction_force(17, p, np.ones(3), 1.0, np.zeros(3), 1e-4, out) == -1
+    assert friction_force(17, p, np.ones(3), 1.0, np.zeros(3), 1e-4, out) == status.UNKNOWN_FRICTION
     np.testing.assert_array_equal(out, 0.0)
 
 

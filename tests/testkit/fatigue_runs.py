@@ -12,6 +12,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from drillfatigue import rundir
+
 LOAD_NAMES = ("axial_N", "shear_x_N", "shear_y_N", "bending_x_Nm", "bending_y_Nm", "torque_Nm")
 
 
@@ -66,9 +68,9 @@ def write_run_dir(path: Path, *, n_joints: int = 3, n_t: int = 1500, dt: float =
         loads_df.loc[5, "torque_Nm"] = np.nan
     if drop_column is not None:
         loads_df = loads_df.drop(columns=[drop_column])
-    loads_df.to_parquet(path / "loads.parquet", index=False)
-    pd.DataFrame(jrows).to_parquet(path / "joints.parquet", index=False)
-    (path / "summary.json").write_text(json.dumps({"duration_s": n_t * dt if n_t else 1.0,
+    loads_df.to_parquet(path / rundir.LOADS, index=False)
+    pd.DataFrame(jrows).to_parquet(path / rundir.JOINTS, index=False)
+    (path / rundir.SUMMARY).write_text(json.dumps({"duration_s": n_t * dt if n_t else 1.0,
                                                    "status": status}))
     (path / "case.yaml").write_text("fatigue:\n  plane_step_deg: 15.0\n  n_refine: 2\n")
     return path

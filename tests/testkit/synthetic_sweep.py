@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from drillfatigue import rundir
 from drillfatigue.errors import SimulationError
 from testkit.synthetic_kernels import burn as _burn
 from drillfatigue.units import HOUR_S
@@ -110,15 +111,15 @@ def synthetic_case(case: dict[str, Any], case_dir: Path) -> dict[str, Any]:
         "bending_x_Nm": bend * np.sin(tt + jj), "bending_y_Nm": bend * np.cos(tt + jj),
         "torque_Nm": np.repeat(torque, N_JOINT)})
     case_dir = Path(case_dir)
-    channels.to_parquet(case_dir / "channels.parquet", index=False)
-    joints.to_parquet(case_dir / "joints.parquet", index=False)
-    loads.to_parquet(case_dir / "loads.parquet", index=False)
+    channels.to_parquet(case_dir / rundir.CHANNELS, index=False)
+    joints.to_parquet(case_dir / rundir.JOINTS, index=False)
+    loads.to_parquet(case_dir / rundir.LOADS, index=False)
     summary = {"status": "complete", "duration_s": float(t[-1]), "wall_time_s": 0.0,
                "stick_slip_severity": float(np.ptp(channels["bit_rpm"]) / 120.0),
                "whirl_class": "forward" if seed % 2 else "backward",
                "bit_bounce_count": int(seed % 3), "max_contact_force_N": 1.0e4 * level,
                "burn": float(burn)}
-    (case_dir / "summary.json").write_text(json.dumps(summary, sort_keys=True), encoding="utf-8")
+    (case_dir / rundir.SUMMARY).write_text(json.dumps(summary, sort_keys=True), encoding="utf-8")
     (case_dir / "case.json").write_text(json.dumps(case, sort_keys=True), encoding="utf-8")
     return summary
 
@@ -126,9 +127,9 @@ def synthetic_case(case: dict[str, Any], case_dir: Path) -> dict[str, Any]:
 def synthetic_fatigue(task: dict[str, Any], case_dir: Path) -> pd.DataFrame:
     """Write a fake ``damage.parquet`` for the run in ``task['run_dir']``."""
     run_dir = Path(task["run_dir"])
-    joints = pd.read_parquet(run_dir / "joints.parquet")
-    loads = pd.read_parquet(run_dir / "loads.parquet")
-    duration_s = float(json.loads((run_dir / "summary.json").read_text())["duration_s"])
+    joints = pd.read_parquet(run_dir / rundir.JOINTS)
+    loads = pd.read_parquet(run_dir / rundir.LOADS)
+    duration_s = float(json.loads((run_dir / rundir.SUMMARY).read_text())["duration_s"])
     rows = []
     md_end = loads.groupby("joint")["md_m"].last()
     for _, j in joints.iterrows():

@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics import status
 from drillfatigue.dynamics.api import _wellpath
 from drillfatigue.dynamics.examples import j_well_rotating_case
 from drillfatigue.dynamics.forces import compute_forces
@@ -40,16 +41,11 @@ def _bit_force(extra_lag_m: float) -> tuple[np.ndarray, float]:
     wk = model.work
     sc = s.sc.copy()
     sc[L.C_MDROCK] += 0.01 + extra_lag_m  # face ahead of the bit: off bottom
-    Fw, Mw, Mb = np.zeros_like(s.Fw), np.zeros_like(s.Mw), np.zeros_like(s.Mb)
-    st = compute_forces(model.dt, s.x.copy(), s.v.copy(), s.q.copy(), s.w.copy(), model.seg,
-                        model.jp, model.bp, model.anchor, model.tab_t, model.tab_w,
-                        path.node_md_m, path.node_pos_m, path.node_tan, path.wall, model.cpar,
-                        s.hint.copy(), s.cst.copy(), sc, wk["R"], wk["wW"], Fw, Mw, Mb,
-                        wk["loads"], wk["ch"], wk["scq"], wk["scm"], wk["scv"], wk["ed"],
-                        wk["cw"])
-    assert st == 0
-    assert wk["ch"][L.H_WOB] == 0.0
-    return Fw[0].copy(), float(model.seg[0, L.S_W])
+    s2 = s.copy()._replace(sc=sc)
+    st = compute_forces(s2, model.params, wk)
+    assert st == status.OK
+    assert wk.ch[L.H_WOB] == 0.0
+    return s2.Fw[0].copy(), float(model.seg[0, L.S_W])
 
 
 @pytest.mark.parametrize("lag_m", [1.0, 5.0, 10.0, 40.0, 120.0])

@@ -9,6 +9,7 @@ import pytest
 
 from drillfatigue.config.base import validate
 from drillfatigue.config.bit import BitConfig
+from drillfatigue.dynamics import status
 from drillfatigue.dynamics.bitrock import I_B0, bit_response, pack_bit_params
 from drillfatigue.errors import InputError
 
@@ -19,7 +20,7 @@ YC = BitConfig(model="yigit_christoforou")
 def resp(wob, omega, cfg=None, rop=0.0):
     mid, p = pack_bit_params(cfg or YC, rop)
     out = np.empty(2)
-    assert bit_response(mid, p, wob, omega, out) == 0
+    assert bit_response(mid, p, wob, omega, out) == status.OK
     return out
 
 
@@ -88,7 +89,7 @@ def test_prescribed_rop():
 def test_unknown_model_and_bad_config():
     _, p = pack_bit_params(BitConfig())
     out = np.ones(2)
-    assert bit_response(9, p, 1.0, 1.0, out) == -1
+    assert bit_response(9, p, 1.0, 1.0, out) == status.UNKNOWN_BIT
     with pytest.raises(InputError) as exc:
         validate(BitConfig, {"bit_radius_m": 2.0}, "bit")
     assert exc.value.field == "bit.bit_radius_m"

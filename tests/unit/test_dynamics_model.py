@@ -8,7 +8,7 @@ import pytest
 from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics import layout as L
 from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.forces import drive_omega
+from drillfatigue.dynamics.boundaries import drive_omega
 from drillfatigue.dynamics.model import advance_model, build_model, rpm_table, straight_path
 from drillfatigue.errors import InputError
 

@@ -1,9 +1,6 @@
-"""Kernel module hygiene and the multi-plane kernel against a per-plane loop."""
+"""The multi-plane kernel against a per-plane loop."""
 
 from __future__ import annotations
-
-import ast
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,17 +11,6 @@ from drillfatigue.fatigue.critical_plane import (CriterionParams, plane_damage, 
 from drillfatigue.fatigue.rainflow import find_cycles_indexed
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Section, surface_coefficients
-
-
-def test_kernel_module_imports_only_numpy_numba_math() -> None:
-    tree = ast.parse(Path(K.__file__).read_text(encoding="utf-8"))
-    names = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            names |= {a.name.split(".")[0] for a in node.names}
-        elif isinstance(node, ast.ImportFrom):
-            names.add((node.module or "").split(".")[0])
-    assert names <= {"__future__", "numpy", "numba", "math"}
 
 
 def test_multiplane_kernel_equals_per_plane_reversal_search() -> None:

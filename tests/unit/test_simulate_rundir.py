@@ -10,6 +10,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import drillfatigue
+from drillfatigue import rundir
 from drillfatigue.cli import main
 from drillfatigue.config import case_from_dict, load_case
 from drillfatigue.dynamics import api
@@ -61,6 +62,12 @@ def test_run_directory_has_the_contracted_files_and_columns(tmp_path: Path) -> N
     assert summary["figures"]["bit_rpm"]["max"] > 50.0
     assert summary["energy_balance_error_rel"] < 0.01
     assert not (run / "checkpoint.npz").exists() and not (run / ".parts").exists()
+    # the one definition of the format is what the files hold
+    assert tuple(loads.column_names) == rundir.LOADS_COLUMNS
+    assert tuple(joints.columns) == rundir.JOINTS_COLUMNS
+    assert tuple(ch.column_names) == rundir.CHANNELS_COLUMNS
+    assert tuple(kin.column_names) == rundir.KINEMATICS_COLUMNS
+    assert tuple(pq.read_table(run / rundir.CONTACTS).column_names) == rundir.CONTACTS_COLUMNS
     # loads: md = bit md - distance from the bit; tension in the pipe near the top
     df = loads.to_pandas()
     last = df[df["time_s"] == df["time_s"].max()]
@@ -93,8 +100,11 @@ def test_ctrl_c_leaves_incomplete_run_and_resume_is_bit_for_bit(tmp_path: Path,
     summary = json.loads((run / "summary.json").read_text())
     assert summary["status"] == "incomplete"
     assert 0.5 < summary["duration_s"] < 1.0
-    partial = pq.read_table(run / "loads.parquet")  # a valid file
-    assert 0 < partial.num_rows < pq.read_table(ref / "loads.parquet").num_rows
+    # nothing under a final name; the histories so far are valid parts
+    assert not (run / "loads.parquet").exists() and not (run / "channels.parquet").exists()
+    parts = sorted((run / ".parts").glob("loads.*.parquet"))
+    rows = sum(pq.read_table(p).num_rows for p in parts)
+    assert 0 < rows < pq.read_table(ref / "loads.parquet").num_rows
     assert (run / "checkpoint.npz").exists()
     res = drillfatigue.simulate(_cfg(), run, progress=False, resume=True)
     assert res.status == "complete"

@@ -20,8 +20,10 @@ import math
 import numpy as np
 import pytest
 
+from drillfatigue.dynamics import layout as L
 from drillfatigue.dynamics.examples import uniform_chain_case
-from drillfatigue.dynamics.forces import top_joint
+from drillfatigue.dynamics.boundaries import top_joint
+from drillfatigue.dynamics.bundles import new_work
 from drillfatigue.dynamics.model import build_model, straight_path
 from drillfatigue.dynamics.rigid import quat_exp_mul, quat_to_rot
 
@@ -43,13 +45,10 @@ def _top_loads(top_axial: str, axial_offset_m: float, tilt_rad: float) -> tuple[
         quat_to_rot(q[i], Rs[i])
     v = np.zeros_like(state.v)
     wW = np.zeros_like(state.w)
-    wk = model.work
-    scv = np.zeros_like(wk["scv"])
-    loads_row = np.zeros(6)
-    ed = np.zeros(2)
-    top_joint(0.0, top, x, v, q, wW, Rs, model.seg, model.jp, model.anchor, model.tab_t,
-              model.tab_w, state.sc.copy(), wk["scq"].copy(), wk["scm"].copy(), scv, loads_row, ed)
-    return scv[0].copy(), scv[1].copy()
+    wk = new_work(model.n)._replace(R=Rs, wW=wW)
+    s = state.copy()._replace(x=x, v=v, q=q)
+    top_joint(0.0, top, s, model.params, wk, np.zeros(6))
+    return wk.vec[L.V_J_F, :3].copy(), wk.vec[L.V_J_MLO, :3].copy()
 
 
 @pytest.mark.parametrize("offset_m", [0.5, 3.0, 6.7])

@@ -134,19 +134,3 @@ def test_wellbore_from_given_survey_straight_segments_are_single_nodes_per_10m()
     wb = build_wellbore(WellConfig(), survey=sv)
     assert wb.n == 10  # 95 m straight hole, cap 10 m
     np.testing.assert_allclose(wb.length_m, 9.5)
-
-
-def test_kernel_module_imports_only_numpy_numba_math() -> None:
-    import ast
-    import inspect
-
-    from drillfatigue.well import kernels
-
-    tree = ast.parse(inspect.getsource(kernels))
-    names = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            names |= {a.name.split(".")[0] for a in node.names}
-        elif isinstance(node, ast.ImportFrom):
-            names.add((node.module or "").split(".")[0])
-    assert names <= {"__future__", "math", "numpy", "numba"}

@@ -27,6 +27,7 @@ from drillfatigue.dynamics.contact import (
     wall_force,
 )
 from drillfatigue.dynamics.friction import pack_friction_params
+from drillfatigue.dynamics.layout import WI_CYL
 
 G = 9.80665
 M = 30.0  # kg, ~1 m of 5 in drill pipe
@@ -51,8 +52,9 @@ def _run(p0, axis, length, radius, k_c, c_c, fmodel, fp, dt, n_steps, n_avg, out
     sum_t = 0.0
     sum_phi = 0.0
     for k in range(n_steps):
-        ic = wall_force(x, x, v, om, tax, R_PIPE, p0, axis, length, radius, hint,
-                        k_c, c_c, fmodel, fp, zero, dt, info, f, mo)
+        wall_force(x, x, v, om, tax, R_PIPE, p0, axis, length, radius, hint,
+                   k_c, c_c, fmodel, fp, zero, dt, info, f, mo)
+        ic = int(info[WI_CYL])
         if ic >= 0:
             hint = ic
         ay = f[1] - C_MUD * v[1]

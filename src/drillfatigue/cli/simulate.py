@@ -8,7 +8,9 @@ from pathlib import Path
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue import rundir
 from drillfatigue.config import load_case
+from drillfatigue.dynamics.api import simulate
 from drillfatigue.errors import InputError, SimulationError
 
 
@@ -23,16 +25,18 @@ def simulate_cmd(
     cfg = load_case(case)
     if out.exists() and not out.is_dir():
         raise InputError("--out", f"{str(out)!r} exists and is not a folder", "a folder path")
-    if resume and not (out / "checkpoint.npz").is_file():
+    if resume and not (out / rundir.CHECKPOINT).is_file():
         raise InputError("--resume", f"no checkpoint in {str(out)!r}",
-                         "a run directory with checkpoint.npz (set solver.checkpoint_every_s)")
-    from drillfatigue.dynamics.api import simulate
-
+                         f"a run directory with {rundir.CHECKPOINT} (set solver.checkpoint_every_s)")
     try:
         res = simulate(cfg, out, progress=progress, resume=resume)
     except SimulationError as exc:
         print(f"error: simulation failed: {exc}", file=sys.stderr)
         raise typer.Exit(1) from None
+    except KeyboardInterrupt:
+        print(f"error: interrupted: the run in {str(out)!r} is incomplete (no final files "
+              "written); continue it with --resume", file=sys.stderr)
+        raise typer.Exit(130) from None
     s = res.summary
     print(f"{s['status']}: {s['duration_s']:.3f} s simulated in {s['wall_time_s']:.1f} s "
           f"({s['real_time_factor']:.3g}x real time) -> {out}")

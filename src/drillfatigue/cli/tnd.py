@@ -18,7 +18,7 @@ from rich.table import Table
 
 from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out
 from drillfatigue.config import load_case
-from drillfatigue.dynamics.softstring import TorqueDrag, torque_drag_for_case
+from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
 from drillfatigue.io.display import Display, check_system
@@ -47,7 +47,7 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
     md = d.value("length", td.md_m)
     from matplotlib.figure import Figure
 
-    from drillfatigue.well.survey import atomic_output
+    from drillfatigue.files import atomic_output
 
     fig = Figure(figsize=(11, 5.5))
     ax1, ax2 = fig.subplots(1, 2, sharey=True)

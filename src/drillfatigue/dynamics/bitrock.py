@@ -43,6 +43,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from drillfatigue.dynamics.status import OK, UNKNOWN_BIT
+
 if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
     from drillfatigue.config.bit import BitConfig
 
@@ -101,7 +103,8 @@ def bit_response(model, p, wob_N, omega_bit_rad_s, out):
     Returns
     -------
     int
-        0, or -1 for an unknown model id (``out`` zeroed).
+        A status code (:mod:`drillfatigue.dynamics.status`): ``OK``, or
+        ``UNKNOWN_BIT`` for an unknown model id (``out`` zeroed).
 
     References
     ----------
@@ -110,9 +113,9 @@ def bit_response(model, p, wob_N, omega_bit_rad_s, out):
     out[0] = 0.0
     out[1] = 0.0
     if model != YIGIT_CHRISTOFOROU and model != PRESCRIBED_ROP:
-        return -1
+        return UNKNOWN_BIT
     if wob_N <= 0.0:
-        return 0
+        return OK
     om = omega_bit_rad_s
     f = _fade_in(wob_N, p[I_WOB_TH], p[I_BAND]) * _fade_in(om, p[I_OMEGA_TH], p[I_BAND])
     out[0] = wob_N * p[I_B0] * (math.tanh(p[I_B1] * om) + f * p[I_B2] * om / (1.0 + p[I_B3] * om * om))
@@ -121,7 +124,7 @@ def bit_response(model, p, wob_N, omega_bit_rad_s, out):
     elif f > 0.0:
         rop = p[I_C1] * wob_N * math.sqrt(om) + p[I_C2]
         out[1] = f * rop if rop > 0.0 else 0.0
-    return 0
+    return OK
 
 
 def pack_bit_params(cfg: BitConfig, rop_m_per_s: float = 0.0) -> tuple[int, np.ndarray]:

@@ -29,6 +29,19 @@ the bend. The search is O(1): it starts from the cylinder found at the last
 call (``hint``), walks along the chain only while s lies outside [0, l], and
 then compares the located cylinder with its two neighbours.
 
+The wall loop (:func:`wall_contact`) runs over the active segments and their
+contact points (:func:`contact_point`: the ends, with the tool-joint or
+stabilizer radius, and optionally the middle), calls :func:`wall_force` (normal
+force plus the friction law of :mod:`friction`) at each, estimates Karnopp's
+"other" force first, caps the smooth laws' friction so one step cannot reverse
+a slip, and records contact statistics and whirl angles (:mod:`events`).
+Arrays: reads the state's positions and velocities, ``wk.R``/``wk.wW``,
+``p.seg`` (radii ``S_RC``/``S_RB``, dash-pot ``S_CC``), ``p.wall`` (the
+cylinders: columns ``W_*``), ``p.cpar`` (``P_*``: penalty, friction law and
+parameters, points per segment); updates the hints ``s.hint`` (one per
+contact point, ``MAX_CONTACT_POINTS`` per segment) and ``s.cst``; adds to
+``s.Fw``, ``s.Mw`` and the energy channels.
+
 Penalty stiffness and the stable step. The wall is a spring k_c (N/m) with
 dash-pot c_c (N s/m). With an explicit (symplectic Euler / central
 difference) integrator a mass m on a spring k is stable for
@@ -51,7 +64,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from drillfatigue.dynamics.friction import friction_force_split
+from drillfatigue.dynamics.events import record_contact, track_whirl
+from drillfatigue.dynamics.friction import KARNOPP, friction_force_split
+from drillfatigue.dynamics.layout import (
+    B_TWIN, C_MDROCK, H_FCMAX, H_NCON, H_NSEG, H_PDISS, H_PE, MAX_CONTACT_POINTS, P_FMODEL, P_FP,
+    P_KC, P_NPTS, P_ON, S_CC, S_H, S_IA, S_IT, S_M, S_RB, S_RC, WALL_INFO_SIZE, WI_CYL, WI_DELTA,
+    WI_DIST, WI_FO, WI_N, WI_NX, WI_SLIP, WI_VS, V_W_ALIN, V_W_ALPHA, V_W_AX, V_W_F, V_W_FO,
+    V_W_INFO, V_W_M, V_W_WHIRL, V_W_X,
+)
+from drillfatigue.dynamics.status import OK
 
 if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
     from drillfatigue.config.contact import ContactConfig
@@ -64,9 +85,6 @@ OUT_NZ = 3
 OUT_S = 4
 OUT_DIST = 5
 OUT_SIZE = 6
-
-#: Length of the ``info`` array of :func:`wall_force`.
-WALL_INFO_SIZE = 14
 
 #: Return value of :func:`find_contact` for a point beyond either end of the chain.
 OUTSIDE_CHAIN = -1
@@ -295,10 +313,13 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
         component along n is removed here).
     dt : float
         Integrator step, s (passed to the friction kernel).
-    info : ndarray, shape (WALL_INFO_SIZE,) = (14,)
-        Written: ``find_contact``'s six values, then the normal force N (N),
-        the slip speed at Y (m/s), the slip velocity vector at Y (3, m/s) and
-        the tangential part of ``f_other`` (3, N; scratch). No allocation.
+    info : ndarray, shape (WALL_INFO_SIZE,) = (15,)
+        Written (columns ``WI_*`` of :mod:`layout`): ``find_contact``'s six
+        values, the normal force N (N), the slip speed at Y (m/s), the slip
+        velocity vector at Y (3, m/s), the tangential part of ``f_other`` (3,
+        N; scratch) and the cylinder located (the next ``hint``; -1 beyond the
+        chain's ends, where the end cylinder is prolonged: keep the previous
+        hint then). No allocation.
     force, moment : ndarray, shape (3,)
         Written: wall force on the segment (normal plus friction), N, and its
         moment about ``xc``, N m (world frame). Zero when not in contact.
@@ -306,9 +327,8 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
     Returns
     -------
     int
-        The cylinder index (the next ``hint``), or ``OUTSIDE_CHAIN`` (the
-        force is then computed on the prolonged end cylinder; keep the previous
-        hint); -2 for an unknown friction model.
+        A status code (:mod:`drillfatigue.dynamics.status`): ``OK`` or
+        ``UNKNOWN_FRICTION``.
     """
     ic = find_contact(X, r_contact, p0, axis, length, radius, hint, info[:6])
     for k in range(3):
@@ -316,10 +336,11 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
         moment[k] = 0.0
     for k in range(6, WALL_INFO_SIZE):
         info[k] = 0.0
+    info[WI_CYL] = ic
     # beyond the chain's ends (ic = -1) the end cylinder is prolonged, so the
-    # bit drilling ahead of the last node still feels a wall; keep the old hint then
+    # bit drilling ahead of the last node still feels a wall
     if info[OUT_DELTA] <= 0.0:
-        return ic
+        return OK
     nx = info[OUT_NX]
     ny = info[OUT_NY]
     nz = info[OUT_NZ]
@@ -332,28 +353,207 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
     vz = vc[2] + omega[0] * ay_ - omega[1] * ax_
     vn = vx * nx + vy * ny + vz * nz  # penetration rate (wall at rest)
     N = normal_force(info[OUT_DELTA], vn, k_c, c_c)
-    info[6] = N
+    info[WI_N] = N
     if N <= 0.0:
-        return ic
-    vs = info[8:11]
+        return OK
+    vs = info[WI_VS:WI_VS + 3]
     vs[0] = vx - vn * nx
     vs[1] = vy - vn * ny
     vs[2] = vz - vn * nz
-    info[7] = math.sqrt(vs[0] * vs[0] + vs[1] * vs[1] + vs[2] * vs[2])
-    fo = info[11:14]
+    info[WI_SLIP] = math.sqrt(vs[0] * vs[0] + vs[1] * vs[1] + vs[2] * vs[2])
+    fo = info[WI_FO:WI_FO + 3]
     fon = f_other[0] * nx + f_other[1] * ny + f_other[2] * nz
     fo[0] = f_other[0] - fon * nx
     fo[1] = f_other[1] - fon * ny
     fo[2] = f_other[2] - fon * nz
-    if friction_force_split(fmodel, fp, vs, t_axis, N, fo, dt, force) != 0:
-        return -2
+    st = friction_force_split(fmodel, fp, vs, t_axis, N, fo, dt, force)
+    if st != OK:
+        return st
     force[0] -= N * nx
     force[1] -= N * ny
     force[2] -= N * nz
     moment[0] = ay_ * force[2] - az_ * force[1]
     moment[1] = az_ * force[0] - ax_ * force[2]
     moment[2] = ax_ * force[1] - ay_ * force[0]
-    return ic
+    return OK
+
+
+@njit(cache=True)
+def contact_point(seg, i, p):
+    """Where contact point ``p`` of segment ``i`` sits: (offset along the axis from the
+    centre, m, > 0 downhole; contact radius, m).
+
+    Points 0 and 1 are the segment's lower and upper ends (tool joints or
+    stabilizer blades, radius ``seg[i, S_RC]``), point 2 its middle (pipe body,
+    ``seg[i, S_RB]``). A new kind of point (several per tool joint, a
+    stabilizer mid-segment) is added here and counted in ``MAX_CONTACT_POINTS``.
+    """
+    h = seg[i, S_H]
+    if p == 0:
+        return h, seg[i, S_RC]
+    if p == 1:
+        return -h, seg[i, S_RC]
+    return 0.0, seg[i, S_RB]
+
+
+@njit(cache=True)
+def wall_contact(t, n, s, p, wk):
+    """Wall contact and friction on every active segment, with contact and whirl statistics.
+
+    For each segment and each of its ``cpar[P_NPTS]`` contact points
+    (:func:`contact_point`) the penalty normal force and the friction of the
+    chosen law (:func:`wall_force`) are added to ``s.Fw`` / ``s.Mw``; the
+    penalty energy and the dissipated power go to ``wk.ch[H_PE]`` /
+    ``wk.ch[H_PDISS]``; ``s.cst`` gets the segment's contact statistics and,
+    after ``bp[B_TWIN]``, its whirl angles (:mod:`events`); ``wk.ch`` the count
+    of segments in contact, the largest normal force and the active count.
+    Reads ``s.x, s.v, s.hint`` (updated), ``wk.R, wk.wW``, ``p.seg, p.wall,
+    p.cpar, p.bp``. Returns a status code.
+
+    Karnopp pre-pass. Karnopp needs the "other" tangential force at a contact
+    point. In this explicit scheme it is estimated first: the acceleration the
+    contact point would have from all non-wall forces and moments on the
+    segment (gravity, mud, joints, boundaries: this kernel runs after them),
+    times the share of the segment's mass carried by the point (m / points).
+    Friction is then computed point by point against that estimate.
+
+    Slip cap (smooth models, all but Karnopp). Near zero slip a regularised
+    friction law is a viscous damper of slope mu N / v_reg, which an explicit
+    step resolves only for dt < 2 m_eff v_reg / (mu N) -- far below the joint
+    step at large normal forces. Instead, the tangential force at a point is
+    capped at m_eff |v_slip| / dt with m_eff = m / (3 points) (translation, spin
+    and tilt of the segment all move the surface point; the factor 3 keeps the
+    combined velocity change of one step below the slip, so friction can stop
+    a slip within a step but never reverse it). Where the cap binds the point
+    is effectively stuck (creep ~ F_other dt / m_eff), as it would be with the
+    true law; elsewhere the law is untouched. Karnopp keeps its own stick band
+    and the step limit of :func:`drillfatigue.dynamics.model.stable_step`.
+    """
+    ch = wk.ch
+    cpar = p.cpar
+    ncon = 0
+    fcmax = 0.0
+    if cpar[P_ON] != 0.0:
+        dt = p.dt
+        x = s.x
+        v = s.v
+        Fw = s.Fw
+        Mw = s.Mw
+        Mb = s.Mb
+        hint = s.hint
+        cst = s.cst
+        seg = p.seg
+        wall = p.wall
+        R = wk.R
+        wW = wk.wW
+        kc = cpar[P_KC]
+        fmodel = int(cpar[P_FMODEL])
+        npts = int(cpar[P_NPTS])
+        fp = cpar[P_FP:P_FP + 10]
+        p0 = wall[:, 0:3]
+        axc = wall[:, 3:6]
+        lnc = wall[:, 6]
+        rad = wall[:, 7]
+        vec = wk.vec
+        info = vec[V_W_INFO]
+        X = vec[V_W_X]
+        tax = vec[V_W_AX]
+        fo = vec[V_W_FO]
+        force = vec[V_W_F]
+        moment = vec[V_W_M]
+        alin = vec[V_W_ALIN]
+        alpha = vec[V_W_ALPHA]
+        whirl = vec[V_W_WHIRL]
+        t_win = p.bp[B_TWIN]
+        md_bit = s.sc[C_MDROCK]
+        karn = fmodel == KARNOPP
+        for i in range(n):
+            m = seg[i, S_M]
+            for k in range(3):
+                tax[k] = R[i, k, 2]
+                fo[k] = 0.0
+            if karn:
+                # acceleration from the non-wall loads (pre-pass, see above)
+                mb0 = R[i, 0, 0] * Mb[i, 0] + R[i, 0, 1] * Mb[i, 1] + R[i, 0, 2] * Mb[i, 2] + Mw[i, 0]
+                mb1 = R[i, 1, 0] * Mb[i, 0] + R[i, 1, 1] * Mb[i, 1] + R[i, 1, 2] * Mb[i, 2] + Mw[i, 1]
+                mb2 = R[i, 2, 0] * Mb[i, 0] + R[i, 2, 1] * Mb[i, 1] + R[i, 2, 2] * Mb[i, 2] + Mw[i, 2]
+                max_ = mb0 * tax[0] + mb1 * tax[1] + mb2 * tax[2]
+                it = seg[i, S_IT]
+                ia = seg[i, S_IA]
+                alpha[0] = (mb0 - max_ * tax[0]) / it + max_ * tax[0] / ia
+                alpha[1] = (mb1 - max_ * tax[1]) / it + max_ * tax[1] / ia
+                alpha[2] = (mb2 - max_ * tax[2]) / it + max_ * tax[2] / ia
+                for k in range(3):
+                    alin[k] = Fw[i, k] / m
+            nsum = 0.0
+            dmax = 0.0
+            m_cap = m / (3.0 * npts)
+            for pt in range(npts):
+                off, rc = contact_point(seg, i, pt)
+                for k in range(3):
+                    X[k] = x[i, k] + off * tax[k]
+                if karn:
+                    share = m / npts
+                    fo[0] = share * (alin[0] + alpha[1] * off * tax[2] - alpha[2] * off * tax[1])
+                    fo[1] = share * (alin[1] + alpha[2] * off * tax[0] - alpha[0] * off * tax[2])
+                    fo[2] = share * (alin[2] + alpha[0] * off * tax[1] - alpha[1] * off * tax[0])
+                ih = MAX_CONTACT_POINTS * i + pt
+                st = wall_force(X, x[i], v[i], wW[i], tax, rc, p0, axc, lnc, rad, hint[ih],
+                                kc, seg[i, S_CC], fmodel, fp, fo, dt, info, force, moment)
+                if st != OK:
+                    return st
+                ic = int(info[WI_CYL])
+                if ic >= 0:
+                    hint[ih] = ic
+                d = info[WI_DIST]
+                if d > dmax:
+                    dmax = d
+                delta = info[WI_DELTA]
+                if delta > 0.0:
+                    nrm = info[WI_N]
+                    nsum += nrm
+                    nx = info[WI_NX]
+                    ny = info[WI_NX + 1]
+                    nz = info[WI_NX + 2]
+                    # velocity of the surface contact point Y = X + r n
+                    ax_ = X[0] + rc * nx - x[i, 0]
+                    ay_ = X[1] + rc * ny - x[i, 1]
+                    az_ = X[2] + rc * nz - x[i, 2]
+                    vy0 = v[i, 0] + wW[i, 1] * az_ - wW[i, 2] * ay_
+                    vy1 = v[i, 1] + wW[i, 2] * ax_ - wW[i, 0] * az_
+                    vy2 = v[i, 2] + wW[i, 0] * ay_ - wW[i, 1] * ax_
+                    vn = vy0 * nx + vy1 * ny + vy2 * nz
+                    if not karn and nrm > 0.0:
+                        # slip cap (see above): |F_t| <= m_eff |v_slip| / dt
+                        ft0 = force[0] + nrm * nx
+                        ft1 = force[1] + nrm * ny
+                        ft2 = force[2] + nrm * nz
+                        ftm = math.sqrt(ft0 * ft0 + ft1 * ft1 + ft2 * ft2)
+                        cap = m_cap * info[WI_SLIP] / dt
+                        if ftm > cap:
+                            sf = cap / ftm
+                            force[0] = sf * ft0 - nrm * nx
+                            force[1] = sf * ft1 - nrm * ny
+                            force[2] = sf * ft2 - nrm * nz
+                            moment[0] = ay_ * force[2] - az_ * force[1]
+                            moment[1] = az_ * force[0] - ax_ * force[2]
+                            moment[2] = ax_ * force[1] - ay_ * force[0]
+                    ch[H_PE] += 0.5 * kc * delta * delta
+                    ch[H_PDISS] += -(force[0] * vy0 + force[1] * vy1 + force[2] * vy2) - kc * delta * vn
+                    for k in range(3):
+                        Fw[i, k] += force[k]
+                        Mw[i, k] += moment[k]
+            if record_contact(i, t, md_bit, nsum, dmax, dt, cst):
+                ncon += 1
+                if nsum > fcmax:
+                    fcmax = nsum
+            if t >= t_win:
+                track_whirl(i, x[i], wW[i], seg[i, S_RC], wall, hint[MAX_CONTACT_POINTS * i], dt,
+                            cst, whirl)
+    ch[H_NCON] = ncon
+    ch[H_FCMAX] = fcmax
+    ch[H_NSEG] = n
+    return OK
 
 
 def stable_dt(k_c: float, m_min: float, zeta: float = 0.0) -> float:

@@ -7,6 +7,7 @@ in a straight hole, top held, bit free (off bottom), no mud, damping optional.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from drillfatigue.config import CaseConfig, case_from_dict
@@ -31,7 +32,6 @@ def uniform_chain_case(n: int, length_m: float, *, od_m: float = COLLAR_OD_M,
     """
     seg_len = length_m / n
     e, nu = 207e9, 0.3
-    import math
     area = math.pi / 4 * (od_m ** 2 - id_m ** 2)
     j_polar = math.pi / 32 * (od_m ** 4 - id_m ** 4)
     g_mod = e / (2 * (1 + nu))

@@ -58,6 +58,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from drillfatigue.dynamics.status import OK, UNKNOWN_FRICTION
+
 if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
     from drillfatigue.config.friction import FrictionConfig
 
@@ -158,7 +160,8 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
     Returns
     -------
     int
-        0 on success, -1 for an unknown model id (``out`` is zeroed).
+        A status code (:mod:`drillfatigue.dynamics.status`): ``OK``, or
+        ``UNKNOWN_FRICTION`` for an unknown model id (``out`` is zeroed).
 
     References
     ----------
@@ -168,9 +171,9 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
     out[1] = 0.0
     out[2] = 0.0
     if model < 0 or model > TANH_EXP:
-        return -1
+        return UNKNOWN_FRICTION
     if N <= 0.0:
-        return 0
+        return OK
     vx = v_slip[0]
     vy = v_slip[1]
     vz = v_slip[2]
@@ -201,14 +204,14 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
         out[0] = fx
         out[1] = fy
         out[2] = fz
-        return 0
+        return OK
     if speed == 0.0:
-        return 0
+        return OK
     f = -N * slip_coefficient(model, p, speed) / speed
     out[0] = f * vx
     out[1] = f * vy
     out[2] = f * vz
-    return 0
+    return OK
 
 
 @njit(cache=True)

@@ -18,6 +18,10 @@ the discrete model conservative for finite twists (Barfoot, State Estimation
 for Robotics, 2017, eq. 7.77 for J_r^-1). Half of the couple d x F goes to each
 body so that angular momentum is conserved.
 
+:func:`joint_forces` applies :func:`joint_force` to every joint of the active
+string (reads the state, ``wk.R``/``wk.wW``, ``p.seg``, ``p.jp``; adds to
+``s.Fw``/``s.Mw``; writes ``wk.loads``; scratch rows ``V_J_*``, ``M_J_RM``).
+
 Recorded loads (the internal force and moment the upper part exerts on the
 lower part, in the joint frame, z downhole along the pipe axis):
 [axial_N (tension > 0), shear_x_N, shear_y_N, bending_x_Nm, bending_y_Nm,
@@ -30,6 +34,10 @@ import math
 
 from numba import njit
 
+from drillfatigue.dynamics.layout import (
+    H_PDISS, H_PE, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, M_J_RM, S_H, V_J_ED, V_J_F,
+    V_J_MLO, V_J_MUP, V_J_QH, V_J_QM, V_J_QR, V_J_VUP,
+)
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_log, quat_mul, quat_to_rot
 
 
@@ -152,3 +160,54 @@ def joint_force(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_
                    + k_b * (th0 * th0 + th1 * th1) + k_t * th2 * th2)
     ed[1] = (c_s * (ul0 * ul0 + ul1 * ul1) + c_a * ul2 * ul2
              + c_b * (ol0 * ol0 + ol1 * ol1) + c_t * ol2 * ol2)
+
+
+@njit(cache=True, inline="always")
+def joint_forces(n, growth, s, p, wk):
+    """Loads of the n - 1 joints between the active segments, added to the segments.
+
+    ``growth`` (m/s): the rate at which the top segment's lower end moves along
+    its axis by drilling or tripping (on top of its rigid motion), which the
+    damper of the joint below it sees. Reads ``s.x, s.v, s.q``, ``wk.R, wk.wW``,
+    ``p.seg, p.jp``; adds to ``s.Fw, s.Mw``; writes ``wk.loads[0:n-1]`` and adds
+    the spring energy and damper power to ``wk.ch[H_PE]``, ``wk.ch[H_PDISS]``.
+    """
+    x = s.x
+    v = s.v
+    q = s.q
+    Fw = s.Fw
+    Mw = s.Mw
+    R = wk.R
+    wW = wk.wW
+    seg = p.seg
+    jp = p.jp
+    loads = wk.loads
+    ch = wk.ch
+    vec = wk.vec
+    Fl = vec[V_J_F]
+    Ml = vec[V_J_MLO]
+    Mu = vec[V_J_MUP]
+    ed = vec[V_J_ED]
+    vtop = vec[V_J_VUP]
+    qr = vec[V_J_QR]
+    qh = vec[V_J_QH]
+    qm = vec[V_J_QM]
+    Rm = wk.mat[M_J_RM]
+    for j in range(n - 1):
+        vu = v[j + 1]
+        if j == n - 2 and growth != 0.0:
+            for k in range(3):
+                vtop[k] = v[j + 1, k] + growth * R[j + 1, k, 2]
+            vu = vtop
+        joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
+                    x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
+                    jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
+                    jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
+                    qr, qh, qm, Rm, Fl, Ml, Mu, loads[j], ed)
+        ch[H_PE] += ed[0]
+        ch[H_PDISS] += ed[1]
+        for k in range(3):
+            Fw[j, k] += Fl[k]
+            Fw[j + 1, k] -= Fl[k]
+            Mw[j, k] += Ml[k]
+            Mw[j + 1, k] += Mu[k]

@@ -1,7 +1,9 @@
 """Column layout of the packed parameter and state arrays shared by the kernels.
 
 Plain integer constants (numba treats module-level ints as compile-time
-constants). Python code builds the arrays with these indices; kernels read them.
+constants). The packers of :mod:`drillfatigue.dynamics.model` build the arrays
+with these indices; the kernels read them. The arrays travel in the bundles of
+:mod:`drillfatigue.dynamics.bundles`.
 """
 
 # seg[i, :] -- per-segment parameters, shape (n, N_SEG)
@@ -27,8 +29,7 @@ W_RAD = 7    # hole radius (m)
 N_WALL = 8
 
 # cpar -- wall contact and friction parameters, packed by the contact/friction layer.
-# cpar[P_ON] == 0 switches wall contact off (this issue); the remaining layout
-# is owned by the contact / friction modules.
+# cpar[P_ON] == 0 switches wall contact off.
 P_ON = 0
 P_KC = 1         # penalty stiffness k_c (N/m)
 P_FMODEL = 2     # friction model id (drillfatigue.dynamics.friction)
@@ -157,8 +158,70 @@ H_FCMAX = 13    # largest segment normal force now (N)
 H_NSEG = 14     # active segments
 N_CH = 15
 
-# status codes returned by the kernels
-ST_OK = 0
-ST_NONFINITE = 1
-ST_BLOWUP = 2
-ST_FORCES = 3
+# work.vec[r, :] -- scratch vectors of the kernels, one row per use (row width N_VECW;
+# a use reads the first 2, 3, 4 or 15 entries)
+V_ROT_QA = 0       # rigid.free_rotation: two quaternions
+V_ROT_QB = 1
+V_J_QR = 2         # joints.joint_force: relative, half and mid quaternions
+V_J_QH = 3
+V_J_QM = 4
+V_J_F = 5          # joint force on the lower body (N, world)
+V_J_MLO = 6        # joint moment on the lower body (N m, world)
+V_J_MUP = 7        # joint moment on the upper body (N m, world)
+V_J_ED = 8         # [spring energy (J), damper power (W)] of the last joint
+V_J_VUP = 9        # velocity of the growing top segment's lower end (m/s)
+V_D_QZ = 10        # boundaries.top_joint: drive angle quaternion
+V_D_Q = 11         # drive orientation
+V_D_W = 12         # drive angular velocity (rad/s, world)
+V_D_V = 13         # drive attachment velocity (m/s)
+V_D_P = 14         # drive attachment point (m)
+V_B_POS = 15       # boundaries.bit_guide: path point at the rock face (m)
+V_B_TAN = 16       # path tangent there
+V_B_DX = 17        # bit face minus rock target (m)
+V_B_DV = 18        # its velocity (m/s)
+V_B_F = 19         # guide force on the bit (N)
+V_B_P2 = 20        # path point at the bit's own depth, then the bit face offset from it
+V_B_T2 = 21        # path tangent at the bit's own depth
+V_B_OUT = 22       # [TOB (N m), ROP (m/s)] of the bit law
+V_W_INFO = 23      # contact.wall_force's info (WALL_INFO_SIZE)
+V_W_X = 24         # contact point on the centre line (m)
+V_W_AX = 25        # segment axis
+V_W_FO = 26        # Karnopp's other force at the point (N)
+V_W_F = 27         # wall force (N)
+V_W_M = 28         # its moment about the centre (N m)
+V_W_ALIN = 29      # Karnopp pre-pass: linear acceleration (m/s^2)
+V_W_ALPHA = 30     # Karnopp pre-pass: angular acceleration (rad/s^2)
+V_W_WHIRL = 31     # events.track_whirl: unit radial offset (3) and its length (m)
+V_G_W = 32         # growth.split_top: world angular velocity of the old top
+V_G_R = 33         # lever arm (m)
+V_G_VPIECE = 34    # velocity of the split-off piece (m/s)
+V_G_XC = 35        # old centre (m)
+V_G_VTOP = 36      # velocity of the new top (m/s)
+V_G_Q = 37         # two quaternions
+V_G_Q2 = 38
+V_G_TH = 39        # rotation vector of the joint below the top (rad)
+V_G_LOW = 40       # growth.merge_top: lower end of the lower segment (m)
+V_G_TOP = 41       # upper end of the top segment (m)
+N_VEC = 42
+N_VECW = 16
+
+# work.mat[r, :, :] -- scratch 3 x 3 matrices
+M_J_RM = 0         # joint frame (joints.joint_force)
+M_D_R = 1          # drive rotation (boundaries.top_joint)
+N_MAT = 2
+
+# wall contact points: at most MAX_CONTACT_POINTS per segment; the contact-cylinder
+# hint of point p of segment i is hint[MAX_CONTACT_POINTS * i + p]
+MAX_CONTACT_POINTS = 3
+
+# info[:] written by contact.wall_force for one contact point
+WI_DELTA = 0     # penetration (m), > 0 in contact
+WI_NX = 1        # 1..3: outward unit normal from the hole centre line
+WI_S = 4         # position along the located cylinder's axis (m)
+WI_DIST = 5      # distance from the hole centre line (m)
+WI_N = 6         # normal force (N)
+WI_SLIP = 7      # slip speed at the surface contact point (m/s)
+WI_VS = 8        # 8..10: slip velocity (m/s)
+WI_FO = 11       # 11..13: tangential part of the other force (N, scratch)
+WI_CYL = 14      # cylinder located (the next hint), or -1 beyond the chain's ends
+WALL_INFO_SIZE = 15

@@ -27,12 +27,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillfatigue.config import CaseConfig
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.forces import compute_forces, update_top
-from drillfatigue.well.kernels import path_point
-from drillfatigue.dynamics.rigid import quat_from_rot
-from drillfatigue.errors import InputError
+from drillfatigue.dynamics import bitrock, friction, layout as L, status
+from drillfatigue.dynamics.bundles import Params, State, Work, new_records, new_work
+from drillfatigue.dynamics.contact import contact_damping
+from drillfatigue.dynamics.forces import compute_forces
+from drillfatigue.dynamics.growth import update_top
+from drillfatigue.dynamics.integrator import advance, kinetic_energy
+from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
+from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
+from drillfatigue.well.kernels import path_point
 
 G = 9.80665
 RAD_S_PER_RPM = 2.0 * math.pi / 60.0
@@ -91,37 +95,6 @@ def path_from_wellbore(wb: object) -> WellPath:
 
 
 @dataclass
-class State:
-    """Integrator state (all float64): x, v (n, 3); q (n, 4); w (n, 3) body frame;
-    forces Fw, Mw, Mb (n, 3) at the current state; scalars sc (N_SC,); contact
-    cylinder hints ``hint`` (n,) int64."""
-
-    x: np.ndarray
-    v: np.ndarray
-    q: np.ndarray
-    w: np.ndarray
-    Fw: np.ndarray
-    Mw: np.ndarray
-    Mb: np.ndarray
-    sc: np.ndarray
-    hint: np.ndarray
-    cst: np.ndarray = field(default_factory=lambda: np.zeros((0, L.N_CST)))
-
-    def copy(self) -> State:
-        return State(*(a.copy() for a in (self.x, self.v, self.q, self.w, self.Fw, self.Mw,
-                                           self.Mb, self.sc, self.hint, self.cst)))
-
-    def arrays(self) -> dict[str, np.ndarray]:
-        return {"x": self.x, "v": self.v, "q": self.q, "w": self.w, "Fw": self.Fw,
-                "Mw": self.Mw, "Mb": self.Mb, "sc": self.sc, "hint": self.hint, "cst": self.cst}
-
-    @property
-    def n_active(self) -> int:
-        """Active segments now."""
-        return int(self.sc[L.C_NACT])
-
-
-@dataclass
 class Model:
     """Packed parameters of one simulation (see :mod:`layout` for the columns)."""
 
@@ -140,7 +113,7 @@ class Model:
     neutral_point_s_from_bit_m: float | None
     top_length_m: float
     cpar: np.ndarray = field(default_factory=lambda: np.zeros(L.N_CPAR))
-    work: dict[str, np.ndarray] = field(default_factory=dict)
+    work: Work | None = None
     n0: int = 0
     segment_length_m: float = 0.0
 
@@ -151,12 +124,16 @@ class Model:
 
     def new_work(self) -> None:
         """Allocate the work arrays of the kernels."""
-        n = self.n
-        self.work = {
-            "R": np.zeros((n, 3, 3)), "wW": np.zeros((n, 3)), "loads": np.zeros((n, 6)),
-            "ch": np.zeros(L.N_CH), "scq": np.zeros((5, 4)), "scm": np.zeros((2, 3, 3)),
-            "scv": np.zeros((12, 3)), "ed": np.zeros(2), "cw": np.zeros(32),
-        }
+        self.work = new_work(self.n)
+
+    @property
+    def params(self) -> Params:
+        """The kernels' view of the model (the same arrays, no copies)."""
+        p = self.path
+        return Params(dt=self.dt, seg=self.seg, jp=self.jp, bp=self.bp, topp=self.topp,
+                      anchor=self.anchor, tab_t=self.tab_t, tab_w=self.tab_w, cpar=self.cpar,
+                      node_md=p.node_md_m, node_pos=p.node_pos_m, node_tan=p.node_tan,
+                      wall=p.wall)
 
 
 def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> np.ndarray:
@@ -181,7 +158,7 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
     rolling/spinning), with N estimated as twice the segment's buoyed weight;
     the smaller step is taken. The smooth friction laws need no such limit:
     the force kernel caps their tangential force so one step cannot reverse
-    the slip (:func:`drillfatigue.dynamics.forces.compute_forces`, Notes).
+    the slip (:func:`drillfatigue.dynamics.contact.wall_contact`).
     """
     n = seg.shape[0]
     m = seg[:, L.S_M]
@@ -219,7 +196,7 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
     dt_f = math.inf
     zc = 0.0
     if cpar is not None and cpar[L.P_ON] != 0.0:
-        from drillfatigue.dynamics import friction as fr
+        fr = friction
         kc = cpar[L.P_KC]
         npts = cpar[L.P_NPTS]
         rows[:, 0] += npts * kc / m + 2.0 * kc * h / np.sqrt(m * it)
@@ -284,24 +261,24 @@ def rpm_table(cfg: CaseConfig) -> tuple[np.ndarray, np.ndarray]:
     return t, r * RAD_S_PER_RPM
 
 
-def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
-    """Pack a case into kernel arrays and the initial (pre-loaded) state.
+@dataclass
+class Placement:
+    """Where the segments start: lengths (m), half lengths, ends' distance from the bit
+    (``s_top_end``), unit axes ``e3s`` and centres (n, 3), parallel-transported frames."""
 
-    Parameters
-    ----------
-    config : CaseConfig
-        Validated case.
-    path : WellPath
-        Well centre line.
+    lengths: np.ndarray
+    h: np.ndarray
+    s_top_end: np.ndarray
+    e3s: np.ndarray
+    centres: np.ndarray
+    frames: np.ndarray
+    top_len: float
 
-    Returns
-    -------
-    (Model, State)
-    """
+
+def place_segments(config: CaseConfig, segs: Segments, path: WellPath) -> Placement:
+    """Segments as chords of the well path between the bit and the top MD; the top
+    segment takes the length left over (checked against half a nominal segment)."""
     op = config.operation
-    sv = config.solver
-    segs = build_segments(config.string, op.mud_density_kg_per_m3)
-    n = segs.n_segments
     s_top_end = np.cumsum(segs.length_m)
     s_bot_end = s_top_end - segs.length_m
     top_len = op.bit_md_m - op.top_md_m - s_bot_end[-1]
@@ -314,35 +291,47 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     lengths[-1] = top_len
     s_top_end = np.cumsum(lengths)
     s_bot_end = s_top_end - lengths
-    h = 0.5 * lengths
-    # --- place on the path -------------------------------------------------------------
     md_lo = op.bit_md_m - s_bot_end
     md_up = op.bit_md_m - s_top_end
     p_lo = np.array([path.point_at_md(md)[0] for md in md_lo])
     p_up = np.array([path.point_at_md(md)[0] for md in md_up])
     chord = p_lo - p_up
     e3s = chord / np.linalg.norm(chord, axis=1)[:, None]
-    centres = 0.5 * (p_lo + p_up)
-    frames = _frames(e3s)
-    # --- per-segment parameters --------------------------------------------------------
+    return Placement(lengths=lengths, h=0.5 * lengths, s_top_end=s_top_end, e3s=e3s,
+                     centres=0.5 * (p_lo + p_up), frames=_frames(e3s), top_len=float(top_len))
+
+
+def pack_segments(config: CaseConfig, segs: Segments, lengths: np.ndarray) -> np.ndarray:
+    """``seg`` (n, N_SEG): rigid bodies (mass, inertias, half length), buoyed weight, mud
+    damping and the contact radius at the ends (read by :mod:`rigid`, :mod:`forces`)."""
+    op = config.operation
+    n = segs.n_segments
     seg = np.zeros((n, L.N_SEG))
-    mpl = segs.mass_per_length_kg_per_m
-    m = mpl * lengths
+    m = segs.mass_per_length_kg_per_m * lengths
     ro2 = (0.5 * segs.od_m) ** 2 + (0.5 * segs.id_m) ** 2
     wpl = segs.buoyed_weight_N / segs.length_m
     seg[:, L.S_M] = m
     seg[:, L.S_IA] = 0.5 * m * ro2
     seg[:, L.S_IT] = m * (3.0 * ro2 + lengths ** 2) / 12.0
-    seg[:, L.S_H] = h
+    seg[:, L.S_H] = 0.5 * lengths
     seg[:, L.S_W] = wpl * lengths
     seg[:, L.S_CL] = op.mud_damping_lateral_N_s_per_m2 * lengths
     seg[:, L.S_CA] = op.mud_damping_axial_N_s_per_m2 * lengths
     seg[:, L.S_CRL] = op.mud_damping_torsional_N_m_s_per_m * lengths
     seg[:, L.S_CRA] = op.mud_damping_torsional_N_m_s_per_m * lengths
     seg[:, L.S_RC] = segs.contact_radius_m
-    # --- joints --------------------------------------------------------------------------
-    zj = sv.joint_damping_ratio
-    zb = sv.boundary_damping_ratio
+    return seg
+
+
+def pack_joints(config: CaseConfig, segs: Segments, seg: np.ndarray
+                ) -> tuple[np.ndarray, tuple[float, float, float]]:
+    """``jp`` (n, N_JP): the joints' springs (half-segment springs in series) and dampers
+    (read by :mod:`joints`); and the stiffest shear, bending and axial joint springs
+    (references for the boundary springs)."""
+    n = segs.n_segments
+    h = seg[:, L.S_H]
+    m = seg[:, L.S_M]
+    zj = config.solver.joint_damping_ratio
     jp = np.zeros((n, L.N_JP))
     if n > 1:
         a, b = slice(0, n - 1), slice(1, n)
@@ -357,15 +346,29 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
         jp[a, L.J_CS] = 2 * zj * np.sqrt(jp[a, L.J_KS] * me)
         jp[a, L.J_CB] = 2 * zj * np.sqrt(jp[a, L.J_KB] * ite)
         jp[a, L.J_CT] = 2 * zj * np.sqrt(jp[a, L.J_KT] * iae)
-        ks_ref, kb_ref, ka_ref = jp[a, L.J_KS].max(), jp[a, L.J_KB].max(), jp[a, L.J_KA].max()
+        refs = (jp[a, L.J_KS].max(), jp[a, L.J_KB].max(), jp[a, L.J_KA].max())
     else:
-        ks_ref = config.string.shear_coefficient * segs.kga_N[0] / h[0]
-        kb_ref = segs.ei_Nm2[0] / h[0]
-        ka_ref = segs.ea_N[0] / h[0]
-    # --- boundaries ------------------------------------------------------------------------
+        refs = (config.string.shear_coefficient * segs.kga_N[0] / h[0], segs.ei_Nm2[0] / h[0],
+                segs.ea_N[0] / h[0])
+    return jp, refs
+
+
+def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
+                    refs: tuple[float, float, float], top_len: float
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """``bp`` (N_BP,): top drive / block and bit guide scalars, growth limits, event window
+    (read by :mod:`boundaries`, :mod:`growth`, :mod:`events`); ``topp`` (N_TOPP,): the top
+    section's per-length properties (read by :func:`growth.update_top`)."""
+    op = config.operation
+    sv = config.solver
+    n = segs.n_segments
+    ks_ref, kb_ref, ka_ref = refs
+    zb = sv.boundary_damping_ratio
+    m = seg[:, L.S_M]
+    h = seg[:, L.S_H]
+    ro2 = (0.5 * segs.od_m) ** 2 + (0.5 * segs.id_m) ** 2
     bp = np.zeros(L.N_BP)
-    fixed = op.top_axial == "fixed"
-    bp[L.B_AXMODE] = 1.0 if fixed else 0.0
+    bp[L.B_AXMODE] = 1.0 if op.top_axial == "fixed" else 0.0
     bp[L.B_BITON] = 1.0 if op.bit_on_bottom else 0.0
     bp[L.B_KBIT] = ka_ref
     bp[L.B_CBIT] = 2.0 * zb * math.sqrt(ka_ref * m[0])
@@ -379,17 +382,17 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     bp[L.B_TOPAUTO_A] = 1.0 if sv.top_axial_stiffness_N_per_m is None else 0.0
     bp[L.B_TOPAUTO_T] = 1.0 if sv.top_torsional_stiffness_N_m_per_rad is None else 0.0
     bp[L.B_ZB] = zb
-    bp[L.B_ZJ] = zj
+    bp[L.B_ZJ] = sv.joint_damping_ratio
     bp[L.B_MD0] = op.bit_md_m
     topp = np.zeros(L.N_TOPP)
     t_ = n - 1
-    topp[L.T_MPL] = mpl[t_]
+    topp[L.T_MPL] = segs.mass_per_length_kg_per_m[t_]
     topp[L.T_EA] = segs.ea_N[t_]
     topp[L.T_EI] = segs.ei_Nm2[t_]
     topp[L.T_GJ] = segs.gj_Nm2[t_]
     topp[L.T_KGA] = segs.kga_N[t_]
     topp[L.T_R2] = ro2[t_]
-    topp[L.T_WPL] = wpl[t_]
+    topp[L.T_WPL] = (segs.buoyed_weight_N / segs.length_m)[t_]
     topp[L.T_CLPL] = op.mud_damping_lateral_N_s_per_m2
     topp[L.T_CAPL] = op.mud_damping_axial_N_s_per_m2
     topp[L.T_CRLPL] = op.mud_damping_torsional_N_m_s_per_m
@@ -419,9 +422,31 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
         bp[L.B_TWIN] = op.rpm_ramp_s
     if config.recording.events_start_s is not None:
         bp[L.B_TWIN] = config.recording.events_start_s
-    update_top(h[t_], n, seg, jp, topp, bp)
-    # --- hook load and static pre-load ------------------------------------------------
-    w_ax = seg[:, L.S_W] * e3s[:, 2]  # axial (downhole) component of the buoyed weight
+    return bp, topp
+
+
+@dataclass
+class Preload:
+    """Static start: hook load and WOB (N), neutral point (m from the bit or None), axial
+    shift of each segment along its axis (m), twist of each segment (rad), drive angle."""
+
+    hook_N: float
+    wob_N: float
+    s_np_m: float | None
+    shift_m: np.ndarray
+    psi_rad: np.ndarray
+    phi_drive_rad: float
+    total_axial_weight_N: float
+
+
+def static_preload(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
+                   place: Placement, omega0: float) -> Preload:
+    """Hook load for the requested neutral point, and the axial and torsional pre-load of a
+    straight hole (the run starts in static equilibrium there)."""
+    op = config.operation
+    n = seg.shape[0]
+    s_top_end = place.s_top_end
+    w_ax = seg[:, L.S_W] * place.e3s[:, 2]  # axial (downhole) component of the buoyed weight
     total_ax = float(w_ax.sum())
     s_np: float | None = None
     if not op.bit_on_bottom:
@@ -452,21 +477,16 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     if op.bit_on_bottom and wob < 0.0:
         raise InputError("operation.hook_load_N", f"hook load {hook:.0f} N exceeds the buoyed "
                          f"weight {total_ax:.0f} N (negative WOB)", f"<= {total_ax:.0f} N")
-    bp[L.B_HL] = hook
     # tension at each joint (straight-hole statics) and axial shifts from the bit up
     tension = np.cumsum(w_ax)[:-1] - wob if n > 1 else np.zeros(0)
     shift = np.zeros(n)
     shift[0] = wob / bp[L.B_KBIT] if op.bit_on_bottom else 0.0
     for j in range(n - 1):
         shift[j + 1] = shift[j] - tension[j] / jp[j, L.J_KA]
-    centres = centres + shift[:, None] * e3s
     # torsional pre-load: the TOB at the start speed, transmitted to the top
-    tab_t, tab_w = rpm_table(config)
-    omega0 = float(tab_w[0])
     tob0 = bp[L.B_TOB] * math.tanh(omega0 / OMEGA_REF_RAD_S)
     if op.bit_on_bottom and config.bit.model != "given_tob":
         # the bit law's torque at the initial WOB and speed (no start-up kick)
-        from drillfatigue.dynamics import bitrock
         bid, bpar = bitrock.pack_bit_params(config.bit, op.rop_m_per_s)
         out2 = np.zeros(2)
         bitrock.bit_response(bid, bpar, wob, omega0, out2)
@@ -479,35 +499,44 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
         psi[j + 1] = psi[j] + tq / jp[j, L.J_KT]
     kt_top = jp[n - 1, L.J_KT]
     phi0 = psi[-1] + (torque0 / kt_top if kt_top > 0.0 else 0.0)
-    q = np.array([quat_from_rot(frames[i] @ _rotz(psi[i])) for i in range(n)])
-    # top anchor: the top end, offset by the top spring's stretch in fixed mode
-    b_top = centres[-1] - h[-1] * e3s[-1]
+    return Preload(hook_N=hook, wob_N=wob, s_np_m=s_np, shift_m=shift, psi_rad=psi,
+                   phi_drive_rad=phi0, total_axial_weight_N=total_ax)
+
+
+def top_anchor(config: CaseConfig, jp: np.ndarray, place: Placement, centres: np.ndarray,
+               hook_N: float) -> np.ndarray:
+    """``anchor`` (10,): the top drive's position (the top end, offset by the top spring's
+    stretch with the top fixed), orientation at zero drive angle and downhole axis."""
+    n = jp.shape[0]
+    e3s = place.e3s
+    b_top = centres[-1] - place.h[-1] * e3s[-1]
     anchor = np.zeros(10)
     ka_top = jp[n - 1, L.J_KA]
-    anchor[0:3] = b_top - (hook / ka_top * e3s[-1] if fixed and ka_top > 0 else 0.0)
-    anchor[3:7] = quat_from_rot(frames[-1])
+    fixed = config.operation.top_axial == "fixed"
+    anchor[0:3] = b_top - (hook_N / ka_top * e3s[-1] if fixed and ka_top > 0 else 0.0)
+    anchor[3:7] = quat_from_rot(place.frames[-1])
     anchor[7:10] = e3s[-1]
-    # --- state ---------------------------------------------------------------------------
-    # the string below the top moves down with the bit at the ROP; the top
-    # segment's top end stays at the rig floor (its growth is kinematic)
-    v = bp[L.B_ROP] * e3s.copy()
-    v[-1] = 0.0
-    w = np.zeros((n, 3))
-    w[:, 2] = omega0
-    sc = np.zeros(L.N_SC)
-    sc[L.C_PHID] = phi0
-    model = Model(segments=segs, path=path, seg=seg, jp=jp, bp=bp, topp=topp, anchor=anchor,
-                  tab_t=tab_t, tab_w=tab_w, dt=0.0, hook_load_N=hook, wob0_N=wob,
-                  neutral_point_s_from_bit_m=s_np, top_length_m=top_len)
-    cpar = pack_contact(config)
+    return anchor
+
+
+def pack_wall(config: CaseConfig, segs: Segments, seg: np.ndarray, cpar: np.ndarray) -> None:
+    """Contact radii (ends: tool joints or body; middle: body) and the per-point contact
+    dash-pot of ``seg`` (read by :mod:`contact`), in place."""
     seg[:, L.S_RB] = 0.5 * segs.od_m
     if not config.contact.tool_joints:
         seg[:, L.S_RC] = 0.5 * segs.od_m
     if cpar[L.P_ON] != 0.0:
-        from drillfatigue.dynamics.contact import contact_damping
         npts = cpar[L.P_NPTS]
-        seg[:, L.S_CC] = [contact_damping(config.contact, float(mi) / npts) for mi in m]
-    model.cpar = cpar
+        seg[:, L.S_CC] = [contact_damping(config.contact, float(mi) / npts) for mi in seg[:, L.S_M]]
+
+
+def choose_step(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
+                topp: np.ndarray, cpar: np.ndarray) -> float:
+    """The step (s): ``solver.dt_s`` if given (checked against the stable step), else the
+    largest step below safety x stable that divides the loads recording interval."""
+    op = config.operation
+    sv = config.solver
+    n = seg.shape[0]
     dt_stable = stable_step(seg, jp, bp, cpar)
     if not op.bit_on_bottom and op.trip_speed_m_per_s < 0.0 and n >= 2:
         # tripping out shortens the top segment to B_LMIN before it merges: a
@@ -520,46 +549,102 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
         if dt > dt_stable:
             raise InputError("solver.dt_s", f"{dt} s exceeds the stable step {dt_stable:.3g} s",
                              f"<= {dt_stable:.3g} s")
-    else:
-        # the largest step below safety x stable that divides the loads recording interval
-        t_rec = 1.0 / config.recording.loads_rate_hz
-        dt = t_rec / math.ceil(t_rec / (sv.safety_factor * dt_stable) - 1e-9)
-    model.dt = dt
-    bp[L.B_DT] = dt
+        return dt
+    t_rec = 1.0 / config.recording.loads_rate_hz
+    return t_rec / math.ceil(t_rec / (sv.safety_factor * dt_stable) - 1e-9)
+
+
+def energy_scale(config: CaseConfig, seg: np.ndarray, bp: np.ndarray, tab_w: np.ndarray,
+                 total_ax: float, length_m: float) -> float:
+    """Blow-up limit of the kinetic energy (J): ``solver.energy_blowup_factor`` x (weight x
+    length + spin energy at the top speed + translation at the ROP + 1 J)."""
+    op = config.operation
     omega_max = float(np.abs(tab_w).max())
     if op.top_mode == "torque":
         # steady spin under the applied torque against the mud: omega = T / sum(c_rot)
         c_rot = float(seg[:, L.S_CRA].sum()) + 1e-9
         omega_max = max(omega_max, abs(op.top_torque_Nm) / c_rot)
-    e_scale = (abs(total_ax) * s_top_end[-1] + 0.5 * float(seg[:, L.S_IA].sum()) * omega_max ** 2
-               + 0.5 * float(m.sum()) * (bp[L.B_ROP] ** 2) + 1.0)
-    bp[L.B_ESCALE] = sv.energy_blowup_factor * e_scale
+    e_scale = (abs(total_ax) * length_m + 0.5 * float(seg[:, L.S_IA].sum()) * omega_max ** 2
+               + 0.5 * float(seg[:, L.S_M].sum()) * (bp[L.B_ROP] ** 2) + 1.0)
+    return config.solver.energy_blowup_factor * e_scale
+
+
+def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
+    """Pack a case into kernel arrays and the initial (pre-loaded) state.
+
+    One packer per submodel: :func:`place_segments`, :func:`pack_segments`
+    (rigid bodies, weight, mud), :func:`pack_joints`, :func:`pack_boundaries`
+    (top drive and block, bit guide, growth, events), :func:`static_preload`,
+    :func:`top_anchor`, :func:`pack_contact` and :func:`pack_wall` (wall contact,
+    friction, bit law), :func:`choose_step`, :func:`energy_scale`.
+
+    Parameters
+    ----------
+    config : CaseConfig
+        Validated case.
+    path : WellPath
+        Well centre line.
+
+    Returns
+    -------
+    (Model, State)
+    """
+    op = config.operation
+    segs = build_segments(config.string, op.mud_density_kg_per_m3)
+    n = segs.n_segments
+    place = place_segments(config, segs, path)
+    seg = pack_segments(config, segs, place.lengths)
+    jp, refs = pack_joints(config, segs, seg)
+    bp, topp = pack_boundaries(config, segs, seg, refs, place.top_len)
+    update_top(place.h[n - 1], n, seg, jp, topp, bp)
+    tab_t, tab_w = rpm_table(config)
+    omega0 = float(tab_w[0])
+    pre = static_preload(config, seg, jp, bp, place, omega0)
+    bp[L.B_HL] = pre.hook_N
+    centres = place.centres + pre.shift_m[:, None] * place.e3s
+    q = np.array([quat_from_rot(place.frames[i] @ _rotz(pre.psi_rad[i])) for i in range(n)])
+    anchor = top_anchor(config, jp, place, centres, pre.hook_N)
+    # the string below the top moves down with the bit at the ROP; the top
+    # segment's top end stays at the rig floor (its growth is kinematic)
+    v = bp[L.B_ROP] * place.e3s.copy()
+    v[-1] = 0.0
+    w = np.zeros((n, 3))
+    w[:, 2] = omega0
+    cpar = pack_contact(config)
+    pack_wall(config, segs, seg, cpar)
+    dt = choose_step(config, seg, jp, bp, topp, cpar)
+    bp[L.B_DT] = dt
+    bp[L.B_ESCALE] = energy_scale(config, seg, bp, tab_w, pre.total_axial_weight_N,
+                                  float(place.s_top_end[-1]))
+    sc = np.zeros(L.N_SC)
+    sc[L.C_PHID] = pre.phi_drive_rad
     sc[L.C_NACT] = n
     sc[L.C_MDROCK] = op.bit_md_m
     sc[L.C_ROPNOW] = bp[L.B_ROP]
-    nmax = max_segments(config, n, lnom, float(np.abs(tab_w).max()), total_ax)
+    lnom = float(bp[L.B_LNOM])
+    nmax = max_segments(config, n, lnom, float(np.abs(tab_w).max()), pre.total_axial_weight_N)
 
     def pad(a: np.ndarray, fill: float = 0.0) -> np.ndarray:
         out = np.full((nmax,) + a.shape[1:], fill, dtype=a.dtype)
         out[: a.shape[0]] = a
         return np.ascontiguousarray(out)
 
-    model.seg = pad(seg)
-    model.jp = pad(jp)
-    model.n0 = n
-    model.segment_length_m = lnom
+    model = Model(segments=segs, path=path, seg=pad(seg), jp=pad(jp), bp=bp, topp=topp,
+                  anchor=anchor, tab_t=tab_t, tab_w=tab_w, dt=dt, hook_load_N=pre.hook_N,
+                  wob0_N=pre.wob_N, neutral_point_s_from_bit_m=pre.s_np_m,
+                  top_length_m=place.top_len, cpar=cpar, n0=n, segment_length_m=lnom)
     qp = pad(q)
     qp[n:, 0] = 1.0
     cst = np.zeros((nmax, L.N_CST))
     cst[:, L.CS_ONT] = -1.0
     state = State(x=pad(np.ascontiguousarray(centres)), v=pad(v), q=qp, w=pad(w),
                   Fw=np.zeros((nmax, 3)), Mw=np.zeros((nmax, 3)), Mb=np.zeros((nmax, 3)), sc=sc,
-                  hint=np.zeros(3 * nmax, dtype=np.int64), cst=cst)
+                  hint=np.zeros(L.MAX_CONTACT_POINTS * nmax, dtype=np.int64), cst=cst)
     _init_hints(model, state)
     model.new_work()
     evaluate_forces(model, state)
-    if sv.relax_s > 0.0:
-        relax_state(model, state, sv.relax_s)
+    if config.solver.relax_s > 0.0:
+        relax_state(model, state, config.solver.relax_s)
     return model, state
 
 
@@ -617,25 +702,50 @@ def relax_state(model: Model, state: State, relax_s: float) -> None:
     evaluate_forces(model, state)
 
 
+def raise_for_status(st: int, info: np.ndarray, model: Model) -> None:
+    """Turn a kernel status code into :class:`SimulationError` (nothing for ``OK``).
+
+    ``info`` = [step, segment (-1 unknown), value] as :func:`integrator.advance`
+    writes it. The message names the time, the segment (and its distance from
+    the bit), what went wrong and the likely causes.
+    """
+    if st == status.OK:
+        return
+    t = info[0] * model.dt
+    i = int(info[1])
+    if 0 <= i < model.n:
+        h = model.seg[: i + 1, L.S_H]
+        where = f"segment {i} ({2.0 * float(h[:i].sum()) + float(h[i]):.1f} m from the bit)"
+    else:
+        where = "an unknown segment"
+    if st == status.SPEED:
+        why = (f"a speed above the divergence bound ({status.MAX_SPEED_M_PER_S:g} m/s or "
+               f"{status.MAX_SPIN_RAD_S:g} rad/s, {math.sqrt(info[2]):.3g} x the bound)")
+    elif st == status.NONFINITE:
+        why = "a non-finite state"
+    elif st == status.BLOWUP:
+        why = f"kinetic energy {info[2]:.3g} J above the blow-up limit {model.bp[L.B_ESCALE]:.3g} J"
+    elif st in (status.UNKNOWN_FRICTION, status.UNKNOWN_BIT):
+        raise SimulationError(f"the force evaluation failed at t = {t:.6g} s: "
+                              f"{status.MESSAGES[st]} (friction id {int(model.cpar[L.P_FMODEL])}, "
+                              f"bit id {int(model.cpar[L.P_BITMODEL])})")
+    else:
+        why = f"status {st}"
+    raise SimulationError(
+        f"simulation diverged at t = {t:.6g} s in {where}: {why}; likely cause: a step too large "
+        f"for the stiffest element (dt = {model.dt:.3g} s; lower solver.safety_factor or "
+        "solver.dt_s) or an unphysical input (stiffness, contact penalty, speed, torque)")
+
+
 def evaluate_forces(model: Model, state: State) -> np.ndarray:
-    """Fill ``state.Fw/Mw/Mb`` and ``model.work['loads'/'ch']`` at the current state; return ch."""
-    wk = model.work
-    p = model.path
-    st = compute_forces(model.dt, state.x, state.v, state.q, state.w, model.seg, model.jp,
-                        model.bp, model.anchor, model.tab_t, model.tab_w, p.node_md_m,
-                        p.node_pos_m, p.node_tan, p.wall, model.cpar, state.hint, state.cst,
-                        state.sc, wk["R"], wk["wW"], state.Fw, state.Mw, state.Mb, wk["loads"],
-                        wk["ch"], wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
-    if st != 0:
-        from drillfatigue.errors import SimulationError
-        raise SimulationError(f"force evaluation failed (code {st})")
-    return wk["ch"]
+    """Fill ``state.Fw/Mw/Mb`` and ``model.work.loads/ch`` at the current state; return ch."""
+    st = compute_forces(state, model.params, model.work)
+    raise_for_status(st, np.array([state.sc[L.C_STEP], -1.0, 0.0]), model)
+    return model.work.ch
 
 
 def pack_contact(config: CaseConfig) -> np.ndarray:
     """``cpar`` (shape (N_CPAR,)): wall contact, friction and bit-law parameters (see :mod:`layout`)."""
-    from drillfatigue.dynamics import bitrock, friction
-
     cpar = np.zeros(L.N_CPAR)
     c = config.contact
     cpar[L.P_ON] = 1.0 if c.enabled else 0.0
@@ -688,13 +798,12 @@ def _init_hints(model: Model, state: State) -> None:
     p0 = wall[:, L.W_P0:L.W_P0 + 3]
     n = model.n0
     R = np.zeros((3, 3))
-    from drillfatigue.dynamics.rigid import quat_to_rot
     for i in range(n):
         quat_to_rot(state.q[i], R)
         h = model.seg[i, L.S_H]
         for p, off in enumerate((h, -h, 0.0)):
             X = state.x[i] + off * R[:, 2]
-            state.hint[3 * i + p] = int(np.argmin(((p0 - X) ** 2).sum(axis=1)))
+            state.hint[L.MAX_CONTACT_POINTS * i + p] = int(np.argmin(((p0 - X) ** 2).sum(axis=1)))
 
 
 def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarray | None = None,
@@ -712,36 +821,20 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     SimulationError
         When the kernel reports a non-finite state or an energy blow-up.
     """
-    from drillfatigue.dynamics.integrator import advance
-    from drillfatigue.errors import SimulationError
-
     n = model.n
     sel = np.arange(model.n0 - 1, dtype=np.int64) if joints is None else np.asarray(joints, dtype=np.int64)
-    wk = model.work
-    p = model.path
-    counts = np.zeros(3, dtype=np.int64)
-    info = np.zeros(3)
     rows = min(chunk, n_steps) // every + 2
     out_l, out_c, out_k = [], [], []
     done = 0
+    params = model.params
     while done < n_steps:
         k = min(chunk, n_steps - done)
-        buf_l = np.zeros((rows, 1 + 6 * sel.size))
-        buf_c = np.zeros((rows, 4 + L.N_CH))
-        buf_k = np.zeros((rows, 1 + 8 * n))
-        counts[:] = 0
-        st = advance(k, model.dt, state.x, state.v, state.q, state.w, state.Fw, state.Mw, state.Mb,
-                     state.sc, model.seg, model.jp, model.bp, model.topp, model.anchor, model.tab_t,
-                     model.tab_w, p.node_md_m, p.node_pos_m, p.node_tan, p.wall, model.cpar,
-                     state.hint, state.cst, wk["R"], wk["wW"],
-                     wk["loads"], wk["ch"], sel, every, buf_l, every, buf_c, every, buf_k, counts,
-                     info, wk["scq"], wk["scm"], wk["scv"], wk["ed"], wk["cw"])
-        if st != L.ST_OK:
-            raise SimulationError(f"diverged at t = {info[0] * model.dt:.6g} s, segment "
-                                  f"{int(info[1])} (status {st})")
-        out_l.append(buf_l[: counts[0]])
-        out_c.append(buf_c[: counts[1]])
-        out_k.append(buf_k[: counts[2]])
+        rec = new_records(sel, (every, every, every), (rows, rows, rows), n)
+        st = advance(k, state, params, model.work, rec)
+        raise_for_status(st, rec.info, model)
+        out_l.append(rec.buf_l[: rec.counts[0]])
+        out_c.append(rec.buf_c[: rec.counts[1]])
+        out_k.append(rec.buf_k[: rec.counts[2]])
         done += k
     bl = np.concatenate(out_l)
     bc = np.concatenate(out_c)
@@ -753,8 +846,6 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
 
 def total_energy(model: Model, state: State) -> float:
     """Kinetic + spring + boundary + gravity potential energy (J) at the current state."""
-    from drillfatigue.dynamics.integrator import kinetic_energy
-
     saved = state.sc.copy()
     ch = evaluate_forces(model, state)
     state.sc[...] = saved

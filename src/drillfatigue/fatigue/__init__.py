@@ -7,14 +7,6 @@ Numerical kernels live in :mod:`.kernels` (numba, numpy and math only).
 
 from __future__ import annotations
 
-from typing import Any
+from drillfatigue.fatigue.run import evaluate_run
 
 __all__ = ["evaluate_run"]
-
-
-def __getattr__(name: str) -> Any:  # lazy: keep ``import drillfatigue.fatigue`` light
-    if name == "evaluate_run":
-        from drillfatigue.fatigue.run import evaluate_run
-
-        return evaluate_run
-    raise AttributeError(name)

@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -21,19 +19,24 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue import rundir
+from drillfatigue.config import case_from_dict
+from drillfatigue.config.base import read_yaml
 from drillfatigue.config.fatigue import COMPONENT_TYPES, FatigueConfig, UserCurveConfig
 from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import (CRITERIA, CriterionParams, evaluate_location,
                                                   loads_channels)
 from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, rainflow_matrix
+from drillfatigue.fatigue.rp7g import (E_RP7G_PA, RP7G_GRADES, max_permissible_dogleg,
+                                       rp7g_damage_rate_profile)
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress, get_curve, get_grade, user_curve
 from drillfatigue.fatigue.stress import LOAD_COLUMNS, SCF, Section, surface_coefficients
-from drillfatigue.files import OutputFolder
+from drillfatigue.files import OutputFolder, atomic_output, atomic_write_bytes
 from drillfatigue.units import HOUR_S
+from drillfatigue.well import build_survey
 
-LOADS_COLUMNS: tuple[str, ...] = ("time_s", "joint", "md_m") + LOAD_COLUMNS
-JOINTS_COLUMNS: tuple[str, ...] = ("joint", "component", "component_type", "s_from_bit_m",
-                                   "body_od_m", "body_id_m", "conn_od_m", "conn_id_m")
+LOADS_COLUMNS: tuple[str, ...] = rundir.LOADS_COLUMNS
+JOINTS_COLUMNS: tuple[str, ...] = rundir.JOINTS_COLUMNS
 DAMAGE_COLUMNS: tuple[str, ...] = (
     "joint", "md_m", "s_from_bit_m", "component", "component_type", "location", "criterion",
     "damage", "damage_rate_per_h", "life_h", "life_windows", "critical_angle_deg",
@@ -45,26 +48,9 @@ FATIGUE_KIND = "fatigue"
 PLOT_FILES: list[str] = ["stress_history.png", "rainflow_matrix.png", "damage_along_string.png"]
 
 
-def _atomic_write_bytes(path: Path, data: bytes) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 def _atomic_write_parquet(df: pd.DataFrame, path: Path) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
+    with atomic_output(path) as tmp:
         df.to_parquet(tmp, index=False)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def build_curve(spec: str | UserCurveConfig, environment: str) -> SNCurve:
@@ -95,7 +81,7 @@ def read_run(run_dir: Path) -> tuple[pd.DataFrame, pd.DataFrame, dict[str, Any]]
     run_dir = Path(run_dir)
     if not run_dir.is_dir():
         raise InputError(str(run_dir), "run directory not found", "an existing directory")
-    sp = run_dir / "summary.json"
+    sp = run_dir / rundir.SUMMARY
     if not sp.is_file():
         raise InputError(str(sp), "file not found", "a run directory written by simulate")
     try:
@@ -109,22 +95,22 @@ def read_run(run_dir: Path) -> tuple[pd.DataFrame, pd.DataFrame, dict[str, Any]]
     dur = summary.get("duration_s")
     if not isinstance(dur, int | float) or not math.isfinite(dur) or dur <= 0:
         raise InputError(f"{sp}: duration_s", f"must be a number > 0, got {dur!r}", "> 0")
-    loads = _read_parquet(run_dir / "loads.parquet", LOADS_COLUMNS)
-    joints = _read_parquet(run_dir / "joints.parquet", JOINTS_COLUMNS)
+    loads = _read_parquet(run_dir / rundir.LOADS, LOADS_COLUMNS)
+    joints = _read_parquet(run_dir / rundir.JOINTS, JOINTS_COLUMNS)
     if len(loads) == 0:
-        raise InputError(str(run_dir / "loads.parquet"), "zero-length history (no rows)",
+        raise InputError(str(run_dir / rundir.LOADS), "zero-length history (no rows)",
                          "at least two time samples per joint")
     num = loads[list(LOADS_COLUMNS)]
     bad = [c for c in LOADS_COLUMNS if not np.all(np.isfinite(num[c].to_numpy(dtype=float)))]
     if bad:
-        raise InputError(str(run_dir / "loads.parquet"),
+        raise InputError(str(run_dir / rundir.LOADS),
                          f"NaN or infinite values in column {bad[0]}", "finite numbers")
     if joints["joint"].duplicated().any():
-        raise InputError(str(run_dir / "joints.parquet"), "a joint appears in more than one row",
+        raise InputError(str(run_dir / rundir.JOINTS), "a joint appears in more than one row",
                          "one row per recorded joint")
     unknown = sorted(set(joints["component_type"]) - set(COMPONENT_TYPES))
     if unknown:
-        raise InputError(str(run_dir / "joints.parquet"),
+        raise InputError(str(run_dir / rundir.JOINTS),
                          f"unknown component_type {unknown[0]!r}", ", ".join(COMPONENT_TYPES))
     return loads, joints, summary
 
@@ -176,10 +162,6 @@ def api_rp7g_baseline(loads: pd.DataFrame, joints: pd.DataFrame, case: Any,
         :data:`RP7G_COLUMNS` (the ``dynamic_*`` columns are NaN here; filled by
         :func:`evaluate_run`).
     """
-    from drillfatigue.fatigue.rp7g import (E_RP7G_PA, RP7G_GRADES, max_permissible_dogleg,
-                                           rp7g_damage_rate_profile)
-    from drillfatigue.well import build_survey
-
     survey = build_survey(case.well)
     sub = loads[loads["joint"].isin(list(sel))]
     mean = sub.groupby("joint")[["md_m", "axial_N"]].mean()
@@ -219,10 +201,7 @@ def api_rp7g_baseline(loads: pd.DataFrame, joints: pd.DataFrame, case: Any,
 def _run_case(run_dir: Path) -> Any:
     """The run's case (``case.yaml``) when it states its well, string and operation,
     else None (then there is no API RP7G column)."""
-    from drillfatigue.config import case_from_dict
-    from drillfatigue.config.base import read_yaml
-
-    p = run_dir / "case.yaml"
+    p = run_dir / rundir.CASE
     if not p.is_file():
         return None
     data = read_yaml(p)
@@ -286,7 +265,7 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     grade = get_grade(cfg.grade)
     params = CriterionParams(cfg.torsion_to_tension_ratio, cfg.findley_k, cfg.fatemi_socie_k,
                              grade.yield_Pa)
-    where = str(run_dir / "loads.parquet")
+    where = str(run_dir / rundir.LOADS)
     per_joint = {j: _joint_loads(loads, j, where) for j in sel}  # validate all before work
     case = _run_case(run_dir) if (out_dir is not None and rp7g_baseline) else None
     jrow = jt.set_index("joint")
@@ -415,7 +394,7 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
                 float(rp7g["max_permissible_dls_deg_per_30m"].min()),
             "max_hole_dls_deg_per_30m": float(rp7g["hole_dls_deg_per_30m"].max()),
         }
-    _atomic_write_bytes(folder.file("summary.json"),
+    atomic_write_bytes(folder.file("summary.json"),
                         json.dumps(summary, indent=2, default=float).encode("utf-8"))
     if cfg.plots and g is not None:
         for name in PLOT_FILES:
@@ -438,10 +417,8 @@ def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, jo
     sig, tau = L @ cs[point], L @ ct[point]
 
     def save(fig: Any, name: str) -> None:
-        fd, tmp = tempfile.mkstemp(dir=out, prefix=f".{name}.", suffix=".png")
-        os.close(fd)
-        fig.savefig(tmp, dpi=100)
-        os.replace(tmp, out / name)
+        with atomic_output(out / name) as tmp:
+            fig.savefig(tmp, dpi=100)
 
     fig, ax = subplots(figsize=(7, 3.5))
     ax.plot(t, sig / 1e6, lw=0.6, label="sigma_z")

@@ -30,17 +30,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from drillfatigue import rundir
 from drillfatigue.errors import InputError
 
 #: Load columns of ``loads.parquet`` in the order used by every array here.
-LOAD_COLUMNS: tuple[str, ...] = (
-    "axial_N",
-    "shear_x_N",
-    "shear_y_N",
-    "bending_x_Nm",
-    "bending_y_Nm",
-    "torque_Nm",
-)
+LOAD_COLUMNS: tuple[str, ...] = rundir.LOAD_COLUMNS
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ Rules:
 * The tool-joint length fraction is ``TJ Length / joint length`` when given,
   else 0.05 for drill pipe and HWDP (the project's default) and 0 otherwise.
 * ``Segments`` defaults to ``ceil(length / 9 m)`` (the default string's
-  segment length, MODEL.md §1).
+  segment length, docs/model.md#bodies).
 """
 
 from __future__ import annotations

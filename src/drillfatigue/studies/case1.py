@@ -34,7 +34,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue import rundir
+from drillfatigue.config import case_from_dict
+from drillfatigue.config.base import read_yaml
 from drillfatigue.config.studies import Case1Config
+from drillfatigue.plotting import subplots
 from drillfatigue.studies.common import (
     run_simulation,
     save_figure,
@@ -42,6 +46,7 @@ from drillfatigue.studies.common import (
     write_csv,
     write_json,
 )
+from drillfatigue.well import build_survey
 
 #: The named reference case this study varies (pipe, hole, torque, free top).
 CASE_FILE = Path(__file__).resolve().parents[3] / "data" / "cases" / "case1_whirl.yaml"
@@ -61,8 +66,6 @@ def rolling_ratio() -> float:
 def case_dict(cfg: Case1Config, model: str, mu_dynamic: float) -> dict[str, Any]:
     """One whirl run: the named case ``data/cases/case1_whirl.yaml`` with this study's
     friction model, friction level, pipe, torque and duration."""
-    from drillfatigue.config.base import read_yaml
-
     case = read_yaml(CASE_FILE)
     comp = dict(case["string"]["components"][0])
     comp.update(length_m=cfg.pipe_length_m, n_segments=cfg.n_segments)
@@ -82,9 +85,6 @@ def case_dict(cfg: Case1Config, model: str, mu_dynamic: float) -> dict[str, Any]
 
 def hole_centre(case: dict[str, Any], x_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Hole centre (east, TVD) at the given north coordinates (horizontal section along north)."""
-    from drillfatigue.config import case_from_dict
-    from drillfatigue.well import build_survey
-
     sv = build_survey(case_from_dict(case).well)
     pos = np.asarray(sv.pos_m)
     north, east, tvd = pos[:, 0], pos[:, 1], pos[:, 2]
@@ -130,8 +130,8 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
             case = case_dict(cfg, model, mu)
             warm_up(case)
             _, summary, wall = run_simulation(case, run_dir)
-            kin = orbit_angles(pd.read_parquet(run_dir / "kinematics.parquet"), case)
-            ch = pd.read_parquet(run_dir / "channels.parquet")
+            kin = orbit_angles(pd.read_parquet(run_dir / rundir.KINEMATICS), case)
+            ch = pd.read_parquet(run_dir / rundir.CHANNELS)
             t_from = 0.5 * cfg.duration_s
             late = ch[ch["time_s"] >= t_from]
             omega = float(np.mean(late["top_rpm"])) * 2 * math.pi / 60.0
@@ -172,8 +172,6 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
 
 def _figures(out_dir: Path, orbits: dict[str, pd.DataFrame],
              spins: dict[str, tuple[np.ndarray, np.ndarray]], dpi: int) -> None:
-    from drillfatigue.plotting import subplots
-
     names = list(orbits)
     ncol = min(len(names), 2)
     nrow = math.ceil(len(names) / ncol)

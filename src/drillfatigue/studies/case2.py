@@ -29,8 +29,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue import rundir
 from drillfatigue.config import FatigueConfig
 from drillfatigue.config.studies import Case2Config
+from drillfatigue.fatigue.run import evaluate_run
+from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
+from drillfatigue.plotting import subplots
 from drillfatigue.studies.common import (
     rp7g_rates,
     run_simulation,
@@ -41,6 +45,7 @@ from drillfatigue.studies.common import (
     write_csv,
     write_json,
 )
+from drillfatigue.well import build_survey
 
 #: The paper's lives in 800 s windows (docs/model.md#case-studies).
 PAPER_LIFE_WINDOWS: dict[str, float] = {"profile_1": 10.3, "profile_2": 12.8, "profile_3": 5.9}
@@ -101,9 +106,6 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
     ``well``: a ``well`` section defining the profiles (default: the project's
     case-2 family); ``fatigue``: fatigue settings (default: project defaults).
     """
-    from drillfatigue.fatigue.run import evaluate_run
-    from drillfatigue.well import build_survey
-
     out_dir = Path(out_dir)
     fat = fatigue if fatigue is not None else study_fatigue()
     joint, s_joint = target_joint(cfg)
@@ -123,7 +125,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
             run_dir = out_dir / "runs" / profile / f"sample_{k}"
             cc, summary, w = run_simulation(case, run_dir)
             wall += w
-            loads = pd.read_parquet(run_dir / "loads.parquet")
+            loads = pd.read_parquet(run_dir / rundir.LOADS)
             t = np.unique(loads["time_s"].to_numpy())
             span = float(t[-1] - t[0] + (t[1] - t[0])) if t.size > 1 else 0.0
             share = window_s / cfg.n_samples  # seconds of the 800 s this sample stands for
@@ -198,10 +200,6 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
 def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataFrame]],
              table: pd.DataFrame, joint: int, s_joint: float, dpi: int,
              fat: FatigueConfig) -> None:
-    from drillfatigue.plotting import subplots
-
-    from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
-
     fig, ax = subplots(3, 1, figsize=(8, 8), sharex=True)
     for i, (profile, parts) in enumerate(histories.items()):
         series = [(h["md_m"].to_numpy(), h["axial_N"].to_numpy() / 1e3,
@@ -237,7 +235,7 @@ def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataF
     for i, (profile, parts) in enumerate(histories.items()):
         h = parts[k_show]
         j = pd.read_parquet(Path(out_dir) / "runs" / profile / f"sample_{k_show}" /
-                            "joints.parquet")
+                            rundir.JOINTS)
         sec = Section(float(j["conn_od_m"].iloc[0]), float(j["conn_id_m"].iloc[0]))
         L = h[["axial_N", "shear_x_N", "shear_y_N", "bending_x_Nm", "bending_y_Nm",
                "torque_Nm"]].to_numpy(dtype=float)

@@ -32,8 +32,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue import rundir
 from drillfatigue.config import FatigueConfig
 from drillfatigue.config.studies import Case3Config
+from drillfatigue.fatigue.run import evaluate_run
+from drillfatigue.plotting import subplots
 from drillfatigue.studies.common import (
     hours,
     run_simulation,
@@ -96,8 +99,6 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
 
     ``well``/``fatigue``: as in :func:`drillfatigue.studies.case2.run_case2`.
     """
-    from drillfatigue.fatigue.run import evaluate_run
-
     out_dir = Path(out_dir)
     bit0 = cfg.bit_md_end_m - cfg.advance_m_per_s * cfg.duration_s
     picks = joints_behind_bit(cfg, bit0)
@@ -105,7 +106,7 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
     run_dir = out_dir / "runs" / cfg.profile
     warm_up(case)  # the wall time below excludes numba compilation
     _, summary, wall = run_simulation(case, run_dir)
-    loads = pd.read_parquet(run_dir / "loads.parquet")
+    loads = pd.read_parquet(run_dir / rundir.LOADS)
     t = np.unique(loads["time_s"].to_numpy())
     span = float(t[-1] - t[0] + (t[1] - t[0])) if t.size > 1 else 0.0
     fat = fatigue if fatigue is not None else study_fatigue()
@@ -140,8 +141,6 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
 
 def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
              cfg: Case3Config, table: pd.DataFrame, dpi: int) -> None:
-    from drillfatigue.plotting import subplots
-
     fig, ax = subplots(3, 1, figsize=(8, 8), sharex=True)
     for j, s in picks:
         h = loads[loads["joint"] == j]

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -18,8 +16,13 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue import rundir
 from drillfatigue.config import CaseConfig, FatigueConfig, case_from_dict
 from drillfatigue.config.studies import StringSpec
+from drillfatigue.dynamics.api import simulate
+from drillfatigue.errors import InputError
+from drillfatigue.files import atomic_output, atomic_write_text
+from drillfatigue.sweep.cases import api_rp7g_rows
 from drillfatigue.units import HOUR_S
 
 COLLAR = {"type": "collar", "name": "6.75in DC", "od_m": 0.17145, "id_m": 0.0714}
@@ -32,24 +35,10 @@ def string_components(spec: StringSpec, total_length_m: float) -> list[dict[str,
     """Collars of ``spec.dc_length_m`` at the bit, drill pipe up to ``total_length_m``."""
     dp_len = total_length_m - spec.dc_length_m
     if dp_len <= 0:
-        from drillfatigue.errors import InputError
         raise InputError("string.dc_length_m", f"collars ({spec.dc_length_m} m) longer than the "
                          f"string ({total_length_m} m)", f"< {total_length_m}")
     return [{**COLLAR, "length_m": spec.dc_length_m, "n_segments": spec.dc_segments},
             {**DRILL_PIPE, "length_m": dp_len, "n_segments": spec.dp_segments}]
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def write_json(path: Path, data: Any) -> None:
@@ -77,16 +66,12 @@ def write_csv(path: Path, frame: pd.DataFrame) -> None:
 
 def save_figure(fig: Any, path: Path, dpi: int = 110) -> None:
     """Save a matplotlib figure atomically as PNG."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp.png")
-    fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
-    os.replace(tmp, path)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
 
 
 def run_simulation(case: dict[str, Any], run_dir: Path) -> tuple[CaseConfig, dict[str, Any], float]:
     """Validate ``case``, simulate into ``run_dir``; return (config, summary, wall seconds)."""
-    from drillfatigue.dynamics.api import simulate
-
     cfg = case_from_dict(case)
     run_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
@@ -101,8 +86,6 @@ def warm_up(case: dict[str, Any], duration_s: float = 0.02) -> None:
     Wall times measured afterwards exclude numba compilation (cached on disk after
     the first process, but loading still costs ~1 s).
     """
-    from drillfatigue.dynamics.api import simulate
-
     short = {**case, "operation": {**case["operation"], "duration_s": duration_s},
              "recording": {**case.get("recording", {}), "start_s": 0.0}}
     if "rpm_table" in short["operation"]:
@@ -112,7 +95,7 @@ def warm_up(case: dict[str, Any], duration_s: float = 0.02) -> None:
 
 def recorded_span_s(run_dir: Path) -> float:
     """Length of the recorded loads history, s (last minus first sample plus one step)."""
-    t = np.unique(pd.read_parquet(run_dir / "loads.parquet", columns=["time_s"])["time_s"])
+    t = np.unique(pd.read_parquet(run_dir / rundir.LOADS, columns=["time_s"])["time_s"])
     if t.size < 2:
         return 0.0
     return float(t[-1] - t[0] + (t[1] - t[0]))
@@ -120,8 +103,6 @@ def recorded_span_s(run_dir: Path) -> float:
 
 def rp7g_rates(run_dir: Path, case: dict[str, Any], fatigue: FatigueConfig) -> pd.DataFrame:
     """API RP7G (Lubinski) damage rate per hour of every recorded joint's body."""
-    from drillfatigue.sweep.cases import api_rp7g_rows
-
     return pd.DataFrame(api_rp7g_rows(run_dir, case, fatigue))
 
 

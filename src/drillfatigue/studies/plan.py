@@ -48,13 +48,21 @@ import numpy as np
 import pandas as pd
 from pydantic import Field, field_validator
 
+from drillfatigue.config import WellConfig, case_from_dict
 from drillfatigue.config.base import StrictModel, read_yaml, validate
 from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.config.studies import Case2Config
 from drillfatigue.config.well import FamilySpec, ProfileSpec
 from drillfatigue.errors import InputError
+from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.files import OutputFolder
-from drillfatigue.studies.common import save_figure, write_csv, write_json
+from drillfatigue.plotting import subplots
+from drillfatigue.studies.case2 import case_dict, sample_bit_md
+from drillfatigue.studies.common import (
+    recorded_span_s, run_simulation, save_figure, write_csv, write_json,
+)
+from drillfatigue.well import build_survey
+from drillfatigue.well.features import survey_features
 
 #: Kind of the ownership marker of a plan-ranking output folder.
 PLAN_KIND = "plan"
@@ -100,9 +108,6 @@ def well_section(cset: CandidateFile) -> dict[str, Any]:
 def check_end_points(cset: CandidateFile) -> None:
     """Every candidate must end at the same point (the one most candidates share), within
     1 m, and be long enough for the window."""
-    from drillfatigue.config import WellConfig
-    from drillfatigue.well import build_survey
-
     ends = {}
     for name in cset.candidates:
         wc = validate(WellConfig, {**well_section(cset), "profile": name}, "candidates")
@@ -130,8 +135,6 @@ def check_end_points(cset: CandidateFile) -> None:
 
 def _flat_inputs(case: dict[str, Any]) -> dict[str, Any]:
     """Scalar ``<section>.<field>`` inputs of a validated case (as the dataset has them)."""
-    from drillfatigue.config import case_from_dict
-
     full = case_from_dict(case).model_dump(mode="json")
     row = {}
     for section in INPUT_SECTIONS:
@@ -143,11 +146,6 @@ def _flat_inputs(case: dict[str, Any]) -> dict[str, Any]:
 
 def candidate_rows(cset: CandidateFile, name: str) -> pd.DataFrame:
     """Surrogate query rows of one candidate (see the module docstring)."""
-    from drillfatigue.config import WellConfig
-    from drillfatigue.studies.case2 import case_dict
-    from drillfatigue.well import build_survey
-    from drillfatigue.well.features import survey_features
-
     w = cset.window
     well = well_section(cset)
     sv = build_survey(validate(WellConfig, {**well, "profile": name}, "candidates"))
@@ -224,13 +222,6 @@ def simulate_candidate(cset: CandidateFile, name: str, out_dir: Path) -> pd.Data
     summed simulation wall time is in ``frame.attrs['wall_s']``. These rows are
     also a surrogate training set.
     """
-    from drillfatigue.config import WellConfig
-    from drillfatigue.fatigue.run import evaluate_run
-    from drillfatigue.studies.case2 import case_dict, sample_bit_md
-    from drillfatigue.studies.common import recorded_span_s, run_simulation
-    from drillfatigue.well import build_survey
-    from drillfatigue.well.features import survey_features
-
     w = cset.window
     fat = cset.fatigue
     well = well_section(cset)
@@ -317,8 +308,6 @@ def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int 
 
 
 def _plot(table: pd.DataFrame, path: Path, dpi: int) -> None:
-    from drillfatigue.plotting import subplots
-
     fig, ax = subplots(figsize=(max(5.0, 1.2 * len(table)), 4))
     x = np.arange(len(table))
     y = table["life_windows_surrogate"].to_numpy()

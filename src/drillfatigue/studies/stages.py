@@ -24,6 +24,9 @@ from drillfatigue.config.studies import (
 )
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder
+from drillfatigue.studies.case1 import run_case1
+from drillfatigue.studies.case2 import run_case2
+from drillfatigue.studies.case3 import run_case3
 from drillfatigue.studies.common import write_json
 
 SECTIONS: dict[str, type] = {"case1": Case1Config, "case2": Case2Config, "case3": Case3Config,
@@ -69,13 +72,10 @@ def run_study(name: str, params_path: str | Path, out_dir: str | Path,
     foreign = _files_under(folder.path) - folder.owned
     t0 = time.perf_counter()
     if name == "case1":
-        from drillfatigue.studies.case1 import run_case1
         summary = run_case1(cfg, Path(out_dir), dpi=dpi)
     elif name == "case2":
-        from drillfatigue.studies.case2 import run_case2
         summary = run_case2(cfg, Path(out_dir), dpi=dpi, well=well, fatigue=fatigue)
     else:
-        from drillfatigue.studies.case3 import run_case3
         summary = run_case3(cfg, Path(out_dir), dpi=dpi, well=well, fatigue=fatigue)
     wall = time.perf_counter() - t0
     folder.record(_files_under(folder.path) - foreign)

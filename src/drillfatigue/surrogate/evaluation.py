@@ -30,6 +30,7 @@ lasts longer does not limit any plan).
 
 from __future__ import annotations
 
+import json
 import math
 import warnings
 from pathlib import Path
@@ -39,10 +40,13 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.errors import InputError
 from drillfatigue.metrics import factor2_by_decade
+from drillfatigue.plotting import subplots
 from drillfatigue.surrogate.conformal import SplitConformal, conformal_quantile
 from drillfatigue.surrogate.data import Split, check_columns, log10_target
 from drillfatigue.surrogate.facade import Surrogate
+from drillfatigue.surrogate.io import save_figure
 
 LOG10_2 = math.log10(2.0)
 
@@ -95,6 +99,7 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         Test rows: case id, y_true and per model the prediction and interval
         (log10 damage rate per hour), the ensemble's OOD flag.
     """
+    # scikit-learn: the baselines' optional dependency, loaded only to score them
     from sklearn.ensemble import HistGradientBoostingRegressor
     from sklearn.exceptions import ConvergenceWarning
     from sklearn.gaussian_process import GaussianProcessRegressor
@@ -104,7 +109,6 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
     y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
     sp = split_from_model(frame, model, cfg)
     if not sp.test.any():
-        from drillfatigue.errors import InputError
         raise InputError(cfg.group_column, "no test case of the model in the dataset",
                          "the dataset the model was trained on")
     test = frame.loc[sp.test]
@@ -229,10 +233,6 @@ def read_spread(path: str | Path, criterion: str) -> dict[str, Any]:
     InputError
         ``--noise-floor`` when the file is missing or measured another criterion.
     """
-    import json
-
-    from drillfatigue.errors import InputError
-
     path = Path(path)
     if not path.is_file():
         raise InputError("--noise-floor", f"{path} not found",
@@ -310,10 +310,6 @@ def noise_floor_metrics(spread: dict[str, Any], y_test: np.ndarray,
 
 def plot_parity(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
     """Predicted vs simulated log10 damage rate, one panel per model (PNG)."""
-    from drillfatigue.plotting import subplots
-
-    from drillfatigue.surrogate.io import save_figure
-
     models = tuple(m for m in models if m in pred.columns)
     fig, axes = subplots(1, len(models), figsize=(4.2 * len(models), 4), squeeze=False)
     y = pred["y_true"].to_numpy()
@@ -336,10 +332,6 @@ def plot_parity(pred: pd.DataFrame, path: str, models: tuple[str, ...] = ("ensem
 def plot_residuals(pred: pd.DataFrame, path: str,
                    models: tuple[str, ...] = ("ensemble", "gp", "hgb")) -> None:
     """Residual (predicted - simulated) vs predicted log10 damage rate (PNG)."""
-    from drillfatigue.plotting import subplots
-
-    from drillfatigue.surrogate.io import save_figure
-
     models = tuple(m for m in models if m in pred.columns)
     fig, ax = subplots(figsize=(7, 4))
     for m in models:

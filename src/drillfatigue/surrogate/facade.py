@@ -32,6 +32,7 @@ from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
+from drillfatigue.surrogate.export import export_onnx, export_torchscript
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
@@ -292,7 +293,6 @@ class Surrogate:
         put("ensemble.pt", lambda t: torch.save(self.module.state_dict(), t))
         put("ood_reference.npy", lambda t: np.save(t, self.domain.reference_))
         if export:
-            from drillfatigue.surrogate.export import export_onnx, export_torchscript
             put("model.ts", lambda t: export_torchscript(self, t))
             put("model.onnx", lambda t: export_onnx(self, t))
         meta = dict(self.metadata)
@@ -396,6 +396,7 @@ def _open_live(live_dir: str | Path) -> Any:
     git repo") before the first commit (``git init; dvc init; dvc repro``);
     the curves do not need a revision, so retry as outside a repository.
     """
+    # dvclive: optional, only to log training curves for DVC
     import dvclive.live as dl
 
     kwargs = {"dir": str(live_dir), "dvcyaml": None, "save_dvc_exp": False, "report": None}

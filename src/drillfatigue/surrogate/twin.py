@@ -43,7 +43,11 @@ from drillfatigue import units
 from drillfatigue.errors import InputError
 from drillfatigue.io.logs import log_bit_md_m, log_times_s
 from drillfatigue.io.names import Vocabulary, channel_stem, force_column
+from drillfatigue.plotting import subplots
+from drillfatigue.string.segments import build_segments
 from drillfatigue.surrogate.facade import Surrogate
+from drillfatigue.surrogate.io import save_figure
+from drillfatigue.well import build_survey
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
 
 MD_COLUMN = "md_m"
@@ -114,8 +118,6 @@ def components_from_string(string_cfg: Any,
         ``location`` and ``s_from_bit_m`` (segment centre, m), as
         :func:`components_from_table` expects.
     """
-    from drillfatigue.string.segments import build_segments
-
     seg = build_segments(string_cfg, 1000.0)  # mud density only sets buoyancy: unused here
     rows = []
     counter: dict[int, int] = {}
@@ -142,8 +144,6 @@ def survey_from_well(well_cfg: Any, profile: str | None = None) -> pd.DataFrame:
     profile : str, optional
         Profile name (default: the section's active profile).
     """
-    from drillfatigue.well import build_survey
-
     sv = build_survey(well_cfg, profile)
     return pd.DataFrame({"md_m": sv.md_m, "inc_deg": np.degrees(sv.inc_rad),
                          "dls_deg_per_30m": sv.dls_deg_per_30m})
@@ -418,8 +418,6 @@ def plot_damage_along_string(result: ReplayResult, path: str, display: Any = Non
     axis (default SI, m).
     """
     from drillfatigue.io.display import Display
-    from drillfatigue.plotting import subplots
-
     display = display if display is not None else Display("si")
     c = result.components.sort_values(S_COLUMN)
     fig, ax = subplots(figsize=(7, 4))
@@ -440,6 +438,4 @@ def plot_damage_along_string(result: ReplayResult, path: str, display: Any = Non
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    from drillfatigue.surrogate.io import save_figure
-
     save_figure(fig, path)

@@ -1,8 +1,7 @@
 """Per-case functions run by the sweep workers: simulate one case, evaluate its fatigue.
 
 Both are plain module-level functions (pickled by name for process pools and
-Dask). The simulator and the fatigue chain are imported when a case runs, so
-this module imports without them.
+Dask).
 
 Layout written (one folder per case, moved into place atomically by the
 runner, see :mod:`drillfatigue.sweep.runner`)::
@@ -24,19 +23,21 @@ import json
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+import pandas as pd
+
+from drillfatigue import rundir
+from drillfatigue.config import FatigueConfig, case_from_dict, validate
+from drillfatigue.dynamics.api import simulate
 from drillfatigue.errors import SimulationError
+from drillfatigue.fatigue.run import api_rp7g_baseline, evaluate_run
+from drillfatigue.files import atomic_output, atomic_write_text
+from drillfatigue.units import HOUR_S
+from drillfatigue.well import build_survey
+from drillfatigue.well.features import survey_features
 
 __all__ = ["api_rp7g_rows", "fatigue_case", "fatigue_tasks", "position_columns", "run_case",
            "warmup_fatigue", "warmup_simulation"]
-
-
-def _simulate_fn() -> Any:
-    import drillfatigue
-
-    fn = getattr(drillfatigue, "simulate", None)
-    if fn is None:  # pragma: no cover - until the simulator lands
-        from drillfatigue.dynamics import simulate as fn  # type: ignore[attr-defined,no-redef]
-    return fn
 
 
 def run_case(case: dict[str, Any], case_dir: Path) -> dict[str, Any]:
@@ -59,11 +60,9 @@ def run_case(case: dict[str, Any], case_dir: Path) -> dict[str, Any]:
     SimulationError
         Divergence, or a run that ends ``failed``/``incomplete``.
     """
-    from drillfatigue.config import case_from_dict
-
     cfg = case_from_dict(case)
-    _simulate_fn()(cfg, Path(case_dir), progress=False, resume=False)
-    summary_path = Path(case_dir) / "summary.json"
+    simulate(cfg, Path(case_dir), progress=False, resume=False)
+    summary_path = Path(case_dir) / rundir.SUMMARY
     if not summary_path.is_file():
         raise SimulationError(f"simulation wrote no summary.json in {case_dir}")
     summary = json.loads(summary_path.read_text(encoding="utf-8"))
@@ -86,13 +85,11 @@ def warmup_simulation(case: dict[str, Any]) -> None:
     select the same code as the real cases. Errors are left to the cases
     themselves (they are recorded per case), so a bad case cannot stop the sweep here.
     """
-    from drillfatigue.config import case_from_dict
-
     short = json.loads(json.dumps(case))
     short.setdefault("operation", {})["duration_s"] = WARMUP_DURATION_S
     short.setdefault("solver", {})["checkpoint_every_s"] = 0.0
     try:
-        _simulate_fn()(case_from_dict(short), None, progress=False, resume=False)  # no output
+        simulate(case_from_dict(short), None, progress=False, resume=False)  # no output
     except Exception:  # noqa: BLE001 - the real run of this case reports the error
         return
 
@@ -130,12 +127,6 @@ def position_columns(case: dict[str, Any], md_m: Any, s_from_bit_m: Any) -> dict
     """Hole-geometry features of rows of a case (:mod:`drillfatigue.well.features`):
     local dogleg and inclination, windowed maximum dogleg, inclination and
     dogleg at the bit (MD = md + s_from_bit), mean build rate to the bit."""
-    import numpy as np
-
-    from drillfatigue.config import case_from_dict
-    from drillfatigue.well import build_survey
-    from drillfatigue.well.features import survey_features
-
     md = np.asarray(md_m, dtype=float)
     return survey_features(build_survey(case_from_dict(case).well), md,
                            md + np.asarray(s_from_bit_m, dtype=float))
@@ -149,13 +140,8 @@ def api_rp7g_rows(run_dir: Path, case: dict[str, Any], cfg: Any) -> list[dict[st
     section, S-N curve and SCF) in the damage-table layout: criterion
     ``api_rp7g``, ``damage_rate_per_h``, ``life_h``; there is no critical plane.
     """
-    import pandas as pd
-
-    from drillfatigue.config import case_from_dict
-    from drillfatigue.fatigue.run import api_rp7g_baseline
-
-    loads = pd.read_parquet(run_dir / "loads.parquet", columns=["joint", "md_m", "axial_N"])
-    joints = pd.read_parquet(run_dir / "joints.parquet")
+    loads = pd.read_parquet(run_dir / rundir.LOADS, columns=["joint", "md_m", "axial_N"])
+    joints = pd.read_parquet(run_dir / rundir.JOINTS)
     sel = sorted(int(j) for j in loads["joint"].unique())
     base = api_rp7g_baseline(loads, joints, case_from_dict(case), cfg, sel)
     out = base[["joint", "md_m", "s_from_bit_m", "component", "component_type", "location"]].copy()
@@ -176,15 +162,6 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     :func:`position_columns`; and ``summary.json``
     (rows, criteria, max damage rate).
     """
-    import os
-
-    import numpy as np
-    import pandas as pd
-
-    from drillfatigue.config import FatigueConfig, validate
-    from drillfatigue.fatigue import evaluate_run  # type: ignore[attr-defined]
-    from drillfatigue.units import HOUR_S
-
     cfg = validate(FatigueConfig, task["fatigue"], "fatigue")
     run_dir = Path(task["run_dir"])
     criteria = list(task.get("criteria") or [cfg.criterion])
@@ -198,7 +175,7 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
             uni = parts[0].copy()
             uni["criterion"] = "uniaxial"
             uni["damage"] = uni["uniaxial_damage"]
-            summary = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+            summary = json.loads((run_dir / rundir.SUMMARY).read_text(encoding="utf-8"))
             duration_h = float(summary["duration_s"]) / HOUR_S
             with np.errstate(divide="ignore"):
                 uni["damage_rate_per_h"] = uni["damage"] / duration_h
@@ -216,14 +193,12 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
         frame = frame.assign(**position_columns(task["case"], frame["md_m"],
                                                 frame["s_from_bit_m"]))
     out = Path(case_dir)
-    tmp = out / ".damage.parquet.tmp"
-    frame.to_parquet(tmp, index=False)
-    os.replace(tmp, out / "damage.parquet")
+    with atomic_output(out / "damage.parquet") as tmp:
+        frame.to_parquet(tmp, index=False)
     worst = frame.groupby("criterion")["damage_rate_per_h"].max()
     summary = {"criteria": sorted(frame["criterion"].unique().tolist()), "n_rows": len(frame),
                "max_damage_rate_per_h": {str(k): float(v) for k, v in worst.items()}}
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True),
-                                      encoding="utf-8")
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, sort_keys=True))
     return summary
 
 
@@ -232,15 +207,10 @@ def warmup_fatigue(task: dict[str, Any]) -> None:
 
     Errors are left to the real evaluation (recorded per case).
     """
-    import pandas as pd
-
-    from drillfatigue.config import FatigueConfig, validate
-    from drillfatigue.fatigue import evaluate_run  # type: ignore[attr-defined]
-
     try:
         cfg = validate(FatigueConfig, task["fatigue"], "fatigue")
         run_dir = Path(task["run_dir"])
-        joint = int(pd.read_parquet(run_dir / "joints.parquet", columns=["joint"])["joint"].iloc[0])
+        joint = int(pd.read_parquet(run_dir / rundir.JOINTS, columns=["joint"])["joint"].iloc[0])
         for crit in list(task.get("criteria") or [cfg.criterion]):
             evaluate_run(run_dir, cfg, None, joints=[joint], criterion=crit)
     except Exception:  # noqa: BLE001 - the real evaluation reports the error

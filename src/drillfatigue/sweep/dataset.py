@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import platform
 import re
 import shutil
@@ -32,8 +31,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue import rundir
 from drillfatigue.errors import InputError
-from drillfatigue.files import OutputFolder, atomic_output
+from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
 from drillfatigue.well.features import DESCRIPTIONS as POSITION_DESCRIPTIONS
 from drillfatigue.well.features import POSITION_COLUMNS
 
@@ -107,7 +107,7 @@ def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
     """Summary dynamics of one run folder (see module doc for the fallbacks)."""
     run_dir = Path(run_dir)
     try:
-        summary = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+        summary = json.loads((run_dir / rundir.SUMMARY).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         summary = {}
     out: dict[str, Any] = {}
@@ -126,7 +126,7 @@ def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
         else:
             out[name] = float(value) if isinstance(value, int | float) else math.nan
     need = [n for n in ("rms_surface_torque_Nm", "peak_surface_torque_Nm") if math.isnan(out[n])]
-    channels = run_dir / "channels.parquet"
+    channels = run_dir / rundir.CHANNELS
     if need and channels.is_file():
         torque = pd.read_parquet(channels, columns=["surface_torque_Nm"])["surface_torque_Nm"]
         values = torque.to_numpy(dtype=float)
@@ -362,12 +362,6 @@ def dataset_card(frame: pd.DataFrame, *, design: Mapping[str, Any], metrics: Map
     return "\n".join(lines)
 
 
-def _atomic_write_text(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-
-
 def _failed_count(root: Path) -> int:
     """Cases still failed at the end of the latest sweep run in ``root``."""
     from drillfatigue.sweep.runner import latest_failures
@@ -398,12 +392,11 @@ def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
         frame, n_designed=len(cases),
         n_sim_failed=_failed_count(Path(sweep_root)),
         n_fatigue_failed=_failed_count(Path(fatigue_root)))
-    tmp = out / f".damage.parquet.{os.getpid()}.tmp"
-    frame.to_parquet(tmp, index=False)
-    os.replace(tmp, out / "damage.parquet")
-    _atomic_write_text(out / "README.md", dataset_card(frame, design=design, metrics=metrics,
+    with atomic_output(out / "damage.parquet") as tmp:
+        frame.to_parquet(tmp, index=False)
+    atomic_write_text(out / "README.md", dataset_card(frame, design=design, metrics=metrics,
                                                        base_case=base_case))
-    _atomic_write_text(out / "metrics.json", json.dumps(metrics, indent=2, sort_keys=True) + "\n")
+    atomic_write_text(out / "metrics.json", json.dumps(metrics, indent=2, sort_keys=True) + "\n")
     rows = []
     for col in sorted(c for c in frame.columns if c.startswith("damage_rate_per_h_")):
         values = pd.to_numeric(frame[col], errors="coerce").to_numpy(dtype=float)
@@ -415,8 +408,7 @@ def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
             rows.append({"criterion": col[len("damage_rate_per_h_"):],
                          "log10_damage_rate_per_h": 0.5 * (lo + hi), "count": int(c)})
     hist = pd.DataFrame(rows, columns=["criterion", "log10_damage_rate_per_h", "count"])
-    (out / "plots").mkdir(exist_ok=True)
-    _atomic_write_text(out / "plots" / "damage_rate_hist.csv", hist.to_csv(index=False))
+    atomic_write_text(out / "plots" / "damage_rate_hist.csv", hist.to_csv(index=False))
     return metrics
 
 

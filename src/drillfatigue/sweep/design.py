@@ -24,7 +24,6 @@ import copy
 import hashlib
 import json
 import math
-import os
 import re
 import warnings
 from collections.abc import Mapping
@@ -40,6 +39,7 @@ from pydantic import BaseModel
 from drillfatigue.config import CaseConfig, case_from_dict, validate
 from drillfatigue.config.sweep import SweepConfig, VariableSpec
 from drillfatigue.errors import InputError
+from drillfatigue.files import atomic_output
 
 __all__ = [
     "CASE_ID_LENGTH",
@@ -279,10 +279,8 @@ def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
 def write_cases(frame: pd.DataFrame, path: str | Path) -> Path:
     """Write the case table to Parquet atomically; return the path."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    frame.to_parquet(tmp, index=False)
-    os.replace(tmp, path)
+    with atomic_output(path) as tmp:
+        frame.to_parquet(tmp, index=False)
     return path
 
 

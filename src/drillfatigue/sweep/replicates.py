@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from pathlib import Path
 from typing import Any
 
@@ -48,11 +47,13 @@ import pandas as pd
 from drillfatigue.config import Params
 from drillfatigue.config.replicates import ReplicatesConfig
 from drillfatigue.errors import InputError
+from drillfatigue.files import atomic_output, atomic_write_text
 from drillfatigue.metrics import FACTOR2_DECADES, factor2_by_decade
 from drillfatigue.sweep.cases import fatigue_case, run_case
 from drillfatigue.sweep.design import (_split_path, apply_overrides, canonical_json, case_id_of,
                                        read_cases, write_cases)
 from drillfatigue.sweep.runner import CaseFn
+from drillfatigue.sweep.stages import fatigue_stage, simulate_stage
 
 __all__ = ["FACTOR2_DECADES", "replicate_cases", "replicate_spread", "replicates_stage"]
 
@@ -183,13 +184,6 @@ def _damage_rows(fatigue_dir: Path, case_id: str, criterion: str) -> pd.DataFram
     return frame[frame["criterion"] == criterion].drop(columns="criterion")
 
 
-def _write_atomic(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-
-
 def replicates_stage(params: Params, *, progress: bool = False, case_fn: CaseFn = run_case,
                      fatigue_fn: CaseFn = fatigue_case) -> dict[str, Any]:
     """Run the noise-floor study of ``params.replicates``; return the spread statistics.
@@ -202,8 +196,6 @@ def replicates_stage(params: Params, *, progress: bool = False, case_fn: CaseFn 
     location and replicate) and ``spread.json`` (the statistics, the
     criterion, the settings and the sweep reports).
     """
-    from drillfatigue.sweep.stages import fatigue_stage, simulate_stage
-
     cfg = params.replicates
     out = Path(cfg.out_dir)
     criterion = params.surrogate.criterion
@@ -230,10 +222,9 @@ def replicates_stage(params: Params, *, progress: bool = False, case_fn: CaseFn 
         columns=["joint", "location", "damage_rate_per_h", "base_case_id", "replicate", "case_id"])
     stats = replicate_spread(table, floor_per_h=params.surrogate.rate_floor_per_h)
     out.mkdir(parents=True, exist_ok=True)
-    tmp = out / f".spread.parquet.{os.getpid()}.tmp"
-    table.to_parquet(tmp, index=False)
-    os.replace(tmp, out / "spread.parquet")
+    with atomic_output(out / "spread.parquet") as tmp:
+        table.to_parquet(tmp, index=False)
     result = {"criterion": criterion, "variable": cfg.variable, "rel_step": cfg.rel_step,
               "n_replicates": cfg.n_replicates, **stats, "sweeps": reports}
-    _write_atomic(out / "spread.json", json.dumps(result, indent=2, sort_keys=True) + "\n")
+    atomic_write_text(out / "spread.json", json.dumps(result, indent=2, sort_keys=True) + "\n")
     return result

@@ -56,6 +56,7 @@ import contextlib
 import functools
 import importlib
 import json
+import logging
 import multiprocessing
 import os
 import shutil
@@ -73,9 +74,13 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
+from rich.console import Console
+from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
+                           TimeRemainingColumn)
 
+import drillfatigue
 from drillfatigue.errors import InputError
-from drillfatigue.files import MARKER, OutputFolder, atomic_write_json
+from drillfatigue.files import MARKER, OutputFolder, atomic_output, atomic_write_json, atomic_write_text
 from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.sweep.design import inputs_sha256
 
@@ -167,8 +172,6 @@ def code_sha256() -> str:
     stage that DVC re-runs after a code change would keep results of the old
     code.
     """
-    import drillfatigue
-
     return drillfatigue.source_digest(Path(drillfatigue.__file__).parent)
 
 
@@ -279,9 +282,8 @@ def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case
         finally:
             close()
         return
-    # Dask: a LocalCluster or an existing scheduler.
-    import logging
-
+    # Dask: a LocalCluster or an existing scheduler (dask and distributed are
+    # imported only for these schedulers: optional for serial and process runs)
     from distributed import Client, LocalCluster
 
     cluster = None
@@ -380,9 +382,8 @@ def _write_failures(path: Path, records: dict[str, dict[str, Any]], run: int) ->
     old = read_failures(path)
     old = old[old["run"] != run]
     frame = pd.concat([old, new], ignore_index=True) if len(old) else new
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    frame.astype(_FAILURE_DTYPES).to_parquet(tmp, index=False)
-    os.replace(tmp, path)
+    with atomic_output(path) as tmp:
+        frame.astype(_FAILURE_DTYPES).to_parquet(tmp, index=False)
 
 
 def _print_failures(records: dict[str, dict[str, Any]], run: int, path: Path) -> None:
@@ -404,18 +405,12 @@ def _print_failures(records: dict[str, dict[str, Any]], run: int, path: Path) ->
 
 
 def _write_json(path: Path, data: Any) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n", encoding="utf-8")
-    os.replace(tmp, path)
+    atomic_write_text(path, json.dumps(data, indent=2, sort_keys=True) + "\n")
 
 
 def _progress(enabled: bool, total: int) -> Any:
     if not enabled:
         return contextlib.nullcontext(None)
-    from rich.console import Console
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
-                               TimeElapsedColumn, TimeRemainingColumn)
-
     return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                     TextColumn("[red]failed {task.fields[failed]}"), TimeElapsedColumn(),
                     TextColumn("ETA"), TimeRemainingColumn(),

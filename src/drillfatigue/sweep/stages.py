@@ -14,13 +14,13 @@ benchmarks pass the synthetic ones).
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
 from drillfatigue.config import Params
+from drillfatigue.files import atomic_output, atomic_write_text
 from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks, run_case
 from drillfatigue.sweep.dataset import write_dataset
 from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
@@ -30,10 +30,7 @@ __all__ = ["dataset_stage", "design_stage", "fatigue_stage", "simulate_stage", "
 
 
 def _write_json(path: Path, data: Any) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n", encoding="utf-8")
-    os.replace(tmp, path)
+    atomic_write_text(path, json.dumps(data, indent=2, sort_keys=True) + "\n")
 
 
 def write_report(report: SweepReport, path: str | Path) -> None:
@@ -48,9 +45,8 @@ def design_stage(params: Params, cases_path: str | Path | None = None) -> pd.Dat
     path = write_cases(frame, cases_path or cfg.cases_path)
     numeric = [c for c in frame.columns if c not in ("case_id", "design_index", "case_json")
                and pd.api.types.is_numeric_dtype(frame[c])]
-    tmp = path.with_name(f".coverage.csv.{os.getpid()}.tmp")
-    frame[["case_id", *numeric]].to_csv(tmp, index=False)
-    os.replace(tmp, path.with_name("coverage.csv"))
+    with atomic_output(path.with_name("coverage.csv")) as tmp:
+        frame[["case_id", *numeric]].to_csv(tmp, index=False)
     _write_json(path.with_name("design.json"), {
         "method": cfg.method, "seed": cfg.seed, "n_cases_requested": cfg.n_cases,
         "n_cases": len(frame), "variables": list(cfg.variables)})

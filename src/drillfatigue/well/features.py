@@ -30,6 +30,7 @@ decades and R^2 rose from 0.934 to 0.963
 from __future__ import annotations
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 
 from drillfatigue.errors import InputError
 from drillfatigue.well.survey import Survey
@@ -58,8 +59,6 @@ DESCRIPTIONS: dict[str, str] = {
 
 def _windowed_max(s_md: np.ndarray, s_dls: np.ndarray, md: np.ndarray) -> np.ndarray:
     """Largest interpolated dogleg within +-WINDOW_M of each depth (1 m grid)."""
-    from scipy.ndimage import maximum_filter1d
-
     grid = np.arange(s_md[0], s_md[-1] + _GRID_M, _GRID_M)
     half = int(round(WINDOW_M / _GRID_M))
     wmax = maximum_filter1d(np.interp(grid, s_md, s_dls), size=2 * half + 1, mode="nearest")

@@ -13,11 +13,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
 
 from drillfatigue.config.well import WellConfig
-from drillfatigue.files import OutputFolder
+from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.well.profiles import build_survey
-from drillfatigue.well.survey import Survey, atomic_output, write_survey_csv
+from drillfatigue.well.survey import Survey, write_survey_csv
 from drillfatigue.well.wellbore import Wellbore, build_wellbore, resample_path
 
 __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
@@ -111,9 +113,6 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
         max_dls_deg_per_30m, max_dls_deg_per_100ft, n_cylinders,
         min_cylinder_length_m}}``.
     """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
     out = Path(out_dir)
     built = {}
     for name, spec in cfg.profiles.items():

@@ -25,18 +25,15 @@ Completion 20(1), 2005, eqs. 1-4.
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import math
-import os
-import tempfile
-from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from drillfatigue.errors import InputError
+from drillfatigue.files import atomic_output
 from drillfatigue.limits import MD_MAX_M
 from drillfatigue.units import FT_M
 
@@ -262,29 +259,6 @@ def read_survey_csv(path: str | Path) -> Survey:
         raise InputError(str(p), f"{len(data)} station(s)", "at least 2 stations")
     arr = np.asarray(data)
     return minimum_curvature(arr[:, 0], np.radians(arr[:, 1]), np.radians(arr[:, 2]))
-
-
-@contextlib.contextmanager
-def atomic_output(path: str | Path) -> Iterator[Path]:
-    """Yield a temporary path next to ``path``; move it onto ``path`` on success.
-
-    The temporary file keeps ``path``'s suffix (matplotlib picks the format
-    from it) and gets the usual ``0o666 & ~umask`` permissions. On an
-    exception it is removed and ``path`` is left untouched.
-    """
-    p = Path(path)
-    folder = p.parent if str(p.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=f".tmp{p.suffix}", dir=folder)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)
-    try:
-        yield Path(tmp)
-        os.replace(tmp, p)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 def write_survey_csv(survey: Survey, path: str | Path) -> None:

@@ -1,0 +1,156 @@
+"""The simulator's run folder: nothing lost, nothing partial under a final name, divergence caught.
+
+* A folder holding files this package did not write is refused (one-line
+  error, exit 2, nothing touched); a rerun into its own folder replaces only
+  the files of the earlier run, never a user's file beside them.
+* An interrupted (SIGINT) or diverged run leaves no ``loads.parquet`` /
+  ``channels.parquet``: the data stays in the parts folder (interrupted) or is
+  merged under ``<name>.partial.parquet`` (failed); SIGINT prints one line
+  ``error: interrupted ...`` and exits 130.
+* A speed no drill string reaches (``status.MAX_SPEED_M_PER_S``,
+  ``MAX_SPIN_RAD_S``) stops the run with the divergence error, naming the
+  time and the segment where it started.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from drillfatigue import rundir
+from drillfatigue.cli import main
+from drillfatigue.config import case_from_dict
+from drillfatigue.dynamics import api, status
+from drillfatigue.dynamics.api import simulate
+from drillfatigue.errors import InputError, SimulationError
+
+ROOT = Path(__file__).resolve().parents[2]
+CASE = {
+    "well": {"profiles": {"vertical": {"kind": "vertical", "td_m": 300.0}}},
+    "string": {"components": [
+        {"type": "collar", "name": "DC", "od_m": 0.17145, "id_m": 0.0714, "length_m": 20.0,
+         "n_segments": 2},
+        {"type": "drill_pipe", "name": "DP", "od_m": 0.127, "id_m": 0.1086, "length_m": 60.0,
+         "tool_joint_od_m": 0.1683, "n_segments": 6}]},
+    "operation": {"bit_md_m": 90.0, "duration_s": 0.2, "rpm": 100.0, "rpm_ramp_s": 0.1,
+                  "tob_Nm": 1000.0, "rop_m_per_s": 0.01},
+    "solver": {"checkpoint_every_s": 0.05, "chunk_steps": 200},
+    "recording": {"loads_rate_hz": 100.0, "channels_rate_hz": 100.0, "kinematics_rate_hz": 20.0},
+}
+
+
+def _case(**op: object) -> dict:
+    return {**CASE, "operation": {**CASE["operation"], **op}}
+
+
+def test_a_folder_with_foreign_files_is_refused_and_left_untouched(tmp_path: Path,
+                                                                     capsys) -> None:
+    run = tmp_path / "run"
+    run.mkdir()
+    mine = {"summary.docx": b"my report", "loads.xlsx": b"my table"}
+    for name, data in mine.items():
+        (run / name).write_bytes(data)
+    with pytest.raises(InputError, match="--out"):
+        simulate(case_from_dict(_case()), run, progress=False)
+    case = tmp_path / "case.yaml"
+    case.write_text(yaml.safe_dump(_case()))
+    assert main(["simulate", str(case), "--out", str(run), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: --out:") and "\n" not in err
+    assert sorted(p.name for p in run.iterdir()) == sorted(mine)
+    for name, data in mine.items():
+        assert (run / name).read_bytes() == data
+
+
+def test_a_rerun_replaces_only_its_own_files(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    simulate(case_from_dict(_case()), run, progress=False)
+    # the user adds files whose names start like the run's files
+    (run / "loads.xlsx").write_bytes(b"mine")
+    (run / "summary.docx").write_bytes(b"mine too")
+    res = simulate(case_from_dict(_case(duration_s=0.1)), run, progress=False)
+    assert res.status == "complete"
+    assert (run / "loads.xlsx").read_bytes() == b"mine"
+    assert (run / "summary.docx").read_bytes() == b"mine too"
+    assert json.loads((run / rundir.SUMMARY).read_text())["duration_s"] == pytest.approx(0.1)
+    assert not (run / rundir.PARTS).exists() and not (run / rundir.CHECKPOINT).exists()
+
+
+def test_a_diverged_run_leaves_no_history_under_a_final_name(tmp_path: Path,
+                                                              monkeypatch) -> None:
+    real = api.build_model
+
+    def kicked(config, path):
+        model, state = real(config, path)
+        state.v[3, 0] = 2.0 * status.MAX_SPEED_M_PER_S  # segment 3 far beyond any real speed
+        return model, state
+
+    monkeypatch.setattr(api, "build_model", kicked)
+    run = tmp_path / "run"
+    with pytest.raises(SimulationError):
+        simulate(case_from_dict(_case()), run, progress=False)
+    summary = json.loads((run / rundir.SUMMARY).read_text())
+    assert summary["status"] == "failed" and "diverged" in summary["message"]
+    for stem in rundir.HISTORIES:
+        assert not (run / rundir.history_name(stem)).exists(), stem
+
+
+def test_the_divergence_error_names_the_time_and_the_segment_where_it_started(
+        monkeypatch) -> None:
+    real = api.build_model
+
+    def kicked(config, path):
+        model, state = real(config, path)
+        # a spin no string reaches, on one segment in the middle of the string
+        state.w[5, 2] = 1.5 * status.MAX_SPIN_RAD_S
+        return model, state
+
+    monkeypatch.setattr(api, "build_model", kicked)
+    with pytest.raises(SimulationError) as info:
+        simulate(case_from_dict(_case()), None, progress=False)
+    msg = str(info.value)
+    assert "diverged at t = " in msg and "segment 5 " in msg and "speed" in msg
+    t = float(msg.split("t = ")[1].split(" s")[0])
+    assert 0.0 < t < 1e-3  # the first step: before the spin spreads along the string
+
+
+def test_a_free_top_under_a_huge_torque_is_stopped_by_the_speed_bound() -> None:
+    # case 1 (a free 5 m pipe in a horizontal hole) driven by 20 kN m instead of 200 N m:
+    # spin-up without bound (> 70 000 rpm within 0.5 s), no real string does that
+    data = yaml.safe_load((ROOT / "data" / "cases" / "case1_whirl.yaml").read_text())
+    data["operation"].update(duration_s=0.5, top_torque_Nm=20000.0)
+    with pytest.raises(SimulationError, match=r"diverged at t = .* in segment \d+ .*speed"):
+        simulate(case_from_dict(data), None, progress=False)
+
+
+def test_sigint_prints_one_line_and_leaves_no_final_histories(tmp_path: Path) -> None:
+    case = tmp_path / "case.yaml"
+    case.write_text(yaml.safe_dump(_case(duration_s=60.0)))
+    run = tmp_path / "run"
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    proc = subprocess.Popen([sys.executable, "-m", "drillfatigue", "simulate", str(case),
+                             "--out", str(run), "--no-progress"], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 240.0
+    while not (run / rundir.CHECKPOINT).exists():  # running, one checkpoint written
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: interrupted"), err
+    assert json.loads((run / rundir.SUMMARY).read_text())["status"] == "incomplete"
+    for stem in rundir.HISTORIES:
+        assert not (run / rundir.history_name(stem)).exists(), stem
+    assert list((run / rundir.PARTS).glob("loads.*.parquet"))
+    assert np.isfinite(json.loads((run / rundir.SUMMARY).read_text())["duration_s"])
