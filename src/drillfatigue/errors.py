@@ -35,5 +35,13 @@ class InputError(ValueError):
         return " ".join(text.split())
 
 
+class Interrupted(Exception):
+    """A command stopped by Ctrl-C; the message says what was left and how to go on.
+
+    The CLI prints it as one line ``error: interrupted: <message>`` and exits
+    with code 130.
+    """
+
+
 class SimulationError(RuntimeError):
     """A simulation diverged or failed; the message says when, where and why."""

@@ -15,7 +15,7 @@ import click
 import typer
 
 from drillfatigue.cli.app import app
-from drillfatigue.errors import InputError
+from drillfatigue.errors import InputError, Interrupted
 from drillfatigue.numba_cache import scope_numba_cache
 
 # typer >= 0.16 carries its own copy of click: its usage errors, Exit and
@@ -57,6 +57,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2
+    except Interrupted as exc:
+        print(f"error: interrupted: {exc}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except _ABORT:
         print("error: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -11,7 +11,7 @@ from drillfatigue.cli.app import app
 from drillfatigue import rundir
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.api import simulate
-from drillfatigue.errors import InputError, SimulationError
+from drillfatigue.errors import InputError, Interrupted, SimulationError
 
 
 @app.command("simulate")
@@ -34,9 +34,8 @@ def simulate_cmd(
         print(f"error: simulation failed: {exc}", file=sys.stderr)
         raise typer.Exit(1) from None
     except KeyboardInterrupt:
-        print(f"error: interrupted: the run in {str(out)!r} is incomplete (no final files "
-              "written); continue it with --resume", file=sys.stderr)
-        raise typer.Exit(130) from None
+        raise Interrupted(f"the run in {str(out)!r} is incomplete (no final files written); "
+                          "continue it with --resume") from None
     s = res.summary
     print(f"{s['status']}: {s['duration_s']:.3f} s simulated in {s['wall_time_s']:.1f} s "
           f"({s['real_time_factor']:.3g}x real time) -> {out}")
