@@ -383,3 +383,103 @@ def transverse_load(weight_per_m_N, axis, gravity_dir, inertia_per_m_N, drag_per
         out_q[i, 1] = f0 * e2[i, 0] + f1 * e2[i, 1] + f2 * e2[i, 2]
     return STATUS_OK
 
+
+
+@njit(cache=True)
+def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_right, read_s,
+                       span_L, span_ei, span_T, span_q, work, sup_M, read_M):
+    """Span-bending moments at read points of a segment chain with given supports.
+
+    The glue for the dynamics: supports (contact points in contact, tool
+    joints, stabilizer blades) and read points (recorded joints) are given by
+    their distance from the bit; each span between consecutive supports takes
+    the segments' properties over its length (EI as the length-weighted
+    harmonic mean, since end rotations integrate 1/EI; axial force and load
+    as length-weighted means), then :func:`support_moments` and
+    :func:`moments_at`. Read points outside [sup_s[0], sup_s[-1]] get zero
+    (the chain ends are supports).
+
+    Parameters
+    ----------
+    sup_s : ndarray, shape (n_sup,)
+        Support positions from the bit, m, strictly increasing (n_sup >= 2).
+    seg_top_s : ndarray, shape (n_seg + 1,)
+        Segment boundaries from the bit, m (0 first, increasing).
+    seg_ei, seg_T : ndarray, shape (n_seg,)
+        Bending stiffness (N m^2) and effective axial force (N, tension > 0).
+    seg_q : ndarray, shape (n_seg, 2)
+        Transverse load per length of each segment in the common
+        cross-section frame, N/m.
+    end_left, end_right : int
+        End conditions at the first and last support.
+    read_s : ndarray, shape (n_read,)
+        Read positions from the bit, m.
+    span_L, span_ei, span_T : ndarray, shape (n_sup - 1,)
+    span_q : ndarray, shape (n_sup - 1, 2)
+    work : ndarray, shape (n_sup, 6)
+        Scratch.
+    sup_M : ndarray, shape (n_sup, 2)
+    read_M : ndarray, shape (n_read, 2)
+        Outputs: moments over the supports and at the read points, N m.
+
+    Returns
+    -------
+    int
+        A status of :func:`support_moments` (``STATUS_BAD_SPAN`` also for
+        unsorted supports or a span outside the segments).
+    """
+    n_sup = sup_s.shape[0]
+    n_seg = seg_ei.shape[0]
+    read_M[:, :] = 0.0
+    if n_sup < 2:
+        sup_M[:, :] = 0.0
+        return STATUS_OK
+    j = 0
+    for k in range(n_sup - 1):
+        a = sup_s[k]
+        b = sup_s[k + 1]
+        if not (b > a) or a < seg_top_s[0] - 1e-9 or b > seg_top_s[n_seg] + 1e-9:
+            return STATUS_BAD_SPAN
+        while j < n_seg - 1 and seg_top_s[j + 1] <= a:
+            j += 1
+        flex = 0.0
+        t = 0.0
+        q0 = 0.0
+        q1 = 0.0
+        i = j
+        while i < n_seg and seg_top_s[i] < b:
+            lo = max(a, seg_top_s[i])
+            hi = min(b, seg_top_s[i + 1])
+            w = hi - lo
+            if w > 0.0:
+                flex += w / seg_ei[i]
+                t += w * seg_T[i]
+                q0 += w * seg_q[i, 0]
+                q1 += w * seg_q[i, 1]
+            i += 1
+        L = b - a
+        span_L[k] = L
+        span_ei[k] = L / flex if flex > 0.0 else seg_ei[j]
+        span_T[k] = t / L
+        span_q[k, 0] = q0 / L
+        span_q[k, 1] = q1 / L
+    st = support_moments(span_L, span_ei, span_T, span_q, end_left, end_right, work, sup_M)
+    if st != STATUS_OK:
+        return st
+    for r in range(read_s.shape[0]):
+        x = read_s[r]
+        if x < sup_s[0] or x > sup_s[n_sup - 1]:
+            continue
+        lo = 0
+        hi = n_sup - 1
+        while hi - lo > 1:  # span of x by bisection
+            mid = (lo + hi) // 2
+            if sup_s[mid] <= x:
+                lo = mid
+            else:
+                hi = mid
+        L = span_L[lo]
+        ga, gb, h = _span_shape(span_T[lo] * L * L / span_ei[lo], L, min(x - sup_s[lo], L))
+        read_M[r, 0] = ga * sup_M[lo, 0] + gb * sup_M[lo + 1, 0] + h * span_q[lo, 1]
+        read_M[r, 1] = ga * sup_M[lo, 1] + gb * sup_M[lo + 1, 1] - h * span_q[lo, 0]
+    return STATUS_OK

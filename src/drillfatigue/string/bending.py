@@ -147,3 +147,55 @@ def pipe_frame_moments(M_hole_Nm: np.ndarray, angle_rad: np.ndarray) -> np.ndarr
     out = np.empty_like(M)
     K.to_pipe_frame(M, a, out)
     return out
+
+
+def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
+                       ei_Nm2: np.ndarray, axial_N: np.ndarray, q_N_per_m: np.ndarray,
+                       read_s_m: np.ndarray, ends: tuple[str, str] = ("pinned", "pinned")
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """Span-bending moments of a segment chain at read points (see the kernel
+    :func:`drillfatigue.dynamics.span_bending.chain_span_moments`).
+
+    Parameters
+    ----------
+    support_s_m : array (n_sup,)
+        Support positions from the bit, m, strictly increasing.
+    segment_bounds_m : array (n_seg + 1,)
+        Segment ends from the bit, m.
+    ei_Nm2, axial_N : array (n_seg,)
+    q_N_per_m : array (n_seg, 2)
+        Transverse load per length in a common cross-section frame.
+    read_s_m : array (n_read,)
+        Where the moments are wanted (e.g. the recorded joints), m from the bit.
+    ends : (str, str)
+
+    Returns
+    -------
+    support_Nm : ndarray, shape (n_sup, 2)
+    read_Nm : ndarray, shape (n_read, 2)
+    """
+    sup = _vec("support_s_m", support_s_m)
+    bounds = _vec("segment_bounds_m", segment_bounds_m)
+    n_seg = bounds.size - 1
+    ei = _vec("ei_Nm2", ei_Nm2, n_seg)
+    ax = _vec("axial_N", axial_N, n_seg)
+    q = np.ascontiguousarray(np.asarray(q_N_per_m, dtype=np.float64))
+    if q.shape != (n_seg, 2):
+        raise InputError("q_N_per_m", f"must have shape ({n_seg}, 2), got {q.shape}",
+                         "one (q_x, q_y) per segment")
+    rd = _vec("read_s_m", read_s_m)
+    if len(ends) != 2 or any(e not in _ENDS for e in ends):
+        raise InputError("ends", f"unknown end conditions {ends!r}", "pinned, clamped")
+    m = max(sup.size - 1, 0)
+    sup_M = np.empty((sup.size, 2))
+    read_M = np.empty((rd.size, 2))
+    st = K.chain_span_moments(sup, bounds, ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], rd,
+                              np.empty(m), np.empty(m), np.empty(m), np.empty((m, 2)),
+                              np.empty((sup.size, 6)), sup_M, read_M)
+    if st == K.STATUS_SPAN_BUCKLED:
+        raise InputError("axial_N", "a span in compression is at or beyond its Euler load",
+                         "compression below 0.998 pi^2 EI/L^2 per span")
+    if st != K.STATUS_OK:
+        raise InputError("support_s_m", f"chain span solve failed (status {st})",
+                         "increasing supports inside the segments, EI > 0")
+    return sup_M, read_M
