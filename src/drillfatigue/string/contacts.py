@@ -222,9 +222,11 @@ def contact_points(string_cfg: StringConfig, segments: Segments, hole_diameter_m
             for i in range(1, m):
                 full.append((a[0] + gap * i / m, r_body, KIND_BODY))
             full.append(b)
+        length = float(segments.length_m[k])
         for z, r, kd in full:
             seg_l.append(k)
-            s_l.append(z - z0)
+            # the ends exactly at 0 and the length (positions are sums of lengths)
+            s_l.append(0.0 if z - z0 <= _TOL_M else length if z1 - z <= _TOL_M else z - z0)
             r_l.append(r)
             k_l.append(kd)
         ptr.append(len(s_l))
