@@ -18,10 +18,11 @@ Mud pressure (``pressure`` of :func:`evaluate_location`) turns the axial load
 into the true wall force and adds the Lame hoop and radial stresses, constant
 over a window: a constant normal stress per plane (their shear on a plane is
 constant too and changes no cycle), so the rainflow counts are those of the
-load-only stress and only the normal-stress terms of the criteria move. Family B is off by default: with
-sigma_theta = 0 the in-surface principal stresses sigma/2 +- sqrt(sigma^2/4 +
-tau^2) have opposite signs, so the largest shear, (sigma_1 - sigma_2)/2, is
-always on a family-A plane (family B carries at most sigma_1/2); it can still
+load-only stress and only the normal-stress terms of the criteria move.
+Family B is off by default: in the load-varying part (sigma_theta = 0) the
+in-surface principal stresses sigma/2 +- sqrt(sigma^2/4 + tau^2) have
+opposite signs, so the largest shear, (sigma_1 - sigma_2)/2, is always on a
+family-A plane (family B carries at most sigma_1/2); it can still
 be switched on for Findley/Fatemi-Socie studies. The coarse grid has ``plane_step_deg``;
 the governing plane of the most damaged surface points is refined to
 ``plane_step_deg / 2**n_refine`` around it (code_aster refines four times: 2, 1,
