@@ -31,9 +31,10 @@ of the simply supported span, s = T L^2/EI, v = sqrt(|s|):
   f3 = 24 (v/2 - tanh(v/2))/v^3;
 * compression: f1 = 3 (1 - v/tan v)/v^2, f2 = 6 (v/sin v - 1)/v^2,
   f3 = 24 (tan(v/2) - v/2)/v^3;
-* all three tend to 1 without axial force (series below |s| = 1e-6), giving
-  the classical three-moment equation; on equal spans far from the ends the
-  support moment is -q L^2/12 and the mid-span moment q L^2/24 (the
+* all three tend to 1 without axial force (power series in s through s^4
+  below |s| = 0.02, where the closed forms lose digits to cancellation),
+  giving the classical three-moment equation; on equal spans far from the
+  ends the support moment is -q L^2/12 and the mid-span moment q L^2/24 (the
   clamped-clamped span).
 
 Chain ends are pinned (M = 0) or clamped (zero slope). Inside a span the
@@ -94,10 +95,14 @@ STATUS_SINGULAR = 3
 END_PINNED = 0
 END_CLAMPED = 1
 
-#: |s| = |T| L^2/EI below which the series of the axial-force factors is used
-#: (the second-order series error is below 1e-12 there; the closed forms lose
-#: digits to cancellation)
-SERIES_S = 1e-6
+#: |s| = |T| L^2/EI below which the axial-force factors come from their power
+#: series through s^4 (truncation below 1e-13 there; above it the closed forms
+#: lose less than 1e-12 to cancellation)
+SERIES_S = 0.02
+#: |s| below which the moment shape inside a span is the axial-force-free one
+#: (its error is O(s) relative, 1e-8; the closed form's cancellation error is
+#: 1e-16/s relative, 1e-8 at the switch)
+SHAPE_SERIES_S = 1e-8
 #: compression v = L sqrt(|T|/EI) at which a pinned span is taken as buckled
 BUCKLED_V = 0.999 * math.pi
 
@@ -111,9 +116,13 @@ def axial_factors(s):
     without axial force. NaN for compression at or beyond ``BUCKLED_V``.
     """
     if abs(s) < SERIES_S:
-        return (1.0 - s / 15.0 + 2.0 * s * s / 315.0,
-                1.0 - 7.0 * s / 60.0 + 31.0 * s * s / 2520.0,
-                1.0 - s / 10.0 + 17.0 * s * s / 1680.0)
+        f1 = 1.0 + s * (-1.0 / 15.0 + s * (2.0 / 315.0 + s * (-1.0 / 1575.0
+                                                              + s * 2.0 / 31185.0)))
+        f2 = 1.0 + s * (-7.0 / 60.0 + s * (31.0 / 2520.0 + s * (-127.0 / 100800.0
+                                                                + s * 73.0 / 570240.0)))
+        f3 = 1.0 + s * (-1.0 / 10.0 + s * (17.0 / 1680.0 + s * (-31.0 / 30240.0
+                                                                + s * 691.0 / 6652800.0)))
+        return (f1, f2, f3)
     v = math.sqrt(abs(s))
     if s > 0.0:
         e = math.exp(-v)
@@ -227,7 +236,7 @@ def support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, end_left, end_right, wor
 def _span_shape(s, L, x):
     """Weights (g_a, g_b, h) of M(x) = g_a M_a + g_b M_b + h q in a span with
     s = T L^2/EI (module docstring), x in [0, L]."""
-    if abs(s) < SERIES_S:
+    if abs(s) < SHAPE_SERIES_S:
         return 1.0 - x / L, x / L, 0.5 * x * (L - x)
     v = math.sqrt(abs(s))
     k = v / L
