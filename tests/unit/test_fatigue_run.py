@@ -169,3 +169,22 @@ def test_joint_pressures_are_hydrostatic_at_the_joint_tvd() -> None:
         tvd = float(np.interp(m, sv.md_m, sv.pos_m[:, 2]))
         assert p[j].external_Pa == pytest.approx(rho * 9.80665 * tvd, rel=1e-12)
         assert p[j].internal_Pa == pytest.approx(p[j].external_Pa + 2e6, rel=1e-12)
+
+
+def test_run_case_mud_pressure_reaches_the_criteria(tmp_path: Path) -> None:
+    import yaml
+
+    run = write_run_dir(tmp_path / "r", n_joints=2, n_t=600)
+    case = yaml.safe_load((Path(__file__).resolve().parents[2] / "data" / "cases"
+                           / "vertical_quick.yaml").read_text())
+    case["operation"]["bit_md_m"] = 520.0
+    cfg = dict(FAST, upset_location=False)
+    dry = evaluate_run(run, FatigueConfig(pressure=False, **cfg))
+    for rho, same in ((0.0, True), (1500.0, False)):
+        case["operation"]["mud_density_kg_per_m3"] = rho
+        (run / "case.yaml").write_text(yaml.safe_dump(case))
+        wet = evaluate_run(run, FatigueConfig(**cfg))
+        if same:  # zero density: zero pressure, bit for bit the dry result
+            assert np.array_equal(wet["damage"].to_numpy(), dry["damage"].to_numpy())
+        else:  # ~7 MPa hydrostatic compression lowers every plane's normal stress
+            assert np.all(wet["damage"].to_numpy() < dry["damage"].to_numpy())
