@@ -12,6 +12,7 @@ import pytest
 
 from drillfatigue.cli import main
 from drillfatigue.config.fatigue import FatigueConfig
+from drillfatigue.errors import InputError
 from drillfatigue.fatigue.run import DAMAGE_COLUMNS, evaluate_run
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -188,3 +189,23 @@ def test_run_case_mud_pressure_reaches_the_criteria(tmp_path: Path) -> None:
             assert np.array_equal(wet["damage"].to_numpy(), dry["damage"].to_numpy())
         else:  # ~7 MPa hydrostatic compression lowers every plane's normal stress
             assert np.all(wet["damage"].to_numpy() < dry["damage"].to_numpy())
+
+
+def test_span_bending_columns_add_to_the_joint_moment(tmp_path: Path) -> None:
+    run = write_run_dir(tmp_path / "r", n_joints=2, n_t=600)
+    base = evaluate_run(run, FatigueConfig(upset_location=False, **FAST))
+    ld = pd.read_parquet(run / "loads.parquet")
+    # the whole bending moved into the span columns: the same stresses, the same damage
+    moved = ld.assign(span_bending_x_Nm=ld["bending_x_Nm"], span_bending_y_Nm=ld["bending_y_Nm"],
+                      bending_x_Nm=0.0, bending_y_Nm=0.0)
+    moved.to_parquet(run / "loads.parquet", index=False)
+    same = evaluate_run(run, FatigueConfig(upset_location=False, **FAST))
+    np.testing.assert_allclose(same["damage"], base["damage"], rtol=1e-12)
+    # a span correction on top of it raises the damage
+    moved.assign(bending_x_Nm=0.5 * ld["bending_x_Nm"]).to_parquet(run / "loads.parquet",
+                                                                  index=False)
+    more = evaluate_run(run, FatigueConfig(upset_location=False, **FAST))
+    assert (more["damage"].to_numpy() > base["damage"].to_numpy()).all()
+    moved.drop(columns=["span_bending_y_Nm"]).to_parquet(run / "loads.parquet", index=False)
+    with pytest.raises(InputError, match="partner"):
+        evaluate_run(run, FatigueConfig(**FAST))

@@ -1,7 +1,9 @@
 """Fatigue of a simulator run directory: ``damage.parquet``, ``summary.json``, plots.
 
-A run directory holds ``loads.parquet`` (columns exactly ``time_s, joint, md_m,
-axial_N, shear_x_N, shear_y_N, bending_x_Nm, bending_y_Nm, torque_Nm``),
+A run directory holds ``loads.parquet`` (columns ``time_s, joint, md_m,
+axial_N, shear_x_N, shear_y_N, bending_x_Nm, bending_y_Nm, torque_Nm``, and
+optionally ``span_bending_x_Nm, span_bending_y_Nm``, the span correction the
+chain adds to the joint moment),
 ``joints.parquet`` (``joint, component, component_type, s_from_bit_m,
 body_od_m, body_id_m, conn_od_m, conn_id_m``) and ``summary.json`` with
 ``duration_s`` and ``status == "complete"``. Every input is checked before
@@ -42,6 +44,10 @@ from drillfatigue.fatigue.stress import (LOAD_COLUMNS, SCF, Pressure, Section,
 from drillfatigue.units import HOUR_S
 
 LOADS_COLUMNS: tuple[str, ...] = ("time_s", "joint", "md_m") + LOAD_COLUMNS
+#: Optional ``loads.parquet`` columns: the span-bending correction between the
+#: supports (docs/bending.md), recorded apart from the rigid joint moment
+#: ``bending_x_Nm``/``bending_y_Nm``; the fatigue chain reads their sum.
+SPAN_COLUMNS: tuple[str, ...] = ("span_bending_x_Nm", "span_bending_y_Nm")
 JOINTS_COLUMNS: tuple[str, ...] = ("joint", "component", "component_type", "s_from_bit_m",
                                    "body_od_m", "body_id_m", "conn_od_m", "conn_id_m")
 DAMAGE_COLUMNS: tuple[str, ...] = (
@@ -168,6 +174,22 @@ def read_run(run_dir: Path) -> tuple[pd.DataFrame, pd.DataFrame, dict[str, Any]]
     if bad:
         raise InputError(str(run_dir / "loads.parquet"),
                          f"NaN or infinite values in column {bad[0]}", "finite numbers")
+    have = [c for c in SPAN_COLUMNS if c in loads.columns]
+    if have:
+        if len(have) != len(SPAN_COLUMNS):
+            raise InputError(str(run_dir / "loads.parquet"),
+                             f"has {have[0]} without its partner column",
+                             "both or neither of " + ", ".join(SPAN_COLUMNS))
+        for c in SPAN_COLUMNS:
+            if not np.all(np.isfinite(loads[c].to_numpy(dtype=float))):
+                raise InputError(str(run_dir / "loads.parquet"),
+                                 f"NaN or infinite values in column {c}", "finite numbers")
+        # the steel sees the joint moment plus the span correction
+        loads = loads.assign(
+            bending_x_Nm=loads["bending_x_Nm"].to_numpy(dtype=float)
+            + loads["span_bending_x_Nm"].to_numpy(dtype=float),
+            bending_y_Nm=loads["bending_y_Nm"].to_numpy(dtype=float)
+            + loads["span_bending_y_Nm"].to_numpy(dtype=float))
     if joints["joint"].duplicated().any():
         raise InputError(str(run_dir / "joints.parquet"), "a joint appears in more than one row",
                          "one row per recorded joint")
