@@ -34,8 +34,13 @@ class ContactConfig(StrictModel):
     c_c_N_s_per_m : float or None
         Fixed dash-pot value instead of ``damping_ratio`` (N s/m), >= 0.
     points : str
-        Contact points per segment: ``ends`` (its two end points) or
-        ``ends_and_middle`` (plus its centre, for long segments).
+        Contact points per segment: ``ends`` (its two end points),
+        ``ends_and_middle`` (plus its centre, for long segments) or
+        ``string`` (the points of the string's components below the growing
+        top segment: every tool joint at the tool-joint radius, stabilizer
+        blades, centre upsets, and extra body points no further apart than
+        the chord/sag rule of :mod:`drillfatigue.string.contacts`; the top
+        segment keeps its two ends).
     tool_joints : bool
         Add a contact point at each tool joint with the tool-joint radius.
 
@@ -47,5 +52,5 @@ class ContactConfig(StrictModel):
     k_c_N_per_m: float = Field(5e7, ge=1e4, le=1e11)
     damping_ratio: float = Field(0.2, ge=0.0, le=1.0)
     c_c_N_s_per_m: float | None = Field(None, ge=0.0, le=1e9)
-    points: Literal["ends", "ends_and_middle"] = "ends"
+    points: Literal["ends", "ends_and_middle", "string"] = "ends"
     tool_joints: bool = True

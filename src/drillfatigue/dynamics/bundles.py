@@ -17,7 +17,9 @@ access, and the caller passes the same arrays it holds, no copies):
     boundary scalars ``bp``, top-section properties ``topp``, the top anchor
     ``anchor`` (10,), the top-drive speed table ``tab_t``/``tab_w`` (s, rad/s),
     wall / friction / bit parameters ``cpar``, the well path nodes
-    ``node_md``/``node_pos``/``node_tan`` and the hole cylinders ``wall``.
+    ``node_md``/``node_pos``/``node_tan``, the hole cylinders ``wall`` and the
+    contact points of each segment ``cp_n`` (rows,) / ``cp`` (rows, MAX_TABLE_POINTS,
+    2) read when ``cpar[P_CPTAB]`` is set (:mod:`layout`).
     ``seg``, ``jp`` and ``topp`` change as the string grows.
 :class:`Work`
     What one force evaluation writes (rotation matrices ``R``, world angular
@@ -64,7 +66,8 @@ def new_state(x, v, q, w, sc, hint, cst) -> State:
 
 
 Params = namedtuple("Params", ("dt", "seg", "jp", "bp", "topp", "anchor", "tab_t", "tab_w",
-                               "cpar", "node_md", "node_pos", "node_tan", "wall"))
+                               "cpar", "node_md", "node_pos", "node_tan", "wall", "cp_n",
+                               "cp"))
 
 #: free rotation of a rigid body (:func:`rigid.free_rotation`): two quaternions
 RotorWork = namedtuple("RotorWork", ("qa", "qb"))
