@@ -43,6 +43,15 @@ class ContactConfig(StrictModel):
         segment keeps its two ends).
     tool_joints : bool
         Add a contact point at each tool joint with the tool-joint radius.
+    span_bending : bool
+        Record the span-bending correction (the bending of the pipe's own
+        weight between the contact points in the wall,
+        :mod:`drillfatigue.dynamics.span_record`) at the recorded joints as
+        ``span_bending_x_Nm`` / ``span_bending_y_Nm`` in ``loads.parquet``;
+        the fatigue chain adds it to the joint moment. Default off: it
+        changes every simulated damage (docs/bending.md). Use it with
+        ``points: string`` so that the supports are the tool joints and
+        stabilizers.
 
     The hole's cylinder chain and its resampling are set in the ``well``
     section (``drillfatigue.well.build_wellbore``), not here.
@@ -54,3 +63,4 @@ class ContactConfig(StrictModel):
     c_c_N_s_per_m: float | None = Field(None, ge=0.0, le=1e9)
     points: Literal["ends", "ends_and_middle", "string"] = "ends"
     tool_joints: bool = True
+    span_bending: bool = False

@@ -82,7 +82,8 @@ class SimulationResult:
     ``status`` is ``complete``, ``incomplete`` or ``failed``. With an ``out_dir``
     the histories are in its Parquet files; without one they are kept in memory:
     ``times_s`` (n_time,), ``loads`` (n_time, n_joint, 6) in the order of
-    :data:`LOAD_COLUMNS`, ``channels`` (a dict of 1-D arrays incl. ``time_s``).
+    :data:`LOAD_COLUMNS`, ``channels`` (a dict of 1-D arrays incl. ``time_s``),
+    ``span_bending`` (n_time, n_joint, 2) when ``contact.span_bending`` is on.
     """
 
     status: str
@@ -95,6 +96,7 @@ class SimulationResult:
     loads: np.ndarray | None = None
     channels: dict[str, np.ndarray] = field(default_factory=dict)
     kinematics: Any = None
+    span_bending: np.ndarray | None = None
 
 
 def config_hash(config: CaseConfig) -> str:
@@ -250,7 +252,8 @@ class Runner:
         wk = m.work
         params = m.params
         rows = [self.chunk // e + 2 for e in self.every]
-        rec0 = new_records(self.sel, tuple(self.every), tuple(rows), m.n)
+        rec0 = new_records(self.sel, tuple(self.every), tuple(rows), m.n,
+                           span=m.cpar[L.P_SPAN] != 0.0)
         status = "incomplete"
         error: SimulationError | None = None
         t_wall0 = time.perf_counter()
@@ -344,6 +347,7 @@ class Runner:
         if self.folder is None:
             mem = self.recorder.in_memory()
             res.times_s, res.loads = mem["times_s"], mem["loads"]
+            res.span_bending = mem.get("span_bending")
             res.channels, res.kinematics = mem["channels"], mem["kinematics"]
             return res
         written = self.recorder.finish(status)

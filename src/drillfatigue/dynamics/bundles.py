@@ -19,7 +19,8 @@ access, and the caller passes the same arrays it holds, no copies):
     wall / friction / bit parameters ``cpar``, the well path nodes
     ``node_md``/``node_pos``/``node_tan``, the hole cylinders ``wall`` and the
     contact points of each segment ``cp_n`` (rows,) / ``cp`` (rows, MAX_TABLE_POINTS,
-    2) read when ``cpar[P_CPTAB]`` is set (:mod:`layout`).
+    2) read when ``cpar[P_CPTAB]`` is set (:mod:`layout`), and the bending
+    stiffness of each segment ``ei`` (rows,) N m^2 for the span correction.
     ``seg``, ``jp`` and ``topp`` change as the string grows.
 :class:`Work`
     What one force evaluation writes (rotation matrices ``R``, world angular
@@ -67,7 +68,7 @@ def new_state(x, v, q, w, sc, hint, cst) -> State:
 
 Params = namedtuple("Params", ("dt", "seg", "jp", "bp", "topp", "anchor", "tab_t", "tab_w",
                                "cpar", "node_md", "node_pos", "node_tan", "wall", "cp_n",
-                               "cp"))
+                               "cp", "ei"))
 
 #: free rotation of a rigid body (:func:`rigid.free_rotation`): two quaternions
 RotorWork = namedtuple("RotorWork", ("qa", "qb"))
@@ -124,9 +125,12 @@ def new_work(n: int) -> Work:
 
 
 def new_records(sel: np.ndarray, every: tuple[int, int, int], rows: tuple[int, int, int],
-                n: int) -> Records:
-    """Recording buffers: loads of the joints ``sel``, channels, kinematics of ``n`` rows."""
-    return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], 1 + 6 * sel.size)),
+                n: int, span: bool = False) -> Records:
+    """Recording buffers: loads of the joints ``sel`` (``span``: and their span-bending
+    correction, 2 more columns per joint after the 6 loads of all), channels, kinematics
+    of ``n`` rows."""
+    width = 1 + (8 if span else 6) * sel.size
+    return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], width)),
                    every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + N_CH)),
                    every_k=int(every[2]), buf_k=np.zeros((rows[2], 1 + 8 * n)),
                    counts=np.zeros(3, dtype=np.int64), info=np.zeros(N_INFO))

@@ -64,16 +64,18 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.boundaries import drive_omega
 from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
-    B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, S_IA, S_IT,
-    S_M,
+    B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_SPAN,
+    S_IA, S_IT, S_M,
 )
 from drillfatigue.dynamics.rigid import free_rotation, kick
+from drillfatigue.dynamics.span_record import span_sample
 from drillfatigue.dynamics.status import (
     BLOWUP, MAX_SPEED_M_PER_S, MAX_SPIN_RAD_S, NONFINITE, OK, SPEED,
 )
@@ -114,6 +116,14 @@ def record(step, t1, n, s, p, wk, rec):
         for a in range(sel.size):
             for k in range(6):
                 buf_l[r, 1 + 6 * a + k] = loads[sel[a], k]
+        if p.cpar.shape[0] > P_SPAN and p.cpar[P_SPAN] != 0.0:
+            # span-bending correction after the loads of all joints (span_record)
+            span = np.zeros((sel.size, 2))
+            span_sample(n, s, p, wk, sel, span)
+            base = 1 + 6 * sel.size
+            for a in range(sel.size):
+                buf_l[r, base + 2 * a] = span[a, 0]
+                buf_l[r, base + 2 * a + 1] = span[a, 1]
         counts[0] = r + 1
     if step % rec.every_c == 0:
         r = counts[1]

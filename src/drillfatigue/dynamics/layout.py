@@ -39,7 +39,8 @@ P_BITMODEL = 5   # bit law id (drillfatigue.dynamics.bitrock)
 P_FP = 6         # 6..15: friction parameters (friction.N_PARAMS = 10)
 P_BP = 16        # 16..25: bit parameters (bitrock.N_PARAMS = 10)
 P_CPTAB = 26     # 1: segments below the top use their own contact points (Params.cp_n / cp)
-N_CPAR = 27
+P_SPAN = 27      # 1: record the span-bending correction at the recorded joints (span_record)
+N_CPAR = 28
 N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;

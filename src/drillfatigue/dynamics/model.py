@@ -119,6 +119,7 @@ class Model:
     segment_length_m: float = 0.0
     cp_n: np.ndarray = field(default_factory=lambda: np.zeros(0))
     cp: np.ndarray = field(default_factory=lambda: np.zeros((0, L.MAX_TABLE_POINTS, 2)))
+    ei: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def n(self) -> int:
@@ -136,7 +137,7 @@ class Model:
         return Params(dt=self.dt, seg=self.seg, jp=self.jp, bp=self.bp, topp=self.topp,
                       anchor=self.anchor, tab_t=self.tab_t, tab_w=self.tab_w, cpar=self.cpar,
                       node_md=p.node_md_m, node_pos=p.node_pos_m, node_tan=p.node_tan,
-                      wall=p.wall, cp_n=self.cp_n, cp=self.cp)
+                      wall=p.wall, cp_n=self.cp_n, cp=self.cp, ei=self.ei)
 
 
 def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> np.ndarray:
@@ -693,6 +694,9 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
                   anchor=anchor, tab_t=tab_t, tab_w=tab_w, dt=dt, hook_load_N=pre.hook_N,
                   wob0_N=pre.wob_N, neutral_point_s_from_bit_m=pre.s_np_m,
                   top_length_m=place.top_len, cpar=cpar, n0=n, segment_length_m=lnom)
+    # bending stiffness per row for the span correction; rows split off the top later
+    # have the top's section
+    model.ei = np.ascontiguousarray(np.r_[segs.ei_Nm2, np.full(nmax - n, segs.ei_Nm2[-1])])
     n_hint = L.MAX_CONTACT_POINTS * nmax
     if cp_n is not None and cp is not None:
         model.cp_n, model.cp = _pad_points(cp_n, cp, n, nmax, lnom, seg[n - 1, L.S_RC])
@@ -821,6 +825,7 @@ def pack_contact(config: CaseConfig) -> np.ndarray:
     cpar[L.P_FP:L.P_FP + friction.N_PARAMS] = fp
     cpar[L.P_NPTS] = 3.0 if c.points == "ends_and_middle" else 2.0
     cpar[L.P_CPTAB] = 1.0 if c.points == "string" else 0.0
+    cpar[L.P_SPAN] = 1.0 if c.span_bending and c.enabled else 0.0
     b = config.bit
     if b.model == "given_tob":
         cpar[L.P_BITLAW] = 0.0
@@ -927,7 +932,8 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     params = model.params
     while done < n_steps:
         k = min(chunk, n_steps - done)
-        rec = new_records(sel, (every, every, every), (rows, rows, rows), n)
+        rec = new_records(sel, (every, every, every), (rows, rows, rows), n,
+                          span=model.cpar[L.P_SPAN] != 0.0)
         st = advance(k, state, params, model.work, rec)
         raise_for_status(st, rec.info, model)
         out_l.append(rec.buf_l[: rec.counts[0]])
@@ -938,8 +944,12 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     bc = np.concatenate(out_c)
     bk = np.concatenate(out_k)
     k8 = bk[:, 1:].reshape(-1, n, 8)
-    return {"time_s": bl[:, 0], "loads": bl[:, 1:].reshape(-1, sel.size, 6), "channels": bc,
-            "xv": k8[:, :, :6], "contact": k8[:, :, 6:]}
+    nl = 6 * sel.size
+    out = {"time_s": bl[:, 0], "loads": bl[:, 1:1 + nl].reshape(-1, sel.size, 6), "channels": bc,
+           "xv": k8[:, :, :6], "contact": k8[:, :, 6:]}
+    if bl.shape[1] > 1 + nl:
+        out["span_bending"] = bl[:, 1 + nl:].reshape(-1, sel.size, 2)
+    return out
 
 
 def total_energy(model: Model, state: State) -> float:
