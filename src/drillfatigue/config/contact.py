@@ -43,6 +43,12 @@ class ContactConfig(StrictModel):
         segment keeps its two ends).
     tool_joints : bool
         Add a contact point at each tool joint with the tool-joint radius.
+    chord_fraction : float
+        With ``points: string``: the share f of the radial clearance a
+        straight segment may pass through the inside of a bend unseen
+        between two contact points (spacing <= sqrt(8 f c / kappa) for the
+        well's largest curvature kappa, :mod:`drillfatigue.string.contacts`);
+        0 < f <= 1, default 0.25.
     span_bending : bool
         Record the span-bending correction (the bending of the pipe's own
         weight between the contact points in the wall,
@@ -63,4 +69,5 @@ class ContactConfig(StrictModel):
     c_c_N_s_per_m: float | None = Field(None, ge=0.0, le=1e9)
     points: Literal["ends", "ends_and_middle", "string"] = "ends"
     tool_joints: bool = True
+    chord_fraction: float = Field(0.25, gt=0.0, le=1.0)
     span_bending: bool = False

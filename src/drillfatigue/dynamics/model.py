@@ -563,7 +563,7 @@ def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
     :func:`drillfatigue.string.contacts.contact_points` lists them (tool joints
     at the tool-joint radius, stabilizer blades, centre upsets, extra body
     points spaced by the chord/sag rule for the well's largest curvature and the
-    largest hole radius). Returns ``cp_n`` (n,) and ``cp`` (n, MAX_TABLE_POINTS,
+    largest hole radius, chord fraction ``contact.chord_fraction``). Returns ``cp_n`` (n,) and ``cp`` (n, MAX_TABLE_POINTS,
     2): [offset from the centre along e3 (> 0 towards the bit), radius], m. The
     top segment's row stays empty (it keeps its end points while it grows).
     """
@@ -574,7 +574,8 @@ def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
     if wall.shape[0] == 0:
         return cp_n, cp
     hole_d = 2.0 * float(wall[:, L.W_RAD].max())
-    pts = contact_points(config.string, segs, hole_d, _max_curvature(path))
+    pts = contact_points(config.string, segs, hole_d, _max_curvature(path),
+                         chord_fraction=config.contact.chord_fraction)
     for i in range(n - 1):
         s_m, r_m, _ = pts.of_segment(i)
         if s_m.size > L.MAX_TABLE_POINTS:

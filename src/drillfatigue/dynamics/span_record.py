@@ -13,7 +13,9 @@ without feeding anything back into the integrator:
 2. Load: the buoyed weight per length ``seg[i, S_W] / L_i`` times the part of
    gravity normal to the segment's axis, in the world frame. The segment's
    lateral inertia and mud drag are not included: the correction is the
-   static sag between supports, the dynamics keeps the rest.
+   static sag between supports, the dynamics keeps the rest. A segment with
+   three or more points, all in the wall, is in line contact: the wall
+   carries its weight along its length and it gets no load.
 3. Axial force of a segment: the mean effective tension of its two joints
    (the bit end of the first segment takes its one joint's value).
 4. :func:`drillfatigue.dynamics.span_bending.chain_span_moments` with both
@@ -121,6 +123,7 @@ def span_sample(n, s, p, wk, sel, out):
         own = table and i < n - 1
         npi = int(p.cp_n[i]) if own else npts
         h = seg[i, S_H]
+        ncon = 0
         for pt in range(npi):
             if own:
                 off = p.cp[i, pt, 0]
@@ -137,6 +140,12 @@ def span_sample(n, s, p, wk, sel, out):
             if info[OUT_DELTA] > 0.0:
                 sup[nsup] = top_s[i] + h - off
                 nsup += 1
+                ncon += 1
+        if npi >= 3 and ncon == npi:
+            # line contact: the wall carries the segment's weight along its length
+            seg_q[i, 0] = 0.0
+            seg_q[i, 1] = 0.0
+            seg_qz[i, 0] = 0.0
     sup_s = np.sort(sup[:nsup])
     keep = np.zeros(nsup, dtype=np.bool_)
     last = -1.0
