@@ -210,12 +210,20 @@ class StringConfig(StrictModel):
 
     ``shear_coefficient`` is Timoshenko's kappa for the shear springs
     k = kappa G A / L (about 0.5 for thin tubes, MODEL.md §2).
+    ``lateral_mud_mass``: the segments' lateral inertia (translation across
+    the axis and tilt) carries the mud inside the pipe and the confined added
+    mass of the annular mud (:mod:`drillfatigue.string.added_mass`), axial and
+    torsional inertia stay the steel's; default off (it changes every dynamic
+    result). ``added_mass_coefficient``: C_a instead of the confined
+    potential-flow value (R^2 + r^2)/(R^2 - r^2).
     """
 
     preset: Literal["bare_collars", "paper_bha"] | None = Field(
         None, description="a named string (PRESETS) used when components are not given")
     components: list[ComponentConfig] = Field(default_factory=_default_components, min_length=1)
     shear_coefficient: float = Field(0.5, gt=0.0, le=1.0)
+    lateral_mud_mass: bool = False
+    added_mass_coefficient: float | None = Field(None, ge=0.0, le=50.0)
 
     @model_validator(mode="before")
     @classmethod

@@ -20,7 +20,9 @@ access, and the caller passes the same arrays it holds, no copies):
     ``node_md``/``node_pos``/``node_tan``, the hole cylinders ``wall`` and the
     contact points of each segment ``cp_n`` (rows,) / ``cp`` (rows, MAX_TABLE_POINTS,
     2) read when ``cpar[P_CPTAB]`` is set (:mod:`layout`), and the bending
-    stiffness of each segment ``ei`` (rows,) N m^2 for the span correction.
+    stiffness of each segment ``ei`` (rows,) N m^2 for the span correction, and
+    the ratio ``mlat`` (rows,) of lateral to steel mass (mud inside and added
+    mass) read when ``cpar[P_LATMASS]`` is set.
     ``seg``, ``jp`` and ``topp`` change as the string grows.
 :class:`Work`
     What one force evaluation writes (rotation matrices ``R``, world angular
@@ -68,7 +70,7 @@ def new_state(x, v, q, w, sc, hint, cst) -> State:
 
 Params = namedtuple("Params", ("dt", "seg", "jp", "bp", "topp", "anchor", "tab_t", "tab_w",
                                "cpar", "node_md", "node_pos", "node_tan", "wall", "cp_n",
-                               "cp", "ei"))
+                               "cp", "ei", "mlat"))
 
 #: free rotation of a rigid body (:func:`rigid.free_rotation`): two quaternions
 RotorWork = namedtuple("RotorWork", ("qa", "qb"))

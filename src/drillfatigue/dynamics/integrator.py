@@ -71,10 +71,10 @@ from drillfatigue.dynamics.boundaries import drive_omega
 from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
-    B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_SPAN,
-    S_IA, S_IT, S_M,
+    B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_LATMASS,
+    P_SPAN, S_IA, S_IT, S_M,
 )
-from drillfatigue.dynamics.rigid import free_rotation, kick
+from drillfatigue.dynamics.rigid import free_rotation, kick, kick_lateral
 from drillfatigue.dynamics.span_record import span_sample
 from drillfatigue.dynamics.status import (
     BLOWUP, MAX_SPEED_M_PER_S, MAX_SPIN_RAD_S, NONFINITE, OK, SPEED,
@@ -196,13 +196,21 @@ def advance(n_steps, s, p, wk, rec):
     n = int(sc[C_NACT])
     hdt = 0.5 * dt
     rotor = wk.rotor
+    latm = p.cpar.shape[0] > P_LATMASS and p.cpar[P_LATMASS] != 0.0
+    mlat = p.mlat
+    R = wk.R
     for _s in range(n_steps):
         for i in range(n):
-            kick(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+            if latm:
+                kick_lateral(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
+                             seg[i, S_IA], R[i, :, 2], hdt)
+            else:
+                kick(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
         for i in range(n):
             for k in range(3):
                 x[i, k] += dt * v[i, k]
-            free_rotation(q[i], w[i], seg[i, S_IT], seg[i, S_IA], dt, rotor.qa, rotor.qb)
+            it = seg[i, S_IT] * mlat[i] if latm else seg[i, S_IT]
+            free_rotation(q[i], w[i], it, seg[i, S_IA], dt, rotor.qa, rotor.qb)
         sc[C_PHIB] += dt * w[0, 2]
         t0 = sc[C_STEP] * dt
         sc[C_STEP] += 1.0
@@ -220,7 +228,11 @@ def advance(n_steps, s, p, wk, rec):
         worst = 1.0
         iworst = -1
         for i in range(n):
-            kick(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+            if latm:
+                kick_lateral(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
+                             seg[i, S_IA], R[i, :, 2], hdt)
+            else:
+                kick(v[i], w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
             r = speed_excess(v[i], w[i])
             if r > worst:
                 worst = r

@@ -40,7 +40,8 @@ P_FP = 6         # 6..15: friction parameters (friction.N_PARAMS = 10)
 P_BP = 16        # 16..25: bit parameters (bitrock.N_PARAMS = 10)
 P_CPTAB = 26     # 1: segments below the top use their own contact points (Params.cp_n / cp)
 P_SPAN = 27      # 1: record the span-bending correction at the recorded joints (span_record)
-N_CPAR = 28
+P_LATMASS = 28   # 1: lateral mass m * Params.mlat[i] across the axis (mud inside, added mass)
+N_CPAR = 29
 N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;

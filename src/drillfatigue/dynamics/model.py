@@ -36,6 +36,7 @@ from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
+from drillfatigue.string.added_mass import lateral_mass_kg
 from drillfatigue.string.contacts import contact_points
 from drillfatigue.well.kernels import path_point
 
@@ -120,6 +121,7 @@ class Model:
     cp_n: np.ndarray = field(default_factory=lambda: np.zeros(0))
     cp: np.ndarray = field(default_factory=lambda: np.zeros((0, L.MAX_TABLE_POINTS, 2)))
     ei: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    mlat: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def n(self) -> int:
@@ -137,7 +139,7 @@ class Model:
         return Params(dt=self.dt, seg=self.seg, jp=self.jp, bp=self.bp, topp=self.topp,
                       anchor=self.anchor, tab_t=self.tab_t, tab_w=self.tab_w, cpar=self.cpar,
                       node_md=p.node_md_m, node_pos=p.node_pos_m, node_tan=p.node_tan,
-                      wall=p.wall, cp_n=self.cp_n, cp=self.cp, ei=self.ei)
+                      wall=p.wall, cp_n=self.cp_n, cp=self.cp, ei=self.ei, mlat=self.mlat)
 
 
 def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> np.ndarray:
@@ -698,6 +700,7 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     # bending stiffness per row for the span correction; rows split off the top later
     # have the top's section
     model.ei = np.ascontiguousarray(np.r_[segs.ei_Nm2, np.full(nmax - n, segs.ei_Nm2[-1])])
+    model.mlat = pack_lateral_mass(config, segs, path, cpar, nmax)
     n_hint = L.MAX_CONTACT_POINTS * nmax
     if cp_n is not None and cp is not None:
         model.cp_n, model.cp = _pad_points(cp_n, cp, n, nmax, lnom, seg[n - 1, L.S_RC])
@@ -861,6 +864,28 @@ def max_segments(config: CaseConfig, n0: int, lnom: float, omega_max: float,
     if cap is not None:
         nmax = max(n0, min(nmax, cap))
     return nmax
+
+
+def pack_lateral_mass(config: CaseConfig, segs: Segments, path: WellPath, cpar: np.ndarray,
+                      nmax: int) -> np.ndarray:
+    """Ratio of lateral to steel mass of every row (``Params.mlat``) and the switch
+    ``cpar[P_LATMASS]`` (in place) from ``string.lateral_mud_mass``: steel + mud inside +
+    confined added mass (:func:`drillfatigue.string.added_mass.lateral_mass_kg`, hole
+    diameter from the largest hole radius); rows split off the top later take the top's
+    ratio. All ones when off."""
+    ratio = np.ones(nmax)
+    sc = config.string
+    if not sc.lateral_mud_mass or path.wall.shape[0] == 0:
+        return ratio
+    hole_d = 2.0 * float(path.wall[:, L.W_RAD].max())
+    ml = lateral_mass_kg(segs, config.operation.mud_density_kg_per_m3, hole_d,
+                         sc.added_mass_coefficient)
+    r = ml / segs.mass_kg
+    n = r.size
+    ratio[:n] = r
+    ratio[n:] = r[-1]
+    cpar[L.P_LATMASS] = 1.0
+    return np.ascontiguousarray(ratio)
 
 
 def _pad_points(cp_n: np.ndarray, cp: np.ndarray, n: int, nmax: int, lnom: float,
