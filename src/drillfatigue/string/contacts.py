@@ -34,8 +34,9 @@ clamped span deflects w s^4 / (384 EI), so
 
 (about 16 m for 5 in drill pipe, 15 m for 6 3/4 in collars in an 8 1/2 in
 hole). Points are spread evenly between the fixed points (tool joints, blades,
-segment ends) so that no gap exceeds the smaller bound. The dynamics does not
-read these points yet: the segment arrays are unchanged.
+segment ends) so that no gap exceeds the smaller bound. The simulator tests
+these points against the wall with ``contact.points: string``
+(:func:`drillfatigue.dynamics.model.pack_contact_points`).
 """
 
 from __future__ import annotations
