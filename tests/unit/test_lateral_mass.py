@@ -12,12 +12,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.config import case_from_dict
+from drillfatigue.config import CaseConfig, case_from_dict
 from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.model import build_model, straight_path
+from drillfatigue.dynamics.model import advance_model, build_model, straight_path
 from drillfatigue.dynamics.rigid import kick, kick_lateral
 
 finite = st.floats(-1e4, 1e4, allow_nan=False)
@@ -66,3 +67,29 @@ def test_builder_packs_the_lateral_mass_ratio() -> None:
     assert np.allclose(model.mlat, (steel + mud) / steel, rtol=1e-9)
     off, _ = build_model(_case(False), straight_path(100.0, 90.0, hole_diameter_m=hole))
     assert off.cpar[L.P_LATMASS] == 0.0 and np.all(off.mlat == 1.0)
+
+
+def test_a_pipe_sinking_in_mud_accelerates_at_weight_over_lateral_mass() -> None:
+    # no wall, horizontal: the bit segment, far from the rig-held top, starts to sink
+    # under its buoyed weight W; Newton: dv/dt = W / (m r) across the axis
+    # (the steel mass alone without the switch). 20 steps of 1e-4 s: the joints
+    # stay unloaded (the whole lower string sinks together), so the ratio of the
+    # two velocities is r to 1e-9.
+    def sink(on: bool) -> tuple[float, float]:
+        data = _case(on).model_dump()
+        data["contact"]["enabled"] = False
+        data["solver"]["relax_s"] = 0.0
+        data["solver"]["dt_s"] = 1e-4
+        for k in ("mud_damping_lateral_N_s_per_m2", "mud_damping_axial_N_s_per_m2",
+                  "mud_damping_torsional_N_m_s_per_m"):
+            data["operation"][k] = 0.0
+        model, state = build_model(CaseConfig.model_validate(data),
+                                   straight_path(100.0, 90.0, hole_diameter_m=0.2159))
+        advance_model(model, state, 20, every=20)
+        return float(state.v[0, 2]), float(model.mlat[0])
+
+    v_off, _ = sink(False)
+    v_on, r = sink(True)
+    assert r > 1.5
+    assert v_off > 0.0
+    assert v_off / v_on == pytest.approx(r, rel=1e-9)

@@ -22,7 +22,6 @@ References
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 import drillfatigue
 from drillfatigue.dynamics.contact import OUT_DELTA, OUT_SIZE, find_contact
@@ -61,7 +60,7 @@ def _excess_m(points: str) -> float:
         h = m.seg[i, S_H]
         hint = int(s.hint[MAX_CONTACT_POINTS * i])
 
-        def pen(off: float, r: float) -> float:
+        def pen(off: float, r: float, i: int = i, hint: int = hint) -> float:
             find_contact(s.x[i] + off * R[:, 2], r, *cyl, hint, info)
             return float(info[OUT_DELTA])
 

@@ -35,7 +35,7 @@ from drillfatigue import rundir
 from drillfatigue.config import case_from_dict
 from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.model import build_model, straight_path
+from drillfatigue.dynamics.model import advance_model, build_model, straight_path
 from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import Section
@@ -130,6 +130,5 @@ def test_life_through_the_chain_against_a_hand_calculation(run: tuple[Path, floa
 
 def test_span_bending_off_records_no_span_columns() -> None:
     model, state = build_model(_case(span=False, points="ends"), _path())
-    from drillfatigue.dynamics.model import advance_model
     got = advance_model(model, state, 30, every=10)
     assert "span_bending" not in got and got["loads"].shape[2] == 6
