@@ -10,12 +10,16 @@ without feeding anything back into the integrator:
    that penetrates the wall now (:func:`drillfatigue.dynamics.contact.find_contact`
    from the point's hint, which it does not update), by distance from the bit;
    points closer than ``MERGE_M`` count once.
-2. Load: the buoyed weight per length ``seg[i, S_W] / L_i`` times the part of
-   gravity normal to the segment's axis, in the world frame. The segment's
-   lateral inertia and mud drag are not included: the correction is the
-   static sag between supports, the dynamics keeps the rest. A segment with
-   three or more points, all in the wall, is in line contact: the wall
-   carries its weight along its length and it gets no load.
+2. Load per length, across the segment's axis, in the world frame: buoyed
+   weight + lateral mud drag + the segment's lateral inertia -m_lat a / L.
+   As the integrator moves the segment by a = F / m_lat (F all forces on
+   it), the inertia is -F / L whatever the lateral mass, so the load is
+   (weight + drag - F) / L: the part of the weight and drag that the
+   concentrated wall and joint forces hold, smeared uniformly over the
+   segment. At rest on its supports this is the weight. (The inertia of the
+   segment's tilting, a load varying linearly along it, is not included.)
+   A segment with three or more points, all in the wall, is in line contact:
+   the wall carries its load along its length and it gets none.
 3. Axial force of a segment: the mean effective tension of its two joints
    (the bit end of the first segment takes its one joint's value).
 4. :func:`drillfatigue.dynamics.span_bending.chain_span_moments` with both
@@ -32,7 +36,7 @@ points where a span could reach the wall), supports that do not move
 relative to each other under the load. A span at or beyond its Euler load
 in compression gives a status other than OK: the sample's corrections are
 then zero and the status is returned (the caller counts such samples).
-Arrays read: ``s.x, s.q, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
+Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
 p.ei, p.topp``, ``wk.loads``; scratch allocated per call (a sample is taken
 every few hundred steps).
 """
@@ -44,7 +48,7 @@ from numba import njit
 
 from drillfatigue.dynamics.contact import OUT_DELTA, OUT_SIZE, contact_point, find_contact
 from drillfatigue.dynamics.layout import (
-    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_H, S_W,
+    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_CL, S_H, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import END_PINNED, STATUS_OK, chain_span_moments
@@ -103,12 +107,24 @@ def span_sample(n, s, p, wk, sel, out):
     seg_qz = np.zeros((n, 2))
     seg_T = np.zeros(n)
     seg_ei = np.zeros(n)
+    Fw = s.Fw
+    v = s.v
     for i in range(n):
-        w = seg[i, S_W] / (2.0 * seg[i, S_H])
-        t2 = R[i, 2, 2]  # gravity (0, 0, 1) along the axis
-        seg_q[i, 0] = w * (0.0 - t2 * R[i, 0, 2])
-        seg_q[i, 1] = w * (0.0 - t2 * R[i, 1, 2])
-        seg_qz[i, 0] = w * (1.0 - t2 * R[i, 2, 2])
+        inv_l = 1.0 / (2.0 * seg[i, S_H])
+        # weight + drag - m_lat a = weight + drag - (all forces): the distributed load
+        # that the wall and joint forces at the supports hold (see the module docstring)
+        cl = seg[i, S_CL]
+        ex = R[i, 0, 2]
+        ey = R[i, 1, 2]
+        ez = R[i, 2, 2]
+        vax = v[i, 0] * ex + v[i, 1] * ey + v[i, 2] * ez
+        gx = -cl * (v[i, 0] - vax * ex) - Fw[i, 0]
+        gy = -cl * (v[i, 1] - vax * ey) - Fw[i, 1]
+        gz = -cl * (v[i, 2] - vax * ez) - Fw[i, 2] + seg[i, S_W]
+        ga = gx * ex + gy * ey + gz * ez
+        seg_q[i, 0] = (gx - ga * ex) * inv_l
+        seg_q[i, 1] = (gy - ga * ey) * inv_l
+        seg_qz[i, 0] = (gz - ga * ez) * inv_l
         lo = loads[i - 1, 0] if i > 0 else loads[0, 0]
         up = loads[i, 0] if i < n - 1 else loads[n - 2, 0]
         seg_T[i] = 0.5 * (lo + up)
