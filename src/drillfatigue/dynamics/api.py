@@ -194,6 +194,7 @@ class Runner:
         self.figures = RunFigures(self._energy_now(), float(m.bp[L.B_TWIN]))
         self.hash = config_hash(config)
         self.wall_before = 0.0
+        self.span_unsolved = 0
         self.folder: OutputFolder | None = None
         self.recorder = Recorder(m.segments.joint_s_from_bit_m, self.sel, m.n, None)
 
@@ -273,6 +274,7 @@ class Runner:
                 rec = rec0._replace(every_l=ev[0], every_c=ev[1], every_k=ev[2])
                 rec.counts[:] = 0
                 st = advance(k, s, params, wk, rec)
+                self.span_unsolved += int(rec.counts[3])
                 bl = rec.buf_l[: rec.counts[0]]
                 bc = rec.buf_c[: rec.counts[1]]
                 bk = rec.buf_k[: rec.counts[2]]
@@ -336,6 +338,10 @@ class Runner:
             "bit_md_final_m": float(sc[L.C_MDROCK]),
             "trip_out_stopped_at_minimum": bool(sc[L.C_GUARD] == 1.0),
         }
+        if m.cpar[L.P_SPAN] != 0.0:
+            # loads samples (since this process started the run) whose span correction
+            # had no solution (a span buckled in compression): recorded as zero
+            summary["span_bending_unsolved_samples"] = self.span_unsolved
         if error is not None:
             summary["message"] = str(error)
         ev = events_summary(m.seg, m.bp, sc, self.state.cst, self.figures.wstats)

@@ -100,6 +100,8 @@ GrowthWork = namedtuple("GrowthWork", ("w", "r", "v_piece", "xc", "v_top", "q", 
 Work = namedtuple("Work", ("R", "wW", "loads", "ch", "rotor", "joint", "drive", "bit", "wall",
                            "growth"))
 
+#: ``counts``: rows written to buf_l, buf_c, buf_k, and the loads samples whose span
+#: correction had no solution (a buckled span: recorded as zero)
 Records = namedtuple("Records", ("sel", "every_l", "buf_l", "every_c", "buf_c", "every_k",
                                  "buf_k", "counts", "info"))
 #: length of Records.info: [step, segment, value] of a failure
@@ -135,5 +137,5 @@ def new_records(sel: np.ndarray, every: tuple[int, int, int], rows: tuple[int, i
     return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], width)),
                    every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + N_CH)),
                    every_k=int(every[2]), buf_k=np.zeros((rows[2], 1 + 8 * n)),
-                   counts=np.zeros(3, dtype=np.int64), info=np.zeros(N_INFO))
+                   counts=np.zeros(4, dtype=np.int64), info=np.zeros(N_INFO))
 

@@ -119,7 +119,8 @@ def record(step, t1, n, s, p, wk, rec):
         if p.cpar.shape[0] > P_SPAN and p.cpar[P_SPAN] != 0.0:
             # span-bending correction after the loads of all joints (span_record)
             span = np.zeros((sel.size, 2))
-            span_sample(n, s, p, wk, sel, span)
+            if span_sample(n, s, p, wk, sel, span) != 0:
+                counts[3] += 1
             base = 1 + 6 * sel.size
             for a in range(sel.size):
                 buf_l[r, base + 2 * a] = span[a, 0]
