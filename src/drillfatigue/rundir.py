@@ -5,9 +5,10 @@ fatigue chain, the sweep, the studies and the tests. All quantities SI; each
 column name carries its unit.
 
 ``loads.parquet``
-    One row per (time, joint): :data:`LOADS_COLUMNS`. Joint frame, z along
-    the pipe axis pointing downhole; axial > 0 in tension; the loads the
-    upper part exerts on the lower part.
+    One row per (time, joint): :data:`LOADS_COLUMNS`, then
+    :data:`SPAN_COLUMNS` when the span correction is recorded. Joint frame, z
+    along the pipe axis pointing downhole; axial > 0 in tension; the loads
+    the upper part exerts on the lower part.
 ``joints.parquet``
     One row per recorded joint: :data:`JOINTS_COLUMNS`.
 ``channels.parquet``
@@ -47,6 +48,10 @@ HISTORIES = ("loads", "channels", "kinematics", "contacts")
 #: the six joint loads, in the order of every load array (n_time, n_joint, 6)
 LOAD_COLUMNS = ("axial_N", "shear_x_N", "shear_y_N", "bending_x_Nm", "bending_y_Nm", "torque_Nm")
 LOADS_COLUMNS = ("time_s", "joint", "md_m") + LOAD_COLUMNS
+#: span-bending correction (joint frame, N m), after LOADS_COLUMNS when ``contact.span_bending``
+#: is on: the bending between the wall supports, apart from the joint moment; the
+#: fatigue chain adds it to ``bending_x_Nm`` / ``bending_y_Nm``
+SPAN_COLUMNS = ("span_bending_x_Nm", "span_bending_y_Nm")
 JOINTS_COLUMNS = ("joint", "component", "component_type", "s_from_bit_m", "body_od_m",
                   "body_id_m", "conn_od_m", "conn_id_m")
 #: surface and bit channels recorded with the forces

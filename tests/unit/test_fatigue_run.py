@@ -11,6 +11,7 @@ import pytest
 
 from drillfatigue.cli import main
 from drillfatigue.config.fatigue import FatigueConfig
+from drillfatigue.errors import InputError
 from drillfatigue.fatigue.run import DAMAGE_COLUMNS, evaluate_run
 
 from testkit.fatigue_runs import write_run_dir
@@ -27,7 +28,14 @@ def test_evaluate_run_writes_one_row_per_joint_and_location(run_dir: Path, tmp_p
     out = tmp_path / "fat"
     df = evaluate_run(run_dir, FatigueConfig(**FAST), out)
     assert list(df.columns) == list(DAMAGE_COLUMNS)
-    assert len(df) == 6 and set(df["location"]) == {"body", "connection"}
+    # drill-pipe joints add the upset run-out (body section, upset SCFs)
+    types = df.groupby("joint")["component_type"].first()
+    n_upset = int((types == "drill_pipe").sum())
+    assert len(df) == 6 + n_upset and set(df["location"]) == (
+        {"body", "connection", "upset"} if n_upset else {"body", "connection"})
+    up = df[df["location"] == "upset"].set_index("joint")["damage"]
+    body = df[df["location"] == "body"].set_index("joint")["damage"]
+    assert (up > body.loc[up.index]).all()  # SCF 2 on the same section
     assert (df["damage"] > 0).all()
     dur_h = 1.0 / 3600  # 1000 samples of 1 ms
     np.testing.assert_allclose(df["damage_rate_per_h"], df["damage"] / dur_h, rtol=1e-12)
@@ -42,7 +50,8 @@ def test_evaluate_run_writes_one_row_per_joint_and_location(run_dir: Path, tmp_p
 
 
 def test_joint_selection_and_criterion_override(run_dir: Path) -> None:
-    df = evaluate_run(run_dir, FatigueConfig(**FAST), joints=[1], criterion="uniaxial")
+    df = evaluate_run(run_dir, FatigueConfig(upset_location=False, **FAST), joints=[1],
+                      criterion="uniaxial")
     assert df["joint"].tolist() == [1, 1] and (df["criterion"] == "uniaxial").all()
     np.testing.assert_allclose(df["damage"], df["uniaxial_damage"], rtol=1e-12)
 
@@ -181,3 +190,58 @@ def test_rerun_replaces_only_its_own_files(run_dir: Path, tmp_path: Path) -> Non
     names = sorted(p.name for p in out.iterdir())
     assert names == [".drillfatigue.json", "damage.parquet", "notes.txt", "summary.json"]
     assert (out / "notes.txt").read_text() == "mine"
+
+
+def test_joint_pressures_are_hydrostatic_at_the_joint_tvd() -> None:
+    from drillfatigue.config import CaseConfig
+    from drillfatigue.fatigue.run import joint_pressures
+    from drillfatigue.well import build_survey
+
+    case = CaseConfig()
+    sv = build_survey(case.well)
+    md = {0: 10.0, 1: float(sv.md_m[-1]) * 0.9}
+    p = joint_pressures(case, md, 2e6)
+    rho = case.operation.mud_density_kg_per_m3
+    for j, m in md.items():
+        tvd = float(np.interp(m, sv.md_m, sv.pos_m[:, 2]))
+        assert p[j].external_Pa == pytest.approx(rho * 9.80665 * tvd, rel=1e-12)
+        assert p[j].internal_Pa == pytest.approx(p[j].external_Pa + 2e6, rel=1e-12)
+
+
+def test_run_case_mud_pressure_reaches_the_criteria(tmp_path: Path) -> None:
+    import yaml
+
+    run = write_run_dir(tmp_path / "r", n_joints=2, n_t=600)
+    case = yaml.safe_load((Path(__file__).resolve().parents[2] / "data" / "cases"
+                           / "vertical_quick.yaml").read_text())
+    case["operation"]["bit_md_m"] = 520.0
+    cfg = dict(FAST, upset_location=False)
+    dry = evaluate_run(run, FatigueConfig(pressure=False, **cfg))
+    for rho, same in ((0.0, True), (1500.0, False)):
+        case["operation"]["mud_density_kg_per_m3"] = rho
+        (run / "case.yaml").write_text(yaml.safe_dump(case))
+        wet = evaluate_run(run, FatigueConfig(**cfg))
+        if same:  # zero density: zero pressure, bit for bit the dry result
+            assert np.array_equal(wet["damage"].to_numpy(), dry["damage"].to_numpy())
+        else:  # ~7 MPa hydrostatic compression lowers every plane's normal stress
+            assert np.all(wet["damage"].to_numpy() < dry["damage"].to_numpy())
+
+
+def test_span_bending_columns_add_to_the_joint_moment(tmp_path: Path) -> None:
+    run = write_run_dir(tmp_path / "r", n_joints=2, n_t=600)
+    base = evaluate_run(run, FatigueConfig(upset_location=False, **FAST))
+    ld = pd.read_parquet(run / "loads.parquet")
+    # the whole bending moved into the span columns: the same stresses, the same damage
+    moved = ld.assign(span_bending_x_Nm=ld["bending_x_Nm"], span_bending_y_Nm=ld["bending_y_Nm"],
+                      bending_x_Nm=0.0, bending_y_Nm=0.0)
+    moved.to_parquet(run / "loads.parquet", index=False)
+    same = evaluate_run(run, FatigueConfig(upset_location=False, **FAST))
+    np.testing.assert_allclose(same["damage"], base["damage"], rtol=1e-12)
+    # a span correction on top of it raises the damage
+    moved.assign(bending_x_Nm=0.5 * ld["bending_x_Nm"]).to_parquet(run / "loads.parquet",
+                                                                  index=False)
+    more = evaluate_run(run, FatigueConfig(upset_location=False, **FAST))
+    assert (more["damage"].to_numpy() > base["damage"].to_numpy()).all()
+    moved.drop(columns=["span_bending_y_Nm"]).to_parquet(run / "loads.parquet", index=False)
+    with pytest.raises(InputError, match="partner"):
+        evaluate_run(run, FatigueConfig(**FAST))

@@ -27,7 +27,11 @@ def test_fatigue_case_on_synthetic_run(run_root, tmp_path):
     summary = fatigue_case(task, tmp_path)
     assert summary["criteria"] == ["findley", "uniaxial"]
     damage = pd.read_parquet(tmp_path / "damage.parquet")
-    assert len(damage) == 2 * N_JOINT * 2  # criteria x joints x (body, connection)
+    # criteria x joints x (body, connection; drill pipe also upset)
+    from drillfatigue.fatigue.run import joint_locations
+    types = pd.read_parquet(run_root / "c0" / "joints.parquet")["component_type"]
+    assert len(types) == N_JOINT
+    assert len(damage) == 2 * sum(len(joint_locations(t, cfg)) for t in types)
     # the uniaxial rows (reused from the findley evaluation) equal a direct evaluation
     direct = evaluate_run(run_root / "c0", cfg, None, criterion="uniaxial")
     mine = damage[damage["criterion"] == "uniaxial"].reset_index(drop=True)

@@ -9,7 +9,23 @@ per component type and location under ``scf``; docs/fatigue.md#stresses):
 * connection (rotary-shouldered thread root): 3.5 in tension and bending
   (literature range 3-6) and 1.5 in torsion, for every type with a threaded
   connection; the thread-root section is approximated by the connection
-  dimensions ``conn_od_m``/``conn_id_m`` of ``joints.parquet``.
+  dimensions ``conn_od_m``/``conn_id_m`` of ``joints.parquet``;
+* upset run-out (drill pipe and heavy-weight pipe only, :data:`UPSET_TYPES`):
+  2.0 in tension and bending on the body section, the value FATIGUE.md
+  section 1 takes within the 1.5-2.5 range reported for the internal-upset
+  taper of drill pipe (Tsukano et al., "Appropriate design of drill pipe
+  upsets based on stress analysis, fatigue test and field failure data",
+  IADC/SPE 17206, 1988; reviewed in Vaisberg et al., Oil & Gas Science and
+  Technology 57 (2002) 7-37, where the run-out of the internal upset is the
+  usual fatigue-crack site of drill pipe); 1.5 in torsion (assumption: a
+  shoulder fillet concentrates shear about half as much as bending, Peterson's
+  Stress Concentration Factors, 3rd ed., 2008, charts 3.8-3.12).
+
+Mud pressure (``pressure``): when the run's ``case.yaml`` gives the well and
+the mud density, each joint gets the hydrostatic pressure at its mean TVD
+over the window, inside and outside, plus ``pump_pressure_Pa`` inside; the
+axial load becomes the true wall force and the Lame hoop and radial stresses
+enter the criteria (:mod:`drillfatigue.fatigue.stress`).
 
 Default S-N curves: ``B1`` (DNV-RP-C203 base material) at both locations, used
 with the local stress (SCF applied). ``thread_rolled`` (F1) and ``thread_cut``
@@ -26,7 +42,10 @@ from pydantic import Field, ValidationError, field_validator, model_validator
 
 from drillfatigue.config.base import StrictModel
 
-COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub")
+COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub",
+                                    "jar", "mwd")
+#: Component types with an upset run-out location beside body and connection.
+UPSET_TYPES: tuple[str, ...] = ("drill_pipe", "hwdp")
 _CURVE_NAMES: tuple[str, ...] = ("B1", "C", "D", "F1", "W3", "thread_rolled", "thread_cut")
 
 
@@ -39,24 +58,29 @@ class SCFConfig(StrictModel):
 
 
 _CONNECTION_DEFAULT = {"axial": 3.5, "bending": 3.5, "torsion": 1.5}
+_UPSET_DEFAULT = {"axial": 2.0, "bending": 2.0, "torsion": 1.5}
 
 
 class ComponentSCF(StrictModel):
-    """SCFs of a component type at its two locations.
+    """SCFs of a component type at its locations.
 
-    A partial ``connection`` mapping keeps the thread-root defaults for the keys
-    it does not give.
+    A partial ``connection`` or ``upset`` mapping keeps that location's
+    defaults for the keys it does not give. ``upset`` is read only for
+    :data:`UPSET_TYPES`.
     """
 
     body: SCFConfig = Field(default_factory=SCFConfig)
     connection: SCFConfig = Field(
         default_factory=lambda: SCFConfig(**_CONNECTION_DEFAULT))
+    upset: SCFConfig = Field(default_factory=lambda: SCFConfig(**_UPSET_DEFAULT))
 
     @model_validator(mode="before")
     @classmethod
     def _fill_connection(cls, data: Any) -> Any:
-        if isinstance(data, dict) and isinstance(data.get("connection"), dict):
-            data = {**data, "connection": {**_CONNECTION_DEFAULT, **data["connection"]}}
+        if isinstance(data, dict):
+            for loc, dflt in (("connection", _CONNECTION_DEFAULT), ("upset", _UPSET_DEFAULT)):
+                if isinstance(data.get(loc), dict):
+                    data = {**data, loc: {**dflt, **data[loc]}}
         return data
 
 
@@ -124,6 +148,13 @@ class FatigueConfig(StrictModel):
                                 "(corrosive mud; overrides environment)")
     body: LocationConfig = Field(default_factory=LocationConfig)
     connection: LocationConfig = Field(default_factory=LocationConfig)
+    upset: LocationConfig = Field(default_factory=LocationConfig)
+    upset_location: bool = Field(True, description="evaluate the upset run-out of drill pipe "
+                                 "and heavy-weight pipe beside body and connection")
+    pressure: bool = Field(True, description="include mud pressure (true wall force, Lame "
+                           "hoop and radial stress) when the run's case.yaml gives well and mud")
+    pump_pressure_Pa: float = Field(0.0, ge=0.0, le=1e8, description="pressure inside the "
+                                    "string above hydrostatic (circulating), Pa")
     mean_stress: Literal["none", "goodman", "walker", "swt", "compressive"] = Field(
         "goodman", description="mean-stress correction of the uniaxial route")
     walker_gamma: float = Field(0.5, gt=0.0, le=1.0)

@@ -8,17 +8,34 @@ The default string is 180 m of collars in 20 segments and 800 m of drill pipe in
 100 segments (the paper's 100 DP + 20 DC segment case); the bit is the lower end
 of the first collar segment. A separate short ``bit`` component (e.g. 0.3 m)
 is allowed but, being a light stiff body, it cuts the stable step about 3x.
+
+BHA components (MODEL.md section 10): a string is listed from the bit up with
+bit, stabilizers (``blade_od_m``, ``blade_length_m``: near gauge), collars,
+MWD/LWD subs (``mwd``), jars, heavy-weight pipe (tool joints and a centre
+upset, ``center_upset_od_m``) and drill pipe. Drill pipe and heavy-weight
+pipe with ``joints_per_segment`` are cut at their real joints
+(``joint_length_m``, default 9.144 m = 30 ft, API range 2): each segment holds
+that many whole joints, a shorter pup joint closes the component when its
+length is not a whole number of joints. Without the new fields a component is
+cut into ``n_segments`` equal segments exactly as before. ``preset`` names a
+documented string (:data:`PRESETS`): ``bare_collars`` (the default: collars
+and drill pipe, no stabilizers) or ``paper_bha`` (collars with a near-bit and
+a string stabilizer, drill pipe cut at its joints).
 """
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, model_validator
 
 from drillfatigue.config.base import StrictModel
 
-ComponentType = Literal["bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub"]
+ComponentType = Literal["bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub", "jar", "mwd"]
+#: Component types that may be cut at their joints (``joints_per_segment``).
+JOINTED_TYPES: tuple[str, ...] = ("drill_pipe", "hwdp")
+#: API range-2 joint length, 30 ft, m.
+RANGE2_JOINT_LENGTH_M = 9.144
 
 #: Default hole diameter used for the default contact radii: 8 1/2 in.
 DEFAULT_HOLE_DIAMETER_M = 0.2159
@@ -59,6 +76,16 @@ class ComponentConfig(StrictModel):
     contact_radius_m: float | None = Field(None, gt=0.0, le=1.0)
     n_segments: int = Field(1, ge=1, le=10000)
     material: MaterialConfig = Field(default_factory=MaterialConfig)
+    joint_length_m: float = Field(RANGE2_JOINT_LENGTH_M, gt=1.0, le=15.0,
+                                  description="length of one joint (range length), m")
+    joints_per_segment: int | None = Field(None, ge=1, le=10, description="cut drill pipe or "
+                                           "heavy-weight pipe at its joints, this many whole "
+                                           "joints per segment (n_segments is then derived)")
+    blade_od_m: float | None = Field(None, gt=0.0, le=1.0, description="stabilizer blade OD")
+    blade_length_m: float | None = Field(None, gt=0.0, le=5.0,
+                                         description="stabilizer blade length, centred")
+    center_upset_od_m: float | None = Field(None, gt=0.0, le=1.0,
+                                            description="heavy-weight pipe centre upset OD")
 
     @model_validator(mode="after")
     def _check_sections(self) -> ComponentConfig:
@@ -73,7 +100,50 @@ class ComponentConfig(StrictModel):
         if self.contact_radius_m is not None and self.contact_radius_m < 0.5 * self.od_m - 1e-12:
             raise ValueError(f"contact_radius_m must be >= od_m/2, got {self.contact_radius_m} "
                              f"(allowed: >= {0.5 * self.od_m})")
+        if self.joints_per_segment is not None and self.type not in JOINTED_TYPES:
+            raise ValueError(f"joints_per_segment is for {', '.join(JOINTED_TYPES)}, not "
+                             f"{self.type} (allowed: null)")
+        if (self.blade_od_m is not None or self.blade_length_m is not None) \
+                and self.type != "stabilizer":
+            raise ValueError(f"blade_od_m and blade_length_m are for stabilizers, not {self.type} "
+                             "(allowed: null)")
+        if self.blade_od_m is not None and self.blade_od_m < self.od_m:
+            raise ValueError(f"blade_od_m must be >= od_m, got {self.blade_od_m} "
+                             f"(allowed: >= {self.od_m})")
+        if self.blade_length_m is not None and self.blade_length_m > self.length_m:
+            raise ValueError(f"blade_length_m must be <= length_m, got {self.blade_length_m} "
+                             f"(allowed: <= {self.length_m})")
+        if self.center_upset_od_m is not None and (self.type != "hwdp"
+                                                   or self.center_upset_od_m < self.od_m):
+            raise ValueError("center_upset_od_m is for hwdp and must be >= od_m "
+                             f"(allowed: hwdp, >= {self.od_m})")
         return self
+
+    @property
+    def n_joints(self) -> int:
+        """Whole joints of a jointed component (a pup joint on top not counted)."""
+        return int(self.length_m / self.joint_length_m + 1e-9)
+
+    @property
+    def segment_lengths_m(self) -> list[float]:
+        """Lengths of this component's segments from its lower end, m.
+
+        ``n_segments`` equal segments; with ``joints_per_segment``, groups of
+        that many whole joints and a last, shorter segment holding the rest
+        (and the pup joint, if any).
+        """
+        if self.joints_per_segment is None:
+            return [self.length_m / self.n_segments] * self.n_segments
+        k, jl = self.joints_per_segment, self.joint_length_m
+        n_full = self.n_joints
+        out = [k * jl] * (n_full // k)
+        rest = self.length_m - len(out) * k * jl
+        if rest > 1e-9 * self.length_m:
+            if out and rest < 0.5 * jl:
+                out[-1] += rest  # a short pup joint rides with the last whole joints
+            else:
+                out.append(rest)
+        return out
 
     @property
     def conn_od_m(self) -> float:
@@ -87,10 +157,11 @@ class ComponentConfig(StrictModel):
 
     @property
     def outer_contact_radius_m(self) -> float:
-        """Contact radius actually used (m)."""
+        """Contact radius actually used (m): the largest radius of the component."""
         if self.contact_radius_m is not None:
             return self.contact_radius_m
-        return 0.5 * max(self.od_m, self.conn_od_m)
+        return 0.5 * max(self.od_m, self.conn_od_m, self.blade_od_m or 0.0,
+                         self.center_upset_od_m or 0.0)
 
 
 def _default_components() -> list[ComponentConfig]:
@@ -103,15 +174,69 @@ def _default_components() -> list[ComponentConfig]:
     ]
 
 
+def _paper_bha_components() -> list[ComponentConfig]:
+    """Collars with a near-bit and a string stabilizer, drill pipe cut at its joints.
+
+    The founding paper lists collars below drill pipe with 20 collar and 100
+    pipe segments; its BHA details are not available, so this is a typical
+    packed-pendulum-free rotary BHA for an 8 1/2 in hole (typical values, not
+    the paper's): near-bit stabilizer 1.5 m with 8 7/16 in (214.3 mm, 1/16 in
+    under gauge) blades 0.45 m long; one 9.0 m collar; string stabilizer as
+    the near-bit one; 168 m of 6 3/4 in collars in 18 segments (180 m of BHA
+    as in the bare string); 800 m of 5 in drill pipe in range-2 joints, one
+    joint per segment (87 joints and a 4.5 m pup joint riding on the top
+    segment).
+    """
+    dc = dict(od_m=0.17145, id_m=0.0714)
+    stab = dict(type="stabilizer", length_m=1.5, blade_od_m=0.2143, blade_length_m=0.45, **dc)
+    return [
+        ComponentConfig(name="near-bit stabilizer", **stab),
+        ComponentConfig(type="collar", name="6.75in DC (short)", length_m=9.0, **dc),
+        ComponentConfig(name="string stabilizer", **stab),
+        ComponentConfig(type="collar", name="6.75in DC", length_m=168.0, n_segments=18, **dc),
+        ComponentConfig(type="drill_pipe", name="5in 19.5ppf DP", od_m=0.127, id_m=0.1086,
+                        length_m=800.0, tool_joint_od_m=0.1683, tool_joint_id_m=0.0826,
+                        tool_joint_length_fraction=0.05, joints_per_segment=1),
+    ]
+
+
+#: Named strings: ``bare_collars`` (collars and drill pipe, the default) and
+#: ``paper_bha`` (:func:`_paper_bha_components`).
+PRESETS = {"bare_collars": _default_components, "paper_bha": _paper_bha_components}
+
+
 class StringConfig(StrictModel):
     """Settings of the ``string`` section: components from the bit up.
 
     ``shear_coefficient`` is Timoshenko's kappa for the shear springs
     k = kappa G A / L (about 0.5 for thin tubes, docs/model.md#joints).
+    ``lateral_mud_mass``: the segments' lateral inertia (translation across
+    the axis and tilt) carries the mud inside the pipe and the confined added
+    mass of the annular mud (:mod:`drillfatigue.string.added_mass`), axial and
+    torsional inertia stay the steel's; default off (it changes every dynamic
+    result). ``added_mass_coefficient``: C_a instead of the confined
+    potential-flow value (R^2 + r^2)/(R^2 - r^2).
     """
 
+    preset: Literal["bare_collars", "paper_bha"] | None = Field(
+        None, description="a named string (PRESETS) used when components are not given")
     components: list[ComponentConfig] = Field(default_factory=_default_components, min_length=1)
     shear_coefficient: float = Field(0.5, gt=0.0, le=1.0)
+    lateral_mud_mass: bool = False
+    added_mass_coefficient: float | None = Field(None, ge=0.0, le=50.0)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _fill_preset(cls, data: Any) -> Any:
+        if isinstance(data, dict) and data.get("preset") is not None:
+            if data.get("components") is not None:
+                raise ValueError("give either preset or components, not both "
+                                 "(allowed: one of them)")
+            name = data["preset"]
+            if name not in PRESETS:
+                raise ValueError(f"unknown preset {name!r} (allowed: {', '.join(PRESETS)})")
+            data = {**data, "components": PRESETS[name]()}
+        return data
 
     @property
     def total_length_m(self) -> float:

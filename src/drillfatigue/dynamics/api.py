@@ -87,7 +87,8 @@ class SimulationResult:
     ``status`` is ``complete``, ``incomplete`` or ``failed``. With an ``out_dir``
     the histories are in its Parquet files; without one they are kept in memory:
     ``times_s`` (n_time,), ``loads`` (n_time, n_joint, 6) in the order of
-    :data:`LOAD_COLUMNS`, ``channels`` (a dict of 1-D arrays incl. ``time_s``).
+    :data:`LOAD_COLUMNS`, ``channels`` (a dict of 1-D arrays incl. ``time_s``),
+    ``span_bending`` (n_time, n_joint, 2) when ``contact.span_bending`` is on.
     """
 
     status: str
@@ -100,6 +101,7 @@ class SimulationResult:
     loads: np.ndarray | None = None
     channels: dict[str, np.ndarray] = field(default_factory=dict)
     kinematics: Any = None
+    span_bending: np.ndarray | None = None
 
 
 def config_hash(config: CaseConfig) -> str:
@@ -219,6 +221,7 @@ class Runner:
         self.figures = RunFigures(self._energy_now(), float(m.bp[L.B_TWIN]))
         self.hash = config_hash(config)
         self.wall_before = 0.0
+        self.span_unsolved = 0
         self.folder: OutputFolder | None = None
         self.recorder = Recorder(m.segments.joint_s_from_bit_m, self.sel, m.n, None)
 
@@ -277,7 +280,8 @@ class Runner:
         wk = m.work
         params = m.params
         rows = [self.chunk // e + 2 for e in self.every]
-        rec0 = new_records(self.sel, tuple(self.every), tuple(rows), m.n)
+        rec0 = new_records(self.sel, tuple(self.every), tuple(rows), m.n,
+                           span=m.cpar[L.P_SPAN] != 0.0)
         status = "incomplete"
         error: SimulationError | None = None
         t_wall0 = time.perf_counter()
@@ -297,6 +301,7 @@ class Runner:
                 rec = rec0._replace(every_l=ev[0], every_c=ev[1], every_k=ev[2])
                 rec.counts[:] = 0
                 st = advance(k, s, params, wk, rec)
+                self.span_unsolved += int(rec.counts[3])
                 bl = rec.buf_l[: rec.counts[0]]
                 bc = rec.buf_c[: rec.counts[1]]
                 bk = rec.buf_k[: rec.counts[2]]
@@ -362,6 +367,10 @@ class Runner:
             "bit_md_final_m": float(sc[L.C_MDROCK]),
             "trip_out_stopped_at_minimum": bool(sc[L.C_GUARD] == 1.0),
         }
+        if m.cpar[L.P_SPAN] != 0.0:
+            # loads samples (since this process started the run) whose span correction
+            # had no solution (a span buckled in compression): recorded as zero
+            summary["span_bending_unsolved_samples"] = self.span_unsolved
         if error is not None:
             summary["message"] = str(error)
         ev = events_summary(m.seg, m.bp, sc, self.state.cst, self.figures.wstats)
@@ -373,6 +382,7 @@ class Runner:
         if self.folder is None:
             mem = self.recorder.in_memory()
             res.times_s, res.loads = mem["times_s"], mem["loads"]
+            res.span_bending = mem.get("span_bending")
             res.channels, res.kinematics = mem["channels"], mem["kinematics"]
             return res
         written = self.recorder.finish(status)

@@ -17,7 +17,12 @@ access, and the caller passes the same arrays it holds, no copies):
     boundary scalars ``bp``, top-section properties ``topp``, the top anchor
     ``anchor`` (10,), the top-drive speed table ``tab_t``/``tab_w`` (s, rad/s),
     wall / friction / bit parameters ``cpar``, the well path nodes
-    ``node_md``/``node_pos``/``node_tan`` and the hole cylinders ``wall``.
+    ``node_md``/``node_pos``/``node_tan``, the hole cylinders ``wall`` and the
+    contact points of each segment ``cp_n`` (rows,) / ``cp`` (rows, MAX_TABLE_POINTS,
+    2) read when ``cpar[P_CPTAB]`` is set (:mod:`layout`), and the bending
+    stiffness of each segment ``ei`` (rows,) N m^2 for the span correction, and
+    the ratio ``mlat`` (rows,) of lateral to steel mass (mud inside and added
+    mass) read when ``cpar[P_LATMASS]`` is set.
     ``seg``, ``jp`` and ``topp`` change as the string grows.
 :class:`Work`
     What one force evaluation writes (rotation matrices ``R``, world angular
@@ -64,13 +69,16 @@ def new_state(x, v, q, w, sc, hint, cst) -> State:
 
 
 Params = namedtuple("Params", ("dt", "seg", "jp", "bp", "topp", "anchor", "tab_t", "tab_w",
-                               "cpar", "node_md", "node_pos", "node_tan", "wall"))
+                               "cpar", "node_md", "node_pos", "node_tan", "wall", "cp_n",
+                               "cp", "ei", "mlat"))
 
 #: one force evaluation's outputs and the kernels' scratch: ``vec`` (N_VEC, N_VECW) and
 #: ``mat`` (N_MAT, 3, 3), one named row per use (``V_*``, ``M_*`` of :mod:`layout`). Few
 #: arrays on purpose: numba passes a bundle's arrays one by one at every call.
 Work = namedtuple("Work", ("R", "wW", "loads", "ch", "vec", "mat"))
 
+#: ``counts``: rows written to buf_l, buf_c, buf_k, and the loads samples whose span
+#: correction had no solution (a buckled span: recorded as zero)
 Records = namedtuple("Records", ("sel", "every_l", "buf_l", "every_c", "buf_c", "every_k",
                                  "buf_k", "counts", "info"))
 #: length of Records.info: [step, segment, value] of a failure
@@ -84,10 +92,13 @@ def new_work(n: int) -> Work:
 
 
 def new_records(sel: np.ndarray, every: tuple[int, int, int], rows: tuple[int, int, int],
-                n: int) -> Records:
-    """Recording buffers: loads of the joints ``sel``, channels, kinematics of ``n`` rows."""
-    return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], 1 + 6 * sel.size)),
+                n: int, span: bool = False) -> Records:
+    """Recording buffers: loads of the joints ``sel`` (``span``: and their span-bending
+    correction, 2 more columns per joint after the 6 loads of all), channels, kinematics
+    of ``n`` rows."""
+    width = 1 + (8 if span else 6) * sel.size
+    return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], width)),
                    every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + N_CH)),
                    every_k=int(every[2]), buf_k=np.zeros((rows[2], 1 + 8 * n)),
-                   counts=np.zeros(3, dtype=np.int64), info=np.zeros(N_INFO))
+                   counts=np.zeros(4, dtype=np.int64), info=np.zeros(N_INFO))
 

@@ -67,7 +67,8 @@ from numba import njit
 from drillfatigue.dynamics.events import record_contact, track_whirl
 from drillfatigue.dynamics.friction import KARNOPP, friction_force_split
 from drillfatigue.dynamics.layout import (
-    B_TWIN, C_MDROCK, H_FCMAX, H_NCON, H_NSEG, H_PDISS, H_PE, MAX_CONTACT_POINTS, P_FMODEL, P_FP,
+    B_TWIN, C_MDROCK, H_FCMAX, H_NCON, H_NSEG, H_PDISS, H_PE, MAX_CONTACT_POINTS,
+    MAX_TABLE_POINTS, P_CPTAB, P_FMODEL, P_FP,
     P_KC, P_NPTS, P_ON, S_CC, S_H, S_IA, S_IT, S_M, S_RB, S_RC, WALL_INFO_SIZE, WI_CYL, WI_DELTA,
     WI_DIST, WI_FO, WI_N, WI_NX, WI_SLIP, WI_VS, V_W_ALIN, V_W_ALPHA, V_W_AX, V_W_F, V_W_FO,
     V_W_INFO, V_W_M, V_W_WHIRL, V_W_X,
@@ -408,7 +409,17 @@ def wall_contact(t, n, s, p, wk):
     after ``bp[B_TWIN]``, its whirl angles (:mod:`events`); ``wk.ch`` the count
     of segments in contact, the largest normal force and the active count.
     Reads ``s.x, s.v, s.hint`` (updated), ``wk.R, wk.wW``, ``p.seg, p.wall,
-    p.cpar, p.bp``. Returns a status code.
+    p.cpar, p.bp, p.cp_n, p.cp``. Returns a status code.
+
+    Contact points from the string. With ``cpar[P_CPTAB]`` set, every segment
+    below the top tests its own points ``p.cp[i, :p.cp_n[i]]`` (tool joints,
+    blades, centre upsets and the extra points of
+    :func:`drillfatigue.string.contacts.contact_points`) instead of its ends;
+    the growing top segment keeps the ``cpar[P_NPTS]`` points of
+    :func:`contact_point`. Each point adds its force and that force's moment
+    about the centre; friction acts at that point's radius. A point not yet
+    located (hint -1, e.g. on a piece just split off the top) starts its search
+    from the segment's first hint.
 
     Karnopp pre-pass. Karnopp needs the "other" tangential force at a contact
     point. In this explicit scheme it is estimated first: the acceleration the
@@ -467,8 +478,14 @@ def wall_contact(t, n, s, p, wk):
         t_win = p.bp[B_TWIN]
         md_bit = s.sc[C_MDROCK]
         karn = fmodel == KARNOPP
+        table = cpar[P_CPTAB] != 0.0
+        cp_n = p.cp_n
+        cp = p.cp
+        tbase = MAX_CONTACT_POINTS * x.shape[0]
         for i in range(n):
             m = seg[i, S_M]
+            own = table and i < n - 1
+            npi = int(cp_n[i]) if own else npts
             for k in range(3):
                 tax[k] = R[i, k, 2]
                 fo[k] = 0.0
@@ -487,17 +504,24 @@ def wall_contact(t, n, s, p, wk):
                     alin[k] = Fw[i, k] / m
             nsum = 0.0
             dmax = 0.0
-            m_cap = m / (3.0 * npts)
-            for pt in range(npts):
-                off, rc = contact_point(seg, i, pt)
+            m_cap = m / (3.0 * npi)
+            for pt in range(npi):
+                if own:
+                    off = cp[i, pt, 0]
+                    rc = cp[i, pt, 1]
+                    ih = tbase + MAX_TABLE_POINTS * i + pt
+                    if hint[ih] < 0:
+                        hint[ih] = hint[MAX_CONTACT_POINTS * i]
+                else:
+                    off, rc = contact_point(seg, i, pt)
+                    ih = MAX_CONTACT_POINTS * i + pt
                 for k in range(3):
                     X[k] = x[i, k] + off * tax[k]
                 if karn:
-                    share = m / npts
+                    share = m / npi
                     fo[0] = share * (alin[0] + alpha[1] * off * tax[2] - alpha[2] * off * tax[1])
                     fo[1] = share * (alin[1] + alpha[2] * off * tax[0] - alpha[0] * off * tax[2])
                     fo[2] = share * (alin[2] + alpha[0] * off * tax[1] - alpha[1] * off * tax[0])
-                ih = MAX_CONTACT_POINTS * i + pt
                 st = wall_force(X, x[i], v[i], wW[i], tax, rc, p0, axc, lnc, rad, hint[ih],
                                 kc, seg[i, S_CC], fmodel, fp, fo, dt, info, force, moment)
                 if st != OK:
@@ -505,6 +529,9 @@ def wall_contact(t, n, s, p, wk):
                 ic = int(info[WI_CYL])
                 if ic >= 0:
                     hint[ih] = ic
+                    if own and pt == 0:
+                        # the lower end: the hint whirl tracking and growth read
+                        hint[MAX_CONTACT_POINTS * i] = ic
                 d = info[WI_DIST]
                 if d > dmax:
                     dmax = d

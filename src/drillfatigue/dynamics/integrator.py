@@ -64,16 +64,19 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.boundaries import drive_omega
 from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
-    B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, S_IA, S_IT,
+    B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_LATMASS,
+    P_SPAN, S_IA, S_IT,
     S_M, V_ROT_QA, V_ROT_QB,
 )
-from drillfatigue.dynamics.rigid import free_rotation, kick
+from drillfatigue.dynamics.rigid import free_rotation, kick, kick_lateral
+from drillfatigue.dynamics.span_record import span_sample
 from drillfatigue.dynamics.status import (
     BLOWUP, MAX_SPEED_M_PER_S, MAX_SPIN_RAD_S, NONFINITE, OK, SPEED,
 )
@@ -114,6 +117,15 @@ def record(step, t1, n, s, p, wk, rec):
         for a in range(sel.size):
             for k in range(6):
                 buf_l[r, 1 + 6 * a + k] = loads[sel[a], k]
+        if p.cpar.shape[0] > P_SPAN and p.cpar[P_SPAN] != 0.0:
+            # span-bending correction after the loads of all joints (span_record)
+            span = np.zeros((sel.size, 2))
+            if span_sample(n, s, p, wk, sel, span) != 0:
+                counts[3] += 1
+            base = 1 + 6 * sel.size
+            for a in range(sel.size):
+                buf_l[r, base + 2 * a] = span[a, 0]
+                buf_l[r, base + 2 * a + 1] = span[a, 1]
         counts[0] = r + 1
     if step % rec.every_c == 0:
         r = counts[1]
@@ -192,13 +204,21 @@ def advance(n_steps, s, p, wk, rec):
     ch = wk.ch
     tab_t = p.tab_t
     tab_w = p.tab_w
+    latm = p.cpar.shape[0] > P_LATMASS and p.cpar[P_LATMASS] != 0.0
+    mlat = p.mlat
+    R = wk.R
     for _s in range(n_steps):
         for i in range(n):
-            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+            if latm:
+                kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
+                             seg[i, S_IA], R[i, :, 2], hdt)
+            else:
+                kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
         for i in range(n):
             for k in range(3):
                 x[i, k] += dt * v[i, k]
-            free_rotation(q[i], w[i], seg[i, S_IT], seg[i, S_IA], dt, qa, qb)
+            it = seg[i, S_IT] * mlat[i] if latm else seg[i, S_IT]
+            free_rotation(q[i], w[i], it, seg[i, S_IA], dt, qa, qb)
         sc[C_PHIB] += dt * w[0, 2]
         t0 = sc[C_STEP] * dt
         sc[C_STEP] += 1.0
@@ -216,7 +236,11 @@ def advance(n_steps, s, p, wk, rec):
         worst = 1.0
         iworst = -1
         for i in range(n):
-            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+            if latm:
+                kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
+                             seg[i, S_IA], R[i, :, 2], hdt)
+            else:
+                kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
             r = speed_excess(v[i], w[i])
             if r > worst:
                 worst = r

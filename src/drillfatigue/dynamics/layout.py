@@ -38,7 +38,10 @@ P_BITLAW = 4     # 0: given TOB tanh(omega/WREF), prescribed ROP; 1: bit_respons
 P_BITMODEL = 5   # bit law id (drillfatigue.dynamics.bitrock)
 P_FP = 6         # 6..15: friction parameters (friction.N_PARAMS = 10)
 P_BP = 16        # 16..25: bit parameters (bitrock.N_PARAMS = 10)
-N_CPAR = 26
+P_CPTAB = 26     # 1: segments below the top use their own contact points (Params.cp_n / cp)
+P_SPAN = 27      # 1: record the span-bending correction at the recorded joints (span_record)
+P_LATMASS = 28   # 1: lateral mass m * Params.mlat[i] across the axis (mud inside, added mass)
+N_CPAR = 29
 N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;
@@ -213,6 +216,11 @@ N_MAT = 2
 # wall contact points: at most MAX_CONTACT_POINTS per segment; the contact-cylinder
 # hint of point p of segment i is hint[MAX_CONTACT_POINTS * i + p]
 MAX_CONTACT_POINTS = 3
+# with cpar[P_CPTAB] = 1 a segment below the top has cp_n[i] <= MAX_TABLE_POINTS points
+# (cp[i, k] = [offset from the centre along e3 (m, > 0 towards the bit), radius (m)]);
+# the hint of its point k is hint[MAX_CONTACT_POINTS * rows + MAX_TABLE_POINTS * i + k]
+# (rows: allocated segment rows; -1: not located yet, start from the segment's first hint)
+MAX_TABLE_POINTS = 16
 
 # info[:] written by contact.wall_force for one contact point
 WI_DELTA = 0     # penetration (m), > 0 in contact

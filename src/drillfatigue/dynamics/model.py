@@ -36,6 +36,8 @@ from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
+from drillfatigue.string.added_mass import lateral_mass_kg
+from drillfatigue.string.contacts import contact_points
 from drillfatigue.well.kernels import path_point
 
 G = 9.80665
@@ -116,6 +118,10 @@ class Model:
     work: Work | None = None
     n0: int = 0
     segment_length_m: float = 0.0
+    cp_n: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    cp: np.ndarray = field(default_factory=lambda: np.zeros((0, L.MAX_TABLE_POINTS, 2)))
+    ei: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    mlat: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def n(self) -> int:
@@ -133,7 +139,7 @@ class Model:
         return Params(dt=self.dt, seg=self.seg, jp=self.jp, bp=self.bp, topp=self.topp,
                       anchor=self.anchor, tab_t=self.tab_t, tab_w=self.tab_w, cpar=self.cpar,
                       node_md=p.node_md_m, node_pos=p.node_pos_m, node_tan=p.node_tan,
-                      wall=p.wall)
+                      wall=p.wall, cp_n=self.cp_n, cp=self.cp, ei=self.ei, mlat=self.mlat)
 
 
 def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> np.ndarray:
@@ -142,7 +148,7 @@ def _series(h1: np.ndarray, k1: np.ndarray, h2: np.ndarray, k2: np.ndarray) -> n
 
 
 def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
-                cpar: np.ndarray | None = None) -> float:
+                cpar: np.ndarray | None = None, cp_n: np.ndarray | None = None) -> float:
     """Largest stable velocity-Verlet step (s) before the safety factor.
 
     Gershgorin bound on the eigenvalues of M^-1/2 K M^-1/2 of the linearised
@@ -158,7 +164,9 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
     rolling/spinning), with N estimated as twice the segment's buoyed weight;
     the smaller step is taken. The smooth friction laws need no such limit:
     the force kernel caps their tangential force so one step cannot reverse
-    the slip (:func:`drillfatigue.dynamics.contact.wall_contact`).
+    the slip (:func:`drillfatigue.dynamics.contact.wall_contact`). ``cp_n``
+    (n,): contact points of each segment when they come from the string
+    (``cpar[P_CPTAB]``), else every segment has ``cpar[P_NPTS]``.
     """
     n = seg.shape[0]
     m = seg[:, L.S_M]
@@ -199,6 +207,8 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
         fr = friction
         kc = cpar[L.P_KC]
         npts = cpar[L.P_NPTS]
+        if cp_n is not None and cpar[L.P_CPTAB] != 0.0:
+            npts = np.maximum(cp_n[:n], npts)
         rows[:, 0] += npts * kc / m + 2.0 * kc * h / np.sqrt(m * it)
         rows[:, 2] += 2.0 * kc * h ** 2 / it + 2.0 * kc * h / np.sqrt(m * it)
         fp = cpar[L.P_FP:L.P_FP + fr.N_PARAMS]
@@ -519,31 +529,82 @@ def top_anchor(config: CaseConfig, jp: np.ndarray, place: Placement, centres: np
     return anchor
 
 
-def pack_wall(config: CaseConfig, segs: Segments, seg: np.ndarray, cpar: np.ndarray) -> None:
+def pack_wall(config: CaseConfig, segs: Segments, seg: np.ndarray, cpar: np.ndarray,
+              cp_n: np.ndarray | None = None) -> None:
     """Contact radii (ends: tool joints or body; middle: body) and the per-point contact
-    dash-pot of ``seg`` (read by :mod:`contact`), in place."""
+    dash-pot of ``seg`` (read by :mod:`contact`), in place. ``cp_n``: points of each
+    segment when they come from the string (the dash-pot is per point)."""
     seg[:, L.S_RB] = 0.5 * segs.od_m
     if not config.contact.tool_joints:
         seg[:, L.S_RC] = 0.5 * segs.od_m
     if cpar[L.P_ON] != 0.0:
-        npts = cpar[L.P_NPTS]
-        seg[:, L.S_CC] = [contact_damping(config.contact, float(mi) / npts) for mi in seg[:, L.S_M]]
+        npts = np.full(seg.shape[0], cpar[L.P_NPTS])
+        if cp_n is not None and cpar[L.P_CPTAB] != 0.0:
+            npts[:-1] = cp_n[:seg.shape[0] - 1]
+        seg[:, L.S_CC] = [contact_damping(config.contact, float(mi) / float(k))
+                          for mi, k in zip(seg[:, L.S_M], npts, strict=True)]
+
+
+def _max_curvature(path: WellPath) -> float:
+    """Largest curvature (rad/m) between neighbouring path nodes (angle between tangents / dMD)."""
+    t = path.node_tan
+    if t.shape[0] < 2:
+        return 0.0
+    dmd = np.diff(path.node_md_m)
+    cosang = np.clip((t[1:] * t[:-1]).sum(axis=1), -1.0, 1.0)
+    ok = dmd > 1e-9
+    if not ok.any():
+        return 0.0
+    return float((np.arccos(cosang[ok]) / dmd[ok]).max())
+
+
+def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
+                        path: WellPath) -> tuple[np.ndarray, np.ndarray]:
+    """Contact points of the segments below the top, from the string's components.
+
+    :func:`drillfatigue.string.contacts.contact_points` lists them (tool joints
+    at the tool-joint radius, stabilizer blades, centre upsets, extra body
+    points spaced by the chord/sag rule for the well's largest curvature and the
+    largest hole radius, chord fraction ``contact.chord_fraction``). Returns ``cp_n`` (n,) and ``cp`` (n, MAX_TABLE_POINTS,
+    2): [offset from the centre along e3 (> 0 towards the bit), radius], m. The
+    top segment's row stays empty (it keeps its end points while it grows).
+    """
+    n = segs.n_segments
+    cp_n = np.zeros(n)
+    cp = np.zeros((n, L.MAX_TABLE_POINTS, 2))
+    wall = path.wall
+    if wall.shape[0] == 0:
+        return cp_n, cp
+    hole_d = 2.0 * float(wall[:, L.W_RAD].max())
+    pts = contact_points(config.string, segs, hole_d, _max_curvature(path),
+                         chord_fraction=config.contact.chord_fraction)
+    for i in range(n - 1):
+        s_m, r_m, _ = pts.of_segment(i)
+        if s_m.size > L.MAX_TABLE_POINTS:
+            raise InputError("contact.points",
+                             f"segment {i} needs {s_m.size} contact points, more than "
+                             f"{L.MAX_TABLE_POINTS}", f"segments shorter than "
+                             f"{L.MAX_TABLE_POINTS - 1} x {float(pts.max_spacing_m[i]):.2f} m")
+        cp_n[i] = s_m.size
+        cp[i, :s_m.size, 0] = place.h[i] - s_m
+        cp[i, :s_m.size, 1] = r_m
+    return cp_n, cp
 
 
 def choose_step(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
-                topp: np.ndarray, cpar: np.ndarray) -> float:
+                topp: np.ndarray, cpar: np.ndarray, cp_n: np.ndarray | None = None) -> float:
     """The step (s): ``solver.dt_s`` if given (checked against the stable step), else the
     largest step below safety x stable that divides the loads recording interval."""
     op = config.operation
     sv = config.solver
     n = seg.shape[0]
-    dt_stable = stable_step(seg, jp, bp, cpar)
+    dt_stable = stable_step(seg, jp, bp, cpar, cp_n)
     if not op.bit_on_bottom and op.trip_speed_m_per_s < 0.0 and n >= 2:
         # tripping out shortens the top segment to B_LMIN before it merges: a
         # lighter body on stiffer springs; take the step for that shortest top too
         seg_s, jp_s = seg.copy(), jp.copy()
         update_top(0.5 * bp[L.B_LMIN], n, seg_s, jp_s, topp, bp)
-        dt_stable = min(dt_stable, stable_step(seg_s, jp_s, bp, cpar))
+        dt_stable = min(dt_stable, stable_step(seg_s, jp_s, bp, cpar, cp_n))
     if sv.dt_s is not None:
         dt = sv.dt_s
         if dt > dt_stable:
@@ -611,8 +672,11 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     w = np.zeros((n, 3))
     w[:, 2] = omega0
     cpar = pack_contact(config)
-    pack_wall(config, segs, seg, cpar)
-    dt = choose_step(config, seg, jp, bp, topp, cpar)
+    cp_n = cp = None
+    if cpar[L.P_CPTAB] != 0.0:
+        cp_n, cp = pack_contact_points(config, segs, place, path)
+    pack_wall(config, segs, seg, cpar, cp_n)
+    dt = choose_step(config, seg, jp, bp, topp, cpar, cp_n)
     bp[L.B_DT] = dt
     bp[L.B_ESCALE] = energy_scale(config, seg, bp, tab_w, pre.total_axial_weight_N,
                                   float(place.s_top_end[-1]))
@@ -633,13 +697,23 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
                   anchor=anchor, tab_t=tab_t, tab_w=tab_w, dt=dt, hook_load_N=pre.hook_N,
                   wob0_N=pre.wob_N, neutral_point_s_from_bit_m=pre.s_np_m,
                   top_length_m=place.top_len, cpar=cpar, n0=n, segment_length_m=lnom)
+    # bending stiffness per row for the span correction; rows split off the top later
+    # have the top's section
+    model.ei = np.ascontiguousarray(np.r_[segs.ei_Nm2, np.full(nmax - n, segs.ei_Nm2[-1])])
+    model.mlat = pack_lateral_mass(config, segs, path, cpar, nmax)
+    n_hint = L.MAX_CONTACT_POINTS * nmax
+    if cp_n is not None and cp is not None:
+        model.cp_n, model.cp = _pad_points(cp_n, cp, n, nmax, lnom, seg[n - 1, L.S_RC])
+        n_hint += L.MAX_TABLE_POINTS * nmax
+    else:
+        model.cp_n, model.cp = np.zeros(nmax), np.zeros((nmax, L.MAX_TABLE_POINTS, 2))
     qp = pad(q)
     qp[n:, 0] = 1.0
     cst = np.zeros((nmax, L.N_CST))
     cst[:, L.CS_ONT] = -1.0
     state = State(x=pad(np.ascontiguousarray(centres)), v=pad(v), q=qp, w=pad(w),
                   Fw=np.zeros((nmax, 3)), Mw=np.zeros((nmax, 3)), Mb=np.zeros((nmax, 3)), sc=sc,
-                  hint=np.zeros(L.MAX_CONTACT_POINTS * nmax, dtype=np.int64), cst=cst)
+                  hint=np.zeros(n_hint, dtype=np.int64), cst=cst)
     _init_hints(model, state)
     model.new_work()
     evaluate_forces(model, state)
@@ -754,6 +828,8 @@ def pack_contact(config: CaseConfig) -> np.ndarray:
     cpar[L.P_FMODEL] = fid
     cpar[L.P_FP:L.P_FP + friction.N_PARAMS] = fp
     cpar[L.P_NPTS] = 3.0 if c.points == "ends_and_middle" else 2.0
+    cpar[L.P_CPTAB] = 1.0 if c.points == "string" else 0.0
+    cpar[L.P_SPAN] = 1.0 if c.span_bending and c.enabled else 0.0
     b = config.bit
     if b.model == "given_tob":
         cpar[L.P_BITLAW] = 0.0
@@ -790,20 +866,73 @@ def max_segments(config: CaseConfig, n0: int, lnom: float, omega_max: float,
     return nmax
 
 
+def pack_lateral_mass(config: CaseConfig, segs: Segments, path: WellPath, cpar: np.ndarray,
+                      nmax: int) -> np.ndarray:
+    """Ratio of lateral to steel mass of every row (``Params.mlat``) and the switch
+    ``cpar[P_LATMASS]`` (in place) from ``string.lateral_mud_mass``: steel + mud inside +
+    confined added mass (:func:`drillfatigue.string.added_mass.lateral_mass_kg`, hole
+    diameter from the largest hole radius); rows split off the top later take the top's
+    ratio. All ones when off."""
+    ratio = np.ones(nmax)
+    sc = config.string
+    if not sc.lateral_mud_mass or path.wall.shape[0] == 0:
+        return ratio
+    hole_d = 2.0 * float(path.wall[:, L.W_RAD].max())
+    ml = lateral_mass_kg(segs, config.operation.mud_density_kg_per_m3, hole_d,
+                         sc.added_mass_coefficient)
+    r = ml / segs.mass_kg
+    n = r.size
+    ratio[:n] = r
+    ratio[n:] = r[-1]
+    cpar[L.P_LATMASS] = 1.0
+    return np.ascontiguousarray(ratio)
+
+
+def _pad_points(cp_n: np.ndarray, cp: np.ndarray, n: int, nmax: int, lnom: float,
+                r_top: float) -> tuple[np.ndarray, np.ndarray]:
+    """Contact points of all ``nmax`` rows: rows from n - 1 on become pieces split off the
+    top (length ``lnom``); they take the points of segment n - 2 when it has that length
+    (a whole number of the same joints), else their two ends at the top's end radius."""
+    out_n = np.zeros(nmax)
+    out = np.zeros((nmax, L.MAX_TABLE_POINTS, 2))
+    out_n[:n] = cp_n
+    out[:n] = cp
+    if n >= 2 and cp_n[n - 2] > 0 and abs(cp[n - 2, 0, 0] - 0.5 * lnom) < 1e-9:
+        row_n, row = cp_n[n - 2], cp[n - 2]
+    else:
+        row_n = 2.0
+        row = np.zeros((L.MAX_TABLE_POINTS, 2))
+        row[0] = (0.5 * lnom, r_top)
+        row[1] = (-0.5 * lnom, r_top)
+    out_n[n - 1:] = row_n
+    out[n - 1:] = row
+    return np.ascontiguousarray(out_n), np.ascontiguousarray(out)
+
+
 def _init_hints(model: Model, state: State) -> None:
-    """Cylinder hints of every contact point: the nearest cylinder start (O(n_cyl) once)."""
+    """Cylinder hints of every contact point: the nearest cylinder start (O(n_cyl) once);
+    the string's own points of rows not yet in use: -1 (located from the row's first hint)."""
     wall = model.path.wall
     if wall.shape[0] == 0:
         return
     p0 = wall[:, L.W_P0:L.W_P0 + 3]
     n = model.n0
     R = np.zeros((3, 3))
+    tbase = L.MAX_CONTACT_POINTS * model.n
+    table = model.cpar[L.P_CPTAB] != 0.0
+    if table:
+        state.hint[tbase:] = -1
     for i in range(n):
         quat_to_rot(state.q[i], R)
         h = model.seg[i, L.S_H]
         for p, off in enumerate((h, -h, 0.0)):
             X = state.x[i] + off * R[:, 2]
             state.hint[L.MAX_CONTACT_POINTS * i + p] = int(np.argmin(((p0 - X) ** 2).sum(axis=1)))
+        if table and i < n - 1:
+            for p in range(int(model.cp_n[i])):
+                X = state.x[i] + model.cp[i, p, 0] * R[:, 2]
+                state.hint[tbase + L.MAX_TABLE_POINTS * i + p] = int(
+                    np.argmin(((p0 - X) ** 2).sum(axis=1)))
 
 
 def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarray | None = None,
@@ -829,7 +958,8 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     params = model.params
     while done < n_steps:
         k = min(chunk, n_steps - done)
-        rec = new_records(sel, (every, every, every), (rows, rows, rows), n)
+        rec = new_records(sel, (every, every, every), (rows, rows, rows), n,
+                          span=model.cpar[L.P_SPAN] != 0.0)
         st = advance(k, state, params, model.work, rec)
         raise_for_status(st, rec.info, model)
         out_l.append(rec.buf_l[: rec.counts[0]])
@@ -840,8 +970,12 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     bc = np.concatenate(out_c)
     bk = np.concatenate(out_k)
     k8 = bk[:, 1:].reshape(-1, n, 8)
-    return {"time_s": bl[:, 0], "loads": bl[:, 1:].reshape(-1, sel.size, 6), "channels": bc,
-            "xv": k8[:, :, :6], "contact": k8[:, :, 6:]}
+    nl = 6 * sel.size
+    out = {"time_s": bl[:, 0], "loads": bl[:, 1:1 + nl].reshape(-1, sel.size, 6), "channels": bc,
+           "xv": k8[:, :, :6], "contact": k8[:, :, 6:]}
+    if bl.shape[1] > 1 + nl:
+        out["span_bending"] = bl[:, 1 + nl:].reshape(-1, sel.size, 2)
+    return out
 
 
 def total_energy(model: Model, state: State) -> float:

@@ -101,7 +101,7 @@ class Recorder:
         nsel = self.sel.size
         if bl.shape[0]:
             t = bl[:, 0]
-            ld = bl[:, 1:].reshape(bl.shape[0], nsel, 6)
+            ld = bl[:, 1:1 + 6 * nsel].reshape(bl.shape[0], nsel, 6)
             if bc.shape[0]:
                 md_bit = np.interp(t, bc[:, 0], bc[:, 1 + L.H_BITMD])
             else:
@@ -113,6 +113,10 @@ class Recorder:
             }
             for k, name in enumerate(rundir.LOAD_COLUMNS):
                 cols[name] = ld[:, :, k].ravel()
+            if bl.shape[1] > 1 + 6 * nsel:  # the span-bending correction was recorded
+                sp = bl[:, 1 + 6 * nsel:].reshape(bl.shape[0], nsel, 2)
+                for k, name in enumerate(rundir.SPAN_COLUMNS):
+                    cols[name] = sp[:, :, k].ravel()
             out["loads"] = pa.table(cols)
         if bc.shape[0]:
             cols = {"time_s": bc[:, 0]}
@@ -231,6 +235,10 @@ class Recorder:
             out["times_s"] = tab.column("time_s").to_numpy()[::nsel].copy()
             out["loads"] = np.stack([tab.column(c).to_numpy() for c in rundir.LOAD_COLUMNS],
                                     axis=1).reshape(nt, nsel, 6)
+            if rundir.SPAN_COLUMNS[0] in tab.column_names:
+                out["span_bending"] = np.stack(
+                    [tab.column(c).to_numpy() for c in rundir.SPAN_COLUMNS],
+                    axis=1).reshape(nt, nsel, 2)
         if self.mem["channels"]:
             tab = pa.concat_tables(self.mem["channels"])
             out["channels"] = {c: tab.column(c).to_numpy() for c in tab.column_names}

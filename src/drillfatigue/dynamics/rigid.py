@@ -125,6 +125,22 @@ def kick(v, w, F, Mb, m, It, Ia, h):
 
 
 @njit(cache=True)
+def kick_lateral(v, w, F, Mb, m, ratio, It, Ia, axis, h):
+    """:func:`kick` with the body-frame mass diag(m r, m r, m) and transverse inertia
+    It r (r = ``ratio`` >= 1: the mud moving with the pipe across its axis); ``axis``
+    (3,) the body's unit axis in the world frame."""
+    fa = F[0] * axis[0] + F[1] * axis[1] + F[2] * axis[2]
+    ml = m * ratio
+    for k in range(3):
+        fk = fa * axis[k]
+        v[k] += h * (fk / m + (F[k] - fk) / ml)
+    itl = It * ratio
+    w[0] += h * Mb[0] / itl
+    w[1] += h * Mb[1] / itl
+    w[2] += h * Mb[2] / Ia
+
+
+@njit(cache=True)
 def free_rotation(q, w, It, Ia, dt, tmp, tmp2):
     """Exact torque-free motion of an axisymmetric body over dt (in place).
 

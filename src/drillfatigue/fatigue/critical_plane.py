@@ -13,11 +13,16 @@ planes (docs/fatigue.md#critical-plane):
   and is projected on ``n_shear_axes`` axes psi in the plane (code_aster's
   projection of the shear path on axes).
 
-Both families are symmetric under t -> t + 180 deg (the stress has no radial
-components), so t runs over [0, 180). Family B is off by default: with
-sigma_theta = 0 the in-surface principal stresses sigma/2 +- sqrt(sigma^2/4 +
-tau^2) have opposite signs, so the largest shear, (sigma_1 - sigma_2)/2, is
-always on a family-A plane (family B carries at most sigma_1/2); it can still
+Both families are symmetric under t -> t + 180 deg, so t runs over [0, 180).
+Mud pressure (``pressure`` of :func:`evaluate_location`) turns the axial load
+into the true wall force and adds the Lame hoop and radial stresses, constant
+over a window: a constant normal stress per plane (their shear on a plane is
+constant too and changes no cycle), so the rainflow counts are those of the
+load-only stress and only the normal-stress terms of the criteria move.
+Family B is off by default: in the load-varying part (sigma_theta = 0) the
+in-surface principal stresses sigma/2 +- sqrt(sigma^2/4 + tau^2) have
+opposite signs, so the largest shear, (sigma_1 - sigma_2)/2, is always on a
+family-A plane (family B carries at most sigma_1/2); it can still
 be switched on for Findley/Fatemi-Socie studies. The coarse grid has ``plane_step_deg``;
 the governing plane of the most damaged surface points is refined to
 ``plane_step_deg / 2**n_refine`` around it (code_aster refines four times: 2, 1,
@@ -70,7 +75,8 @@ from drillfatigue.errors import InputError
 from drillfatigue.fatigue import kernels as K
 from drillfatigue.fatigue.rainflow import find_cycles_indexed
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress
-from drillfatigue.fatigue.stress import SCF, Section, surface_coefficients
+from drillfatigue.fatigue.stress import (SCF, Pressure, Section, surface_coefficients,
+                                         surface_pressure_stresses, true_wall_force_N)
 from drillfatigue.units import MPA_PA
 
 CRITERIA: tuple[str, ...] = ("matake", "findley", "fatemi_socie", "uniaxial")
@@ -155,6 +161,23 @@ def make_planes(theta_deg: np.ndarray, beta_deg: np.ndarray, psi_deg: np.ndarray
     n = cb**2 * snA
     return Planes(np.asarray(theta_deg, float), np.asarray(beta_deg, float),
                   np.asarray(psi_deg, float), np.ascontiguousarray(c), np.ascontiguousarray(n))
+
+
+def plane_normal_offsets(planes: Planes, sigma_theta_Pa: float, sigma_r_Pa: float) -> np.ndarray:
+    """Constant normal stress that fixed hoop and radial stresses put on each candidate, Pa.
+
+    With sigma_theta and sigma_r constant over the window (mud pressure), a
+    plane with normal cos b (cos t e_z + sin t e_theta) + sin b e_r carries
+    cos^2 b sin^2 t sigma_theta + sin^2 b sigma_r more normal stress; its
+    extra shear is constant too and changes no cycle.
+
+    Returns
+    -------
+    ndarray, shape (n_planes,)
+    """
+    t = np.radians(planes.theta_deg)
+    b = np.radians(planes.beta_deg)
+    return np.cos(b) ** 2 * np.sin(t) ** 2 * sigma_theta_Pa + np.sin(b) ** 2 * sigma_r_Pa
 
 
 def plane_grid(step_deg: float = 10.0, family_b: bool = False, n_shear_axes: int = 2) -> Planes:
@@ -258,7 +281,7 @@ def loads_channels(loads: np.ndarray) -> np.ndarray:
 def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray, planes: Planes,
                  curve: SNCurve, criterion: str, params: CriterionParams,
                  residue: str = "half", thickness_factor: float = 1.0,
-                 loads_are_channels: bool = False
+                 loads_are_channels: bool = False, hoop_radial_Pa: tuple[float, float] = (0.0, 0.0)
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Damage of every candidate plane at every surface point (numba kernel).
 
@@ -276,6 +299,9 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
         DNV thickness factor on the stress.
     loads_are_channels : bool
         ``loads`` is already (6, n_time) from :func:`loads_channels`.
+    hoop_radial_Pa : (float, float)
+        Hoop and radial stress constant over the window (mud pressure, Lame),
+        Pa: a constant normal stress per plane (:func:`plane_normal_offsets`).
 
     Returns
     -------
@@ -299,12 +325,16 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
     if grp.c.shape[0] == 0 or LT.shape[1] < 2:
         return dmg, sel_d, par
     bpa, bgrp = _boundaries(grp.c)
+    cand_n = np.empty((n_c, 3))
+    cand_n[:, :2] = planes.n
+    cand_n[:, 2] = (plane_normal_offsets(planes, *hoop_radial_Pa) if any(hoop_radial_Pa)
+                    else 0.0)
     mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
     cap = 1024
     while True:
         st = K.multiplane_damage(LT, np.ascontiguousarray(coef_sigma),
                                  np.ascontiguousarray(coef_tau), grp.c, grp.ptr, grp.cand,
-                                 grp.scale, planes.n, bpa, bgrp, crit, ca, cb, cc, sel,
+                                 grp.scale, cand_n, bpa, bgrp, crit, ca, cb, cc, sel,
                                  thickness_factor / MPA_PA, seg[0], seg[1], seg[2], seg[3], mode,
                                  cap, dmg, sel_d, par)
         if st == K.STATUS_OK:
@@ -362,7 +392,8 @@ def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
                   theta0: np.ndarray, beta: np.ndarray, psi: np.ndarray, best_dmg: np.ndarray,
                   best_sel: np.ndarray, best_par: np.ndarray, step0: float, n_refine: int,
                   curve: SNCurve, criterion: str, params: CriterionParams, residue: str,
-                  tf: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                  tf: float, hoop_radial_Pa: tuple[float, float] = (0.0, 0.0)
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Refine the governing plane of several points to ``step0 / 2**n_refine``.
 
     The first ``DENSE_LEVELS`` halvings are done at once: every plane of the
@@ -407,7 +438,7 @@ def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)
     pl = make_planes(uniq[:, 0], uniq[:, 1], uniq[:, 2])
     d, s_, p_ = plane_damage(loads_T, cs_rows, ct_rows, pl, curve, criterion, params,
-                             residue, tf, loads_are_channels=True)
+                             residue, tf, loads_are_channels=True, hoop_radial_Pa=hoop_radial_Pa)
     th, bd, bs, bp = _pick_rows(pl.theta_deg, d, s_, p_, inv.reshape(t_all.shape), th, bd,
                                 bs, bp)
     R = th.shape[0]
@@ -417,7 +448,8 @@ def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
         trial = (np.stack([th - step, th + step], axis=1) % 180.0).ravel()  # (2R,)
         pl = make_planes(trial, np.repeat(beta, 2), np.repeat(psi, 2))
         d, s_, p_ = plane_damage(loads_T, cs_rows, ct_rows, pl, curve, criterion, params,
-                                 residue, tf, loads_are_channels=True)
+                                 residue, tf, loads_are_channels=True,
+                                 hoop_radial_Pa=hoop_radial_Pa)
         own = np.stack([2 * rows, 2 * rows + 1], axis=1)  # each point's own two trials
         th, bd, bs, bp = _pick_rows(pl.theta_deg, d, s_, p_, own, th, bd, bs, bp)
     return th, bd, bs, bp
@@ -457,7 +489,8 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
                       ultimate_Pa: float = 689e6, thickness_m: float | None = None,
                       walker_gamma: float = 0.5, compressive_alpha: float = 0.6,
                       with_uniaxial: bool = True,
-                      channels: np.ndarray | None = None) -> LocationResult:
+                      channels: np.ndarray | None = None,
+                      pressure: Pressure | None = None) -> LocationResult:
     """Damage of one location of one joint over one load window.
 
     Parameters
@@ -480,6 +513,13 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
     channels : ndarray, shape (6, n_time), optional
         ``loads_channels(loads)``, computed once and shared by the locations
         of a joint (saves one transposition of the history per location).
+    pressure : Pressure, optional
+        Mud pressure inside and outside, constant over the window. The axial
+        load becomes the true wall force (``loads`` axial column is the
+        effective tension), and the Lame hoop and radial stresses of the outer
+        surface add a constant normal stress on every candidate plane
+        (:mod:`drillfatigue.fatigue.stress`). None or zero pressure leaves
+        every result bit for bit as without it.
 
     Returns
     -------
@@ -489,6 +529,16 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
         raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
                          ", ".join(CRITERIA))
     cs, ct, phi = surface_coefficients(section, scf, n_points)
+    hoop_radial = (0.0, 0.0)
+    if pressure is not None and not pressure.is_zero:
+        _, s_t, s_r = surface_pressure_stresses(section, scf, pressure, "outer")
+        hoop_radial = (s_t, s_r)
+        d_f = float(true_wall_force_N(0.0, section, pressure))
+        loads = np.array(loads, dtype=np.float64)  # a copy: the caller's loads stay effective
+        loads[:, 0] += d_f
+        if channels is not None:
+            channels = channels.copy()
+            channels[0] += d_f
     tf = curve.thickness_factor(thickness_m if thickness_m is not None
                                 else (section.od_m - section.id_m) / 2.0)
     if with_uniaxial or criterion == "uniaxial":
@@ -503,7 +553,7 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
     planes = plane_grid(plane_step_deg, family_b, n_shear_axes)
     LT = channels if channels is not None else loads_channels(loads)
     dmg, sel, par = plane_damage(LT, cs, ct, planes, curve, criterion, params, residue, tf,
-                                 loads_are_channels=True)
+                                 loads_are_channels=True, hoop_radial_Pa=hoop_radial)
     jbest = pick_planes(dmg, sel)
     rows = np.arange(dmg.shape[0])
     pdmg = dmg[rows, jbest].copy()
@@ -516,7 +566,7 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
         t, d, s, pm = refine_planes(LT, cs[top], ct[top], planes.theta_deg[jt],
                                     planes.beta_deg[jt], planes.psi_deg[jt], pdmg[top],
                                     psel[top], pmax[top], plane_step_deg, n_refine, curve,
-                                    criterion, params, residue, tf)
+                                    criterion, params, residue, tf, hoop_radial)
         pdmg[top], psel[top], theta[top], pmax[top] = d, s, t, pm
     # governing point: largest selection damage (= damage except for Matake)
     p = int(pick_planes(pdmg[None], psel[None])[0])

@@ -275,11 +275,12 @@ def _max4(S, n):
 
 
 @njit(cache=True, fastmath=BATCH_FAST)
-def _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scale, S):
+def _equivalent_batch(crit, sc, n0, n1, n2, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scale, S):
     """Equivalent stress ranges of n buffered cycles of one member plane.
 
     Cycle i has shear range ``dtau = sc * D[i]`` and normal stress
-    ``n0 x + n1 y`` at its turning instants (X1, Y1) and (X2, Y2), the larger
+    ``n0 x + n1 y + n2`` (n2: a constant stress on the plane, e.g. from mud
+    pressure, Pa) at its turning instants (X1, Y1) and (X2, Y2), the larger
     of the two being ``snmax``. Writes ``S[i] = 2 sigma_eq s_scale`` (the S-N
     range) and returns the largest criterion parameter p (Pa):
 
@@ -296,18 +297,18 @@ def _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scal
     # scalar), then the S-N range from p by the same expression as a fused loop
     if crit == CRIT_MATAKE:
         for i in range(n):
-            a = n0 * X1[i] + n1 * Y1[i]
-            b = n0 * X2[i] + n1 * Y2[i]
+            a = n0 * X1[i] + n1 * Y1[i] + n2
+            b = n0 * X2[i] + n1 * Y2[i] + n2
             sm = a if a > b else b
             sm = sm if sm > 0.0 else 0.0
             S[i] = ca * (0.5 * sc * D[i] + cb * sm)
     elif crit == CRIT_FINDLEY:
         for i in range(n):
-            sm = max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i])
+            sm = max(n0 * X1[i] + n1 * Y1[i] + n2, n0 * X2[i] + n1 * Y2[i] + n2)
             S[i] = 0.5 * sc * D[i] + ca * sm
     elif crit == CRIT_FATEMI_SOCIE:
         for i in range(n):
-            sm = max(max(n0 * X1[i] + n1 * Y1[i], n0 * X2[i] + n1 * Y2[i]), 0.0)
+            sm = max(max(n0 * X1[i] + n1 * Y1[i] + n2, n0 * X2[i] + n1 * Y2[i] + n2), 0.0)
             S[i] = 0.5 * sc * D[i] * (1.0 + ca * sm * cb)
     else:
         for i in range(n):
@@ -336,7 +337,8 @@ def _flush_group(g, buf, law, acc):
     s_scale, seg_S_low, seg_m, seg_inv_a, S_cut) (see ``multiplane_damage``).
     ``acc`` = (acc_dmg, acc_sel, acc_par), per candidate.
     Member j has shear range ``mem_scale * dtau`` and normal stress
-    ``cand_n[j] . (sigma, tau)`` at each cycle's two turning instants.
+    ``cand_n[j, :2] . (sigma, tau) + cand_n[j, 2]`` at each cycle's two
+    turning instants.
     """
     cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S = buf
     (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale, seg_S_low,
@@ -358,7 +360,8 @@ def _flush_group(g, buf, law, acc):
         sc = mem_scale[k]
         n0 = cand_n[j, 0]
         n1 = cand_n[j, 1]
-        pm = _equivalent_batch(crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scale,
+        n2 = cand_n[j, 2]
+        pm = _equivalent_batch(crit, sc, n0, n1, n2, D, X1, Y1, X2, Y2, n, ca, cb, cc, s_scale,
                                tmp_S)
         if pm > acc_par[j]:
             acc_par[j] = pm
@@ -367,8 +370,8 @@ def _flush_group(g, buf, law, acc):
             if sel_crit == CRIT_SHEAR and sc == last_scale:
                 acc_sel[j] += last_sel  # shear selection depends on the range only
             else:
-                _equivalent_batch(sel_crit, sc, n0, n1, D, X1, Y1, X2, Y2, n, ca, cb, cc,
-                                  s_scale, tmp_S)
+                _equivalent_batch(sel_crit, sc, n0, n1, n2, D, X1, Y1, X2, Y2, n, ca, cb,
+                                  cc, s_scale, tmp_S)
                 v = _miner_batch(tmp_S, C, n, seg_S_low, seg_m, seg_inv_a, S_cut)
                 acc_sel[j] += v
                 last_scale = sc
@@ -438,8 +441,11 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
     shear group: one representative shear ``grp_c[g] @ (sigma, tau)`` is
     rainflow counted once (rainflow of -y or of c y, c > 0, gives the same
     cycles at the same instants), and every member j gets the cycle with range
-    ``mem_scale * dtau`` and its own normal stress ``cand_n[j] @ (sigma, tau)``
-    at the two turning instants.
+    ``mem_scale * dtau`` and its own normal stress
+    ``cand_n[j, :2] @ (sigma, tau) + cand_n[j, 2]`` at the two turning instants
+    (the constant term carries stresses fixed over the window, e.g. the Lame
+    hoop and radial stresses of mud pressure; a constant shear on a plane does
+    not change its cycles, so it needs no term).
 
     Instead of a reversal search per group, each increment's direction in the
     (sigma, tau) plane gets its sector among the sorted directions ``bnd_pa``
@@ -476,8 +482,9 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
         Candidate index of each member.
     mem_scale : ndarray, float64
         |c_j| / |grp_c[g]| of each member (> 0).
-    cand_n : ndarray, shape (n_cand, 2)
-        Normal stress coefficients of each candidate on (sigma, tau).
+    cand_n : ndarray, shape (n_cand, 3)
+        Normal stress coefficients of each candidate on (sigma, tau) and its
+        constant normal stress (Pa).
     bnd_pa : ndarray, shape (2 n_grp,)
         Sorted pseudo-angles of the sign-change directions: the first half B
         in [0, 2), the second half B + 2 (the antipodes).

@@ -1,11 +1,21 @@
 """Fatigue of a simulator run directory: ``damage.parquet``, ``summary.json``, plots.
 
-A run directory holds ``loads.parquet`` (columns exactly ``time_s, joint, md_m,
-axial_N, shear_x_N, shear_y_N, bending_x_Nm, bending_y_Nm, torque_Nm``),
+A run directory holds ``loads.parquet`` (columns ``time_s, joint, md_m,
+axial_N, shear_x_N, shear_y_N, bending_x_Nm, bending_y_Nm, torque_Nm``, and
+optionally ``span_bending_x_Nm, span_bending_y_Nm``, the span correction the
+chain adds to the joint moment),
 ``joints.parquet`` (``joint, component, component_type, s_from_bit_m,
 body_od_m, body_id_m, conn_od_m, conn_id_m``) and ``summary.json`` with
 ``duration_s`` and ``status == "complete"``. Every input is checked before
 anything is written, so bad input leaves no output behind.
+
+Locations: ``body`` (body section, body SCFs), ``connection`` (connection
+section, thread-root SCFs) and, for drill pipe and heavy-weight pipe,
+``upset`` (the run-out of the upset into the body: body section, upset SCFs).
+Mud pressure: when ``case.yaml`` gives the well and the mud density (and
+``fatigue.pressure`` is on), each joint carries the hydrostatic pressure at
+the TVD of its mean MD over the window inside and outside, plus the pump
+pressure inside (:func:`joint_pressures`).
 """
 
 from __future__ import annotations
@@ -22,30 +32,103 @@ import pandas as pd
 from drillfatigue import rundir
 from drillfatigue.config import case_from_dict
 from drillfatigue.config.base import read_yaml
-from drillfatigue.config.fatigue import COMPONENT_TYPES, FatigueConfig, UserCurveConfig
+from drillfatigue.config.fatigue import (
+    COMPONENT_TYPES,
+    UPSET_TYPES,
+    FatigueConfig,
+    UserCurveConfig,
+)
 from drillfatigue.errors import InputError
-from drillfatigue.fatigue.critical_plane import (CRITERIA, CriterionParams, evaluate_location,
-                                                  loads_channels)
+from drillfatigue.fatigue.critical_plane import (
+    CRITERIA,
+    CriterionParams,
+    evaluate_location,
+    loads_channels,
+)
 from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, rainflow_matrix
-from drillfatigue.fatigue.rp7g import (E_RP7G_PA, RP7G_GRADES, max_permissible_dogleg,
-                                       rp7g_damage_rate_profile)
-from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress, get_curve, get_grade, user_curve
-from drillfatigue.fatigue.stress import LOAD_COLUMNS, SCF, Section, surface_coefficients
+from drillfatigue.fatigue.rp7g import (
+    E_RP7G_PA,
+    RP7G_GRADES,
+    max_permissible_dogleg,
+    rp7g_damage_rate_profile,
+)
+from drillfatigue.fatigue.sn import (
+    SNCurve,
+    correct_mean_stress,
+    get_curve,
+    get_grade,
+    user_curve,
+)
+from drillfatigue.fatigue.stress import (
+    LOAD_COLUMNS,
+    SCF,
+    Pressure,
+    Section,
+    hydrostatic_pressure_Pa,
+    surface_coefficients,
+    true_wall_force_N,
+)
 from drillfatigue.files import OutputFolder, atomic_output, atomic_write_bytes
 from drillfatigue.units import HOUR_S
 from drillfatigue.well import build_survey
 
 LOADS_COLUMNS: tuple[str, ...] = rundir.LOADS_COLUMNS
+#: Optional ``loads.parquet`` columns: the span-bending correction between the
+#: supports (docs/bending.md), recorded apart from the rigid joint moment
+#: ``bending_x_Nm``/``bending_y_Nm``; the fatigue chain reads their sum.
+SPAN_COLUMNS: tuple[str, ...] = ("span_bending_x_Nm", "span_bending_y_Nm")
 JOINTS_COLUMNS: tuple[str, ...] = rundir.JOINTS_COLUMNS
 DAMAGE_COLUMNS: tuple[str, ...] = (
     "joint", "md_m", "s_from_bit_m", "component", "component_type", "location", "criterion",
     "damage", "damage_rate_per_h", "life_h", "life_windows", "critical_angle_deg",
     "critical_plane_deg", "uniaxial_damage")
-LOCATIONS: tuple[str, ...] = ("body", "connection")
+LOCATIONS: tuple[str, ...] = ("body", "connection", "upset")
 #: Kind of the ownership marker of a fatigue output folder.
 FATIGUE_KIND = "fatigue"
 #: Figures written with ``fatigue.plots``.
 PLOT_FILES: list[str] = ["stress_history.png", "rainflow_matrix.png", "damage_along_string.png"]
+
+
+def joint_locations(component_type: str, cfg: FatigueConfig) -> tuple[str, ...]:
+    """Locations evaluated at a joint of this component type."""
+    if cfg.upset_location and component_type in UPSET_TYPES:
+        return LOCATIONS
+    return LOCATIONS[:2]
+
+
+def location_section(info: Any, loc: str) -> tuple[float, float]:
+    """(OD, ID) of a location from a ``joints.parquet`` row: the connection
+    section at the connection, the body section at the body and at the upset
+    run-out (where the taper meets the body wall)."""
+    if loc == "connection":
+        return float(info["conn_od_m"]), float(info["conn_id_m"])
+    return float(info["body_od_m"]), float(info["body_id_m"])
+
+
+def joint_pressures(case: Any, md_m: dict[int, float], pump_pressure_Pa: float
+                    ) -> dict[int, Pressure]:
+    """Mud pressure of each joint from the case's well and mud density.
+
+    p_o = rho_mud g TVD(md), p_i = p_o + ``pump_pressure_Pa``; TVD interpolated
+    along the survey's minimum-curvature positions (the wells start at the
+    surface, taken as the mud level).
+
+    Parameters
+    ----------
+    case : drillfatigue.config.CaseConfig
+    md_m : dict
+        Joint -> its mean MD over the window, m.
+    pump_pressure_Pa : float
+    """
+
+    survey = build_survey(case.well)
+    rho = float(case.operation.mud_density_kg_per_m3)
+    out = {}
+    for j, md in md_m.items():
+        tvd = float(np.interp(md, survey.md_m, survey.pos_m[:, 2]))
+        p_o = float(hydrostatic_pressure_Pa(max(tvd, 0.0), rho))
+        out[j] = Pressure(p_o + pump_pressure_Pa, p_o)
+    return out
 
 
 def _atomic_write_parquet(df: pd.DataFrame, path: Path) -> None:
@@ -105,6 +188,22 @@ def read_run(run_dir: Path) -> tuple[pd.DataFrame, pd.DataFrame, dict[str, Any]]
     if bad:
         raise InputError(str(run_dir / rundir.LOADS),
                          f"NaN or infinite values in column {bad[0]}", "finite numbers")
+    have = [c for c in SPAN_COLUMNS if c in loads.columns]
+    if have:
+        if len(have) != len(SPAN_COLUMNS):
+            raise InputError(str(run_dir / "loads.parquet"),
+                             f"has {have[0]} without its partner column",
+                             "both or neither of " + ", ".join(SPAN_COLUMNS))
+        for c in SPAN_COLUMNS:
+            if not np.all(np.isfinite(loads[c].to_numpy(dtype=float))):
+                raise InputError(str(run_dir / "loads.parquet"),
+                                 f"NaN or infinite values in column {c}", "finite numbers")
+        # the steel sees the joint moment plus the span correction
+        loads = loads.assign(
+            bending_x_Nm=loads["bending_x_Nm"].to_numpy(dtype=float)
+            + loads["span_bending_x_Nm"].to_numpy(dtype=float),
+            bending_y_Nm=loads["bending_y_Nm"].to_numpy(dtype=float)
+            + loads["span_bending_y_Nm"].to_numpy(dtype=float))
     if joints["joint"].duplicated().any():
         raise InputError(str(run_dir / rundir.JOINTS), "a joint appears in more than one row",
                          "one row per recorded joint")
@@ -267,7 +366,15 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                              grade.yield_Pa)
     where = str(run_dir / rundir.LOADS)
     per_joint = {j: _joint_loads(loads, j, where) for j in sel}  # validate all before work
-    case = _run_case(run_dir) if (out_dir is not None and rp7g_baseline) else None
+    want_case = (out_dir is not None and rp7g_baseline) or cfg.pressure
+    case = _run_case(run_dir) if want_case else None
+    pressures: dict[int, Pressure] = {}
+    if cfg.pressure and case is not None:
+        mean_md = loads[loads["joint"].isin(sel)].groupby("joint")["md_m"].mean()
+        pressures = joint_pressures(case, {int(j): float(mean_md.loc[j]) for j in sel},
+                                    cfg.pump_pressure_Pa)
+    if not (out_dir is not None and rp7g_baseline):
+        case = None
     jrow = jt.set_index("joint")
     rows: list[dict[str, Any]] = []
     crit_info: dict[tuple[int, str], Any] = {}
@@ -275,9 +382,9 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
         info = jrow.loc[j]
         t, L, md = per_joint[j]
         LT = loads_channels(L)  # one transposition shared by both locations
-        for loc in LOCATIONS:
-            od, idm = ((info["body_od_m"], info["body_id_m"]) if loc == "body"
-                       else (info["conn_od_m"], info["conn_id_m"]))
+        pres = pressures.get(int(j))
+        for loc in joint_locations(str(info["component_type"]), cfg):
+            od, idm = location_section(info, loc)
             try:
                 section = Section(float(od), float(idm))
             except InputError as exc:
@@ -292,11 +399,15 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                 n_refine_points=cfg.n_refine_points,
                 residue=cfg.residue, mean_stress=cfg.mean_stress, ultimate_Pa=grade.tensile_Pa,
                 walker_gamma=cfg.walker_gamma, compressive_alpha=cfg.compressive_alpha,
-                channels=LT)
+                channels=LT, pressure=pres)
             uni = res.uniaxial_damage
             if cfg.residue == "carry" or cfg.load_classes is not None:
-                uni = _uniaxial_streamed(t, L, section, scf, curves[loc], cfg, grade.tensile_Pa,
-                                         res.critical_point)
+                Lp = L
+                if pres is not None and not pres.is_zero:
+                    Lp = L.copy()
+                    Lp[:, 0] = true_wall_force_N(L[:, 0], section, pres)
+                uni = _uniaxial_streamed(t, Lp, section, scf, curves[loc], cfg,
+                                         grade.tensile_Pa, res.critical_point)
                 if crit == "uniaxial":
                     res.damage = uni
             D = res.damage
@@ -312,7 +423,7 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                 "critical_plane_deg": res.critical_plane_deg,
                 "uniaxial_damage": uni,
             })
-            crit_info[(int(j), loc)] = (section, scf, res.critical_point)
+            crit_info[(int(j), loc)] = (section, scf, res.critical_point, pres)
     df = pd.DataFrame(rows, columns=list(DAMAGE_COLUMNS))
     if out_dir is not None:
         rp7g = None
@@ -411,8 +522,11 @@ def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, jo
            duration_s: float = 1.0) -> None:
     from drillfatigue.plotting import subplots
 
-    section, scf, point = info
+    section, scf, point, pres = info
     t, L, _ = per_joint[joint]
+    if pres is not None and not pres.is_zero:
+        L = L.copy()
+        L[:, 0] = true_wall_force_N(L[:, 0], section, pres)  # sigma_z of the true wall force
     cs, ct, phi = surface_coefficients(section, scf, cfg.n_surface_points)
     sig, tau = L @ cs[point], L @ ct[point]
 

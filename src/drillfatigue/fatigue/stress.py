@@ -14,13 +14,30 @@ Sign conventions (fixed once, tested in ``tests/unit/test_fatigue_stress.py``):
   shear flow (peak 2V/A at the neutral axis), whose resultant over the section
   is (Vx, Vy).
 
-The outer surface is in plane stress (sigma_z, tau); internal/external
-pressure is not included (Lame hoop/radial terms could be added later).
+Mud pressure (MODEL.md section 10, FATIGUE.md section 1): with internal and
+external pressure p_i, p_o the wall carries the thick-wall (Lame) radial and
+hoop stresses
+
+    sigma_r(r) = A - B/r^2, sigma_theta(r) = A + B/r^2,
+    A = (p_i r_i^2 - p_o r_o^2)/(r_o^2 - r_i^2), B = (p_i - p_o) r_i^2 r_o^2/(r_o^2 - r_i^2),
+
+so sigma_r = -p_o and sigma_theta = (2 p_i r_i^2 - p_o (r_o^2 + r_i^2))/(r_o^2 - r_i^2)
+at the outer surface, sigma_r = -p_i at the inner one; and the axial stress
+comes from the true wall force F_true = F_eff + p_i A_i - p_o A_o
+(A_i = pi r_i^2, A_o = pi r_o^2) rather than the effective tension F_eff that
+the dynamics records (buoyed-weight statics give the effective force). With
+p_i = p_o = p the two together add exactly -p to sigma_r, sigma_theta and
+sigma_z: a hydrostatic stress, no shear on any plane. The axial SCF applies to
+the whole true wall force; the Lame stresses are taken without concentration
+(an assumption: a notch raises them far less than the bending stress).
 
 References
 ----------
 Pilkey, W. D., *Formulas for Stress, Strain and Structural Matrices*, 2nd ed.,
-Wiley 2005, ch. 15 (thin-walled shear flow); docs/fatigue.md#stresses.
+Wiley 2005, ch. 15 (thin-walled shear flow); Timoshenko, S. P. & Goodier, J. N.,
+*Theory of Elasticity*, 3rd ed., McGraw-Hill 1970, section 28 (thick-walled
+cylinder, Lame); Aadnoy, B. S., *Mechanics of Drilling*, Shaker 2006, ch. 2
+(effective and true axial force); docs/fatigue.md#stresses.
 """
 
 from __future__ import annotations
@@ -154,3 +171,111 @@ def surface_stresses(loads: np.ndarray, section: Section, scf: SCF, n_points: in
                          "(n_time, 6) in the order " + ", ".join(LOAD_COLUMNS))
     cs, ct, phi = surface_coefficients(section, scf, n_points)
     return cs @ loads.T, ct @ loads.T, phi
+
+
+#: Standard gravity, m/s^2 (for hydrostatic pressure).
+GRAVITY_M_PER_S2 = 9.80665
+
+
+def hydrostatic_pressure_Pa(tvd_m: np.ndarray | float, mud_density_kg_per_m3: float,
+                            surface_pressure_Pa: float = 0.0) -> np.ndarray | float:
+    """Hydrostatic mud pressure p = p_surface + rho_mud g TVD, Pa.
+
+    Parameters
+    ----------
+    tvd_m : float or ndarray
+        True vertical depth below the fluid surface, m.
+    mud_density_kg_per_m3 : float
+    surface_pressure_Pa : float
+        Pressure at TVD 0 (e.g. the pump pressure for the inside of the string).
+    """
+    if not (math.isfinite(mud_density_kg_per_m3) and mud_density_kg_per_m3 >= 0.0):
+        raise InputError("mud_density_kg_per_m3",
+                         f"must be a finite number >= 0, got {mud_density_kg_per_m3!r}", ">= 0")
+    p = surface_pressure_Pa + mud_density_kg_per_m3 * GRAVITY_M_PER_S2 * np.asarray(
+        tvd_m, dtype=np.float64)
+    return p if p.ndim else float(p)
+
+
+@dataclass(frozen=True)
+class Pressure:
+    """Mud pressure on a section, constant over a load window (Pa).
+
+    Attributes
+    ----------
+    internal_Pa, external_Pa : float
+        Pressure inside the bore and in the annulus, Pa (>= 0).
+    """
+
+    internal_Pa: float = 0.0
+    external_Pa: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("internal_Pa", "external_Pa"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0.0):
+                raise InputError(f"pressure.{name}", f"must be a finite number >= 0, got {v!r}",
+                                 ">= 0")
+
+    @property
+    def is_zero(self) -> bool:
+        """True when both pressures are zero (the stresses are the load-only ones)."""
+        return self.internal_Pa == 0.0 and self.external_Pa == 0.0
+
+
+def true_wall_force_N(effective_N: np.ndarray | float, section: Section,
+                      pressure: Pressure) -> np.ndarray | float:
+    """True axial wall force F_true = F_eff + p_i A_i - p_o A_o, N.
+
+    ``effective_N`` is the effective tension (what buoyed-weight statics and
+    the dynamics give, tension > 0); A_i = pi r_i^2 and A_o = pi r_o^2 are the
+    areas enclosed by the inner and outer surfaces.
+    """
+    a_i = math.pi * (0.5 * section.id_m) ** 2
+    a_o = math.pi * (0.5 * section.od_m) ** 2
+    return effective_N + (pressure.internal_Pa * a_i - pressure.external_Pa * a_o)
+
+
+def lame_stresses_Pa(section: Section, pressure: Pressure, r_m: float) -> tuple[float, float]:
+    """Thick-wall (Lame) radial and hoop stress at radius ``r_m``, Pa.
+
+    Returns
+    -------
+    sigma_r, sigma_theta : float
+        Radial and hoop stress (tension > 0) at r_i <= r <= r_o.
+    """
+    ri, ro = 0.5 * section.id_m, 0.5 * section.od_m
+    if not (ri - 1e-12 <= r_m <= ro + 1e-12) or r_m <= 0.0:
+        raise InputError("r_m", f"must lie in the wall, got {r_m!r}", f"{ri} <= r <= {ro}")
+    pi, po = pressure.internal_Pa, pressure.external_Pa
+    d = ro * ro - ri * ri
+    A = (pi * ri * ri - po * ro * ro) / d
+    B = (pi - po) * ri * ri * ro * ro / d
+    return A - B / (r_m * r_m), A + B / (r_m * r_m)
+
+
+def surface_pressure_stresses(section: Section, scf: SCF, pressure: Pressure,
+                              surface: str = "outer") -> tuple[float, float, float]:
+    """Constant stresses that mud pressure adds at a surface point, Pa.
+
+    Parameters
+    ----------
+    section, scf : Section, SCF
+    pressure : Pressure
+    surface : {'outer', 'inner'}
+
+    Returns
+    -------
+    d_sigma_z, sigma_theta, sigma_r : float
+        Axial stress from the pressure end loads of the true wall force
+        (K_a (p_i A_i - p_o A_o)/A), and the Lame hoop and radial stresses at
+        the surface (sigma_r = -p_o outside, -p_i inside).
+    """
+    if surface not in ("outer", "inner"):
+        raise InputError("surface", f"unknown surface {surface!r}", "outer, inner")
+    r = 0.5 * (section.od_m if surface == "outer" else section.id_m)
+    if surface == "inner" and r == 0.0:
+        raise InputError("surface", "a solid section has no inner surface", "outer")
+    d_f = float(true_wall_force_N(0.0, section, pressure))
+    s_r, s_t = lame_stresses_Pa(section, pressure, r)
+    return scf.axial * d_f / section.area_m2, s_t, s_r

@@ -1,6 +1,8 @@
 """Segmentation of the string into rigid segments (docs/model.md#bodies, docs/model.md#joints).
 
-Each component of ``n_segments`` is cut into equal rigid segments. Segment
+Each component of ``n_segments`` is cut into equal rigid segments; drill pipe
+and heavy-weight pipe with ``joints_per_segment`` are cut at their joints
+(:attr:`drillfatigue.config.string.ComponentConfig.segment_lengths_m`). Segment
 properties are those of a tube of the body section; tool joints (a fraction
 ``tool_joint_length_fraction`` of the length with the connection section) add
 mass and set the contact radius but not stiffness (standard stiff-string
@@ -20,7 +22,8 @@ import numpy as np
 from drillfatigue.config.string import StringConfig
 
 #: Component type names; ``Segments.component_type_code`` indexes this tuple.
-COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub")
+COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub",
+                                    "jar", "mwd")
 
 
 @dataclass(frozen=True)
@@ -112,9 +115,8 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Se
         if mpl is None:
             mpl = mat.density_kg_per_m3 * ((1.0 - f) * a_body + f * a_conn)
         i_area = 0.25 * math.pi * (ro ** 4 - ri ** 4)
-        length = comp.length_m / comp.n_segments
-        m = mpl * length
-        for _ in range(comp.n_segments):
+        for length in comp.segment_lengths_m:
+            m = mpl * length
             cols["length_m"].append(length)
             cols["od_m"].append(comp.od_m)
             cols["id_m"].append(comp.id_m)

@@ -130,8 +130,9 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
             span = float(t[-1] - t[0] + (t[1] - t[0])) if t.size > 1 else 0.0
             share = window_s / cfg.n_samples  # seconds of the 800 s this sample stands for
             dmg = evaluate_run(run_dir, fat, None, joints=[joint], criterion=cfg.criterion)
-            for _, r in dmg.iterrows():
-                d_cp[str(r["location"])] += float(r["damage"]) / span * share
+            for _, r in dmg.iterrows():  # drill-pipe joints also have an upset location
+                loc = str(r["location"])
+                d_cp[loc] = d_cp.get(loc, 0.0) + float(r["damage"]) / span * share
             rp = rp7g_rates(run_dir, case, fat)
             rate_h = float(rp.loc[rp["joint"] == joint, "damage_rate_per_h"].iloc[0])
             d_rp7g += rate_h * share / 3600.0

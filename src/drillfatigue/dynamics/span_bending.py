@@ -1,0 +1,494 @@
+"""Bending between supports: continuous beam-column on rigid supports (kernels).
+
+A rigid segment carries no bending inside itself, yet the real pipe sags
+between the points where it touches the wall (tool joints, stabilizer blades,
+contact points along collars) and, rotating, sees that moment alternate once
+per revolution (MODEL.md section 10). These kernels give the moments of a
+chain of spans between supports under a uniform transverse load per span.
+
+Beam solution
+-------------
+Each span i (length ``L``, bending stiffness ``EI``, effective axial force
+``T``, tension > 0) carries a uniform transverse load ``q`` (N/m, a 2-vector
+in the pipe cross-section, each component solved alone: the problem is
+linear). The supports are rigid and level (their relative displacements are
+the rigid-segment chain's business: that bending is the joint moment of the
+dynamics, and this correction adds what the distributed load does between
+the supports). Slope continuity over every interior support gives the
+three-moment equation of Clapeyron, generalised to beam-columns (Timoshenko &
+Gere, *Theory of Elastic Stability*, 2nd ed. 1961, section 1.13):
+
+    L_{i-1}/(6 EI_{i-1}) f2_{i-1} M_{i-1}
+      + [L_{i-1}/(3 EI_{i-1}) f1_{i-1} + L_i/(3 EI_i) f1_i] M_i
+      + L_i/(6 EI_i) f2_i M_{i+1}
+    = -q_{i-1} L_{i-1}^3/(24 EI_{i-1}) f3_{i-1} - q_i L_i^3/(24 EI_i) f3_i
+
+with M the bending moment over the supports (sagging positive, i.e. the
+fibre on the side the load points to in tension) and the axial-force factors
+of the simply supported span, s = T L^2/EI, v = sqrt(|s|):
+
+* tension: f1 = 3 (v/tanh v - 1)/v^2, f2 = 6 (1 - v/sinh v)/v^2,
+  f3 = 24 (v/2 - tanh(v/2))/v^3;
+* compression: f1 = 3 (1 - v/tan v)/v^2, f2 = 6 (v/sin v - 1)/v^2,
+  f3 = 24 (tan(v/2) - v/2)/v^3;
+* all three tend to 1 without axial force (power series in s through s^4
+  below |s| = 0.02, where the closed forms lose digits to cancellation),
+  giving the classical three-moment equation; on equal spans far from the
+  ends the support moment is -q L^2/12 and the mid-span moment q L^2/24 (the
+  clamped-clamped span).
+
+Chain ends are pinned (M = 0) or clamped (zero slope). Inside a span the
+moment is the beam-column solution with those end moments:
+M(x) = M_a sinh(k(L-x))/sinh(kL) + M_b sinh(kx)/sinh(kL)
++ (q/k^2)[1 - cosh(k(x - L/2))/cosh(kL/2)], k = sqrt(T/EI) (trigonometric
+in compression; x (L-x) q/2 plus the linear end-moment line without axial
+force).
+
+Where it stops being valid
+--------------------------
+* A span that touches the wall between its supports: the mid-span deflection
+  (:func:`midspan_deflection`) exceeds the radial clearance. The touching
+  point is then a support: the caller adds it and solves again.
+* A span in compression at or beyond the Euler load of the pinned span
+  (v >= pi): the factors blow up; the kernel returns ``STATUS_SPAN_BUCKLED``.
+  (A buckled span lies on the wall: more supports, as above.)
+* Small deflections, linear elastic, Euler-Bernoulli (span much longer than
+  the diameter); the load is uniform over each span; the supports do not
+  move relative to each other under this load.
+* A segment in line contact along its length (the whole body on the wall)
+  has no span: give it none (no correction).
+
+Moment vectors in the cross-section
+-----------------------------------
+For a load q = (q_x, q_y) in some cross-section frame, the bending moment
+vector in the same frame is (M_x, M_y) = (M_s[q_y], -M_s[q_x]) with M_s the
+sagging-positive scalar moment of that load component. This is the sign
+convention of ``loads.parquet`` and :mod:`drillfatigue.fatigue.stress`
+(M_x > 0 stretches the +y fibre, M_y > 0 the -x fibre): over a support of a
+pipe lying on the low side (load -y) M_x > 0, the top fibre in tension.
+Given q in a frame that does not turn with the pipe, :func:`to_pipe_frame`
+resolves the moments in the pipe-fixed frame, where they alternate once per
+revolution.
+
+Kernels take float64 arrays in SI, write into ``out`` arrays and return a
+status code (``STATUS_OK`` = 0).
+
+References
+----------
+Timoshenko, S. P. & Gere, J. M., *Theory of Elastic Stability*, 2nd ed.,
+McGraw-Hill 1961, sections 1.11-1.13 (beam-columns, continuous beams with
+axial loads); Roark's *Formulas for Stress and Strain*, 8th ed., table 8.5
+(beam-column end moments); MODEL.md section 10.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+STATUS_OK = 0
+STATUS_BAD_SPAN = 1
+STATUS_SPAN_BUCKLED = 2
+STATUS_SINGULAR = 3
+
+END_PINNED = 0
+END_CLAMPED = 1
+
+#: |s| = |T| L^2/EI below which the axial-force factors come from their power
+#: series through s^4 (truncation below 1e-13 there; above it the closed forms
+#: lose less than 1e-12 to cancellation)
+SERIES_S = 0.02
+#: |s| below which the moment shape inside a span is the axial-force-free one
+#: (its error is O(s) relative, 1e-8; the closed form's cancellation error is
+#: 1e-16/s relative, 1e-8 at the switch)
+SHAPE_SERIES_S = 1e-8
+#: compression v = L sqrt(|T|/EI) at which a pinned span is taken as buckled
+BUCKLED_V = 0.999 * math.pi
+
+
+@njit(cache=True)
+def axial_factors(s):
+    """(f1, f2, f3) of a simply supported span with s = T L^2/EI (tension > 0).
+
+    f1: near-end rotation under an end moment, f2: far-end rotation under an
+    end moment, f3: end rotation under a uniform load, each over its value
+    without axial force. NaN for compression at or beyond ``BUCKLED_V``.
+    """
+    if abs(s) < SERIES_S:
+        f1 = 1.0 + s * (-1.0 / 15.0 + s * (2.0 / 315.0 + s * (-1.0 / 1575.0
+                                                              + s * 2.0 / 31185.0)))
+        f2 = 1.0 + s * (-7.0 / 60.0 + s * (31.0 / 2520.0 + s * (-127.0 / 100800.0
+                                                                + s * 73.0 / 570240.0)))
+        f3 = 1.0 + s * (-1.0 / 10.0 + s * (17.0 / 1680.0 + s * (-31.0 / 30240.0
+                                                                + s * 691.0 / 6652800.0)))
+        return (f1, f2, f3)
+    v = math.sqrt(abs(s))
+    if s > 0.0:
+        e = math.exp(-v)
+        e2 = e * e
+        coth = (1.0 + e2) / (1.0 - e2)
+        v_over_sinh = 2.0 * v * e / (1.0 - e2)
+        th = (1.0 - e) / (1.0 + e)  # tanh(v/2)
+        return (3.0 * (v * coth - 1.0) / (v * v),
+                6.0 * (1.0 - v_over_sinh) / (v * v),
+                24.0 * (0.5 * v - th) / (v * v * v))
+    if v >= BUCKLED_V:
+        return (math.nan, math.nan, math.nan)
+    return (3.0 * (1.0 - v / math.tan(v)) / (v * v),
+            6.0 * (v / math.sin(v) - 1.0) / (v * v),
+            24.0 * (math.tan(0.5 * v) - 0.5 * v) / (v * v * v))
+
+
+@njit(cache=True)
+def support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, end_left, end_right, work, out_M):
+    """Bending moments over the supports of a continuous beam-column.
+
+    Parameters
+    ----------
+    span_m : ndarray, shape (n_span,)
+        Span lengths between consecutive supports, m (> 0).
+    ei_Nm2 : ndarray, shape (n_span,)
+        Bending stiffness of each span, N m^2 (> 0).
+    axial_N : ndarray, shape (n_span,)
+        Effective axial force of each span, N, tension > 0.
+    q_N_per_m : ndarray, shape (n_span, 2)
+        Uniform transverse load of each span in a cross-section frame, N/m.
+    end_left, end_right : int
+        ``END_PINNED`` (zero moment) or ``END_CLAMPED`` (zero slope).
+    work : ndarray, shape (n_span + 1, 6)
+        Scratch.
+    out_M : ndarray, shape (n_span + 1, 2)
+        Moment vectors (M_x, M_y) over each support in the frame of ``q``
+        (module docstring convention), N m.
+
+    Returns
+    -------
+    int
+        ``STATUS_OK``, ``STATUS_BAD_SPAN`` (a span or EI <= 0 or not finite),
+        ``STATUS_SPAN_BUCKLED`` or ``STATUS_SINGULAR``.
+    """
+    n = span_m.shape[0]
+    ns = n + 1
+    out_M[:, :] = 0.0
+    if n == 0:
+        return STATUS_OK
+    # work columns: 0 sub-diagonal, 1 diagonal, 2 super-diagonal, 3-4 right-hand
+    # sides of the two load components (sagging scalars), 5 Thomas scratch
+    for i in range(ns):
+        for c in range(6):
+            work[i, c] = 0.0
+    for i in range(n):
+        L = span_m[i]
+        EI = ei_Nm2[i]
+        if not (L > 0.0 and EI > 0.0 and math.isfinite(L) and math.isfinite(EI)):
+            return STATUS_BAD_SPAN
+        f1, f2, f3 = axial_factors(axial_N[i] * L * L / EI)
+        if math.isnan(f1):
+            return STATUS_SPAN_BUCKLED
+        near = L / (3.0 * EI) * f1
+        far = L / (6.0 * EI) * f2
+        load = L * L * L / (24.0 * EI) * f3
+        # slope continuity at support i (span i is on its right) and i+1 (left)
+        work[i, 1] += near
+        work[i, 2] += far
+        work[i + 1, 0] += far
+        work[i + 1, 1] += near
+        # the load components: M_s of q_y gives M_x, M_s of q_x gives -M_y
+        work[i, 3] -= q_N_per_m[i, 1] * load
+        work[i + 1, 3] -= q_N_per_m[i, 1] * load
+        work[i, 4] -= q_N_per_m[i, 0] * load
+        work[i + 1, 4] -= q_N_per_m[i, 0] * load
+    if end_left == END_PINNED:
+        work[0, 1] = 1.0
+        work[0, 2] = 0.0
+        work[0, 3] = 0.0
+        work[0, 4] = 0.0
+    if end_right == END_PINNED:
+        work[ns - 1, 0] = 0.0
+        work[ns - 1, 1] = 1.0
+        work[ns - 1, 3] = 0.0
+        work[ns - 1, 4] = 0.0
+    # Thomas algorithm, both right-hand sides at once
+    b = work[0, 1]
+    if b == 0.0:
+        return STATUS_SINGULAR
+    work[0, 5] = work[0, 2] / b
+    work[0, 3] /= b
+    work[0, 4] /= b
+    for i in range(1, ns):
+        den = work[i, 1] - work[i, 0] * work[i - 1, 5]
+        if den == 0.0 or not math.isfinite(den):
+            return STATUS_SINGULAR
+        work[i, 5] = work[i, 2] / den
+        work[i, 3] = (work[i, 3] - work[i, 0] * work[i - 1, 3]) / den
+        work[i, 4] = (work[i, 4] - work[i, 0] * work[i - 1, 4]) / den
+    for i in range(ns - 2, -1, -1):
+        work[i, 3] -= work[i, 5] * work[i + 1, 3]
+        work[i, 4] -= work[i, 5] * work[i + 1, 4]
+    for i in range(ns):
+        out_M[i, 0] = work[i, 3]
+        out_M[i, 1] = -work[i, 4]
+    return STATUS_OK
+
+
+@njit(cache=True)
+def _span_shape(s, L, x):
+    """Weights (g_a, g_b, h) of M(x) = g_a M_a + g_b M_b + h q in a span with
+    s = T L^2/EI (module docstring), x in [0, L]."""
+    if abs(s) < SHAPE_SERIES_S:
+        return 1.0 - x / L, x / L, 0.5 * x * (L - x)
+    v = math.sqrt(abs(s))
+    k = v / L
+    xi = x - 0.5 * L
+    if s > 0.0:
+        # exponentials of non-positive arguments only (no overflow for stiff spans)
+        den = 1.0 - math.exp(-2.0 * v)
+        ga = math.exp(-k * x) * (1.0 - math.exp(-2.0 * k * (L - x))) / den
+        gb = math.exp(-k * (L - x)) * (1.0 - math.exp(-2.0 * k * x)) / den
+        a = abs(xi)
+        ratio = math.exp(k * (a - 0.5 * L)) * (1.0 + math.exp(-2.0 * k * a)) \
+            / (1.0 + math.exp(-v))
+        return ga, gb, (1.0 - ratio) / (k * k)
+    sv = math.sin(v)
+    return (math.sin(k * (L - x)) / sv, math.sin(k * x) / sv,
+            (math.cos(k * xi) / math.cos(0.5 * v) - 1.0) / (k * k))
+
+
+@njit(cache=True)
+def moments_at(span_m, ei_Nm2, axial_N, q_N_per_m, M_support, read_span, read_x_m, out_M):
+    """Bending moment vectors at read points inside the spans.
+
+    Parameters
+    ----------
+    span_m, ei_Nm2, axial_N, q_N_per_m
+        As :func:`support_moments`.
+    M_support : ndarray, shape (n_span + 1, 2)
+        Its result.
+    read_span : ndarray of int64, shape (n_read,)
+        Span of each read point.
+    read_x_m : ndarray, shape (n_read,)
+        Distance of each read point from the span's first support, m,
+        0 <= x <= L.
+    out_M : ndarray, shape (n_read, 2)
+        (M_x, M_y), N m, in the frame of ``q``.
+
+    Returns
+    -------
+    int
+        ``STATUS_OK`` or ``STATUS_BAD_SPAN`` (span index or x out of range).
+    """
+    n = span_m.shape[0]
+    for r in range(read_span.shape[0]):
+        i = read_span[r]
+        if i < 0 or i >= n:
+            return STATUS_BAD_SPAN
+        L = span_m[i]
+        x = read_x_m[r]
+        if not (x >= 0.0 and x <= L):
+            return STATUS_BAD_SPAN
+        ga, gb, h = _span_shape(axial_N[i] * L * L / ei_Nm2[i], L, x)
+        # sagging scalar of the q_y component is M_x; of q_x it is -M_y
+        out_M[r, 0] = ga * M_support[i, 0] + gb * M_support[i + 1, 0] + h * q_N_per_m[i, 1]
+        out_M[r, 1] = ga * M_support[i, 1] + gb * M_support[i + 1, 1] - h * q_N_per_m[i, 0]
+    return STATUS_OK
+
+
+@njit(cache=True)
+def midspan_deflection(span_m, ei_Nm2, axial_N, q_N_per_m, M_support, out_m):
+    """Mid-span deflection magnitude of each span, m (for the wall check).
+
+    Without axial force: |5 q L^4/(384 EI) + (M_a + M_b) L^2/(16 EI)| per load
+    component (sagging moments positive), combined as a vector. Tension only
+    lowers it, so the axial-free value is kept as a bound; in compression it is
+    amplified by 1/(1 - |T|/P_E), P_E = pi^2 EI/L^2 (the standard beam-column
+    amplification, within a few percent below 0.8 P_E).
+
+    Parameters
+    ----------
+    out_m : ndarray, shape (n_span,)
+
+    Returns
+    -------
+    int
+        ``STATUS_OK`` or ``STATUS_SPAN_BUCKLED``.
+    """
+    for i in range(span_m.shape[0]):
+        L = span_m[i]
+        EI = ei_Nm2[i]
+        c_q = 5.0 * L ** 4 / (384.0 * EI)
+        c_m = L * L / (16.0 * EI)
+        # sagging scalars: q_y with M_x, q_x with -M_y
+        dy = c_q * q_N_per_m[i, 1] + c_m * (M_support[i, 0] + M_support[i + 1, 0])
+        dx = c_q * q_N_per_m[i, 0] - c_m * (M_support[i, 1] + M_support[i + 1, 1])
+        amp = 1.0
+        if axial_N[i] < 0.0:
+            ratio = -axial_N[i] * L * L / (math.pi * math.pi * EI)
+            if ratio >= BUCKLED_V * BUCKLED_V / (math.pi * math.pi):
+                return STATUS_SPAN_BUCKLED
+            amp = 1.0 / (1.0 - ratio)
+        out_m[i] = amp * math.sqrt(dx * dx + dy * dy)
+    return STATUS_OK
+
+
+@njit(cache=True)
+def to_pipe_frame(M_xy, angle_rad, out_M):
+    """Resolve moment vectors from a non-turning frame into the pipe-fixed frame.
+
+    The pipe-fixed axes are the non-turning axes turned by ``angle_rad`` about
+    the pipe axis (right-handed), so components transform by the rotation
+    through -angle: a moment fixed in the hole alternates once per revolution
+    in the pipe.
+
+    Parameters
+    ----------
+    M_xy : ndarray, shape (n, 2)
+    angle_rad : ndarray, shape (n,)
+    out_M : ndarray, shape (n, 2)
+    """
+    for i in range(M_xy.shape[0]):
+        c = math.cos(angle_rad[i])
+        s = math.sin(angle_rad[i])
+        mx = M_xy[i, 0]
+        my = M_xy[i, 1]
+        out_M[i, 0] = c * mx + s * my
+        out_M[i, 1] = -s * mx + c * my
+    return STATUS_OK
+
+
+@njit(cache=True)
+def transverse_load(weight_per_m_N, axis, gravity_dir, inertia_per_m_N, drag_per_m_N, e1, e2,
+                    out_q):
+    """Distributed transverse load of each span in its cross-section frame.
+
+    q = buoyed weight per length times the component of the gravity direction
+    normal to the axis, plus the lateral inertia and mud drag loads per length
+    (already normal to the axis), resolved on the cross-section axes e1, e2.
+
+    Parameters
+    ----------
+    weight_per_m_N : ndarray, shape (n,)
+        Buoyed weight per length, N/m.
+    axis : ndarray, shape (n, 3)
+        Unit axis of each span (world frame).
+    gravity_dir : ndarray, shape (3,)
+        Unit vector of gravity (world frame).
+    inertia_per_m_N, drag_per_m_N : ndarray, shape (n, 3)
+        Lateral inertia (-m_eff a per length) and drag loads per length, N/m,
+        world frame (their axial parts are removed here).
+    e1, e2 : ndarray, shape (n, 3)
+        Cross-section axes (unit, normal to ``axis``) in which q is wanted.
+    out_q : ndarray, shape (n, 2)
+    """
+    for i in range(axis.shape[0]):
+        f0 = weight_per_m_N[i] * gravity_dir[0] + inertia_per_m_N[i, 0] + drag_per_m_N[i, 0]
+        f1 = weight_per_m_N[i] * gravity_dir[1] + inertia_per_m_N[i, 1] + drag_per_m_N[i, 1]
+        f2 = weight_per_m_N[i] * gravity_dir[2] + inertia_per_m_N[i, 2] + drag_per_m_N[i, 2]
+        a = f0 * axis[i, 0] + f1 * axis[i, 1] + f2 * axis[i, 2]
+        f0 -= a * axis[i, 0]
+        f1 -= a * axis[i, 1]
+        f2 -= a * axis[i, 2]
+        out_q[i, 0] = f0 * e1[i, 0] + f1 * e1[i, 1] + f2 * e1[i, 2]
+        out_q[i, 1] = f0 * e2[i, 0] + f1 * e2[i, 1] + f2 * e2[i, 2]
+    return STATUS_OK
+
+
+
+@njit(cache=True)
+def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_right, read_s,
+                       span_L, span_ei, span_T, span_q, work, sup_M, read_M):
+    """Span-bending moments at read points of a segment chain with given supports.
+
+    The glue for the dynamics: supports (contact points in contact, tool
+    joints, stabilizer blades) and read points (recorded joints) are given by
+    their distance from the bit; each span between consecutive supports takes
+    the segments' properties over its length (EI as the length-weighted
+    harmonic mean, since end rotations integrate 1/EI; axial force and load
+    as length-weighted means), then :func:`support_moments` and
+    :func:`moments_at`. Read points outside [sup_s[0], sup_s[-1]] get zero
+    (the chain ends are supports).
+
+    Parameters
+    ----------
+    sup_s : ndarray, shape (n_sup,)
+        Support positions from the bit, m, strictly increasing (n_sup >= 2).
+    seg_top_s : ndarray, shape (n_seg + 1,)
+        Segment boundaries from the bit, m (0 first, increasing).
+    seg_ei, seg_T : ndarray, shape (n_seg,)
+        Bending stiffness (N m^2) and effective axial force (N, tension > 0).
+    seg_q : ndarray, shape (n_seg, 2)
+        Transverse load per length of each segment in the common
+        cross-section frame, N/m.
+    end_left, end_right : int
+        End conditions at the first and last support.
+    read_s : ndarray, shape (n_read,)
+        Read positions from the bit, m.
+    span_L, span_ei, span_T : ndarray, shape (n_sup - 1,)
+    span_q : ndarray, shape (n_sup - 1, 2)
+    work : ndarray, shape (n_sup, 6)
+        Scratch.
+    sup_M : ndarray, shape (n_sup, 2)
+    read_M : ndarray, shape (n_read, 2)
+        Outputs: moments over the supports and at the read points, N m.
+
+    Returns
+    -------
+    int
+        A status of :func:`support_moments` (``STATUS_BAD_SPAN`` also for
+        unsorted supports or a span outside the segments).
+    """
+    n_sup = sup_s.shape[0]
+    n_seg = seg_ei.shape[0]
+    read_M[:, :] = 0.0
+    if n_sup < 2:
+        sup_M[:, :] = 0.0
+        return STATUS_OK
+    j = 0
+    for k in range(n_sup - 1):
+        a = sup_s[k]
+        b = sup_s[k + 1]
+        if not (b > a) or a < seg_top_s[0] - 1e-9 or b > seg_top_s[n_seg] + 1e-9:
+            return STATUS_BAD_SPAN
+        while j < n_seg - 1 and seg_top_s[j + 1] <= a:
+            j += 1
+        flex = 0.0
+        t = 0.0
+        q0 = 0.0
+        q1 = 0.0
+        i = j
+        while i < n_seg and seg_top_s[i] < b:
+            lo = max(a, seg_top_s[i])
+            hi = min(b, seg_top_s[i + 1])
+            w = hi - lo
+            if w > 0.0:
+                flex += w / seg_ei[i]
+                t += w * seg_T[i]
+                q0 += w * seg_q[i, 0]
+                q1 += w * seg_q[i, 1]
+            i += 1
+        L = b - a
+        span_L[k] = L
+        span_ei[k] = L / flex if flex > 0.0 else seg_ei[j]
+        span_T[k] = t / L
+        span_q[k, 0] = q0 / L
+        span_q[k, 1] = q1 / L
+    st = support_moments(span_L, span_ei, span_T, span_q, end_left, end_right, work, sup_M)
+    if st != STATUS_OK:
+        return st
+    for r in range(read_s.shape[0]):
+        x = read_s[r]
+        if x < sup_s[0] or x > sup_s[n_sup - 1]:
+            continue
+        lo = 0
+        hi = n_sup - 1
+        while hi - lo > 1:  # span of x by bisection
+            mid = (lo + hi) // 2
+            if sup_s[mid] <= x:
+                lo = mid
+            else:
+                hi = mid
+        L = span_L[lo]
+        ga, gb, h = _span_shape(span_T[lo] * L * L / span_ei[lo], L, min(x - sup_s[lo], L))
+        read_M[r, 0] = ga * sup_M[lo, 0] + gb * sup_M[lo + 1, 0] + h * span_q[lo, 1]
+        read_M[r, 1] = ga * sup_M[lo, 1] + gb * sup_M[lo + 1, 1] - h * span_q[lo, 0]
+    return STATUS_OK

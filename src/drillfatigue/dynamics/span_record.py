@@ -1,0 +1,224 @@
+"""Span correction at the recorded joints: bending between the wall supports (MODEL.md section 10).
+
+A chain of rigid segments lying on the wall is nearly collinear, so its joint
+moments miss what the pipe's own weight does between the points where it
+touches the wall (about w L^2 / 12 over each support of a long row of equal
+spans). :func:`span_sample` adds that quasi-statically at a recorded sample,
+without feeding anything back into the integrator:
+
+1. Supports: the bit (s = 0) and every contact point of every active segment
+   that penetrates the wall now (:func:`drillfatigue.dynamics.contact.find_contact`
+   from the point's hint, which it does not update), by distance from the bit;
+   points closer than ``MERGE_M`` count once.
+2. Load per length, across the segment's axis, in the world frame: buoyed
+   weight + lateral mud drag + the segment's lateral inertia -m_lat a / L.
+   As the integrator moves the segment by a = F / m_lat (F all forces on
+   it), the inertia is -F / L whatever the lateral mass, so the load is
+   (weight + drag - F) / L: the part of the weight and drag that the
+   concentrated wall and joint forces hold, smeared uniformly over the
+   segment. At rest on its supports this is the weight. (The inertia of the
+   segment's tilting, a load varying linearly along it, is not included.)
+   A segment with three or more points, all in the wall, is in line contact:
+   the wall carries its load along its length and it gets none.
+3. Axial force of a segment: the mean effective tension of its two joints
+   (the bit end of the first segment takes its one joint's value).
+4. :func:`drillfatigue.dynamics.span_bending.chain_span_moments` with both
+   chain ends pinned, once for the world (x, y) load components and once for
+   z; the moments are put together as world vectors and resolved in each
+   recorded joint's frame (the mid-rotation frame of its two segments, the
+   frame of ``bending_x/y_Nm``), which turns with the pipe, so the correction
+   alternates once per revolution.
+
+Validity (see :mod:`drillfatigue.dynamics.span_bending`): small deflections,
+a span that does not touch the wall between its supports (not checked here:
+the contact points' spacing rule of :mod:`drillfatigue.string.contacts` puts
+points where a span could reach the wall), supports that do not move
+relative to each other under the load. A span at or beyond its Euler load
+in compression gives a status other than OK: the sample's corrections are
+then zero and the status is returned (the caller counts such samples).
+Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
+p.ei, p.topp``, ``wk.loads``; scratch allocated per call (a sample is taken
+every few hundred steps).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from drillfatigue.dynamics.contact import OUT_DELTA, OUT_SIZE, contact_point, find_contact
+from drillfatigue.dynamics.layout import (
+    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_CL, S_H, S_W,
+)
+from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
+from drillfatigue.dynamics.span_bending import END_PINNED, STATUS_OK, chain_span_moments
+
+#: supports closer than this along the string are one support, m
+MERGE_M = 0.01
+
+
+@njit(cache=True)
+def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
+    """The joint frame of :func:`drillfatigue.dynamics.joints.joint_force`: the lower
+    segment's frame turned by half the relative rotation."""
+    quat_conj_mul(q_lo, q_up, qr)
+    if qr[0] < 0.0:
+        for k in range(4):
+            qr[k] = -qr[k]
+    nrm = np.sqrt((1.0 + qr[0]) ** 2 + qr[1] ** 2 + qr[2] ** 2 + qr[3] ** 2)
+    qh[0] = (1.0 + qr[0]) / nrm
+    qh[1] = qr[1] / nrm
+    qh[2] = qr[2] / nrm
+    qh[3] = qr[3] / nrm
+    quat_mul(q_lo, qh, qm)
+    quat_to_rot(qm, Rm)
+
+
+@njit(cache=True)
+def span_sample(n, s, p, wk, sel, out):
+    """Span-bending moments at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
+    ``sel[a]``'s frame, N m (module docstring). Returns a span-bending status."""
+    for a in range(sel.size):
+        out[a, 0] = 0.0
+        out[a, 1] = 0.0
+    if n < 2:
+        return STATUS_OK
+    seg = p.seg
+    cpar = p.cpar
+    x = s.x
+    hint = s.hint
+    wall = p.wall
+    p0 = wall[:, 0:3]
+    axc = wall[:, 3:6]
+    lnc = wall[:, 6]
+    rad = wall[:, 7]
+    loads = wk.loads
+    table = cpar[P_CPTAB] != 0.0
+    npts = int(cpar[P_NPTS])
+    tbase = MAX_CONTACT_POINTS * x.shape[0]
+    # segment boundaries from the bit, axes, loads and properties
+    top_s = np.zeros(n + 1)
+    for i in range(n):
+        top_s[i + 1] = top_s[i] + 2.0 * seg[i, S_H]
+    R = np.zeros((n, 3, 3))
+    for i in range(n):
+        quat_to_rot(s.q[i], R[i])
+    seg_q = np.zeros((n, 2))
+    seg_qz = np.zeros((n, 2))
+    seg_T = np.zeros(n)
+    seg_ei = np.zeros(n)
+    Fw = s.Fw
+    v = s.v
+    for i in range(n):
+        inv_l = 1.0 / (2.0 * seg[i, S_H])
+        # weight + drag - m_lat a = weight + drag - (all forces): the distributed load
+        # that the wall and joint forces at the supports hold (see the module docstring)
+        cl = seg[i, S_CL]
+        ex = R[i, 0, 2]
+        ey = R[i, 1, 2]
+        ez = R[i, 2, 2]
+        vax = v[i, 0] * ex + v[i, 1] * ey + v[i, 2] * ez
+        gx = -cl * (v[i, 0] - vax * ex) - Fw[i, 0]
+        gy = -cl * (v[i, 1] - vax * ey) - Fw[i, 1]
+        gz = -cl * (v[i, 2] - vax * ez) - Fw[i, 2] + seg[i, S_W]
+        ga = gx * ex + gy * ey + gz * ez
+        seg_q[i, 0] = (gx - ga * ex) * inv_l
+        seg_q[i, 1] = (gy - ga * ey) * inv_l
+        seg_qz[i, 0] = (gz - ga * ez) * inv_l
+        lo = loads[i - 1, 0] if i > 0 else loads[0, 0]
+        up = loads[i, 0] if i < n - 1 else loads[n - 2, 0]
+        seg_T[i] = 0.5 * (lo + up)
+        seg_ei[i] = p.ei[i]
+    # supports: the bit and the contact points in the wall now
+    cap = 1 + n * MAX_TABLE_POINTS
+    sup = np.zeros(cap)
+    nsup = 1
+    X = np.zeros(3)
+    info = np.zeros(OUT_SIZE)
+    for i in range(n):
+        own = table and i < n - 1
+        npi = int(p.cp_n[i]) if own else npts
+        h = seg[i, S_H]
+        ncon = 0
+        for pt in range(npi):
+            if own:
+                off = p.cp[i, pt, 0]
+                rc = p.cp[i, pt, 1]
+                hi = hint[tbase + MAX_TABLE_POINTS * i + pt]
+                if hi < 0:
+                    hi = hint[MAX_CONTACT_POINTS * i]
+            else:
+                off, rc = contact_point(seg, i, pt)
+                hi = hint[MAX_CONTACT_POINTS * i + pt]
+            for k in range(3):
+                X[k] = x[i, k] + off * R[i, k, 2]
+            find_contact(X, rc, p0, axc, lnc, rad, hi, info)
+            if info[OUT_DELTA] > 0.0:
+                sup[nsup] = top_s[i] + h - off
+                nsup += 1
+                ncon += 1
+        if npi >= 3 and ncon == npi:
+            # line contact: the wall carries the segment's weight along its length
+            seg_q[i, 0] = 0.0
+            seg_q[i, 1] = 0.0
+            seg_qz[i, 0] = 0.0
+    sup_s = np.sort(sup[:nsup])
+    keep = np.zeros(nsup, dtype=np.bool_)
+    last = -1.0
+    m = 0
+    for k in range(nsup):
+        if k == 0 or sup_s[k] - last > MERGE_M:
+            keep[k] = True
+            last = sup_s[k]
+            m += 1
+    if m < 2:
+        return STATUS_OK
+    sup_c = np.zeros(m)
+    j = 0
+    for k in range(nsup):
+        if keep[k]:
+            sup_c[j] = min(max(sup_s[k], 0.0), top_s[n])
+            j += 1
+    nr = sel.size
+    read_s = np.zeros(nr)
+    for a in range(nr):
+        read_s[a] = top_s[min(sel[a], n - 1) + 1]
+    span_L = np.zeros(m - 1)
+    span_ei = np.zeros(m - 1)
+    span_T = np.zeros(m - 1)
+    span_q = np.zeros((m - 1, 2))
+    work = np.zeros((m, 6))
+    sup_M = np.zeros((m, 2))
+    rxy = np.zeros((nr, 2))
+    rz = np.zeros((nr, 2))
+    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_q, END_PINNED, END_PINNED, read_s,
+                            span_L, span_ei, span_T, span_q, work, sup_M, rxy)
+    if st != STATUS_OK:
+        return st
+    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED, read_s,
+                            span_L, span_ei, span_T, span_q, work, sup_M, rz)
+    if st != STATUS_OK:
+        return st
+    qr = np.zeros(4)
+    qh = np.zeros(4)
+    qm = np.zeros(4)
+    Rm = np.zeros((3, 3))
+    for a in range(nr):
+        jj = sel[a]
+        if jj >= n - 1:
+            continue
+        # sagging moments of the world load components (span_bending's vector convention)
+        msx = -rxy[a, 1]
+        msy = rxy[a, 0]
+        msz = -rz[a, 1]
+        _joint_frame(s.q[jj], s.q[jj + 1], qr, qh, qm, Rm)
+        t0 = Rm[0, 2]
+        t1 = Rm[1, 2]
+        t2 = Rm[2, 2]
+        # moment vector sum_c M_c (e_c x t)
+        mw0 = msy * t2 - msz * t1
+        mw1 = msz * t0 - msx * t2
+        mw2 = msx * t1 - msy * t0
+        out[a, 0] = Rm[0, 0] * mw0 + Rm[1, 0] * mw1 + Rm[2, 0] * mw2
+        out[a, 1] = Rm[0, 1] * mw0 + Rm[1, 1] * mw1 + Rm[2, 1] * mw2
+    return STATUS_OK

@@ -1,0 +1,99 @@
+"""Properties of the recorded span correction (dynamics.span_record.span_sample).
+
+* Frame: spinning every segment by the same angle psi about its own axis
+  changes neither the supports nor the load, so the moment vector is the same
+  in the world and its joint-frame components turn by -psi (the frame turned
+  by +psi). Checked to 1e-9 relative (round-off of the quaternion products).
+* Linearity: the load is the segments' weight (at rest, no forces other than
+  the weight's reactions are distributed), so scaling the weight scales the
+  moments (1e-9 relative).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from drillfatigue.config import case_from_dict
+from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics.model import build_model, evaluate_forces, straight_path
+from drillfatigue.dynamics.rigid import quat_mul
+from drillfatigue.dynamics.span_record import span_sample
+
+JOINT_M = 9.144
+
+
+def _model():
+    length = 6 * JOINT_M + 5.0
+    cfg = case_from_dict({
+        "string": {"components": [{"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086,
+                                   "length_m": length, "tool_joint_od_m": 0.1683,
+                                   "tool_joint_id_m": 0.0826, "joints_per_segment": 1}]},
+        "operation": {"bit_md_m": length + 1.0, "top_md_m": 1.0, "bit_on_bottom": False,
+                      "top_axial": "fixed", "rpm": 0.0, "mud_density_kg_per_m3": 0.0},
+        "solver": {"relax_s": 0.0},
+        "contact": {"points": "string", "span_bending": True},
+    })
+    model, state = build_model(cfg, straight_path(100.0, 90.0, hole_diameter_m=0.2159))
+    # rest every segment on the low side, tool joints 0.1 mm into the wall
+    drop = 0.5 * 0.2159 - 0.5 * 0.1683 + 1e-4
+    state.x[: model.n0, 2] += drop
+    return model, state
+
+
+MODEL, STATE = _model()
+SEL = np.arange(MODEL.n0 - 1, dtype=np.int64)
+
+
+def _sample(state) -> np.ndarray:
+    evaluate_forces(MODEL, state)
+    # the distributed load at rest is the weight: zero the net forces of the kinematic
+    # placement (a static state, the wall's reactions at the supports)
+    state.Fw[:] = 0.0
+    state.v[:] = 0.0
+    out = np.zeros((SEL.size, 2))
+    st = span_sample(MODEL.n0, state, MODEL.params, MODEL.work, SEL, out)
+    assert st == 0
+    return out
+
+
+BASE = _sample(STATE.copy())
+
+
+def test_the_resting_pipe_has_span_moments() -> None:
+    w = MODEL.seg[0, L.S_W] / (2.0 * MODEL.seg[0, L.S_H])
+    mag = np.hypot(BASE[:, 0], BASE[:, 1])
+    # 6 spans pinned at both ends: interior supports 0.077-0.086 w L^2 (three-moment)
+    assert np.all(mag[:-1] > 0.07 * w * JOINT_M ** 2)
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.floats(-math.pi, math.pi))
+def test_spinning_every_segment_turns_the_components(psi: float) -> None:
+    s = STATE.copy()
+    qz = np.array([math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)])
+    out = np.zeros(4)
+    for i in range(MODEL.n0):
+        quat_mul(s.q[i].copy(), qz, out)
+        s.q[i] = out
+    got = _sample(s)
+    c, sn = math.cos(psi), math.sin(psi)
+    want = np.stack([c * BASE[:, 0] + sn * BASE[:, 1], -sn * BASE[:, 0] + c * BASE[:, 1]],
+                    axis=1)
+    scale = np.abs(BASE).max()
+    assert np.allclose(got, want, rtol=0, atol=1e-9 * scale)
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.floats(0.2, 5.0))
+def test_moments_scale_with_the_weight(k: float) -> None:
+    saved = MODEL.seg[:, L.S_W].copy()
+    try:
+        MODEL.seg[:, L.S_W] *= k
+        got = _sample(STATE.copy())
+    finally:
+        MODEL.seg[:, L.S_W] = saved
+    assert np.allclose(got, k * BASE, rtol=0, atol=1e-9 * k * np.abs(BASE).max())
