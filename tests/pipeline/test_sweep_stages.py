@@ -16,6 +16,7 @@ import pytest
 import yaml
 
 from drillfatigue.config import load_params
+from drillfatigue.config.fatigue import UPSET_TYPES
 from drillfatigue.sweep.stages import dataset_stage, design_stage, fatigue_stage, simulate_stage
 from testkit.synthetic_sweep import synthetic_case, synthetic_fatigue
 
@@ -103,7 +104,13 @@ def test_chain_with_real_simulator_and_fatigue(tmp_path):
     assert _script("dataset").main(["--params", str(path)]) == 0
     df = pd.read_parquet(tmp_path / "dataset" / "damage.parquet")
     assert df["case_id"].nunique() == 2
-    assert len(df) == 2 * 2 * 2  # 2 cases x 2 recorded joints x (body, connection)
+    # 2 cases x 2 recorded joints x (body, connection), and the upset run-out of drill pipe
+    per_joint = df.groupby(["case_id", "joint"])["location"].agg(lambda x: tuple(sorted(x)))
+    assert len(per_joint) == 2 * 2
+    ctype = df.groupby(["case_id", "joint"])["component_type"].first()
+    for key, locs in per_joint.items():
+        want = ("body", "connection", "upset") if ctype[key] in UPSET_TYPES else ("body", "connection")
+        assert locs == want, (key, ctype[key], locs)
     for col in ("damage_rate_per_h_matake", "damage_rate_per_h_uniaxial", "damage_rate_per_h_api_rp7g",
                 "peak_surface_torque_Nm", "rms_surface_torque_Nm", "md_m", "s_from_bit_m"):
         assert col in df.columns, col

@@ -54,7 +54,7 @@ from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.config.studies import Case2Config
 from drillfatigue.config.well import FamilySpec, ProfileSpec
 from drillfatigue.errors import InputError
-from drillfatigue.fatigue.run import evaluate_run
+from drillfatigue.fatigue.run import LOCATIONS, evaluate_run, joint_locations
 from drillfatigue.files import OutputFolder
 from drillfatigue.plotting import subplots
 from drillfatigue.studies.case2 import case_dict, sample_bit_md
@@ -144,8 +144,15 @@ def _flat_inputs(case: dict[str, Any]) -> dict[str, Any]:
     return row
 
 
-def candidate_rows(cset: CandidateFile, name: str) -> pd.DataFrame:
-    """Surrogate query rows of one candidate (see the module docstring)."""
+def candidate_rows(cset: CandidateFile, name: str,
+                   locations: tuple[str, ...] | None = None) -> pd.DataFrame:
+    """Surrogate query rows of one candidate (see the module docstring).
+
+    Each joint is queried at the locations the fatigue chain evaluates there
+    (:func:`drillfatigue.fatigue.run.joint_locations` with the candidates'
+    fatigue settings: body, connection and, on drill pipe, the upset run-out),
+    limited to ``locations`` when given (the levels a surrogate knows).
+    """
     w = cset.window
     well = well_section(cset)
     sv = build_survey(validate(WellConfig, {**well, "profile": name}, "candidates"))
@@ -161,9 +168,15 @@ def candidate_rows(cset: CandidateFile, name: str) -> pd.DataFrame:
         ctype = np.where(s < dc_len - 1e-9, "collar", "drill_pipe")
         md = b - s
         geo = survey_features(sv, md, np.full(md.shape, b))
-        for loc in ("body", "connection"):
+        for loc in LOCATIONS:
+            if locations is not None and loc not in locations:
+                continue
+            keep = np.array([loc in joint_locations(str(c), cset.fatigue) for c in ctype])
+            if not keep.any():
+                continue
             f = pd.DataFrame({"s_from_bit_m": s, "md_m": md, **geo,
-                              "component_type": ctype, "location": loc, "joint": np.arange(s.size)})
+                              "component_type": ctype, "location": loc,
+                              "joint": np.arange(s.size)})[keep].reset_index(drop=True)
             for k, v in base.items():
                 f[k] = v
             f["bit_position_md_m"] = b
@@ -179,7 +192,8 @@ def predict_candidates(cset: CandidateFile, surrogate: Any) -> pd.DataFrame:
     w = cset.window
     dt_h = (w.window_s / (cset.surrogate_bit_positions - 1)) / 3600.0
     for name in cset.candidates:
-        q = candidate_rows(cset, name)
+        known = surrogate.categories.get("location") if hasattr(surrogate, "categories") else None
+        q = candidate_rows(cset, name, tuple(known) if known is not None else None)
         missing = [c for c in list(surrogate.features) + list(surrogate.categorical)
                    if c not in q.columns]
         if missing:
