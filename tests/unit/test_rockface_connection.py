@@ -130,7 +130,8 @@ def test_connection_sequence_phases_rpm_block_and_slips() -> None:
     assert seq == [0, 1, 2, 3, 4, 5, 6, 7, 0]
     # rotation: full while picking up, ramps 1 -> 0, zero in slips, ramps back, full when drilling
     rpm = rec[:, C.CC_RPM_FACTOR]
-    assert np.all(rpm[ph == C.PH_PICKUP] == 1.0) and np.all(rpm[(ph == C.PH_SLIPS) | (ph == C.PH_STAND)] == 0.0)
+    assert np.all(rpm[ph == C.PH_PICKUP] == 1.0)
+    assert np.all(rpm[(ph == C.PH_SLIPS) | (ph == C.PH_STAND)] == 0.0)
     assert np.all(np.abs(np.diff(rpm)) < 0.01)  # continuous ramps (no jump), sampled every 0.015 s
     # block: up by pickup_m, held, down by pickup_m: the integral of its velocity command is zero
     v = np.nan_to_num(rec[:, C.CC_BLOCK_V])

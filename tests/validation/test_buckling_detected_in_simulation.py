@@ -7,7 +7,7 @@ imperfection in the shape of a 25 m buckle). The detector reads only the
 segment positions, the hole axis and the contact forces, as it will on a
 run's kinematics: at 0.8 F_DP every window is ``none``; at 1.2 F_DP (the
 issue's +-20 % band) the middle of the string is ``sinusoidal`` with a
-wavelength of the order of the Dawson-Paslay half-wave spacing
+wavelength close to the Dawson-Paslay buckle wavelength
 (``2 pi (EI r_c / (w sin I))^(1/4)`` = 25.8 m for this pipe). Measured: the
 two 52 m windows swing 0.55 and 0.59 of the clearance with wavelengths 24 and
 28 m; asked within 25 % of 25.8 m, since a 3 s hold shows the early buckle,

@@ -250,7 +250,8 @@ class RigConfig(StrictModel):
     def _check(self) -> RigConfig:
         m = self.block_mode
         if self.rop_set_m_per_s is not None and m != "rop":
-            raise ValueError(f"rop_set_m_per_s: not used by block_mode {m} (allowed: only with block_mode rop)")
+            raise ValueError(f"rop_set_m_per_s: not used by block_mode {m} "
+                             "(allowed: only with block_mode rop)")
         if self.trip_speed_m_per_s is not None and m != "trip":
             raise ValueError(f"trip_speed_m_per_s: not used by block_mode {m} "
                              "(allowed: only with block_mode trip)")
@@ -258,7 +259,8 @@ class RigConfig(StrictModel):
             raise ValueError(f"autodriller: not used by block_mode {m} "
                              "(allowed: only with block_mode autodriller)")
         if m == "rop" and self.rop_set_m_per_s is None:
-            raise ValueError("rop_set_m_per_s: block_mode rop needs a set-point (allowed: 0 < rop_set_m_per_s)")
+            raise ValueError("rop_set_m_per_s: block_mode rop needs a set-point "
+                             "(allowed: 0 < rop_set_m_per_s)")
         if m == "trip" and not self.trip_speed_m_per_s:
             raise ValueError("trip_speed_m_per_s: block_mode trip needs a non-zero block speed "
                              "(allowed: > 0 running in, < 0 pulling out)")
@@ -387,8 +389,8 @@ def check_rig_setup(rig: RigConfig, case: CaseConfig, c_rop_m_per_N_s: float = 0
     if pm < MIN_PHASE_MARGIN_RAD:
         # the margin is lost both at small kp (integral action dominates: phase near -pi) and at
         # large kp (the delay): report the interval of kp with enough margin at this ki
-        grid = [ad.kp_m_per_s_per_N * 10.0 ** (e / 40.0) if ad.kp_m_per_s_per_N > 0 else 10.0 ** (e / 40.0 - 7)
-                for e in range(-160, 161)]
+        kp0 = ad.kp_m_per_s_per_N if ad.kp_m_per_s_per_N > 0 else 1e-7
+        grid = [kp0 * 10.0 ** (e / 40.0) for e in range(-160, 161)]
         ok = [kp for kp in grid if autodriller_loop(kp, ad.ki_m_per_s2_per_N, props["k_axial_N_per_m"],
                                                     c_rop_m_per_N_s, delay)[1] >= MIN_PHASE_MARGIN_RAD]
         allowed = (f"{min(ok):.3g} <= kp_m_per_s_per_N <= {max(ok):.3g} with ki_m_per_s2_per_N = "

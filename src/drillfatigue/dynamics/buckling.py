@@ -288,7 +288,8 @@ def buckling_along_string(
                            helical_onset_N=f_h, helical_form=helical_form, **res)
 
 
-def buckling_for_case(case: CaseConfig, td: TorqueDrag, helical_form: HelicalForm = "chen") -> BucklingProfile:
+def buckling_for_case(case: CaseConfig, td: TorqueDrag,
+                      helical_form: HelicalForm = "chen") -> BucklingProfile:
     """Buckling margins along the string of a case for its soft-string result ``td``.
 
     Cells are those of ``td`` (from :func:`drillfatigue.dynamics.softstring.torque_drag_for_case`);
