@@ -255,3 +255,49 @@ def test_string_axial_properties_of_a_uniform_pipe() -> None:
     ea = 207e9 * math.pi / 4 * (0.127**2 - 0.1086**2)
     assert props["k_axial_N_per_m"] == pytest.approx(ea / 800.0, rel=1e-6)  # top pipe extended to 800 m
     assert props["wave_speed_m_per_s"] == pytest.approx(math.sqrt(207e9 / 7850.0), rel=1e-3)
+
+
+def test_string_first_torsional_mode_matches_the_shaft_with_end_inertia() -> None:
+    # 1800 m of pipe (no tool joints) over 200 m of collars: the lumped chain of the
+    # simulator's segments against x tan x = J_pipe / J_bha with the collars rigid. The
+    # collars' own compliance (GJ of 6 3/4 in collars is 7x the pipe's over 1/9 of the
+    # length) and the 20 m lumping move the mode by a few tenths of a per cent (measured
+    # -0.12 %): tolerance 1 %.
+    from drillfatigue.config.rig import string_torsional_properties
+
+    pipe = {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 1800.0, "n_segments": 90,
+            "tool_joint_length_fraction": 0.0}
+    collar = {"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 200.0, "n_segments": 20}
+    case = case_from_dict({"string": {"components": [collar, pipe]},
+                           "operation": {"bit_md_m": 2000.0, "top_md_m": 0.0}})
+    props = string_torsional_properties(case)
+    jp = math.pi / 32 * (0.127**4 - 0.1086**4)
+    jc = math.pi / 32 * (0.17145**4 - 0.0714**4)
+    g = 207e9 / (2 * 1.3)
+    c = math.sqrt(g / 7850.0)
+    w1 = R.torsional_first_mode_rad_s(1800.0, c, 7850.0 * jp * 1800.0, 7850.0 * jc * 200.0)
+    assert props["first_mode_rad_s"] == pytest.approx(w1, rel=0.01)
+    assert props["impedance_Nms_per_rad"] == pytest.approx(jp * math.sqrt(g * 7850.0), rel=1e-6)
+
+
+def test_packed_parameters_follow_the_modes() -> None:
+    from drillfatigue.config.rig import block_params, top_drive_params
+
+    mode, p = block_params(RigConfig(), hook_off_N=8e5)
+    assert mode == R.BLOCK_AUTODRILLER_HOOK and p[R.BP_HOFF] == 8e5 and p[R.BP_WOBSET] == 1e5
+    mode, p = block_params(validate(RigConfig, {"block_mode": "trip", "trip_speed_m_per_s": -0.5}))
+    assert mode == R.BLOCK_VELOCITY and p[R.BP_VSET] == -0.5
+    mode, p = block_params(validate(RigConfig, {"autodriller": {"measurement": "wob"}}))
+    assert mode == R.BLOCK_AUTODRILLER_WOB
+    case = case_from_dict(CASE)
+    mode, p, info = top_drive_params(RigConfig(), case)
+    assert mode == R.TOP_DRIVE_STIFF and p[R.TP_J] == pytest.approx(10.5**2 * 8.0 + 50.0)
+    mode, p, info = top_drive_params(validate(RigConfig, {"top_drive": {"tuning": "soft_torque"}}), case)
+    from drillfatigue.config.rig import string_torsional_properties
+    props = string_torsional_properties(case)
+    assert mode == R.TOP_DRIVE_PI
+    assert p[R.TP_KP] == pytest.approx(props["impedance_Nms_per_rad"])
+    assert p[R.TP_KI] == pytest.approx(p[R.TP_J] * props["first_mode_rad_s"] ** 2)
+    mode, p, info = top_drive_params(validate(RigConfig, {"top_drive": {"tuning": "soft_torque",
+                                                                        "stick_slip_period_s": 5.0}}), case)
+    assert info["stick_slip_omega_rad_s"] == pytest.approx(2 * math.pi / 5.0)
