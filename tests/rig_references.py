@@ -12,6 +12,12 @@ kernels the simulator will call (``rig.top_drive_step``,
 simulator's boundaries room will. :func:`stick_slip_metrics` measures
 period, break-off torque and severity the same way on both.
 
+:func:`single_mass_autodriller`: the block kernel in autodriller mode on a
+single-mass axial model of the string (a lumped mass on the string spring,
+standing on a rock spring-dashpot, mud drag, a rock face advancing at
+``c WOB``), started in steady drilling at ``W0`` with a set-point step to
+``W1``; its closed-form reference is ``rig.second_order_step``.
+
 The well (stated here, not a published one): 2000 m of 5 in 19.5 lb/ft drill
 pipe (J_p = 1.188e-5 m^4, G = 79.6 GPa, rho = 7850 kg/m^3) above 200 m of
 6 3/4 in x 2.81 in collars (J = 8.23e-5 m^4, treated as rigid: 129 kg m^2),
@@ -260,3 +266,50 @@ def stick_slip_metrics(res: dict[str, np.ndarray], omega_target: float, t_from: 
         peaks = [tq[a:b].max() for a, b in zip(st[:-1], st[1:], strict=True)]
         out["break_off_Nm"] = float(np.median(peaks))
     return out
+
+
+# --- autodriller on a single-mass string ---------------------------------------------------
+
+G = 9.80665
+M = 40e3  # kg
+KS = 7e5  # N/m: 1000 m of 5 in drill pipe, EA/L
+KR = 5e7  # N/m rock contact
+CR = 2.0 * 0.2 * math.sqrt(KR * M)  # 20 % of critical, the rig config's rock damping default
+K_EFF = 1.0 / (1.0 / KS + 1.0 / KR)
+CM = 2.0 * 0.2 * math.sqrt(K_EFF * M)  # mud drag on the mass: 20 % of critical of the axial mode
+C_ROP = (20.0 / 3600.0) / 1e5  # 20 m/h at 100 kN
+KP, KI = 5.7e-7, 5.7e-8
+W0, W1 = 50e3, 80e3
+
+
+def single_mass_autodriller(mode: int, ts: float, kp: float = KP, ki: float = KI, t_end: float = 60.0,
+              dt: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
+    v0 = C_ROP * W0
+    p = np.zeros(R.N_BLOCK_P)
+    p[R.BP_VMAX], p[R.BP_AMAX], p[R.BP_TRAVEL] = 1.5, 0.5, 1e3
+    p[R.BP_WOBSET], p[R.BP_KP], p[R.BP_KI], p[R.BP_TS] = W1, kp, ki, ts
+    p[R.BP_HOFF] = M * G  # the autodriller's zero: the off-bottom hook load
+    p[R.BP_ROPLIM] = 1.0
+    s = R.new_block_state(10.0, v0)
+    s[R.BS_I] = v0 / ki  # steady drilling at W0: the integral holds the block at the ROP
+    s[R.BS_VCMD] = v0
+    # equilibrium at W0: rock at 0, mass W0/KR into it, string stretched by (M g - W0)/KS
+    r = 0.0
+    y = W0 / KR
+    x0 = s[R.BS_X]
+    yd = v0
+    off = y - x0 - (M * G - W0 - CM * yd) / KS  # so that the mass is in equilibrium at t = 0
+    n = int(round(t_end / dt))
+    t = np.empty(n)
+    wob = np.empty(n)
+    for k in range(n):
+        xb = s[R.BS_X]
+        h = KS * (y - xb - off)
+        w = max(0.0, KR * (y - r) + CR * (yd - C_ROP * KR * (y - r)))
+        R.block_step(mode, p, s, w, h, dt)
+        yd += dt * (M * G - h - w - CM * yd) / M
+        y += dt * yd
+        r += dt * C_ROP * w
+        t[k] = (k + 1) * dt
+        wob[k] = w
+    return t, wob

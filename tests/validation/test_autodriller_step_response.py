@@ -18,61 +18,23 @@ period.
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from drillfatigue.dynamics import rig as R
 
-G = 9.80665
-M = 40e3  # kg
-KS = 7e5  # N/m: 1000 m of 5 in drill pipe, EA/L
-KR = 5e7  # N/m rock contact
-CR = 2.0 * 0.2 * math.sqrt(KR * M)  # 20 % of critical, the rig config's rock damping default
-K_EFF = 1.0 / (1.0 / KS + 1.0 / KR)
-CM = 2.0 * 0.2 * math.sqrt(K_EFF * M)  # mud drag on the mass: 20 % of critical of the axial mode
-C_ROP = (20.0 / 3600.0) / 1e5  # 20 m/h at 100 kN
-KP, KI = 5.7e-7, 5.7e-8
-W0, W1 = 50e3, 80e3
-
-
-def _simulate(mode: int, ts: float, kp: float = KP, ki: float = KI, t_end: float = 60.0,
-              dt: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
-    v0 = C_ROP * W0
-    p = np.zeros(R.N_BLOCK_P)
-    p[R.BP_VMAX], p[R.BP_AMAX], p[R.BP_TRAVEL] = 1.5, 0.5, 1e3
-    p[R.BP_WOBSET], p[R.BP_KP], p[R.BP_KI], p[R.BP_TS] = W1, kp, ki, ts
-    p[R.BP_HOFF] = M * G  # the autodriller's zero: the off-bottom hook load
-    p[R.BP_ROPLIM] = 1.0
-    s = R.new_block_state(10.0, v0)
-    s[R.BS_I] = v0 / ki  # steady drilling at W0: the integral holds the block at the ROP
-    s[R.BS_VCMD] = v0
-    # equilibrium at W0: rock at 0, mass W0/KR into it, string stretched by (M g - W0)/KS
-    r = 0.0
-    y = W0 / KR
-    x0 = s[R.BS_X]
-    yd = v0
-    off = y - x0 - (M * G - W0 - CM * yd) / KS  # so that the mass is in equilibrium at t = 0
-    n = int(round(t_end / dt))
-    t = np.empty(n)
-    wob = np.empty(n)
-    for k in range(n):
-        xb = s[R.BS_X]
-        h = KS * (y - xb - off)
-        w = max(0.0, KR * (y - r) + CR * (yd - C_ROP * KR * (y - r)))
-        R.block_step(mode, p, s, w, h, dt)
-        yd += dt * (M * G - h - w - CM * yd) / M
-        y += dt * yd
-        r += dt * C_ROP * w
-        t[k] = (k + 1) * dt
-        wob[k] = w
-    return t, wob
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from rig_references import (C_ROP, K_EFF, KI, KP, KS, W0, W1,  # noqa: E402
+                            single_mass_autodriller)
 
 
 @pytest.mark.parametrize(("mode", "ts", "tol"), [(R.BLOCK_AUTODRILLER_WOB, 0.0, 0.03),
                                                   (R.BLOCK_AUTODRILLER_HOOK, 0.1, 0.03)])
 def test_step_response_matches_the_single_mass_closed_loop(mode: int, ts: float, tol: float) -> None:
-    t, wob = _simulate(mode, ts)
+    t, wob = single_mass_autodriller(mode, ts)
     ref = W0 + R.second_order_step(t, K_EFF, KP, KI, C_ROP, W1 - W0)
     err = np.abs(wob - ref).max() / (W1 - W0)
     assert err < tol  # within 3 % of the step (the bound is 10 %)
