@@ -135,3 +135,33 @@ def test_tnd_cli_reports_buckling_margins(tmp_path, capsys) -> None:
     assert png.stat().st_size > 0
     assert main(["tnd", str(case)]) == 0
     assert "margin to sinusoidal buckling" in capsys.readouterr().out
+
+
+def test_detector_on_a_run_maps_segments_to_the_hole_by_md() -> None:
+    # segments placed on a real well path (J profile, 85 deg tangent) by their MD = bit MD - s:
+    # on the low side in the build and a helix of 18 m pitch in the tangent near the bit
+    from drillfatigue.config import WellConfig
+    from drillfatigue.well import build_wellbore
+
+    well = WellConfig.model_validate({"profiles": {"j": {"kind": "j", "kop_m": 300.0,
+                                                         "dls_deg_per_30m": 3.0, "inc_deg": 85.0,
+                                                         "td_m": 2500.0}}})
+    wb = build_wellbore(well)
+    bit_md = 2400.0
+    s = np.arange(1.0, 400.0, 1.0)
+    centre, tan = wb.point_at_md(bit_md - s)
+    z = np.array([0.0, 0.0, 1.0])
+    low = z - tan[:, 2:3] * tan
+    low /= np.linalg.norm(low, axis=1, keepdims=True)
+    side = np.cross(tan, low)
+    r_contact = np.full(s.size, 0.0841)
+    clear = 0.2159 / 2 - r_contact
+    theta = np.where(s < 150.0, 2.0 * np.pi * s / 18.0, 0.0)
+    pos = centre + clear[:, None] * (np.cos(theta)[:, None] * low + np.sin(theta)[:, None] * side)
+    det = B.detect_buckling_in_run(wb, bit_md, s[::-1], pos[::-1], np.full(s.size, 100.0),
+                                   r_contact, window_m=40.0)
+    names = det.state_names()
+    near_bit = det.s_end_m <= 150.0
+    assert all(n == "helical" for n, nb in zip(names, near_bit, strict=True) if nb)
+    assert all(n == "none" for n, sb in zip(names, det.s_start_m, strict=True) if sb >= 150.0)
+    assert np.allclose(det.wavelength_m[near_bit], 18.0, rtol=1e-3)

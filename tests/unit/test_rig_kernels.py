@@ -301,3 +301,21 @@ def test_packed_parameters_follow_the_modes() -> None:
     mode, p, info = top_drive_params(validate(RigConfig, {"top_drive": {"tuning": "soft_torque",
                                                                         "stick_slip_period_s": 5.0}}), case)
     assert info["stick_slip_omega_rad_s"] == pytest.approx(2 * math.pi / 5.0)
+
+
+def test_drilling_window_metrics_on_known_signals() -> None:
+    t = np.arange(0.0, 110.0, 0.5)
+    wob = np.where((t >= 10.0) & (t < 30.0), 0.0, 1e5)  # off bottom 20 s of the 100 s after t_skip
+    m = R.drilling_window_metrics(t, wob, np.full(t.size, 0.01), np.full(t.size, 5e3),
+                                  np.linspace(0.0, 20.0, t.size), 30.0, 1e5,
+                                  string_top_above_rotary_m=np.full(t.size, -0.5))
+    assert m["on_bottom_fraction"] == pytest.approx(0.8, abs=0.5 / 100.0)  # one sample of 200
+    assert m["mean_wob_N"] == pytest.approx(0.8e5, rel=0.01)
+    assert m["wob_error_rel"] == pytest.approx(-0.2, abs=0.01)
+    assert m["mean_rop_m_per_s"] == pytest.approx(0.01) and m["mean_surface_torque_Nm"] == pytest.approx(5e3)
+    assert m["block_within_travel"] and m["string_top_below_rotary"]
+    m = R.drilling_window_metrics(t, wob, wob, wob, np.linspace(-1.0, 31.0, t.size), 30.0, 1e5,
+                                  string_top_above_rotary_m=np.linspace(-1, 3, t.size))
+    assert not m["block_within_travel"] and not m["string_top_below_rotary"]
+    with pytest.raises(ValueError, match="t_skip_s"):
+        R.drilling_window_metrics(t[:10], wob[:10], wob[:10], wob[:10], wob[:10], 30.0, 1e5)

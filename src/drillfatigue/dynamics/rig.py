@@ -446,3 +446,62 @@ def new_top_drive_state(omega0_rad_s: float = 0.0) -> np.ndarray:
     s = np.zeros(N_TD_S)
     s[TS_OMEGA] = omega0_rad_s
     return s
+
+
+def drilling_window_metrics(
+    time_s: np.ndarray,
+    wob_N: np.ndarray,
+    rop_m_per_s: np.ndarray,
+    surface_torque_Nm: np.ndarray,
+    block_travel_m: np.ndarray,
+    travel_m: float,
+    wob_set_N: float,
+    string_top_above_rotary_m: np.ndarray | None = None,
+    t_skip_s: float = 10.0,
+) -> dict[str, float | bool]:
+    """What a drilling window did at the rig boundaries, for ``summary.json`` and case-2 metrics.
+
+    Time averages weight each sample by the interval to the next one (sample
+    and hold) and use only ``t >= time_s[0] + t_skip_s`` (the start-up).
+
+    Returns
+    -------
+    dict
+        ``on_bottom_fraction`` (share of time with WOB > 0), ``mean_wob_N``,
+        ``wob_error_rel`` (mean WOB / set-point - 1), ``mean_rop_m_per_s``,
+        ``mean_surface_torque_Nm``, ``block_min_m``, ``block_max_m``,
+        ``block_within_travel`` (0 <= travel <= ``travel_m`` throughout) and,
+        with ``string_top_above_rotary_m``, its maximum
+        ``string_top_max_above_rotary_m`` and ``string_top_below_rotary``
+        (never above).
+    """
+    t = np.asarray(time_s, float)
+    if t.ndim != 1 or t.size < 2 or not np.all(np.diff(t) > 0):
+        raise ValueError("time_s must be 1-D, increasing, with at least 2 samples")
+    sel = t >= t[0] + t_skip_s
+    if sel.sum() < 2:
+        raise ValueError(f"no window left after t_skip_s = {t_skip_s} s")
+    dt = np.diff(t[sel])
+    w = np.concatenate([dt, dt[-1:]])
+    w = w / w.sum()
+
+    def avg(x: np.ndarray) -> float:
+        return float(np.sum(np.asarray(x, float)[sel] * w))
+
+    wob = np.asarray(wob_N, float)
+    blk = np.asarray(block_travel_m, float)
+    out: dict[str, float | bool] = {
+        "on_bottom_fraction": float(np.sum((wob[sel] > 0.0) * w)),
+        "mean_wob_N": avg(wob),
+        "wob_error_rel": avg(wob) / wob_set_N - 1.0,
+        "mean_rop_m_per_s": avg(rop_m_per_s),
+        "mean_surface_torque_Nm": avg(surface_torque_Nm),
+        "block_min_m": float(blk.min()),
+        "block_max_m": float(blk.max()),
+        "block_within_travel": bool(blk.min() >= 0.0 and blk.max() <= travel_m),
+    }
+    if string_top_above_rotary_m is not None:
+        top = np.asarray(string_top_above_rotary_m, float)
+        out["string_top_max_above_rotary_m"] = float(top.max())
+        out["string_top_below_rotary"] = bool(top.max() <= 0.0)
+    return out
