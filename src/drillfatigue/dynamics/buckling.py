@@ -8,16 +8,16 @@ compression exceeds a critical load proportional to ``sqrt(EI q / r_c)``, with
 ``q`` the lateral load per length that presses it onto the wall:
 
 * sinusoidal (lateral) onset, straight inclined hole, ``q = w sin I``:
-  ``F_s = 2 sqrt(EI w sin I / r_c)`` (Dawson & Paslay, JPT 36 (1984) 1734,
+  ``F_s = 2 sqrt(EI w sin I / r_c)`` (Dawson & Paslay, JPT 1984,
   SPE 11167);
 * helical onset, straight inclined hole: ``F_h = 2 sqrt(2) sqrt(EI w sin I / r_c)``
-  (Chen, Lin & Cheatham, SPE Drilling Eng. 5 (1990) 121, SPE 19176; the default)
+  (Chen, Lin & Cheatham, SPE Drilling Engineering 1990, SPE 19176; the default)
   or ``F_h = 2 (2 sqrt(2) - 1) sqrt(EI w sin I / r_c)`` (Wu & Juvkam-Wold,
   SPE 25503, 1993: the load at which the helix is fully developed);
 * vertical hole (``w sin I -> 0``), where the weight itself sets the scale:
   sinusoidal ``1.94 (EI w^2)^(1/3)`` (Lubinski, API Drilling and Production
   Practice 1950) and helical ``5.55 (EI w^2)^(1/3)`` (Wu, Juvkam-Wold & Lu,
-  SPE 25503, 1993). The onset used along a string is the larger of the
+  J. Energy Resour. Technol., 1993). The onset used along a string is the larger of the
   vertical value and the inclined/curved value, so that near-vertical cells
   are not reported as buckling at zero load;
 * curved hole (curvature ``kappa`` with unit normal ``n`` towards the centre of
@@ -34,14 +34,14 @@ compression exceeds a critical load proportional to ``sqrt(EI q / r_c)``, with
           F = (c^2 EI kappa / (2 r_c)) [ sqrt(1 + 4 r_c w sin I / (c^2 EI kappa^2)) - 1 ]
 
   derived here from that balance (He & Kyllingstad, SPE Drilling & Completion
-  10 (1995) 10, and Mitchell, SPE Journal 4 (1999) 102, treat curved hole by
+  1995, and Mitchell, SPE Journal 1999, treat curved hole by
   adding the same curvature term; the coefficients here follow from the
   Dawson-Paslay constant and are not copied from those papers): a build raises the onset,
   a drop lowers it; ``kappa -> 0`` recovers the straight-hole forms. In a
   general 3-D bend ``q(F)`` is a vector sum; :func:`onset_load_N` solves the
   resulting quartic and takes its smallest positive root.
 
-Helix (Lubinski & Althouse, JPT 14 (1962) 1209; Mitchell, SPE 14245 (1986)):
+Helix (Lubinski & Althouse, JPT 1962; Mitchell, SPE Production Engineering 1986):
 pitch ``p = pi sqrt(8 EI / F)``, wall contact force per length
 ``N = r_c F^2 / (4 EI)``.
 

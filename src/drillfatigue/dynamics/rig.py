@@ -48,7 +48,8 @@ integral and the drive torque (N m), all on the string side of the gearbox
     surface torque is ``T``. Stepped semi-implicitly (speed first, then angle
     with the new speed).
 
-"Soft-torque" tuning (Kyllingstad & Nessjoen, SPE/IADC 119660, 2009): ``Kp``
+"Soft-torque" tuning (Kyllingstad & Nessjoen, "A new stick-slip prevention system", SPE/IADC
+119660, 2009): ``Kp``
 equal to the characteristic torsional impedance of the drill pipe,
 ``Z = J_p sqrt(G rho)``, so that torsional waves arriving at the top are
 absorbed rather than reflected, and ``Ki = J omega_ss^2``, which cancels the
