@@ -2,8 +2,10 @@
 
 Prints the surface hook loads for pick-up, slack-off, rotating off bottom and
 drilling, and the surface torque rotating and drilling (Johancsik soft-string
-model, :mod:`drillfatigue.dynamics.softstring`); optionally plots tension and
-torque against MD.
+model, :mod:`drillfatigue.dynamics.softstring`), the smallest margin to
+sinusoidal buckling along the string in slack-off and drilling
+(:mod:`drillfatigue.dynamics.buckling`); optionally plots tension and torque
+against MD with the buckling onset loads.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from rich.table import Table
 
 from drillfatigue.cli.app import app
 from drillfatigue.config import load_case
+from drillfatigue.dynamics.buckling import BucklingProfile, buckling_for_case
 from drillfatigue.dynamics.softstring import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
 from drillfatigue.units import KN_N
@@ -35,8 +38,13 @@ def _check_plot_path(path: Path) -> None:
         raise InputError("-o", f"folder {str(parent)!r} does not exist", "an existing folder")
 
 
-def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str) -> None:
-    """Tension (kN) and torque (kN m) against MD for the four modes; written atomically."""
+def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
+                     buckling: BucklingProfile | None = None) -> None:
+    """Tension (kN) and torque (kN m) against MD for the four modes; written atomically.
+
+    With ``buckling``, the sinusoidal and helical onset loads are drawn as
+    negative tensions (compression beyond them buckles the pipe).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -49,6 +57,13 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str) -> None:
     for name, t in (("pick-up", td.tension_pickup_N), ("slack-off", td.tension_slackoff_N),
                     ("rotating off bottom", td.tension_rotating_N), ("drilling", td.tension_drilling_N)):
         ax1.plot(t / KN_N, td.md_m, label=name)
+    if buckling is not None:
+        ax1.plot(-buckling.sinusoidal_onset_N / KN_N, buckling.md_mid_m, "k--", lw=0.8,
+                 label="sinusoidal buckling onset")
+        ax1.plot(-buckling.helical_onset_N / KN_N, buckling.md_mid_m, "k:", lw=0.8,
+                 label="helical buckling onset")
+        lo = min(float(td.tension_slackoff_N.min()), float(td.tension_drilling_N.min()))
+        ax1.set_xlim(left=min(2.0 * lo, -1.0) / KN_N, right=1.05 * float(td.tension_pickup_N.max()) / KN_N)
     ax1.axvline(0.0, color="k", lw=0.8)
     ax1.set_xlabel("effective tension, kN (compression < 0)")
     ax1.set_ylabel("MD, m")
@@ -85,6 +100,8 @@ def tnd(
     cfg = load_case(case)
     td = torque_drag_for_case(cfg, cell_m=cell_m, wob_N=None if wob_kN is None else wob_kN * KN_N)
     summary = td.summary()
+    buck = buckling_for_case(cfg, td)
+    summary.update(buck.summary())
     if as_json:
         summary["mu_torque"] = cfg.friction.mu_dynamic
         summary["mu_drag"] = cfg.friction.mu_axial if cfg.friction.mu_axial is not None \
@@ -105,5 +122,11 @@ def tnd(
         console = Console(width=max(Console().width, 90))
         console.print(table)
         console.print(f"drilling: WOB {td.wob_N / KN_N:.1f} kN, TOB {td.tob_Nm / KN_N:.2f} kN m")
+        for mode, label in (("slackoff", "slack-off"), ("drilling", "drilling")):
+            console.print(f"{label}: smallest margin to sinusoidal buckling "
+                          f"{summary[f'buckling_min_margin_{mode}_N'] / KN_N:.1f} kN at MD "
+                          f"{summary[f'buckling_min_margin_{mode}_md_m']:.0f} m; buckled "
+                          f"{summary[f'buckled_sinusoidal_{mode}_m']:.0f} m sinusoidal, "
+                          f"{summary[f'buckled_helical_{mode}_m']:.0f} m helical")
     if output is not None:
-        plot_torque_drag(td, output, f"soft-string torque and drag: {case.name}")
+        plot_torque_drag(td, output, f"soft-string torque and drag: {case.name}", buck)
