@@ -33,7 +33,9 @@ from collections import namedtuple
 
 import numpy as np
 
+from drillfatigue.dynamics.connection import N_CC
 from drillfatigue.dynamics.layout import C_NACT, N_CH, WALL_INFO_SIZE
+from drillfatigue.dynamics.rig import N_BLOCK_P
 
 STATE_FIELDS = ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint", "cst")
 
@@ -91,8 +93,11 @@ WallWork = namedtuple("WallWork", ("info", "x", "axis", "f_other", "force", "mom
 #: quaternions and a rotation vector, and the ends of the two merged segments
 GrowthWork = namedtuple("GrowthWork", ("w", "r", "v_piece", "xc", "v_top", "q", "q2", "theta",
                                        "low_end", "top_end"))
+#: the rig boundaries (:func:`boundaries.rig_step`): connection controls now and one
+#: step later, a block parameter vector for the connection's velocity override
+RigWork = namedtuple("RigWork", ("cc", "cc1", "bpar"))
 Work = namedtuple("Work", ("R", "wW", "loads", "ch", "rotor", "joint", "drive", "bit", "wall",
-                           "growth"))
+                           "growth", "rig"))
 
 Records = namedtuple("Records", ("sel", "every_l", "buf_l", "every_c", "buf_c", "every_k",
                                  "buf_k", "counts", "info"))
@@ -100,8 +105,9 @@ Records = namedtuple("Records", ("sel", "every_l", "buf_l", "every_c", "buf_c", 
 N_INFO = 3
 
 
-def new_work(n: int) -> Work:
-    """Work arrays for ``n`` allocated segment rows."""
+def new_work(n: int, n_ch: int = N_CH) -> Work:
+    """Work arrays for ``n`` allocated segment rows and ``n_ch`` channels (``N_CH``, or
+    ``N_CH_RIG`` with the rig boundaries)."""
     def v3() -> np.ndarray:
         return np.zeros(3)
 
@@ -109,7 +115,7 @@ def new_work(n: int) -> Work:
         return np.zeros(4)
 
     return Work(
-        R=np.zeros((n, 3, 3)), wW=np.zeros((n, 3)), loads=np.zeros((n, 6)), ch=np.zeros(N_CH),
+        R=np.zeros((n, 3, 3)), wW=np.zeros((n, 3)), loads=np.zeros((n, 6)), ch=np.zeros(n_ch),
         rotor=RotorWork(q4(), q4()),
         joint=JointWork(q4(), q4(), q4(), np.zeros((3, 3)), v3(), v3(), v3(), np.zeros(2), v3()),
         drive=DriveWork(q4(), q4(), np.zeros((3, 3)), v3(), v3(), v3()),
@@ -117,14 +123,18 @@ def new_work(n: int) -> Work:
         wall=WallWork(np.zeros(WALL_INFO_SIZE), v3(), v3(), v3(), v3(), v3(), v3(), v3(),
                       np.zeros(4)),
         growth=GrowthWork(v3(), v3(), v3(), v3(), v3(), q4(), q4(), v3(), v3(), v3()),
+        rig=RigWork(np.zeros(N_CC), np.zeros(N_CC), np.zeros(N_BLOCK_P)),
     )
 
 
 def new_records(sel: np.ndarray, every: tuple[int, int, int], rows: tuple[int, int, int],
-                n: int) -> Records:
-    """Recording buffers: loads of the joints ``sel``, channels, kinematics of ``n`` rows."""
+                n: int, n_ch: int = N_CH) -> Records:
+    """Recording buffers: loads of the joints ``sel``, channels, kinematics of ``n`` rows.
+
+    A channel row is [time, ch[0:N_CH], kinetic energy, work in, dissipated] followed,
+    with ``n_ch > N_CH`` (the rig boundaries), by ``ch[N_CH:n_ch]``."""
     return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], 1 + 6 * sel.size)),
-                   every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + N_CH)),
+                   every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + n_ch)),
                    every_k=int(every[2]), buf_k=np.zeros((rows[2], 1 + 8 * n)),
                    counts=np.zeros(3, dtype=np.int64), info=np.zeros(N_INFO))
 

@@ -82,7 +82,19 @@ B_LMIN = 24      # top segment length (m) below which it merges with the one bel
 B_TWIN = 25      # start of the event window (s): after the rpm ramp
 B_TRAMP = 26     # top torque ramp time (s), mode 1
 B_FREEZE = 27    # 1 during the relaxation pre-run: no ROP / trip, the rock face stays put
-N_BP = 28
+# rig boundaries (MODEL.md section 10; drillfatigue.dynamics.rig, .connection, .rockface)
+B_RIG = 28       # 1: the block, top drive and rock face of the rig section drive the string
+B_BLKMODE = 29   # block mode id (rig.BLOCK_*)
+B_TDMODE = 30    # top-drive mode id (rig.TOP_DRIVE_*)
+B_CONON = 31     # 1: a connection starts when the block reaches the floor
+B_BLKP = 32      # 32..41: block parameter vector (rig.BP_*, rig.N_BLOCK_P = 10)
+B_TDP = 42       # 42..45: top-drive parameter vector (rig.TP_*, rig.N_TD_P = 4)
+B_CONDUR = 46    # 46..52: connection phase durations (s), pickup .. tag
+B_CONPICK = 53   # connection pick-up distance (m)
+B_CONSTAND = 54  # stand length (m)
+B_KROCK = 55     # rock contact stiffness (N/m)
+B_CROCK = 56     # rock contact damping (N s/m)
+N_BP = 57
 
 # topp -- per-length properties of the extensible top segment (index n-1) and
 # section of segment n-2, to rebuild the top rows as the top grows
@@ -124,6 +136,17 @@ C_NSPLIT = 11   # segments added (split off the top)
 C_NMERGE = 12   # segments merged (tripping out)
 C_GUARD = 13    # 1 once tripping out stopped at the minimum string length
 N_SC = 14
+# rig state: only with the rig boundaries (bp[B_RIG] == 1), sc then has N_SC_RIG entries
+C_BLK = 14      # 14..20: block state (rig.BS_*, rig.N_BLOCK_S = 7)
+C_TD = 21       # 21..24: top-drive state (rig.TS_*, rig.N_TD_S = 4)
+C_CON = 25      # 25..32: start times of the connection phases (connection.ConnectionSchedule)
+C_CONP = 33     # 33..35: connection parameters [pickup_m, stand_length_m, 0]
+C_NSTAND = 36   # stands added (connections completed up to the stand)
+C_SHIFTED = 37  # 1 once the block travel shift of the current connection is applied
+C_VGROW = 38    # rate (m/s) at which the string below the rotary grows this step (block speed)
+C_CONPH = 39    # connection phase now (connection.PH_*)
+C_TSET = 40     # top-drive speed set-point now (rad/s)
+N_SC_RIG = 41
 
 # cst[i, :] -- per-segment contact / whirl statistics (state, checkpointed)
 CS_ONT = 0      # contact onset time (s), -1 if never
@@ -157,6 +180,13 @@ H_NCON = 12     # segments in wall contact
 H_FCMAX = 13    # largest segment normal force now (N)
 H_NSEG = 14     # active segments
 N_CH = 15
+# channels of the rig boundaries: the recorder appends them to the channel table only
+# with the rig on; they live past N_CH in ch (ch has N_CH_RIG entries)
+H_BLOCK = 15    # block travel below the top of its travel (m)
+H_BLOCKV = 16   # block velocity (m/s, > 0 lowering)
+H_TOPSTR = 17   # string top above the top anchor (rotary), m (< 0: below)
+H_CONPH = 18    # connection phase
+N_CH_RIG = 19
 
 # wall contact points: at most MAX_CONTACT_POINTS per segment; the contact-cylinder
 # hint of point p of segment i is hint[MAX_CONTACT_POINTS * i + p]
