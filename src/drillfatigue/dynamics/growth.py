@@ -184,6 +184,32 @@ def tail_energy(lo, t, s, p, wk):
 
 
 @njit(cache=True)
+def joint_below_top_axial(top, growth, s, p, wk):
+    """Axial load (N, tension > 0) of the joint below the top segment ``top`` now, its
+    damper seeing the growth rate ``growth`` (m/s) as in the force evaluation
+    (:func:`joints.joint_forces`); ``wk.R``, ``wk.wW`` of both segments must be current.
+    Writes ``wk.loads[top - 1]``."""
+    x = s.x
+    v = s.v
+    q = s.q
+    seg = p.seg
+    jp = p.jp
+    R = wk.R
+    wW = wk.wW
+    jw = wk.joint
+    j = top - 1
+    vu = jw.v_up
+    for k in range(3):
+        vu[k] = v[top, k] + growth * R[top, k, 2]
+    joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
+                x[top], vu, R[top], q[top], wW[top], seg[top, S_H],
+                jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
+                jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
+                jw.qr, jw.qh, jw.qm, jw.Rm, jw.f, jw.m_lo, jw.m_up, wk.loads[j], jw.energy)
+    return wk.loads[j, 0]
+
+
+@njit(cache=True)
 def _rigid_point_velocity(v, wW, r, out):
     out[0] = v[0] + wW[1] * r[2] - wW[2] * r[1]
     out[1] = v[1] + wW[2] * r[0] - wW[0] * r[2]
@@ -428,7 +454,7 @@ def grow_top(n, t1, s, p, wk):
         # the last force evaluation and at the end of the drift), as the integrator's
         # kicks do; the energy difference of the length change alone books the force at
         # the end of the drift only and leaves k_a dL * (string motion) / 2 per step
-        sc[C_WIN] += 0.5 * dL * (wk.loads[top - 1, 0] - t_prev)
+        sc[C_WIN] += 0.5 * dL * (joint_below_top_axial(top, dL / dt, s, p, wk) - t_prev)
     h_new = seg[top, S_H] + 0.5 * dL
     if 2.0 * h_new < bp[B_LMIN] and n <= 2:
         # tripping out: keep a minimum string
