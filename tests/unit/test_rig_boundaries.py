@@ -172,3 +172,64 @@ def test_energy_balance_closes_while_drilling_and_running_in(rig: dict[str, Any]
     ref = float(np.abs(win - win[0]).max())
     assert ref > 0.0
     assert float(np.abs(bal).max()) <= 0.01 * ref
+
+
+def test_back_reaming_pulls_the_string_out_by_block_travel_while_rotating() -> None:
+    """Rotating while tripping is one operation: block mode ``trip`` with the top drive turning."""
+    d = case(operation__bit_on_bottom=False, operation__top_axial="fixed",
+             operation__duration_s=1.5,
+             rig={"block_mode": "trip", "trip_speed_m_per_s": -1.0,
+                  "block": {"max_accel_m_per_s2": 2.0, "initial_travel_m": 3.0}})
+    res = simulate(case_from_dict(d), None, progress=False)
+    m = res.model
+    n = res.state.n_active
+    length = 2.0 * float(m.seg[:n, L.S_H].sum())
+    block = float(res.summary["rig"]["block_travel_final_m"])
+    assert block == pytest.approx(3.0 - 1.25, rel=1e-3)
+    assert length - 100.0 == pytest.approx(block - 3.0, rel=1e-9)
+    assert np.allclose(np.asarray(res.channels["top_rpm"]), 120.0)
+
+
+def test_connection_adds_a_stand_with_its_event_sequence() -> None:
+    """Running in at 1 m/s with a 2 m block travel: the block reaches the floor, the bit is
+    picked up, rotation stops, the slips carry the string while a 1.5 m stand is made up,
+    rotation ramps back and the block lowers again. The string below the rotary grows only
+    while the block moves it (never in the slips): its length change is the block's net
+    travel plus the stand."""
+    con = {"enabled": True, "stand_length_m": 1.5, "pickup_m": 0.2, "pickup_s": 0.4,
+           "rotation_stop_s": 0.3, "slips_s": 0.3, "stand_s": 0.5, "slips_out_s": 0.2,
+           "ramp_s": 0.3, "tag_s": 0.4}
+    d = case(operation__bit_on_bottom=False, operation__top_axial="fixed",
+             operation__duration_s=5.0, operation__rpm=60.0,
+             rig={"block_mode": "trip", "trip_speed_m_per_s": 1.0,
+                  "block": {"travel_m": 2.0, "max_accel_m_per_s2": 20.0}, "connection": con})
+    res = simulate(case_from_dict(d), None, progress=False)
+    rig = res.summary["rig"]
+    assert rig["connections"]["stands_added"] == 1
+    starts = rig["connections"]["start_times_s"]
+    assert len(starts) == 1
+    # 2 m at 1 m/s after a 0.05 s start at 20 m/s^2
+    assert starts[0] == pytest.approx(2.025, abs=0.01)
+    ch = res.channels
+    t = np.asarray(ch["time_s"])
+    ph = np.asarray(ch["connection_phase"])
+    rpm = np.asarray(ch["top_rpm"])
+    nseg = np.asarray(ch["n_segments"])
+    assert sorted(set(ph.astype(int))) == list(range(8))
+    # phases in order, each once
+    order = [int(p) for i, p in enumerate(ph) if i == 0 or p != ph[i - 1]]
+    assert order == [0, 1, 2, 3, 4, 5, 6, 7, 0]
+    slips = (ph == 3) | (ph == 4)
+    assert np.all(rpm[slips] == 0.0)
+    assert np.all(rpm[ph == 1] == 60.0)
+    assert np.allclose(rpm[(ph == 0) & (t > starts[0])], 60.0)
+    blk = np.asarray(ch["block_travel_m"])
+    assert blk.max() == pytest.approx(2.0, abs=1e-12)
+    assert blk.min() >= 0.0
+    # the string length does not change in the slips
+    m = res.model
+    n = res.state.n_active
+    length = 2.0 * float(m.seg[:n, L.S_H].sum())
+    assert length - 100.0 == pytest.approx(rig["block_travel_final_m"] + 1.5, rel=1e-6)
+    assert np.ptp(nseg[slips]) == 0.0
+    assert rig["window"]["block_within_travel"]
