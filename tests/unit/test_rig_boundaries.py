@@ -34,6 +34,7 @@ BASE: dict[str, Any] = {
     "bit": {"model": "yigit_christoforou"},
     "rig": {"block_mode": "autodriller",
             "autodriller": {"measurement": "wob", "wob_set_N": 40e3, "control_period_s": 0.0,
+                            "measurement_filter_s": 0.0,
                             "kp_m_per_s_per_N": 1e-7, "ki_m_per_s2_per_N": 1e-6},
             "rock": {"lobe_amplitude_m": 0.0}},
     "solver": {"dt_s": 2.5e-4},

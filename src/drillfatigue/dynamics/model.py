@@ -507,6 +507,9 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
         blk[R.BS_I] = rop0 / ki if ki > 0.0 else 0.0
         blk[R.BS_VCMD] = rop0
         blk[R.BS_V] = rop0
+        wob_set = float(bp[L.B_BLKP + R.BP_WOBSET])
+        blk[R.BS_MEAS] = wob_set if int(bp[L.B_BLKMODE]) == R.BLOCK_AUTODRILLER_WOB \
+            else float(bp[L.B_BLKP + R.BP_HOFF]) - wob_set
     sc[L.C_CON:L.C_CON + 8] = -np.inf  # no connection yet: the drilling phase
     sc[L.C_TD + R.TS_OMEGA] = omega0
     sc[L.C_TD + R.TS_PHI] = phi0

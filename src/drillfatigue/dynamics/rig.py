@@ -30,8 +30,9 @@ its travel (status ``BLOCK_AT_FLOOR``: a connection is due, or
     (rotating) hook load taken before tagging bottom (``_HOOK`` mode); the
     ``_WOB`` mode takes a downhole WOB measurement. The command is limited to
     ``[-v_max, rop_limit]`` and the integral stops growing while the command
-    is limited in the direction of the error (conditional-integration
-    anti-windup).
+    is limited in the direction of the error, or while the block stands at
+    an end of its travel and the command pushes beyond it
+    (conditional-integration anti-windup).
 
 Top drive
 ---------
@@ -110,7 +111,8 @@ BP_KI = 6  # autodriller integral gain, (m/s^2) / N
 BP_TS = 7  # autodriller control period, s (0: every step)
 BP_HOFF = 8  # off-bottom hook load (the autodriller's zero of WOB), N
 BP_ROPLIM = 9  # autodriller's largest lowering command (ROP limit), m/s
-N_BLOCK_P = 10
+BP_TFILT = 10  # time constant of the first-order filter on the measured WOB / hook load, s (0: none)
+N_BLOCK_P = 11
 
 #: block state vector (float64, length ``N_BLOCK_S``)
 BS_X = 0  # block travel below the top of its travel, m
@@ -120,7 +122,8 @@ BS_VCMD = 3  # held velocity command, m/s
 BS_TNEXT = 4  # time of the next controller sample, s
 BS_T = 5  # time, s
 BS_WOBMEAS = 6  # WOB the controller used at its last sample, N
-N_BLOCK_S = 7
+BS_MEAS = 7  # filtered measurement (WOB or hook load of the mode), N
+N_BLOCK_S = 8
 
 BLOCK_OK = 0
 BLOCK_AT_FLOOR = 1
@@ -202,6 +205,15 @@ def block_step(mode, p, s, wob_N, hook_N, dt):
         travel: stopped, a connection is due), ``BLOCK_AT_CROWN`` (stopped at
         the top), ``BLOCK_BAD_MODE`` or ``BLOCK_NONFINITE``.
     """
+    i_prev = s[BS_I]
+    tf = p[BP_TFILT]
+    if tf > 0.0 and (mode == BLOCK_AUTODRILLER_WOB or mode == BLOCK_AUTODRILLER_HOOK):
+        # the load cell / downhole sensor and the display are filtered (first order,
+        # exact for a measurement held over the step)
+        raw = wob_N if mode == BLOCK_AUTODRILLER_WOB else hook_N
+        s[BS_MEAS] += (1.0 - math.exp(-dt / tf)) * (raw - s[BS_MEAS])
+        wob_N = s[BS_MEAS]
+        hook_N = s[BS_MEAS]
     vc = block_command(mode, p, s, wob_N, hook_N, dt)
     if math.isnan(vc):
         return BLOCK_BAD_MODE
@@ -220,6 +232,10 @@ def block_step(mode, p, s, wob_N, hook_N, dt):
         x1 = 0.0
         v1 = 0.0
         status = BLOCK_AT_CROWN
+    if (status == BLOCK_AT_FLOOR and vc > 0.0) or (status == BLOCK_AT_CROWN and vc < 0.0):
+        # conditional integration at the ends of the travel too: an autodriller whose
+        # block cannot follow does not wind up
+        s[BS_I] = i_prev
     s[BS_X] = x1
     s[BS_V] = v1
     s[BS_T] += dt
