@@ -20,7 +20,6 @@ import pytest
 from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics import layout as L
 from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.model import build_model, straight_path
 from drillfatigue.errors import InputError
 
 BASE: dict[str, Any] = {

@@ -48,7 +48,7 @@ from drillfatigue.dynamics.rockface import rop_slope_m_per_N_s
 from drillfatigue.string import build_segments
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from rig_references import TorsionalWell, stick_slip_metrics, torsional_reference  # noqa: E402
+from rig_references import TorsionalWell, stick_slip_metrics, torsional_reference
 
 COLLAR = {"type": "collar", "od_m": 0.17145, "id_m": 0.0714}
 PIPE = {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086}
@@ -100,14 +100,14 @@ def test_autodriller_step_response_of_the_simulator_matches_the_closed_loop(meas
     model, state = build_model(cfg, straight_path(500.0))
     assert _string_stiffness(model) == pytest.approx(k, rel=1e-12)
     every = 10
-    n0 = int(round(t_step / model.dt))
+    n0 = round(t_step / model.dt)
     advance_model(model, state, n0, every=every)
     model.bp[_wob_set_index()] = w1
-    res = advance_model(model, state, int(round(t_after / model.dt)), every=every)
+    res = advance_model(model, state, round(t_after / model.dt), every=every)
     t = res["channels"][:, 0] - t_step
     wob = res["channels"][:, 1 + L.H_WOB]
     # 20 ms moving average: the string's axial modes ring at tens of Hz on top of the loop
-    m = max(1, int(round(0.02 / (every * model.dt))))
+    m = max(1, round(0.02 / (every * model.dt)))
     kern = np.ones(m) / m
     wob_f = np.convolve(wob, kern, mode="valid")
     t_f = np.convolve(t, kern, mode="valid")
@@ -138,8 +138,8 @@ def test_stick_slip_with_pi_top_drive_matches_the_torsional_reference() -> None:
     })
     model, state = build_model(cfg, straight_path(2400.0))
     wob = model.wob0_N
-    every = max(1, int(round(0.005 / model.dt)))
-    res = advance_model(model, state, int(round(60.0 / model.dt)), every=every)
+    every = max(1, round(0.005 / model.dt))
+    res = advance_model(model, state, round(60.0 / model.dt), every=every)
     ch = res["channels"]
     sim = {"t": ch[:, 0], "omega_bit": ch[:, 1 + L.H_BITRPM] * math.pi / 30.0,
            "torque_surface": ch[:, 1 + L.H_TSURF]}
@@ -198,8 +198,8 @@ def _slack_off_detection(ratio: float) -> tuple[B.BucklingDetection, float, floa
     state.v[:n] += 1e-3 * np.outer(np.sin(2.0 * np.pi * s / 25.0), lateral)
     block0 = float(state.sc[L.C_BLK + R.BS_X])
     model.bp[_wob_set_index()] = wob_target
-    res = advance_model(model, state, int(round(HOLD_S / model.dt)),
-                        every=int(round(0.05 / model.dt)))
+    res = advance_model(model, state, round(HOLD_S / model.dt),
+                        every=round(0.05 / model.dt))
     force = -float(res["loads"][-1, 10:40, 0].mean())
     slack = float(state.sc[L.C_BLK + R.BS_X]) - block0
     assert slack > 0.0  # the block was lowered

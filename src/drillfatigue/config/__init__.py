@@ -23,8 +23,13 @@ from drillfatigue.config.replicates import ReplicatesConfig
 from drillfatigue.config.rig import RigConfig
 from drillfatigue.config.solver import SolverConfig
 from drillfatigue.config.string import StringConfig
-from drillfatigue.config.studies import (Case1Config, Case2Config, Case3Config, PlanConfig,
-                                         ReportConfig)
+from drillfatigue.config.studies import (
+    Case1Config,
+    Case2Config,
+    Case3Config,
+    PlanConfig,
+    ReportConfig,
+)
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.config.sweep import SweepConfig
 from drillfatigue.config.well import WellConfig

@@ -49,10 +49,17 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 import drillfatigue
 from drillfatigue import rundir
 from drillfatigue.config import CaseConfig
+from drillfatigue.config.rig import check_rig_setup
 from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics import rig as rig_kernels
 from drillfatigue.dynamics.bundles import new_records
 from drillfatigue.dynamics.checkpoint import load_checkpoint, save_checkpoint
-from drillfatigue.dynamics.events import EVENT_KEYS, RunningStats, classify_whirl, events_summary
+from drillfatigue.dynamics.events import (
+    EVENT_KEYS,
+    RunningStats,
+    classify_whirl,
+    events_summary,
+)
 from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.model import (
     Model,
@@ -62,8 +69,6 @@ from drillfatigue.dynamics.model import (
     path_from_wellbore,
     raise_for_status,
 )
-from drillfatigue.dynamics import rig as rig_kernels
-from drillfatigue.config.rig import check_rig_setup
 from drillfatigue.dynamics.recorder import Recorder, write_table
 from drillfatigue.dynamics.rockface import rop_slope_m_per_N_s
 from drillfatigue.dynamics.status import OK as ST_OK

@@ -29,8 +29,8 @@ import numpy as np
 from drillfatigue.config import CaseConfig
 from drillfatigue.config.rig import block_params, top_drive_params
 from drillfatigue.dynamics import bitrock, friction, status
-from drillfatigue.dynamics import rig as R
 from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics import rig as R
 from drillfatigue.dynamics.bundles import Params, State, Work, new_records, new_work
 from drillfatigue.dynamics.contact import contact_damping
 from drillfatigue.dynamics.forces import compute_forces
@@ -516,7 +516,6 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
     sc[L.C_PHID] = phi0
     sc[L.C_ROPNOW] = rop0
     sc[L.C_VGROW] = rop0
-    return None
 
 
 def start_rig_drive(model: Model, state: State) -> None:
