@@ -28,7 +28,9 @@ its travel (status ``BLOCK_AT_FLOOR``: a connection is due, or
     ``Ts`` (zero-order hold). The driller's autodriller sees only the surface
     hook load: WOB_meas = ``H_off - H`` with ``H_off`` the off-bottom
     (rotating) hook load taken before tagging bottom (``_HOOK`` mode); the
-    ``_WOB`` mode takes a downhole WOB measurement. The command is limited to
+    ``_WOB`` mode takes a downhole WOB measurement. The measurement passes a
+    first-order filter of time constant ``BP_TFILT`` (0: none) before the
+    controller samples it. The command is limited to
     ``[-v_max, rop_limit]`` and the integral stops growing while the command
     is limited in the direction of the error, or while the block stands at
     an end of its travel and the command pushes beyond it
