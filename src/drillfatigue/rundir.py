@@ -60,6 +60,9 @@ CHANNEL_COLUMNS = ("surface_torque_Nm", "hook_load_N", "wob_N", "tob_Nm", "top_r
 CHANNELS_COLUMNS = (("time_s",) + CHANNEL_COLUMNS
                     + ("kinetic_energy_J", "potential_energy_J", "work_in_J", "dissipated_J",
                        "segments_in_contact", "max_contact_force_N", "n_segments"))
+#: channels added with the rig boundaries (docs/bending.md; docs/rig.md)
+RIG_CHANNEL_COLUMNS = ("block_travel_m", "block_velocity_m_per_s", "string_top_above_rotary_m",
+                       "connection_phase")
 KINEMATICS_COLUMNS = ("time_s", "segment", "s_from_bit_m", "x_m", "y_m", "z_m", "vx_m_per_s",
                       "vy_m_per_s", "vz_m_per_s", "normal_N", "dist_from_centre_m")
 CONTACTS_COLUMNS = ("time_s", "segment", "normal_N", "dist_from_centre_m")

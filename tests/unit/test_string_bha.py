@@ -108,7 +108,7 @@ def test_paper_bha_preset_and_its_contact_points() -> None:
     s, r, kind = cp.of_segment(int(c))
     clearance = HOLE / 2 - 0.17145 / 2
     assert cp.max_spacing_m[c] == pytest.approx(math.sqrt(8 * 0.25 * clearance / kappa))
-    assert 2.9 < cp.max_spacing_m[c] < 3.3  # MODEL.md section 10: about 3-4 m
+    assert 2.9 < cp.max_spacing_m[c] < 3.3  # docs/bending.md: about 3-4 m
     assert np.max(np.diff(s)) <= cp.max_spacing_m[c] + 1e-12 and len(s) == 5  # 9.33 m / 3.09 m
 
 

@@ -1,7 +1,7 @@
 """A long straight segment in a build: the contact-point spacing rule keeps
 what can pass the wall unseen below its share of the clearance.
 
-Reference: plane geometry of a chord in a circle (MODEL.md section 10): a
+Reference: plane geometry of a chord in a circle (docs/bending.md): a
 chord of length s of a circle of curvature kappa sits s^2 kappa / 8 inside the
 arc at its middle, so along a straight segment the inner-wall penetration can
 exceed its values at two tested points s apart by at most s^2 kappa/8 (times

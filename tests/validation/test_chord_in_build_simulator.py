@@ -3,7 +3,7 @@ chord at the wall, and the recorded span moment does not depend on their spacing
 
 References
 ----------
-* Plane geometry of a chord (MODEL.md section 10): a straight segment of
+* Plane geometry of a chord (docs/bending.md): a straight segment of
   length s in a hole of curvature kappa bulges s^2 kappa / 8 beyond the arc
   between two tested points, so with the spacing rule s <= sqrt(8 f c / kappa)
   no point of the body can pass the wall by more than f c beyond what the

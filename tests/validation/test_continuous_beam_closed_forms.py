@@ -68,7 +68,7 @@ def test_many_equal_spans_support_and_midspan(which: str, L: float) -> None:
     assert r.support_Nm[15, 0] == pytest.approx(m12, rel=0.02)
     assert -r.read_Nm[0, 0] == pytest.approx(m12 / 2.0, rel=0.02)
     if which == "drill_pipe":
-        # MODEL.md section 10: about 1.85 kN m for 5 in 19.5 lb/ft pipe in 1.2 SG mud
+        # docs/bending.md: about 1.85 kN m for 5 in 19.5 lb/ft pipe in 1.2 SG mud
         assert 1.6e3 < r.support_Nm[15, 0] < 2.1e3
     else:
         # the about 8 kN m for 6 3/4 in collars over a 9 m span
@@ -138,7 +138,7 @@ def test_rotating_pipe_alternating_amplitude_wl2_over_12() -> None:
     amp = 0.5 * (sig.max(axis=1) - sig.min(axis=1))
     expect = dp["w"] * L * L / 12.0 * sec.r_m / sec.inertia_m4
     np.testing.assert_allclose(amp, expect, rtol=0.05)
-    # about 20 MPa nominal (MODEL.md section 10)
+    # about 20 MPa nominal (docs/bending.md)
     assert 15e6 < expect < 25e6
 
 

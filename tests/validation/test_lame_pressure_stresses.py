@@ -2,7 +2,7 @@
 effective/true tension identity.
 
 References: Timoshenko & Goodier, Theory of Elasticity, 3rd ed., section 28
-(thick-walled cylinder); MODEL.md section 10 (outer-surface forms);
+(thick-walled cylinder); docs/bending.md (outer-surface forms);
 Lubinski's effective tension (Aadnoy, Mechanics of Drilling, ch. 2):
 F_true = F_eff + p_i A_i - p_o A_o, and for a string hanging in mud the
 effective tension is the buoyed weight below the section.

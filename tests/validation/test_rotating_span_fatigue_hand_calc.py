@@ -1,7 +1,7 @@
 """Fatigue of drill pipe rotating on the low side of a straight horizontal hole,
 through span bending and the whole fatigue chain, against a hand calculation.
 
-Hand calculation (FATIGUE.md sections 1 and 3): the support moment wL^2/12 of
+Hand calculation (docs/fatigue.md sections 1 and 3): the support moment wL^2/12 of
 the continuous beam on tool joints 9.144 m apart turns once per revolution in
 the pipe, so a surface point sees sigma_a = K_b (wL^2/12) r/I about the mean
 K_a F_true/A; 50 rpm for 60 s is 50 cycles. Uniaxial route with Goodman:

@@ -14,7 +14,7 @@ References
   than 0.2 % (exact three-moment solution of 10 equal spans), the penalty
   contact lets the supports sink by ~0.05 mm (kc = 5e7 N/m) while the pipe
   stays rigid between them. The issue asks for 5 %.
-* Hand calculation of the life (FATIGUE.md sections 1 and 3): a surface point
+* Hand calculation of the life (docs/fatigue.md sections 1 and 3): a surface point
   of the body sees sigma_a = K_b (w L^2 / 12) r / I once per revolution,
   S = 2 sigma_a (no mean-stress correction, uniaxial route), damage
   n / N(S) on the DNV-RP-C203 B1 curve in air with n = rpm / 60 x window.

@@ -2,8 +2,10 @@
 
 Prints the surface hook loads for pick-up, slack-off, rotating off bottom and
 drilling, and the surface torque rotating and drilling (Johancsik soft-string
-model, :mod:`drillfatigue.dynamics.softstring`); optionally plots tension and
-torque against MD.
+model, :mod:`drillfatigue.dynamics.softstring`), the smallest margin to
+sinusoidal buckling along the string in slack-off and drilling
+(:mod:`drillfatigue.dynamics.buckling`); optionally plots tension and torque
+against MD with the buckling onset loads.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import typer
 from rich.console import Console
@@ -18,6 +21,7 @@ from rich.table import Table
 
 from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out
 from drillfatigue.config import load_case
+from drillfatigue.dynamics.buckling import BucklingProfile, buckling_for_case
 from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
@@ -39,9 +43,14 @@ def _check_plot_path(path: Path) -> None:
 
 
 def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
-                     display: Display | None = None) -> None:
+                     display: Display | None = None,
+                     buckling: BucklingProfile | None = None) -> None:
     """Tension and torque against MD for the four modes (kN, kN m, m or, with a field
-    ``display``, klbf, kft lbf, ft); written atomically."""
+    ``display``, klbf, kft lbf, ft); written atomically.
+
+    With ``buckling``, the sinusoidal and helical onset loads are drawn as
+    negative tensions (compression beyond them buckles the pipe).
+    """
     d = display if display is not None else Display("si")
     fu, tu, lu = d.unit("force"), d.unit("torque"), d.unit("length")
     md = d.value("length", td.md_m)
@@ -54,6 +63,15 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
     for name, t in (("pick-up", td.tension_pickup_N), ("slack-off", td.tension_slackoff_N),
                     ("rotating off bottom", td.tension_rotating_N), ("drilling", td.tension_drilling_N)):
         ax1.plot(d.value("force", t), md, label=name)
+    if buckling is not None:
+        mdb = d.value("length", buckling.md_mid_m)
+        ax1.plot(d.value("force", -buckling.sinusoidal_onset_N), mdb, "k--", lw=0.8,
+                 label="sinusoidal buckling onset")
+        ax1.plot(d.value("force", -buckling.helical_onset_N), mdb, "k:", lw=0.8,
+                 label="helical buckling onset")
+        lo = min(float(td.tension_slackoff_N.min()), float(td.tension_drilling_N.min()))
+        ax1.set_xlim(left=d.value("force", min(2.0 * lo, -1.0)),
+                     right=d.value("force", 1.05 * float(td.tension_pickup_N.max())))
     ax1.axvline(0.0, color="k", lw=0.8)
     ax1.set_xlabel(f"effective tension, {fu} (compression < 0)")
     ax1.set_ylabel(f"MD, {lu}")
@@ -94,7 +112,9 @@ def tnd(
         _check_plot_path(output)
     cfg = load_case(case)
     td = torque_drag_for_case(cfg, cell_m=cell_m, wob_N=None if wob_kN is None else wob_kN * KN_N)
-    summary = td.summary()
+    summary: dict[str, Any] = dict(td.summary())
+    buck = buckling_for_case(cfg, td)
+    summary.update(buck.summary())
     if as_json:
         summary["mu_torque"] = cfg.friction.mu_dynamic
         summary["mu_drag"] = cfg.friction.mu_axial if cfg.friction.mu_axial is not None \
@@ -102,7 +122,7 @@ def tnd(
         summary["bit_md_m"] = float(td.md_m[-1])
         typer.echo(json.dumps(summary, indent=2))
     else:
-        fu, tu = d.unit("force"), d.unit("torque")
+        fu, tu, lu = d.unit("force"), d.unit("torque"), d.unit("length")
         table = Table(title=f"soft-string torque and drag: {case.name} "
                             f"(bit at MD {d.value('length', float(td.md_m[-1])):.1f} "
                             f"{d.unit('length')})")
@@ -119,5 +139,13 @@ def tnd(
         console.print(table)
         console.print(f"drilling: WOB {d.value('force', td.wob_N):.1f} {fu}, "
                       f"TOB {d.value('torque', td.tob_Nm):.2f} {tu}")
+        for mode, label in (("slackoff", "slack-off"), ("drilling", "drilling")):
+            margin = d.value("force", float(summary[f"buckling_min_margin_{mode}_N"]))
+            at = d.value("length", float(summary[f"buckling_min_margin_{mode}_md_m"]))
+            sin_l = d.value("length", float(summary[f"buckled_sinusoidal_{mode}_m"]))
+            hel_l = d.value("length", float(summary[f"buckled_helical_{mode}_m"]))
+            console.print(f"{label}: smallest margin to sinusoidal buckling {margin:.1f} {fu} "
+                          f"at MD {at:.0f} {lu}; buckled {sin_l:.0f} {lu} sinusoidal, "
+                          f"{hel_l:.0f} {lu} helical")
     if output is not None:
-        plot_torque_drag(td, output, f"soft-string torque and drag: {case.name}", d)
+        plot_torque_drag(td, output, f"soft-string torque and drag: {case.name}", d, buck)

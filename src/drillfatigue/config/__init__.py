@@ -20,10 +20,16 @@ from drillfatigue.config.friction import FrictionConfig
 from drillfatigue.config.operation import OperationConfig
 from drillfatigue.config.recording import RecordingConfig
 from drillfatigue.config.replicates import ReplicatesConfig
+from drillfatigue.config.rig import RigConfig
 from drillfatigue.config.solver import SolverConfig
 from drillfatigue.config.string import StringConfig
-from drillfatigue.config.studies import (Case1Config, Case2Config, Case3Config, PlanConfig,
-                                         ReportConfig)
+from drillfatigue.config.studies import (
+    Case1Config,
+    Case2Config,
+    Case3Config,
+    PlanConfig,
+    ReportConfig,
+)
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.config.sweep import SweepConfig
 from drillfatigue.config.well import WellConfig
@@ -39,6 +45,7 @@ __all__ = [
     "Params",
     "RecordingConfig",
     "ReplicatesConfig",
+    "RigConfig",
     "SolverConfig",
     "StringConfig",
     "SurrogateConfig",
@@ -64,6 +71,55 @@ class CaseConfig(StrictModel):
     solver: SolverConfig = Field(default_factory=SolverConfig)
     recording: RecordingConfig = Field(default_factory=RecordingConfig)
     fatigue: FatigueConfig = Field(default_factory=FatigueConfig)
+    rig: RigConfig | None = Field(
+        None, description="the rig's block, top drive and rock face drive the string "
+                          "(docs/rig.md); absent: the operation section's top and bit conditions")
+
+    @model_validator(mode="after")
+    def _check_rig_inputs(self) -> CaseConfig:
+        """With a ``rig`` section the block holds the string, the top drive turns it and the
+        bit law gives the ROP: an ``operation`` input those replace is an error."""
+        rig = self.rig
+        if rig is None:
+            return self
+        op = self.operation
+        given = op.model_fields_set
+        replaced = {
+            "trip_speed_m_per_s": (op.trip_speed_m_per_s != 0.0, "the block moves the string",
+                                   "0; rig.block_mode trip with rig.trip_speed_m_per_s"),
+            "rop_m_per_s": (op.rop_m_per_s != 0.0, "the bit law gives the ROP",
+                            "0; rig.block_mode rop for a block speed"),
+            "hook_load_N": ("hook_load_N" in given, "the hook load is measured on the block",
+                            "no hook_load_N with a rig section"),
+            "top_axial": (op.top_axial == "hook_load", "the block holds the top of the string",
+                          "neutral_point or fixed (the initial state) with a rig section"),
+            "top_mode": (op.top_mode != "rpm", "the top drive turns the string",
+                         "rpm; rig.top_drive for the drive's controller"),
+            "tob_Nm": (op.tob_Nm != 0.0, "the bit law gives the torque on bit",
+                       "0; the bit section"),
+            "lobe_count": ("lobe_count" in given, "the lobed face is the rock's",
+                           "rig.rock.lobe_count"),
+            "lobe_amplitude_m": ("lobe_amplitude_m" in given, "the lobed face is the rock's",
+                                 "rig.rock.lobe_amplitude_m"),
+        }
+        for name, (bad, why, allowed) in replaced.items():
+            if bad:
+                raise ValueError(f"operation.{name}: not used with the rig section ({why}) "
+                                 f"(allowed: {allowed})")
+        if op.bit_on_bottom and self.bit.model != "yigit_christoforou":
+            raise ValueError(f"bit.model: {self.bit.model} prescribes the ROP or the torque; with "
+                             "the rig section the bit cuts what the bit law lets it (allowed: "
+                             "yigit_christoforou, or no rig section for prescribed-ROP runs)")
+        if rig.block_mode == "autodriller":
+            if not op.bit_on_bottom:
+                raise ValueError("rig.block_mode: the autodriller holds a weight on bit and needs "
+                                 "the bit on bottom (allowed: operation.bit_on_bottom true, or "
+                                 "block_mode held, rop or trip)")
+            if op.neutral_point_s_from_bit_m is not None or op.top_axial != "neutral_point":
+                raise ValueError("operation.top_axial: the autodriller starts at its WOB set-point "
+                                 "(allowed: top_axial neutral_point without "
+                                 "neutral_point_s_from_bit_m with block_mode autodriller)")
+        return self
 
     @model_validator(mode="after")
     def _check_hole_clears_string(self) -> CaseConfig:

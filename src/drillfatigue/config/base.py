@@ -85,6 +85,10 @@ def input_error_from_error(err: Mapping[str, Any], prefix: str = "") -> InputErr
     if sep and " " not in head and (not loc or head.startswith(path.split(".")[-1])):
         path = f"{prefix}.{head}" if prefix else head
         msg = tail
+    elif sep and " " not in head and isinstance(inp, dict):
+        # a nested section's own validator names a field of that section
+        path = f"{path}.{head}"
+        msg = tail
     return InputError(path, msg, allowed)
 
 

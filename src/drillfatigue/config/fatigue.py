@@ -11,7 +11,7 @@ per component type and location under ``scf``; docs/fatigue.md#stresses):
   connection; the thread-root section is approximated by the connection
   dimensions ``conn_od_m``/``conn_id_m`` of ``joints.parquet``;
 * upset run-out (drill pipe and heavy-weight pipe only, :data:`UPSET_TYPES`):
-  2.0 in tension and bending on the body section, the value FATIGUE.md
+  2.0 in tension and bending on the body section, the value docs/fatigue.md
   section 1 takes within the 1.5-2.5 range reported for the internal-upset
   taper of drill pipe (Tsukano et al., "Appropriate design of drill pipe
   upsets based on stress analysis, fatigue test and field failure data",

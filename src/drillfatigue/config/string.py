@@ -9,7 +9,7 @@ The default string is 180 m of collars in 20 segments and 800 m of drill pipe in
 of the first collar segment. A separate short ``bit`` component (e.g. 0.3 m)
 is allowed but, being a light stiff body, it cuts the stable step about 3x.
 
-BHA components (MODEL.md section 10): a string is listed from the bit up with
+BHA components (docs/bending.md): a string is listed from the bit up with
 bit, stabilizers (``blade_od_m``, ``blade_length_m``: near gauge), collars,
 MWD/LWD subs (``mwd``), jars, heavy-weight pipe (tool joints and a centre
 upset, ``center_upset_od_m``) and drill pipe. Drill pipe and heavy-weight

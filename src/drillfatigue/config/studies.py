@@ -92,6 +92,19 @@ class Case2Config(StrictModel):
     string: StringSpec = Field(default_factory=StringSpec)
     loads_rate_hz: float = Field(100.0, gt=0.0, le=1e5)
     criterion: Literal["matake", "findley", "fatemi_socie", "uniaxial"] = "matake"
+    boundaries: Literal["rig", "prescribed_rop"] = Field(
+        "prescribed_rop", description="rig: the autodriller holds wob_set_N and the bit law gives the ROP "
+                           "(docs/rig.md); prescribed_rop: the bit guided at rop_m_per_s "
+                           "(validation of the founding paper's set-up)")
+    wob_set_N: float = Field(100e3, gt=0.0, le=2e6, description="autodriller WOB set-point (rig)")
+    autodriller_measurement: Literal["wob", "hook_load"] = Field(
+        "wob", description="what the autodriller measures (rig)")
+    block_initial_travel_m: float = Field(
+        5.0, ge=0.0, le=60.0, description="block position at t = 0 below the top of its "
+                                           "travel (rig): room to pick up while the "
+                                           "autodriller settles")
+    metrics_skip_s: float = Field(10.0, ge=0.0, le=1e4,
+                                  description="start-up left out of the drilling metrics (rig)")
 
     @model_validator(mode="after")
     def _check(self) -> Case2Config:
@@ -108,7 +121,9 @@ class Case2Config(StrictModel):
 
     @property
     def window_s(self) -> float:
-        """The drilling window the paper's life is counted in, s (800 s by default)."""
+        """The drilling window the paper's life is counted in, s (800 s by default): the
+        paper's drilled length at its ROP; with ``boundaries: rig`` the bit drills what
+        the autodriller's weight lets it, and the life stays counted in this window."""
         return (self.bit_md_end_m - self.bit_md_start_m) / self.rop_m_per_s
 
 

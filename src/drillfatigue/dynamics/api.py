@@ -53,10 +53,17 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 import drillfatigue
 from drillfatigue import rundir
 from drillfatigue.config import CaseConfig
+from drillfatigue.dynamics.rig_setup import check_rig_setup
 from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics import rig as rig_kernels
 from drillfatigue.dynamics.bundles import new_records
 from drillfatigue.dynamics.checkpoint import load_checkpoint, save_checkpoint
-from drillfatigue.dynamics.events import EVENT_KEYS, RunningStats, classify_whirl, events_summary
+from drillfatigue.dynamics.events import (
+    EVENT_KEYS,
+    RunningStats,
+    classify_whirl,
+    events_summary,
+)
 from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.model import (
     Model,
@@ -67,6 +74,7 @@ from drillfatigue.dynamics.model import (
     raise_for_status,
 )
 from drillfatigue.dynamics.recorder import Recorder, write_table
+from drillfatigue.dynamics.rockface import rop_slope_m_per_N_s
 from drillfatigue.dynamics.status import OK as ST_OK
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.limits import check_run_inputs
@@ -106,7 +114,11 @@ class SimulationResult:
 
 def config_hash(config: CaseConfig) -> str:
     """SHA-256 of the canonical JSON of the resolved configuration."""
-    text = json.dumps(config.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
+    data = config.model_dump(mode="json")
+    if data.get("rig") is None:
+        # cases without the rig section keep the hashes they had before it existed
+        data.pop("rig", None)
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -190,6 +202,85 @@ def _interrupt_after() -> Iterator[None]:
         raise KeyboardInterrupt
 
 
+def check_rig(config: CaseConfig) -> dict[str, float]:
+    """:func:`drillfatigue.dynamics.rig_setup.check_rig_setup` of a case's rig section (one-line
+    :class:`InputError` on a bad set-up); the autodriller loop's figures, or ``{}``."""
+    rig = config.rig
+    if rig is None:
+        return {}
+    c_rop = 0.0
+    if rig.block_mode == "autodriller" and config.bit.model == "yigit_christoforou":
+        c_rop = rop_slope_m_per_N_s(config.bit, rig.effective_autodriller.wob_set_N,
+                                    abs(config.operation.rpm))
+    return check_rig_setup(rig, config, c_rop)
+
+
+#: start-up left out of the drilling-window figures of summary.json, s
+RIG_WINDOW_SKIP_S = 10.0
+
+
+class RigFigures:
+    """Streaming drilling-window figures of the rig boundaries from channel rows (the same
+    definitions as :func:`drillfatigue.dynamics.rig.drilling_window_metrics`, rows equally
+    spaced), and the start times of the connections."""
+
+    def __init__(self, wob_set_N: float | None, travel_m: float, t_skip_s: float) -> None:
+        self.wob_set = wob_set_N
+        self.travel = travel_m
+        self.t_skip = t_skip_s
+        self.n = 0
+        self.sums = {"on": 0.0, "wob": 0.0, "rop": 0.0, "tq": 0.0}
+        self.bmin = math.inf
+        self.bmax = -math.inf
+        self.top_max = -math.inf
+        self.phase = 0.0
+        self.starts: list[float] = []
+
+    def add(self, bc: np.ndarray) -> None:
+        if bc.shape[0] == 0:
+            return
+        c = 4 + L.N_CH
+        ph = bc[:, c + L.H_CONPH - L.N_CH]
+        prev = np.r_[self.phase, ph[:-1]]
+        self.starts += [float(t) for t in bc[(prev == 0.0) & (ph != 0.0), 0]]
+        self.phase = float(ph[-1])
+        blk = bc[:, c + L.H_BLOCK - L.N_CH]
+        self.bmin = min(self.bmin, float(blk.min()))
+        self.bmax = max(self.bmax, float(blk.max()))
+        self.top_max = max(self.top_max, float(bc[:, c + L.H_TOPSTR - L.N_CH].max()))
+        w = bc[bc[:, 0] >= self.t_skip - 1e-12]
+        if w.shape[0] == 0:
+            return
+        self.n += w.shape[0]
+        self.sums["on"] += float((w[:, 1 + L.H_WOB] > 0.0).sum())
+        self.sums["wob"] += float(w[:, 1 + L.H_WOB].sum())
+        self.sums["rop"] += float(w[:, 1 + L.H_ROP].sum())
+        self.sums["tq"] += float(w[:, 1 + L.H_TSURF].sum())
+
+    def summary(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"t_skip_s": self.t_skip, "block_min_m": self.bmin,
+                               "block_max_m": self.bmax,
+                               "block_within_travel": bool(self.bmin >= 0.0
+                                                           and self.bmax <= self.travel),
+                               "string_top_max_above_rotary_m": self.top_max,
+                               "string_top_below_rotary": bool(self.top_max <= 0.0)}
+        if self.n:
+            m = {k: v / self.n for k, v in self.sums.items()}
+            out.update(on_bottom_fraction=m["on"], mean_wob_N=m["wob"], mean_rop_m_per_s=m["rop"],
+                       mean_surface_torque_Nm=m["tq"])
+            if self.wob_set:
+                out["wob_error_rel"] = m["wob"] / self.wob_set - 1.0
+        return out
+
+    def state(self) -> dict[str, Any]:
+        return {"n": self.n, "sums": self.sums, "bmin": self.bmin, "bmax": self.bmax,
+                "top_max": self.top_max, "phase": self.phase, "starts": self.starts}
+
+    def load(self, d: dict[str, Any]) -> None:
+        self.n, self.sums, self.bmin, self.bmax = d["n"], d["sums"], d["bmin"], d["bmax"]
+        self.top_max, self.phase, self.starts = d["top_max"], d["phase"], d["starts"]
+
+
 class Runner:
     """Drive one simulation: chunks of the integrator, recording, checkpoints, summary."""
 
@@ -197,6 +288,8 @@ class Runner:
         self.config = config
         self.out_dir = out_dir
         self.path = path if path is not None else _wellpath(config)
+        # the rig's set-up is checked before any step (build_model's relaxation takes steps)
+        self.rig_check = check_rig(config)
         self.model, self.state = build_model(config, self.path)
         m = self.model
         check_run_inputs(config, float(self.path.node_md_m[-1]), m.dt)
@@ -219,6 +312,12 @@ class Runner:
         self.ck_steps = int(round(ck / dt)) if ck > 0 else 0
         self.start_step = int(round(rec.start_s / dt))
         self.figures = RunFigures(self._energy_now(), float(m.bp[L.B_TWIN]))
+        self.rig_figures: RigFigures | None = None
+        if config.rig is not None:
+            ad = config.rig.effective_autodriller if config.rig.block_mode == "autodriller" \
+                else None
+            self.rig_figures = RigFigures(ad.wob_set_N if ad is not None else None,
+                                          config.rig.block.travel_m, RIG_WINDOW_SKIP_S)
         self.hash = config_hash(config)
         self.wall_before = 0.0
         self.span_unsolved = 0
@@ -230,6 +329,20 @@ class Runner:
         ch = self.model.work.ch
         return float(kinetic_energy(self.state.v, self.state.w, self.model.seg)
                      + ch[L.H_PE] + ch[L.H_PG])
+
+    def _rig_summary(self) -> dict[str, Any]:
+        """The rig boundaries' set-up and what they did, for summary.json."""
+        rig = self.config.rig
+        assert rig is not None
+        m, sc = self.model, self.state.sc
+        out: dict[str, Any] = {"effective_inputs": rig.effective_inputs(), **m.rig_info}
+        out.update(self.rig_check)
+        rf = self.rig_figures
+        assert rf is not None
+        out["window"] = rf.summary()
+        out["connections"] = {"stands_added": int(sc[L.C_NSTAND]), "start_times_s": rf.starts}
+        out["block_travel_final_m"] = float(sc[L.C_BLK + rig_kernels.BS_X])
+        return out
 
     # --- the run folder ---------------------------------------------------------------
     def _open_folder(self, resume: bool) -> bool:
@@ -245,6 +358,8 @@ class Runner:
         else:
             self.recorder.resume_at(int(meta["part"]))
             self.figures.load(meta)
+            if self.rig_figures is not None:
+                self.rig_figures.load(meta["rig"])
             self.wall_before = float(meta["wall"])
         atomic_write_text(folder.file(rundir.CASE), yaml.safe_dump(
             self.config.model_dump(mode="json"), sort_keys=False))
@@ -256,6 +371,8 @@ class Runner:
         self.recorder.close_part()
         meta = {"hash": self.hash, "part": self.recorder.part, "wall": wall,
                 **self.figures.state()}
+        if self.rig_figures is not None:
+            meta["rig"] = self.rig_figures.state()
         save_checkpoint(self.folder, meta, self.model, self.state)
 
     def _write_joints(self) -> None:
@@ -280,7 +397,7 @@ class Runner:
         wk = m.work
         params = m.params
         rows = [self.chunk // e + 2 for e in self.every]
-        rec0 = new_records(self.sel, tuple(self.every), tuple(rows), m.n,
+        rec0 = new_records(self.sel, tuple(self.every), tuple(rows), m.n, m.n_ch,
                            span=m.cpar[L.P_SPAN] != 0.0)
         status = "incomplete"
         error: SimulationError | None = None
@@ -309,6 +426,8 @@ class Runner:
                     t0 = self.start_step * m.dt - 0.5 * m.dt
                     bl, bc, bk = bl[bl[:, 0] >= t0], bc[bc[:, 0] >= t0], bk[bk[:, 0] >= t0]
                 self.figures.add(bc)
+                if self.rig_figures is not None:
+                    self.rig_figures.add(bc)
                 self.recorder.write(self.recorder.tables(bl, bc, bk, m.seg,
                                                          float(s.sc[L.C_MDROCK])))
                 if st != ST_OK:
@@ -373,6 +492,8 @@ class Runner:
             summary["span_bending_unsolved_samples"] = self.span_unsolved
         if error is not None:
             summary["message"] = str(error)
+        if m.rig_on:
+            summary["rig"] = self._rig_summary()
         ev = events_summary(m.seg, m.bp, sc, self.state.cst, self.figures.wstats)
         summary["events"] = ev
         for k in EVENT_KEYS:

@@ -35,18 +35,30 @@ import math
 from numba import njit
 
 from drillfatigue.dynamics.bitrock import PRESCRIBED_ROP, bit_response
+from drillfatigue.dynamics.connection import (
+    CC_BLOCK_V, CC_RPM_FACTOR, CC_SLIPS, CC_TRAVEL_SHIFT, PH_DRILL, connection_controls,
+)
 from drillfatigue.dynamics.events import count_bounce
 from drillfatigue.dynamics.joints import joint_force
 from drillfatigue.dynamics.layout import (
-    B_AXMODE, B_BITON, B_CBIT, B_FREEZE, B_HL, B_KBIT, B_LOBE, B_NLOBE, B_ROP, B_TOB, B_TOPMODE,
-    B_TOPTQ, B_TRAMP, B_WREF, C_HINT, C_MDROCK, C_PHIB, C_PHID, C_ROPNOW, H_BITMD, H_BITRPM,
-    H_HOOK, H_PDISS, H_PE, H_PIN, H_ROP, H_TOB, H_TOPRPM, H_TSURF, H_WOB, J_CA, J_CB, J_CS, J_CT,
-    J_KA, J_KB, J_KS, J_KT, M_D_R, M_J_RM, P_BITLAW, P_BITMODEL, P_BP, S_H, V_B_DV, V_B_DX,
-    V_B_F, V_B_OUT, V_B_P2, V_B_POS, V_B_T2, V_B_TAN, V_D_P, V_D_Q, V_D_QZ, V_D_V, V_D_W,
-    V_J_ED, V_J_F, V_J_MLO, V_J_MUP, V_J_QH, V_J_QM, V_J_QR,
+    B_AXMODE, B_BITON, B_BLKMODE, B_BLKP, B_CBIT, B_CONDUR, B_CONON, B_CONPICK, B_CONSTAND,
+    B_CROCK, B_FREEZE, B_HL, B_KBIT, B_KROCK, B_LOBE, B_NLOBE, B_RIG, B_ROP, B_TDMODE, B_TDP,
+    B_TOB, B_TOPMODE, B_TOPTQ, B_TRAMP, B_WREF, C_BLK, C_CON, C_CONP, C_CONPH, C_HINT, C_MDROCK,
+    C_NSTAND, C_PHIB, C_PHID, C_ROPNOW, C_SHIFTED, C_TD, C_TSET, C_VGROW, H_BITMD, H_BITRPM,
+    H_BLOCK, H_BLOCKV, H_CONPH, H_HOOK, H_PDISS, H_PE, H_PIN, H_ROP, H_TOB, H_TOPRPM, H_TOPSTR,
+    H_TSURF, H_WOB, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, P_BITLAW, P_BITMODEL, P_BP,
+    S_H, C_NACT, M_D_R, M_J_RM, V_B_DV, V_B_DX, V_B_F, V_B_OUT, V_B_P2, V_B_POS, V_B_T2,
+    V_B_TAN, V_D_P, V_D_Q, V_D_QZ, V_D_V, V_D_W, V_J_ED, V_J_F, V_J_MLO, V_J_MUP, V_J_QH,
+    V_J_QM, V_J_QR,
+)
+from drillfatigue.dynamics.rig import (
+    BLOCK_AT_FLOOR, BLOCK_BAD_MODE, BLOCK_NONFINITE, BLOCK_VELOCITY, BP_VSET, BS_V, BS_X,
+    N_BLOCK_P, N_BLOCK_S, N_TD_P, N_TD_S, TD_BAD_MODE, TD_NONFINITE, TOP_DRIVE_PI, TS_OMEGA,
+    TS_PHI, TS_T, block_step, top_drive_step,
 )
 from drillfatigue.dynamics.rigid import quat_mul, quat_to_rot
-from drillfatigue.dynamics.status import OK
+from drillfatigue.dynamics.rockface import rock_face_contact
+from drillfatigue.dynamics.status import NONFINITE, OK, UNKNOWN_RIG_MODE
 from drillfatigue.well.kernels import path_point
 
 RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
@@ -65,6 +77,97 @@ def drive_omega(t, tab_t, tab_w):
         i += 1
     f = (t - tab_t[i]) / (tab_t[i + 1] - tab_t[i])
     return (1.0 - f) * tab_w[i] + f * tab_w[i + 1]
+
+
+@njit(cache=True)
+def drive_speed(t, s, p):
+    """Top-drive speed (rad/s) at time t: the rpm table, or the top-drive state of the rig."""
+    if p.bp[B_RIG] == 1.0:
+        return s.sc[C_TD + TS_OMEGA]
+    return drive_omega(t, p.tab_t, p.tab_w)
+
+
+@njit(cache=True)
+def rig_step(t0, s, p, wk):
+    """One step of the rig boundaries from time ``t0`` (docs/rig.md).
+
+    In this order: the measured hook load (axial load of the top boundary) and
+    WOB of the last force evaluation; the connection controls at ``t0``
+    (:func:`connection.connection_controls`; rpm factor, block velocity
+    override, slips); the block (:func:`rig.block_step`) in its mode or at the
+    connection's velocity; a connection scheduled when the block reaches the
+    floor; the block travel shortened by a stand once the stand is in; the rate
+    at which the string below the rotary grows, ``sc[C_VGROW]`` (the block's
+    mean velocity over the step, 0 while the slips are set); the top drive
+    (:func:`rig.top_drive_step`) on the set-point (rpm table x connection
+    factor) against the string's torque, whose angle becomes the drive angle
+    ``sc[C_PHID]``. During the relaxation pre-run nothing moves. Returns a
+    status code.
+    """
+    sc = s.sc
+    bp = p.bp
+    dt = p.dt
+    if bp[B_FREEZE] == 1.0:
+        sc[C_VGROW] = 0.0
+        sc[C_TD + TS_OMEGA] = 0.0
+        return OK
+    top = int(sc[C_NACT]) - 1
+    hook = wk.loads[top, 0]
+    wob = wk.ch[H_WOB]
+    blk = sc[C_BLK:C_BLK + N_BLOCK_S]
+    bpar = bp[B_BLKP:B_BLKP + N_BLOCK_P]
+    cc = wk.rig.cc
+    cst = sc[C_CON:C_CON + 8]
+    cpar = sc[C_CONP:C_CONP + 3]
+    ph = connection_controls(t0, cst, cpar, cc)
+    sc[C_CONPH] = ph
+    x0 = blk[BS_X]
+    if ph != PH_DRILL:
+        bv = wk.rig.bpar
+        for k in range(N_BLOCK_P):
+            bv[k] = bpar[k]
+        bv[BP_VSET] = cc[CC_BLOCK_V]
+        st = block_step(BLOCK_VELOCITY, bv, blk, wob, hook, dt)
+    else:
+        st = block_step(int(bp[B_BLKMODE]), bpar, blk, wob, hook, dt)
+    if st == BLOCK_BAD_MODE:
+        return UNKNOWN_RIG_MODE
+    if st == BLOCK_NONFINITE:
+        return NONFINITE
+    x1 = blk[BS_X]
+    slips = cc[CC_SLIPS] == 1.0
+    if st == BLOCK_AT_FLOOR and bp[B_CONON] == 1.0 and ph == PH_DRILL and t0 + dt >= cst[7]:
+        # a connection: its phases start now
+        t = t0 + dt
+        cst[0] = t
+        for k in range(7):
+            t += bp[B_CONDUR + k]
+            cst[k + 1] = t
+        cpar[0] = bp[B_CONPICK]
+        cpar[1] = bp[B_CONSTAND]
+        sc[C_SHIFTED] = 0.0
+    if cc[CC_TRAVEL_SHIFT] > 0.0 and sc[C_SHIFTED] == 0.0:
+        # the stand is in: the block went back up by a stand while the string below the
+        # rotary grew by it (slips set), so the top segment keeps its length
+        blk[BS_X] -= cc[CC_TRAVEL_SHIFT]
+        sc[C_SHIFTED] = 1.0
+        sc[C_NSTAND] += 1.0
+    sc[C_VGROW] = 0.0 if slips else (x1 - x0) / dt
+    # top drive: set-point from the rpm table and the connection's factor, and its rate
+    w0 = drive_omega(t0, p.tab_t, p.tab_w) * cc[CC_RPM_FACTOR]
+    cc1 = wk.rig.cc1
+    connection_controls(t0 + dt, cst, cpar, cc1)
+    w1 = drive_omega(t0 + dt, p.tab_t, p.tab_w) * cc1[CC_RPM_FACTOR]
+    td = sc[C_TD:C_TD + N_TD_S]
+    tst = top_drive_step(int(bp[B_TDMODE]), bp[B_TDP:B_TDP + N_TD_P], td, w0, (w1 - w0) / dt,
+                         wk.loads[top, 5], dt)
+    if tst == TD_BAD_MODE:
+        return UNKNOWN_RIG_MODE
+    if tst == TD_NONFINITE:
+        return NONFINITE
+    sc[C_PHID] = td[TS_PHI]
+    sc[C_TSET] = w1
+    return OK
 
 
 @njit(cache=True, inline="always")
@@ -92,7 +195,7 @@ def top_joint(t, top, s, p, wk, loads_row):
     jp = p.jp
     anchor = p.anchor
     vec = wk.vec
-    omega_d = drive_omega(t, p.tab_t, p.tab_w)
+    omega_d = drive_speed(t, s, p)
     phid = s.sc[C_PHID]
     qz = vec[V_D_QZ]
     qz[0] = math.cos(0.5 * phid)
@@ -176,6 +279,18 @@ def top_boundary(t, n, s, p, wk):
         ch[H_TSURF] = loads[top, 5]
         ch[H_TOPRPM] = omega_d * RPM_PER_RAD_S
     h = p.seg[top, S_H]
+    if bp[B_RIG] == 1.0:
+        sc = s.sc
+        if bp[B_TDMODE] == TOP_DRIVE_PI:
+            # the surface torque is the controller's output
+            ch[H_TSURF] = sc[C_TD + TS_T]
+        ch[H_BLOCK] = sc[C_BLK + BS_X]
+        ch[H_BLOCKV] = sc[C_BLK + BS_V]
+        up = 0.0
+        for k in range(3):
+            up -= (x[top, k] - h * R[top, k, 2] - anchor[k]) * anchor[7 + k]
+        ch[H_TOPSTR] = up
+        ch[H_CONPH] = sc[C_CONPH]
     if bp[B_AXMODE] == 0.0:
         hl = bp[B_HL]
         # force -HL * axis at the top end B = x - h e3; potential HL * (axis . B)
@@ -292,7 +407,18 @@ def bit_guide(s, p, wk):
             ch[H_PDISS] += cb * dvp * dvp
     # axial: unilateral rock contact; WOB >= 0, zero is bit bounce
     wob_f = 0.0
-    if s_ax > 0.0:
+    if bp[B_RIG] == 1.0:
+        # the lobed rock face (rockface.rock_face_contact): u is the bit face beyond the
+        # mean face, its rate relative to the face advancing at the ROP
+        kr = bp[B_KROCK]
+        cr = bp[B_CROCK]
+        ro = vec[V_B_OUT]
+        rock_face_contact(s_ax + lob, sdot + (vl - sc[C_ROPNOW]), phib, w[0, 2], s0, nl, kr, cr, ro)
+        wob_f = ro[0]
+        if s_ax > 0.0:
+            ch[H_PE] += 0.5 * kr * s_ax * s_ax
+            ch[H_PDISS] += (wob_f - kr * s_ax) * sdot
+    elif s_ax > 0.0:
         wob_f = kb * s_ax + cb * sdot
         if wob_f < 0.0:
             wob_f = 0.0

@@ -38,7 +38,9 @@ from collections import namedtuple
 
 import numpy as np
 
+from drillfatigue.dynamics.connection import N_CC
 from drillfatigue.dynamics.layout import C_NACT, N_CH, N_MAT, N_VEC, N_VECW
+from drillfatigue.dynamics.rig import N_BLOCK_P
 
 STATE_FIELDS = ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint", "cst")
 
@@ -75,7 +77,10 @@ Params = namedtuple("Params", ("dt", "seg", "jp", "bp", "topp", "anchor", "tab_t
 #: one force evaluation's outputs and the kernels' scratch: ``vec`` (N_VEC, N_VECW) and
 #: ``mat`` (N_MAT, 3, 3), one named row per use (``V_*``, ``M_*`` of :mod:`layout`). Few
 #: arrays on purpose: numba passes a bundle's arrays one by one at every call.
-Work = namedtuple("Work", ("R", "wW", "loads", "ch", "vec", "mat"))
+#: the rig boundaries (:func:`boundaries.rig_step`): connection controls now and one
+#: step later, a block parameter vector for the connection's velocity override
+RigWork = namedtuple("RigWork", ("cc", "cc1", "bpar"))
+Work = namedtuple("Work", ("R", "wW", "loads", "ch", "vec", "mat", "rig"))
 
 #: ``counts``: rows written to buf_l, buf_c, buf_k, and the loads samples whose span
 #: correction had no solution (a buckled span: recorded as zero)
@@ -85,20 +90,25 @@ Records = namedtuple("Records", ("sel", "every_l", "buf_l", "every_c", "buf_c", 
 N_INFO = 3
 
 
-def new_work(n: int) -> Work:
-    """Work arrays for ``n`` allocated segment rows."""
+def new_work(n: int, n_ch: int = N_CH) -> Work:
+    """Work arrays for ``n`` allocated segment rows and ``n_ch`` channels (``N_CH``, or
+    ``N_CH_RIG`` with the rig boundaries)."""
     return Work(R=np.zeros((n, 3, 3)), wW=np.zeros((n, 3)), loads=np.zeros((n, 6)),
-                ch=np.zeros(N_CH), vec=np.zeros((N_VEC, N_VECW)), mat=np.zeros((N_MAT, 3, 3)))
+                ch=np.zeros(n_ch), vec=np.zeros((N_VEC, N_VECW)), mat=np.zeros((N_MAT, 3, 3)),
+                rig=RigWork(np.zeros(N_CC), np.zeros(N_CC), np.zeros(N_BLOCK_P)))
 
 
 def new_records(sel: np.ndarray, every: tuple[int, int, int], rows: tuple[int, int, int],
-                n: int, span: bool = False) -> Records:
+                n: int, n_ch: int = N_CH, span: bool = False) -> Records:
     """Recording buffers: loads of the joints ``sel`` (``span``: and their span-bending
     correction, 2 more columns per joint after the 6 loads of all), channels, kinematics
-    of ``n`` rows."""
+    of ``n`` rows.
+
+    A channel row is [time, ch[0:N_CH], kinetic energy, work in, dissipated] followed,
+    with ``n_ch > N_CH`` (the rig boundaries), by ``ch[N_CH:n_ch]``."""
     width = 1 + (8 if span else 6) * sel.size
     return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], width)),
-                   every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + N_CH)),
+                   every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + n_ch)),
                    every_k=int(every[2]), buf_k=np.zeros((rows[2], 1 + 8 * n)),
                    counts=np.zeros(4, dtype=np.int64), info=np.zeros(N_INFO))
 

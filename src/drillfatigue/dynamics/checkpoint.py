@@ -3,8 +3,8 @@
 ``checkpoint.npz`` in the run folder (:mod:`drillfatigue.rundir`) holds the
 integrator state (:class:`drillfatigue.dynamics.bundles.State`), the parts of
 the model that change as the string grows (``seg``, ``jp``, ``topp``), the
-rotation matrices ``R`` (the growth step reads them before the next force
-evaluation) and a JSON ``meta`` record: the configuration hash, the number of
+rotation matrices ``R``, joint loads and channels of the last force
+evaluation (the growth and rig steps read them before the next one) and a JSON ``meta`` record: the configuration hash, the number of
 the next history part and the driver's running figures. Time is step x dt, so
 a resumed run repeats exactly the arithmetic of an uninterrupted one.
 """
@@ -28,8 +28,9 @@ def save_checkpoint(folder: OutputFolder, meta: dict[str, Any], model: Model,
     """Write ``checkpoint.npz`` atomically (``meta`` must be JSON-ready)."""
     assert model.work is not None
     with atomic_output(folder.file(rundir.CHECKPOINT)) as tmp, open(tmp, "wb") as fh:
-        np.savez(fh, meta=np.array(json.dumps(meta)), R=model.work.R, seg=model.seg,
-                 jp=model.jp, topp=model.topp, **state.arrays())
+        np.savez(fh, meta=np.array(json.dumps(meta)), R=model.work.R, loads=model.work.loads,
+                 ch=model.work.ch, seg=model.seg, jp=model.jp, topp=model.topp,
+                 **state.arrays())
 
 
 def load_checkpoint(folder: OutputFolder, config_hash: str, model: Model,
@@ -54,6 +55,9 @@ def load_checkpoint(folder: OutputFolder, config_hash: str, model: Model,
         for k, arr in state.arrays().items():
             arr[...] = z[k]
         model.work.R[...] = z["R"]
+        # the rig boundaries' step reads the last force evaluation's loads and channels
+        model.work.loads[...] = z["loads"]
+        model.work.ch[...] = z["ch"]
         model.seg[...] = z["seg"]
         model.jp[...] = z["jp"]
         model.topp[...] = z["topp"]

@@ -2,7 +2,10 @@
 
 Each step the string length changes by dL = ROP dt (bit on bottom: the ROP
 of the bit law or the prescribed one; the rock face MD advances by the same
-amount) or trip_speed dt (off bottom). The top segment grows (or shrinks)
+amount) or trip_speed dt (off bottom). With the rig boundaries
+(``bp[B_RIG] == 1``) the two are separate: the string below the rotary grows
+by the block's travel, ``sc[C_VGROW] dt`` (0 while the slips are set), and the
+rock face advances by what the bit cut, ``ROP dt`` (0 off bottom). The top segment grows (or shrinks)
 from its fixed top end (:func:`grow_top`). When it is longer than
 ``bp[B_LSPLIT]`` a segment of ``bp[B_LNOM]`` is split off its bottom
 (:func:`split_top`), so a 480 -> 880 m run keeps its resolution; when a
@@ -16,7 +19,11 @@ The growth is applied once per step (the joint below the top is shortened by
 dL at once), so the booking carries an O(dt) error of about k_a dL^2 / 2 per
 step: with 3 m pipe segments at 0.5 m/s the summary's
 ``energy_balance_error_rel`` reaches ~0.2 (it halves with the step); without
-growth the balance closes to ~1e-4. The damper of the joint below the top
+growth the balance closes to ~1e-4. With the rig boundaries the growth is
+booked as a prescribed velocity of the top segment's lower end: the energy
+difference plus the correction that turns its force into the trapezoid of the
+joint's axial force over the step (what the integrator's kicks see), which
+closes the balance while drilling. The damper of the joint below the top
 sees the growth rate (:func:`growth_rate`), so no spurious static load builds
 up there.
 
@@ -35,13 +42,14 @@ from numba import njit
 from drillfatigue.dynamics.boundaries import top_joint
 from drillfatigue.dynamics.joints import joint_force
 from drillfatigue.dynamics.layout import (
-    B_AXMODE, B_BITON, B_EXT, B_FREEZE, B_LMIN, B_LNOM, B_LSPLIT, B_TOPAUTO_A, B_TOPAUTO_T,
+    B_AXMODE, B_BITON, B_EXT, B_FREEZE, B_RIG, C_VGROW, B_LMIN, B_LNOM, B_LSPLIT, B_TOPAUTO_A, B_TOPAUTO_T,
     B_TOPLAT, B_TOPMODE, B_ZB, B_ZJ, C_GUARD, C_MDROCK, C_NACT, C_NMERGE, C_NSPLIT, C_ROPNOW,
     C_WIN, CS_ONT, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, MAX_CONTACT_POINTS, S_CA, S_CC,
     S_CL, S_CRA, S_CRL, S_H, S_IA, S_IT, S_M, S_RB, S_RC, S_W, T_CAPL, T_CLPL, T_CRAPL, T_CRLPL,
     T_EA, T_EA2, T_EI, T_EI2, T_GJ, T_GJ2, T_KA_TOP, T_KGA, T_KGA2, T_KPAR_B, T_KPAR_S, T_KT_TOP,
     T_MPL, T_R2, T_WPL, M_J_RM, V_G_LOW, V_G_Q, V_G_Q2, V_G_R, V_G_TH, V_G_TOP, V_G_VPIECE,
     V_G_VTOP, V_G_W, V_G_XC, V_J_ED, V_J_F, V_J_MLO, V_J_MUP, V_J_QH, V_J_QM, V_J_QR,
+    V_J_VUP,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_exp_mul, quat_log, quat_to_rot
 
@@ -125,6 +133,8 @@ def growth_rate(bp, sc):
     the ROP on bottom, the trip speed off bottom, 0 while frozen or stopped."""
     if bp[B_FREEZE] == 1.0:
         return 0.0
+    if bp[B_RIG] == 1.0:
+        return sc[C_VGROW]
     if bp[B_BITON] == 1.0:
         return sc[C_ROPNOW]
     g = bp[B_EXT]
@@ -174,6 +184,33 @@ def tail_energy(lo, t, s, p, wk):
     top_joint(t, top, s, p, wk, loads[top])
     e += vec[V_J_ED, 0]
     return e
+
+
+@njit(cache=True)
+def joint_below_top_axial(top, growth, s, p, wk):
+    """Axial load (N, tension > 0) of the joint below the top segment ``top`` now, its
+    damper seeing the growth rate ``growth`` (m/s) as in the force evaluation
+    (:func:`joints.joint_forces`); ``wk.R``, ``wk.wW`` of both segments must be current.
+    Writes ``wk.loads[top - 1]``."""
+    x = s.x
+    v = s.v
+    q = s.q
+    seg = p.seg
+    jp = p.jp
+    R = wk.R
+    wW = wk.wW
+    vec = wk.vec
+    j = top - 1
+    vu = vec[V_J_VUP]
+    for k in range(3):
+        vu[k] = v[top, k] + growth * R[top, k, 2]
+    joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
+                x[top], vu, R[top], q[top], wW[top], seg[top, S_H],
+                jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
+                jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
+                vec[V_J_QR], vec[V_J_QH], vec[V_J_QM], wk.mat[M_J_RM], vec[V_J_F],
+                vec[V_J_MLO], vec[V_J_MUP], wk.loads[j], vec[V_J_ED])
+    return wk.loads[j, 0]
 
 
 @njit(cache=True)
@@ -394,6 +431,14 @@ def grow_top(n, t1, s, p, wk):
     nmax = x.shape[0]
     if bp[B_FREEZE] == 1.0:
         dL = 0.0
+    elif bp[B_RIG] == 1.0:
+        # the rig: the rock face advances by what the bit cut (0 off bottom), the string
+        # below the rotary by what the block moved
+        if bp[B_BITON] == 1.0:
+            sc[C_MDROCK] += sc[C_ROPNOW] * dt
+        dL = sc[C_VGROW] * dt
+        if sc[C_GUARD] == 1.0 and dL < 0.0:
+            dL = 0.0
     elif bp[B_BITON] == 1.0:
         dL = sc[C_ROPNOW] * dt
         sc[C_MDROCK] += dL
@@ -404,7 +449,16 @@ def grow_top(n, t1, s, p, wk):
     if dL == 0.0:
         return n
     top = n - 1
+    rig = bp[B_RIG] == 1.0 and top >= 1
+    t_prev = wk.loads[top - 1, 0] if rig else 0.0
     e_before = tail_energy(top, t1, s, p, wk)
+    if rig:
+        # growth as a prescribed velocity: the feed works against the axial force of the
+        # joint below the top with the trapezoid of that force over the step (its value at
+        # the last force evaluation and at the end of the drift), as the integrator's
+        # kicks do; the energy difference of the length change alone books the force at
+        # the end of the drift only and leaves k_a dL * (string motion) / 2 per step
+        sc[C_WIN] += 0.5 * dL * (joint_below_top_axial(top, dL / dt, s, p, wk) - t_prev)
     h_new = seg[top, S_H] + 0.5 * dL
     if 2.0 * h_new < bp[B_LMIN] and n <= 2:
         # tripping out: keep a minimum string

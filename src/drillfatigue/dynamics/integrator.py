@@ -33,7 +33,11 @@ free-rotor drift (the explicit form of that term drifts in energy by O(dt):
   the contact stiffness enters the stable-step bound (a mass m / points on k_c).
 
 Drilling and tripping (docs/model.md#top-boundary): after the drift the string grows or
-shrinks at the top (:func:`drillfatigue.dynamics.growth.grow_top`).
+shrinks at the top (:func:`drillfatigue.dynamics.growth.grow_top`). With the
+rig boundaries (``bp[B_RIG] == 1``, docs/rig.md) the block, the connection
+sequence and the top drive are stepped first
+(:func:`drillfatigue.dynamics.boundaries.rig_step`): they set the drive angle
+and the rate at which the string grows.
 
 Divergence. Every step, after the closing kick, each segment's speed is
 checked against bounds no drill string reaches
@@ -67,11 +71,11 @@ import math
 import numpy as np
 from numba import njit
 
-from drillfatigue.dynamics.boundaries import drive_omega
+from drillfatigue.dynamics.boundaries import drive_omega, rig_step
 from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
-    B_ESCALE, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_LATMASS,
+    B_ESCALE, B_RIG, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_LATMASS,
     P_SPAN, S_IA, S_IT,
     S_M, V_ROT_QA, V_ROT_QB,
 )
@@ -136,6 +140,8 @@ def record(step, t1, n, s, p, wk, rec):
         buf_c[r, 1 + N_CH] = kinetic_energy(s.v, s.w, p.seg)
         buf_c[r, 2 + N_CH] = s.sc[C_WIN]
         buf_c[r, 3 + N_CH] = s.sc[C_DISS]
+        for k in range(buf_c.shape[1] - 4 - N_CH):
+            buf_c[r, 4 + N_CH + k] = ch[N_CH + k]
         counts[1] = r + 1
     if step % rec.every_k == 0:
         r = counts[2]
@@ -223,7 +229,15 @@ def advance(n_steps, s, p, wk, rec):
         t0 = sc[C_STEP] * dt
         sc[C_STEP] += 1.0
         t1 = sc[C_STEP] * dt
-        sc[C_PHID] += 0.5 * dt * (drive_omega(t0, tab_t, tab_w) + drive_omega(t1, tab_t, tab_w))
+        if p.bp[B_RIG] == 1.0:
+            rst = rig_step(t0, s, p, wk)
+            if rst != OK:
+                info[0] = sc[C_STEP]
+                info[1] = -1.0
+                info[2] = 0.0
+                return rst
+        else:
+            sc[C_PHID] += 0.5 * dt * (drive_omega(t0, tab_t, tab_w) + drive_omega(t1, tab_t, tab_w))
         n = grow_top(n, t1, s, p, wk)
         fst = compute_forces(s, p, wk)
         if fst != OK:

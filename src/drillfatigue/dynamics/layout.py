@@ -85,7 +85,19 @@ B_LMIN = 24      # top segment length (m) below which it merges with the one bel
 B_TWIN = 25      # start of the event window (s): after the rpm ramp
 B_TRAMP = 26     # top torque ramp time (s), mode 1
 B_FREEZE = 27    # 1 during the relaxation pre-run: no ROP / trip, the rock face stays put
-N_BP = 28
+# rig boundaries (docs/bending.md; drillfatigue.dynamics.rig, .connection, .rockface)
+B_RIG = 28       # 1: the block, top drive and rock face of the rig section drive the string
+B_BLKMODE = 29   # block mode id (rig.BLOCK_*)
+B_TDMODE = 30    # top-drive mode id (rig.TOP_DRIVE_*)
+B_CONON = 31     # 1: a connection starts when the block reaches the floor
+B_BLKP = 32      # 32..42: block parameter vector (rig.BP_*, rig.N_BLOCK_P = 11)
+B_TDP = 43       # 43..46: top-drive parameter vector (rig.TP_*, rig.N_TD_P = 4)
+B_CONDUR = 47    # 47..53: connection phase durations (s), pickup .. tag
+B_CONPICK = 54   # connection pick-up distance (m)
+B_CONSTAND = 55  # stand length (m)
+B_KROCK = 56     # rock contact stiffness (N/m)
+B_CROCK = 57     # rock contact damping (N s/m)
+N_BP = 58
 
 # topp -- per-length properties of the extensible top segment (index n-1) and
 # section of segment n-2, to rebuild the top rows as the top grows
@@ -127,6 +139,17 @@ C_NSPLIT = 11   # segments added (split off the top)
 C_NMERGE = 12   # segments merged (tripping out)
 C_GUARD = 13    # 1 once tripping out stopped at the minimum string length
 N_SC = 14
+# rig state: only with the rig boundaries (bp[B_RIG] == 1), sc then has N_SC_RIG entries
+C_BLK = 14      # 14..21: block state (rig.BS_*, rig.N_BLOCK_S = 8)
+C_TD = 22       # 22..25: top-drive state (rig.TS_*, rig.N_TD_S = 4)
+C_CON = 26      # 26..33: start times of the connection phases (connection.ConnectionSchedule)
+C_CONP = 34     # 34..36: connection parameters [pickup_m, stand_length_m, 0]
+C_NSTAND = 37   # stands added (connections completed up to the stand)
+C_SHIFTED = 38  # 1 once the block travel shift of the current connection is applied
+C_VGROW = 39    # rate (m/s) at which the string below the rotary grows this step (block speed)
+C_CONPH = 40    # connection phase now (connection.PH_*)
+C_TSET = 41     # top-drive speed set-point now (rad/s)
+N_SC_RIG = 42
 
 # cst[i, :] -- per-segment contact / whirl statistics (state, checkpointed)
 CS_ONT = 0      # contact onset time (s), -1 if never
@@ -160,6 +183,13 @@ H_NCON = 12     # segments in wall contact
 H_FCMAX = 13    # largest segment normal force now (N)
 H_NSEG = 14     # active segments
 N_CH = 15
+# channels of the rig boundaries: the recorder appends them to the channel table only
+# with the rig on; they live past N_CH in ch (ch has N_CH_RIG entries)
+H_BLOCK = 15    # block travel below the top of its travel (m)
+H_BLOCKV = 16   # block velocity (m/s, > 0 lowering)
+H_TOPSTR = 17   # string top above the top anchor (rotary), m (< 0: below)
+H_CONPH = 18    # connection phase
+N_CH_RIG = 19
 
 # work.vec[r, :] -- scratch vectors of the kernels, one row per use (row width N_VECW;
 # a use reads the first 2, 3, 4 or 15 entries)

@@ -27,7 +27,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillfatigue.config import CaseConfig
+from drillfatigue.dynamics.rig_setup import block_params, top_drive_params
 from drillfatigue.dynamics import bitrock, friction, layout as L, status
+from drillfatigue.dynamics import rig as R
 from drillfatigue.dynamics.bundles import Params, State, Work, new_records, new_work
 from drillfatigue.dynamics.contact import contact_damping
 from drillfatigue.dynamics.forces import compute_forces
@@ -122,15 +124,29 @@ class Model:
     cp: np.ndarray = field(default_factory=lambda: np.zeros((0, L.MAX_TABLE_POINTS, 2)))
     ei: np.ndarray = field(default_factory=lambda: np.zeros(0))
     mlat: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: with the rig boundaries: what summary.json reports of their set-up
+    rig_info: dict = field(default_factory=dict)
+    #: block travel at t = 0 (m below the top of its travel)
+    block_x0_m: float = 0.0
 
     @property
     def n(self) -> int:
         """Allocated segment rows (the largest count the run can reach)."""
         return int(self.seg.shape[0])
 
+    @property
+    def rig_on(self) -> bool:
+        """Whether the rig boundaries drive the string (docs/rig.md)."""
+        return bool(self.bp[L.B_RIG] == 1.0)
+
+    @property
+    def n_ch(self) -> int:
+        """Channels a force evaluation writes: ``N_CH``, ``N_CH_RIG`` with the rig boundaries."""
+        return L.N_CH_RIG if self.rig_on else L.N_CH
+
     def new_work(self) -> None:
         """Allocate the work arrays of the kernels."""
-        self.work = new_work(self.n)
+        self.work = new_work(self.n, self.n_ch)
 
     @property
     def params(self) -> Params:
@@ -378,7 +394,8 @@ def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
     h = seg[:, L.S_H]
     ro2 = (0.5 * segs.od_m) ** 2 + (0.5 * segs.id_m) ** 2
     bp = np.zeros(L.N_BP)
-    bp[L.B_AXMODE] = 1.0 if op.top_axial == "fixed" else 0.0
+    # with the rig the block holds the top axially (its spring to the top anchor)
+    bp[L.B_AXMODE] = 1.0 if op.top_axial == "fixed" or config.rig is not None else 0.0
     bp[L.B_BITON] = 1.0 if op.bit_on_bottom else 0.0
     bp[L.B_KBIT] = ka_ref
     bp[L.B_CBIT] = 2.0 * zb * math.sqrt(ka_ref * m[0])
@@ -435,6 +452,92 @@ def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
     return bp, topp
 
 
+def pack_rig(config: CaseConfig, bp: np.ndarray, seg: np.ndarray, hook_off_N: float) -> dict:
+    """Rig boundaries into ``bp`` (docs/rig.md; read by :func:`boundaries.rig_step`,
+    :func:`boundaries.bit_guide`): block and top-drive modes and parameter vectors, the
+    connection durations, the rock face (lobes, contact stiffness and damping). Returns the
+    top-drive gains used and the autodriller's zero, for ``summary.json``.
+
+    The rock contact stiffness defaults to the bit guide's (``bp[B_KBIT]``, the bit
+    segment's axial joint stiffness) and its damping is ``contact_damping_ratio`` of
+    critical for the bit segment's mass.
+    """
+    rig = config.rig
+    assert rig is not None
+    bp[L.B_RIG] = 1.0
+    bmode, bpar = block_params(rig, hook_off_N)
+    tmode, tpar, tinfo = top_drive_params(rig, config)
+    bp[L.B_BLKMODE] = bmode
+    bp[L.B_BLKP:L.B_BLKP + R.N_BLOCK_P] = bpar
+    bp[L.B_TDMODE] = tmode
+    bp[L.B_TDP:L.B_TDP + R.N_TD_P] = tpar
+    con = rig.connection
+    bp[L.B_CONON] = 1.0 if con.enabled else 0.0
+    bp[L.B_CONDUR:L.B_CONDUR + 7] = [con.pickup_s, con.rotation_stop_s, con.slips_s, con.stand_s,
+                                     con.slips_out_s, con.ramp_s, con.tag_s]
+    bp[L.B_CONPICK] = con.pickup_m
+    bp[L.B_CONSTAND] = con.stand_length_m
+    rock = rig.rock
+    on = config.operation.bit_on_bottom
+    bp[L.B_NLOBE] = rock.lobe_count
+    bp[L.B_LOBE] = rock.lobe_amplitude_m if on else 0.0
+    k = rock.contact_stiffness_N_per_m if rock.contact_stiffness_N_per_m is not None \
+        else float(bp[L.B_KBIT])
+    bp[L.B_KROCK] = k
+    bp[L.B_CROCK] = 2.0 * rock.contact_damping_ratio * math.sqrt(k * float(seg[0, L.S_M]))
+    info = {"top_drive": tinfo, "rock_contact_stiffness_N_per_m": k,
+            "rock_contact_damping_N_s_per_m": float(bp[L.B_CROCK])}
+    if rig.block_mode == "autodriller":
+        info["autodriller_hook_off_bottom_N"] = hook_off_N
+    return info
+
+
+def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> None:
+    """Rig part of the scalar state at t = 0 (in place; docs/rig.md).
+
+    Block at ``rig.block.initial_travel_m``; the autodriller starts at its steady
+    state (integral giving the ROP of the bit law at the set-point WOB and the
+    start speed, the block lowering at that ROP); the top drive at the start speed
+    and the initial drive angle, its PI integral holding the string's torque now
+    (no start-up kick); no connection scheduled.
+    """
+    sc = state.sc
+    bp = model.bp
+    blk = sc[L.C_BLK:L.C_BLK + R.N_BLOCK_S]
+    blk[:] = R.new_block_state(model.block_x0_m)
+    rop0 = 0.0
+    if int(bp[L.B_BLKMODE]) in (R.BLOCK_AUTODRILLER_WOB, R.BLOCK_AUTODRILLER_HOOK):
+        out = np.zeros(2)
+        bitrock.bit_response(int(model.cpar[L.P_BITMODEL]),
+                             model.cpar[L.P_BP:L.P_BP + bitrock.N_PARAMS],
+                             float(bp[L.B_BLKP + R.BP_WOBSET]), omega0, out)
+        rop0 = min(float(out[1]), float(bp[L.B_BLKP + R.BP_ROPLIM]))
+        ki = float(bp[L.B_BLKP + R.BP_KI])
+        blk[R.BS_I] = rop0 / ki if ki > 0.0 else 0.0
+        blk[R.BS_VCMD] = rop0
+        blk[R.BS_V] = rop0
+        wob_set = float(bp[L.B_BLKP + R.BP_WOBSET])
+        blk[R.BS_MEAS] = wob_set if int(bp[L.B_BLKMODE]) == R.BLOCK_AUTODRILLER_WOB \
+            else float(bp[L.B_BLKP + R.BP_HOFF]) - wob_set
+    sc[L.C_CON:L.C_CON + 8] = -np.inf  # no connection yet: the drilling phase
+    sc[L.C_TD + R.TS_OMEGA] = omega0
+    sc[L.C_TD + R.TS_PHI] = phi0
+    sc[L.C_PHID] = phi0
+    sc[L.C_ROPNOW] = rop0
+    sc[L.C_VGROW] = rop0
+
+
+def start_rig_drive(model: Model, state: State) -> None:
+    """The top drive's torque and PI integral from the string's torque at the current state."""
+    assert model.work is not None
+    top = state.n_active - 1
+    t0 = float(model.work.loads[top, 5])
+    sc = state.sc
+    sc[L.C_TD + R.TS_T] = t0
+    ki = float(model.bp[L.B_TDP + R.TP_KI])
+    sc[L.C_TD + R.TS_I] = t0 / ki if ki > 0.0 else 0.0
+
+
 @dataclass
 class Preload:
     """Static start: hook load and WOB (N), neutral point (m from the bit or None), axial
@@ -462,6 +565,10 @@ def static_preload(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.n
     if not op.bit_on_bottom:
         wob = 0.0
         hook = total_ax
+    elif config.rig is not None and config.rig.block_mode == "autodriller":
+        # the autodriller starts holding its set-point
+        wob = config.rig.effective_autodriller.wob_set_N
+        hook = total_ax - wob
     elif op.top_axial == "hook_load":
         hook = op.hook_load_N
         wob = total_ax - hook
@@ -495,7 +602,7 @@ def static_preload(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.n
         shift[j + 1] = shift[j] - tension[j] / jp[j, L.J_KA]
     # torsional pre-load: the TOB at the start speed, transmitted to the top
     tob0 = bp[L.B_TOB] * math.tanh(omega0 / OMEGA_REF_RAD_S)
-    if op.bit_on_bottom and config.bit.model != "given_tob":
+    if op.bit_on_bottom and config.bit.model != "given_tob" and wob > 0.0:
         # the bit law's torque at the initial WOB and speed (no start-up kick)
         bid, bpar = bitrock.pack_bit_params(config.bit, op.rop_m_per_s)
         out2 = np.zeros(2)
@@ -522,7 +629,7 @@ def top_anchor(config: CaseConfig, jp: np.ndarray, place: Placement, centres: np
     b_top = centres[-1] - place.h[-1] * e3s[-1]
     anchor = np.zeros(10)
     ka_top = jp[n - 1, L.J_KA]
-    fixed = config.operation.top_axial == "fixed"
+    fixed = config.operation.top_axial == "fixed" or config.rig is not None
     anchor[0:3] = b_top - (hook_N / ka_top * e3s[-1] if fixed and ka_top > 0 else 0.0)
     anchor[3:7] = quat_from_rot(place.frames[-1])
     anchor[7:10] = e3s[-1]
@@ -662,6 +769,14 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     omega0 = float(tab_w[0])
     pre = static_preload(config, seg, jp, bp, place, omega0)
     bp[L.B_HL] = pre.hook_N
+    rig_info: dict = {}
+    if config.rig is not None:
+        # the autodriller's zero: the rotating off-bottom hook load, here the string's
+        # axial buoyed weight (pure rotation: no axial drag in the soft-string limit)
+        rig_info = pack_rig(config, bp, seg, pre.total_axial_weight_N)
+        if op.bit_on_bottom:
+            # the rock spring carries the initial WOB
+            pre.shift_m += pre.wob_N / bp[L.B_KROCK] - pre.shift_m[0]
     centres = place.centres + pre.shift_m[:, None] * place.e3s
     q = np.array([quat_from_rot(place.frames[i] @ _rotz(pre.psi_rad[i])) for i in range(n)])
     anchor = top_anchor(config, jp, place, centres, pre.hook_N)
@@ -680,7 +795,7 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     bp[L.B_DT] = dt
     bp[L.B_ESCALE] = energy_scale(config, seg, bp, tab_w, pre.total_axial_weight_N,
                                   float(place.s_top_end[-1]))
-    sc = np.zeros(L.N_SC)
+    sc = np.zeros(L.N_SC_RIG if config.rig is not None else L.N_SC)
     sc[L.C_PHID] = pre.phi_drive_rad
     sc[L.C_NACT] = n
     sc[L.C_MDROCK] = op.bit_md_m
@@ -696,7 +811,9 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     model = Model(segments=segs, path=path, seg=pad(seg), jp=pad(jp), bp=bp, topp=topp,
                   anchor=anchor, tab_t=tab_t, tab_w=tab_w, dt=dt, hook_load_N=pre.hook_N,
                   wob0_N=pre.wob_N, neutral_point_s_from_bit_m=pre.s_np_m,
-                  top_length_m=place.top_len, cpar=cpar, n0=n, segment_length_m=lnom)
+                  top_length_m=place.top_len, cpar=cpar, n0=n, segment_length_m=lnom,
+                  rig_info=rig_info,
+                  block_x0_m=config.rig.block.initial_travel_m if config.rig is not None else 0.0)
     # bending stiffness per row for the span correction; rows split off the top later
     # have the top's section
     model.ei = np.ascontiguousarray(np.r_[segs.ei_Nm2, np.full(nmax - n, segs.ei_Nm2[-1])])
@@ -716,9 +833,15 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
                   hint=np.zeros(n_hint, dtype=np.int64), cst=cst)
     _init_hints(model, state)
     model.new_work()
+    if model.rig_on:
+        init_rig_state(model, state, omega0, pre.phi_drive_rad)
+        rop0 = float(state.sc[L.C_ROPNOW])
+        state.v[: n - 1] = rop0 * place.e3s[: n - 1]
     evaluate_forces(model, state)
     if config.solver.relax_s > 0.0:
         relax_state(model, state, config.solver.relax_s)
+    if model.rig_on:
+        start_rig_drive(model, state)
     return model, state
 
 
@@ -769,6 +892,9 @@ def relax_state(model: Model, state: State, relax_s: float) -> None:
     state.v[...] = v0
     state.w[...] = w0
     sc = state.sc
+    if model.rig_on:
+        sc[L.C_TD + R.TS_OMEGA] = tab_w[0]
+        sc[L.C_VGROW] = sc[L.C_BLK + R.BS_V]
     for k in (L.C_STEP, L.C_WIN, L.C_DISS, L.C_BOUNCE, L.C_OFFB):
         sc[k] = 0.0
     state.cst[...] = 0.0
@@ -958,7 +1084,7 @@ def advance_model(model: Model, state: State, n_steps: int, *, joints: np.ndarra
     params = model.params
     while done < n_steps:
         k = min(chunk, n_steps - done)
-        rec = new_records(sel, (every, every, every), (rows, rows, rows), n,
+        rec = new_records(sel, (every, every, every), (rows, rows, rows), n, model.n_ch,
                           span=model.cpar[L.P_SPAN] != 0.0)
         st = advance(k, state, params, model.work, rec)
         raise_for_status(st, rec.info, model)

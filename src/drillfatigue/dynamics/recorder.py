@@ -129,6 +129,8 @@ class Recorder:
             cols["segments_in_contact"] = bc[:, 1 + L.H_NCON]
             cols["max_contact_force_N"] = bc[:, 1 + L.H_FCMAX]
             cols["n_segments"] = bc[:, 1 + L.H_NSEG]
+            for k, name in enumerate(rundir.RIG_CHANNEL_COLUMNS[: bc.shape[1] - 4 - L.N_CH]):
+                cols[name] = bc[:, 4 + L.N_CH + k]
             out["channels"] = pa.table(cols)
         if bk.shape[0]:
             n = self.n_rows

@@ -3,7 +3,7 @@
 A rigid segment carries no bending inside itself, yet the real pipe sags
 between the points where it touches the wall (tool joints, stabilizer blades,
 contact points along collars) and, rotating, sees that moment alternate once
-per revolution (MODEL.md section 10). These kernels give the moments of a
+per revolution (docs/bending.md). These kernels give the moments of a
 chain of spans between supports under a uniform transverse load per span.
 
 Beam solution
@@ -78,7 +78,7 @@ References
 Timoshenko, S. P. & Gere, J. M., *Theory of Elastic Stability*, 2nd ed.,
 McGraw-Hill 1961, sections 1.11-1.13 (beam-columns, continuous beams with
 axial loads); Roark's *Formulas for Stress and Strain*, 8th ed., table 8.5
-(beam-column end moments); MODEL.md section 10.
+(beam-column end moments); docs/bending.md.
 """
 
 from __future__ import annotations

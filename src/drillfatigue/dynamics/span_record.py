@@ -1,4 +1,4 @@
-"""Span correction at the recorded joints: bending between the wall supports (MODEL.md section 10).
+"""Span correction at the recorded joints: bending between the wall supports (docs/bending.md).
 
 A chain of rigid segments lying on the wall is nearly collinear, so its joint
 moments miss what the pipe's own weight does between the points where it

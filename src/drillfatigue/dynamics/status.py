@@ -20,6 +20,8 @@ SPEED = 3
 UNKNOWN_FRICTION = 4
 #: a bit-law id outside :mod:`drillfatigue.dynamics.bitrock`'s list
 UNKNOWN_BIT = 5
+#: a block or top-drive mode id outside :mod:`drillfatigue.dynamics.rig`'s list
+UNKNOWN_RIG_MODE = 6
 
 #: Translational speed (m/s) no part of a drill string reaches: trip speeds are
 #: below 10 m/s and lateral impact speeds in whirl a few m/s. A segment centre
@@ -39,4 +41,5 @@ MESSAGES = {
     SPEED: "speed above the divergence bound",
     UNKNOWN_FRICTION: "unknown friction model",
     UNKNOWN_BIT: "unknown bit model",
+    UNKNOWN_RIG_MODE: "unknown block or top-drive mode",
 }

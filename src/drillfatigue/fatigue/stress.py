@@ -14,7 +14,7 @@ Sign conventions (fixed once, tested in ``tests/unit/test_fatigue_stress.py``):
   shear flow (peak 2V/A at the neutral axis), whose resultant over the section
   is (Vx, Vy).
 
-Mud pressure (MODEL.md section 10, FATIGUE.md section 1): with internal and
+Mud pressure (docs/bending.md, docs/fatigue.md): with internal and
 external pressure p_i, p_o the wall carries the thick-wall (Lame) radial and
 hoop stresses
 

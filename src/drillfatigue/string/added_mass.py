@@ -2,7 +2,7 @@
 
 A pipe moving sideways carries the mud in its bore with it and accelerates
 some of the annular mud around it; whirl and lateral-vibration forces scale
-with the total. Per unit length (MODEL.md section 10):
+with the total. Per unit length (docs/bending.md):
 
 * internal mud: m_i = rho_mud pi r_i^2 (moves with the pipe);
 * added mass: m_a = C_a rho_mud pi r_o^2, the displaced mud times an

@@ -18,7 +18,7 @@ the radius that touches the wall there:
 
 Spacing rule for the extra points. Between two tested points a distance
 ``s`` apart, a straight segment can meet the wall of a hole of curvature
-kappa only by the arc's bulge over that chord, s^2 kappa / 8 (MODEL.md
+kappa only by the arc's bulge over that chord, s^2 kappa / 8 (docs/model.md
 section 10), so
 
     s <= sqrt(8 f c / kappa)            (curvature rule)

@@ -15,7 +15,16 @@ damage per second (over its recorded part, after ``settle_s``) stands for its
 share of the 800 s (quasi-stationary sampling). With ``n_samples = 1`` and
 ``sample_s = 800`` it is the paper's single continuous window.
 
-Outputs in ``out_dir``: ``case2_life.csv``, ``case2_diagnostics.csv``,
+Boundaries (``boundaries``): ``rig`` (default) drills as a rig does: the
+autodriller holds ``wob_set_N`` on the bit, the bit law gives the ROP, the
+string grows by the block's travel, the lobes are the rock face's
+(``docs/rig.md``); each window is continuous, and ``case2_drilling.csv`` reports
+per profile the on-bottom fraction after ``metrics_skip_s``, the mean WOB
+against its set-point, the ROP and surface torque, the block and string-top
+checks and the whirl, bounce and stick-slip classes. ``prescribed_rop`` is the
+founding paper's set-up (the bit guided at ``rop_m_per_s``), kept for validation.
+
+Outputs in ``out_dir``: ``case2_life.csv``, ``case2_diagnostics.csv``, ``case2_drilling.csv``,
 ``case2_summary.json``, figures ``case2_loads.png``, ``case2_connection_stress.png``,
 ``case2_life.png``, and the run folders ``runs/<profile>/sample_<k>``.
 """
@@ -84,18 +93,88 @@ def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None
     ``joint``: the only joint recorded (None: all). ``well``: a ``well`` section
     defining ``profile`` (default: the project's case-2 family).
     """
+    if cfg.boundaries == "rig":
+        # the rig drills: the autodriller holds the WOB, the bit law gives the ROP, the
+        # lobed face is the rock's
+        operation: dict[str, Any] = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m,
+                                     "rpm": cfg.rpm, "rpm_ramp_s": cfg.rpm_ramp_s,
+                                     "top_axial": "neutral_point", "bit_on_bottom": True}
+        extra: dict[str, Any] = {
+            "bit": {"model": "yigit_christoforou"},
+            "rig": {"block_mode": "autodriller",
+                    "autodriller": {"measurement": cfg.autodriller_measurement,
+                                    "wob_set_N": cfg.wob_set_N},
+                    "block": {"initial_travel_m": cfg.block_initial_travel_m},
+                    "rock": {"lobe_count": 3, "lobe_amplitude_m": cfg.lobe_amplitude_m}}}
+    else:
+        operation = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
+                     "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",
+                     "rop_m_per_s": cfg.rop_m_per_s, "bit_on_bottom": True,
+                     "lobe_count": 3, "lobe_amplitude_m": cfg.lobe_amplitude_m}
+        extra = {}
     return {
+        **extra,
         "well": {**(well or {}), "profile": profile},
         "string": {"components": string_components(cfg.string, bit_md_m)},
-        "operation": {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
-                      "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",
-                      "rop_m_per_s": cfg.rop_m_per_s, "bit_on_bottom": True,
-                      "lobe_count": 3, "lobe_amplitude_m": cfg.lobe_amplitude_m},
+        "operation": operation,
         "recording": {"loads_rate_hz": cfg.loads_rate_hz, "channels_rate_hz": cfg.loads_rate_hz,
                       "kinematics_rate_hz": 10.0, "joints": None if joint is None else [joint],
                       "start_s": cfg.settle_s},
         "solver": {"relax_s": cfg.relax_s, "safety_factor": cfg.safety_factor},
     }
+
+
+#: bit speed below which the bit counts as stuck, as a fraction of the mean (stick-slip)
+STUCK_FRACTION = 0.1
+#: stick-slip severity (max - min) / mean bit speed above which the rotation is called a
+#: torsional oscillation when the bit never sticks
+OSCILLATION_SEVERITY = 0.5
+
+
+def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, profile: str,
+                     sample: int) -> dict[str, Any]:
+    """What one rig-driven window did at the rig and the bit (case-2 metrics).
+
+    From the run's channels after ``metrics_skip_s``
+    (:func:`drillfatigue.dynamics.rig.drilling_window_metrics`): the on-bottom
+    fraction, mean WOB and its error from the set-point, mean ROP and surface
+    torque, the block within its travel and the string top never above the
+    rotary; the classes of the run: whirl (the simulator's dominant class), bit
+    bounce (lift-offs counted, ``bounce`` when any) and stick-slip (``stick_slip``
+    when the bit speed falls below ``STUCK_FRACTION`` of its mean, ``oscillation``
+    when the severity exceeds ``OSCILLATION_SEVERITY``, else ``none``).
+    """
+    from drillfatigue.dynamics.rig import drilling_window_metrics
+
+    ch = pd.read_parquet(run_dir / "channels.parquet")
+    t = ch["time_s"].to_numpy()
+    skip = max(cfg.metrics_skip_s - float(t[0]), 0.0)
+    if t[-1] - t[0] <= skip:
+        # a window shorter than the start-up (reduced test runs): all of it, said so
+        skip = 0.0
+    out: dict[str, Any] = {"profile": profile, "sample": sample,
+                           "wob_set_N": cfg.wob_set_N, "metrics_from_s": float(t[0]) + skip}
+    out.update(drilling_window_metrics(
+        t, ch["wob_N"].to_numpy(), ch["rop_m_per_s"].to_numpy(),
+        ch["surface_torque_Nm"].to_numpy(), ch["block_travel_m"].to_numpy(),
+        float(summary["rig"]["effective_inputs"]["block"]["travel_m"]), cfg.wob_set_N,
+        ch["string_top_above_rotary_m"].to_numpy(), t_skip_s=skip))
+    sel = t >= t[0] + skip
+    rpm = ch["bit_rpm"].to_numpy()[sel]
+    mean = float(rpm.mean())
+    sev = float((rpm.max() - rpm.min()) / mean) if mean > 0 else math.inf
+    out["mean_rop_m_per_h"] = out["mean_rop_m_per_s"] * 3600.0
+    out["bit_rpm_mean"] = mean
+    out["stick_slip_severity"] = sev
+    out["stick_slip_class"] = ("stick_slip" if rpm.min() < STUCK_FRACTION * mean else
+                               "oscillation" if sev > OSCILLATION_SEVERITY else "none")
+    out["whirl_class"] = summary.get("whirl_class")
+    out["bit_bounce_count"] = summary.get("bit_bounce_count")
+    out["bounce_class"] = "bounce" if (summary.get("bit_bounce_count") or 0) > 0 else "none"
+    out["drilled_m"] = float(ch["bit_md_m"].iloc[-1] - ch["bit_md_m"].iloc[0])
+    out["simulated_s"] = float(summary["duration_s"])
+    out["wall_s"] = float(summary["wall_time_s"])
+    return out
 
 
 def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
@@ -112,6 +191,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
     window_s = cfg.window_s
     rows: list[dict[str, Any]] = []
     diag: list[dict[str, Any]] = []
+    drilling: list[dict[str, Any]] = []
     histories: dict[str, list[pd.DataFrame]] = {}
     for profile in cfg.profiles:
         wall = 0.0
@@ -136,6 +216,8 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
             rp = rp7g_rates(run_dir, case, fat)
             rate_h = float(rp.loc[rp["joint"] == joint, "damage_rate_per_h"].iloc[0])
             d_rp7g += rate_h * share / 3600.0
+            if cfg.boundaries == "rig":
+                drilling.append(drilling_metrics(run_dir, summary, cfg, profile, k))
             loads = loads.assign(sample=k, t_window_s=loads["time_s"] + k * share)
             histories[profile].append(loads)
             survey = build_survey(cc.well)
@@ -178,6 +260,8 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
     out_dir.mkdir(parents=True, exist_ok=True)
     write_csv(out_dir / "case2_life.csv", table)
     write_csv(out_dir / "case2_diagnostics.csv", dtab)
+    if drilling:
+        write_csv(out_dir / "case2_drilling.csv", pd.DataFrame(drilling))
     order_ours = list(table.sort_values("life_windows_critical_plane",
                                         ascending=False)["profile"])
     order_rp7g = list(table.sort_values("life_windows_api_rp7g", ascending=False)["profile"])
@@ -192,6 +276,8 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
         "wall_s_total": float(table["wall_s"].sum()),
         "paper_wall_h": PAPER_WALL_H,
         "rows": table.to_dict(orient="records"),
+        "boundaries": cfg.boundaries,
+        "drilling": drilling,
     }
     _figures(out_dir, cfg, histories, table, joint, s_joint, dpi, fat)
     write_json(out_dir / "case2_summary.json", summary)

@@ -28,7 +28,7 @@ from drillfatigue.studies.common import atomic_write_text
 REPORT_KIND = "report"
 
 PAPER_SCALE_COMMAND = (
-    "dvc exp run -S case2.n_samples=1 -S case2.sample_s=805 -S case2.settle_s=5 "
+    "dvc exp run -S case2.n_samples=1 -S case2.sample_s=810 -S case2.settle_s=10 "
     "-S case2.rpm_ramp_s=5 "
     "-S case2.string.dc_segments=20 -S case2.string.dp_segments=100 "
     "-S case3.trip_s=800 -S case3.ramp_s=40 -S case3.window_s=60 "

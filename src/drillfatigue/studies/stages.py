@@ -97,6 +97,13 @@ def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
             m[f"life_windows_{r['profile']}"] = r["life_windows_critical_plane"]
             m[f"life_windows_api_rp7g_{r['profile']}"] = r["life_windows_api_rp7g"]
         m["order_agrees_with_paper"] = s["order_agrees"]
+        for r in s.get("drilling", []):
+            tag = f"{r['profile']}" + (f"_sample{r['sample']}" if r["sample"] else "")
+            for key in ("on_bottom_fraction", "wob_error_rel", "mean_rop_m_per_h",
+                        "mean_surface_torque_Nm", "block_within_travel",
+                        "string_top_below_rotary", "stick_slip_class", "whirl_class",
+                        "bounce_class"):
+                m[f"{key}_{tag}"] = r[key]
     elif name == "case3":
         for r in s["rows"]:
             m[f"life_h_{r['s_from_bit_m']:g}m"] = r["life_h"]

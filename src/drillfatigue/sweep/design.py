@@ -76,8 +76,9 @@ def canonical_json(data: Any) -> str:
 
 
 def simulation_inputs(case: Mapping[str, Any]) -> dict[str, Any]:
-    """The part of a case that identifies a simulation (all sections but ``fatigue``)."""
-    return {k: v for k, v in case.items() if k != "fatigue"}
+    """The part of a case that identifies a simulation (all sections but ``fatigue``; an
+    absent ``rig`` section is left out, so cases without it keep their ids)."""
+    return {k: v for k, v in case.items() if k != "fatigue" and not (k == "rig" and v is None)}
 
 
 def inputs_sha256(data: Any) -> str:

@@ -1,0 +1,202 @@
+"""The rock face under the bit: a lobed bottom-hole profile, rock contact, depth of cut.
+
+Lobed face
+    The bottom of the hole carries the pattern the bit cut into it: a face
+    height ``h(phi) = A sin(n phi)`` under the bit at its angle ``phi`` relative
+    to the rock (``n`` lobes per revolution, 3 for the tricone pattern, peak
+    to peak ``2 A``; docs/model.md#bit). The bit presses on it through a
+    penalty spring and dash-pot that never pulls, so the bit can leave bottom
+    and come back (bit bounce) instead of being guided kinematically. A bit
+    pressed by a constant force ``F`` with an effective mass ``m`` follows the
+    face while ``m A (n Omega)^2 <= F`` (the face's largest downward
+    acceleration stays below ``F / m``) and leaves it above.
+
+Rock advance
+    The rock face advances only by what the bit cuts: ``d(md_rock)/dt = ROP``,
+    with ROP from the bit law, 0 off bottom. Two laws: the Yigit-Christoforou
+    torque with the Sarker et al. ROP and thresholds of
+    :mod:`drillfatigue.dynamics.bitrock` (:func:`rop_tob_from_wob`), and the
+    depth-of-cut law of Detournay & Defourny (Int. J. Rock Mech. Min. Sci. 29
+    (1992) 13) for a PDC bit (:func:`detournay_response`):
+
+        W = W_c + W_f,  T = T_c + T_f,
+        W_c = zeta eps a d,  T_c = eps a^2 d / 2      (cutting, proportional to the depth of cut d per rev)
+        W_f = min(W, sigma a l),  T_f = mu gamma a W_f / 2   (friction on the wear flats)
+
+    with ``a`` the bit radius, ``eps`` the intrinsic specific energy, ``zeta``
+    the ratio of normal to tangential cutting force, ``sigma`` the contact
+    strength and ``l`` the total wear-flat length, ``mu gamma`` the bit's
+    friction and geometry numbers. Below ``W_f* = sigma a l`` the wear flats
+    carry the weight and nothing is cut; above it
+    ``d = (W - W_f*) / (zeta eps a)`` and ``ROP = d Omega / (2 pi)``. In the
+    specific energy ``E = 2 T / (a^2 d)`` and drilling strength ``S = W / (a d)``
+    every cutting point lies on the friction line
+    ``E = (1 - mu gamma zeta) eps + mu gamma S`` (their eq. for phase II).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+from drillfatigue.dynamics.bitrock import bit_response, pack_bit_params
+
+if TYPE_CHECKING:
+    from drillfatigue.config.bit import BitConfig
+
+#: Detournay parameter vector indices
+DP_A = 0  # bit radius, m
+DP_EPS = 1  # intrinsic specific energy, Pa
+DP_ZETA = 2  # normal / tangential cutting force
+DP_SIGMA = 3  # wear-flat contact strength, Pa
+DP_L = 4  # total wear-flat length, m
+DP_MUGAMMA = 5  # mu gamma, bit friction x geometry number
+N_DP = 6
+
+
+@njit(cache=True)
+def rock_face_height(phi_rad, amplitude_m, lobes):
+    """Height of the lobed face at bit angle ``phi``: ``A sin(n phi)`` (m, towards the bit)."""
+    return amplitude_m * math.sin(lobes * phi_rad)
+
+
+@njit(cache=True)
+def rock_face_contact(u_m, u_dot_m_per_s, phi_rad, omega_rad_s, amplitude_m, lobes, k_N_per_m,
+                      c_N_s_per_m, out):
+    """Rock contact force on the bit from the lobed face (penalty spring and dash-pot).
+
+    Parameters
+    ----------
+    u_m, u_dot_m_per_s : float
+        Bit face position beyond the mean rock face along the hole axis (m,
+        > 0 into the rock) and its rate (m/s).
+    phi_rad, omega_rad_s : float
+        Bit angle relative to the rock (rad) and its rate (rad/s).
+    amplitude_m, lobes : float
+        Face profile ``A sin(n phi)``.
+    k_N_per_m, c_N_s_per_m : float
+        Contact stiffness and damping.
+    out : ndarray, shape (2,)
+        Written: ``[wob_N, penetration_m]``; WOB >= 0 (the face never pulls),
+        0 off bottom (penetration <= 0).
+
+    Returns
+    -------
+    int
+        1 on bottom, 0 off bottom.
+    """
+    h = amplitude_m * math.sin(lobes * phi_rad)
+    hdot = amplitude_m * lobes * math.cos(lobes * phi_rad) * omega_rad_s
+    d = u_m - h
+    out[1] = d
+    if d <= 0.0:
+        out[0] = 0.0
+        return 0
+    f = k_N_per_m * d + c_N_s_per_m * (u_dot_m_per_s - hdot)
+    out[0] = f if f > 0.0 else 0.0
+    return 1
+
+
+@njit(cache=True)
+def detournay_response(p, wob_N, omega_rad_s, out):
+    """Detournay-Defourny PDC bit: torque, ROP and depth of cut from WOB and speed.
+
+    Parameters
+    ----------
+    p : ndarray, shape (N_DP,)
+        ``[a, eps, zeta, sigma, l, mu gamma]`` (see the module docstring).
+    wob_N : float
+        Weight on bit, N; <= 0: off bottom, all outputs 0.
+    omega_rad_s : float
+        Bit speed, rad/s; the bit cuts only turning forward (> 0).
+    out : ndarray, shape (3,)
+        Written: ``[tob_Nm, rop_m_per_s, depth_of_cut_m_per_rev]``. TOB is
+        the cutting plus wear-flat friction torque when turning forward; at
+        rest or backwards only the friction part, signed with the speed.
+
+    Returns
+    -------
+    int
+        0.
+    """
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = 0.0
+    if wob_N <= 0.0:
+        return 0
+    a = p[DP_A]
+    wf_max = p[DP_SIGMA] * a * p[DP_L]
+    wf = wob_N if wob_N < wf_max else wf_max
+    tf = 0.5 * p[DP_MUGAMMA] * a * wf
+    if omega_rad_s <= 0.0:
+        out[0] = -tf if omega_rad_s < 0.0 else 0.0
+        return 0
+    d = (wob_N - wf) / (p[DP_ZETA] * p[DP_EPS] * a)
+    out[0] = 0.5 * p[DP_EPS] * a * a * d + tf
+    out[1] = d * omega_rad_s / (2.0 * math.pi)
+    out[2] = d
+    return 0
+
+
+def pack_detournay_params(bit_radius_m: float = 0.10795, eps_Pa: float = 200e6, zeta: float = 0.6,
+                          sigma_Pa: float = 60e6, wear_flat_m: float = 2e-3,
+                          mu_gamma: float = 0.6) -> np.ndarray:
+    """Detournay parameter vector; defaults are an 8 1/2 in PDC bit in a medium-hard rock.
+
+    The defaults sit in the ranges identified from field and laboratory data
+    by Detournay, Richard & Shepherd (Int. J. Rock Mech. Min. Sci. 45 (2008)
+    1347): eps 100-300 MPa, zeta 0.5-0.8, mu gamma 0.4-1; sigma about the
+    rock's strength; a few mm of total wear flat. They give 6.7 mm/rev and
+    60 m/h at 100 kN and 150 rpm.
+    """
+    p = np.empty(N_DP)
+    p[DP_A] = bit_radius_m
+    p[DP_EPS] = eps_Pa
+    p[DP_ZETA] = zeta
+    p[DP_SIGMA] = sigma_Pa
+    p[DP_L] = wear_flat_m
+    p[DP_MUGAMMA] = mu_gamma
+    for i, name in enumerate(("bit_radius_m", "eps_Pa", "zeta", "sigma_Pa", "wear_flat_m", "mu_gamma")):
+        if not (math.isfinite(p[i]) and p[i] > 0.0):
+            raise ValueError(f"{name} must be finite and > 0, got {p[i]}")
+    return p
+
+
+def rop_tob_from_wob(bit: BitConfig, wob_N: float | np.ndarray, rpm: float | np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """ROP (m/s) and TOB (N m) of the configured bit law at given WOB (N) and bit speed (rpm).
+
+    The bit cuts what the weight lets it: with ``model = yigit_christoforou``
+    this is ``ROP = c1 WOB sqrt(Omega) + c2`` above the Sarker thresholds
+    (:mod:`drillfatigue.dynamics.bitrock`), 0 below them and off bottom; with
+    ``prescribed_rop``/``given_tob`` the rate is not a function of WOB and the
+    call is refused.
+    """
+    if bit.model != "yigit_christoforou":
+        raise ValueError(f"bit.model {bit.model} prescribes the ROP; the ROP from WOB needs "
+                         "bit.model yigit_christoforou")
+    mid, p = pack_bit_params(bit, 0.0)
+    w, r = np.broadcast_arrays(np.asarray(wob_N, float), np.asarray(rpm, float))
+    rop = np.empty(w.shape)
+    tob = np.empty(w.shape)
+    out = np.empty(2)
+    for i in np.ndindex(w.shape):
+        bit_response(mid, p, float(w[i]), float(r[i]) * 2.0 * math.pi / 60.0, out)
+        tob[i] = out[0]
+        rop[i] = out[1]
+    return rop, tob
+
+
+def rop_slope_m_per_N_s(bit: BitConfig, wob_N: float, rpm: float, rel_step: float = 1e-3) -> float:
+    """``dROP/dWOB`` of the bit law at an operating point (central difference), m/(N s).
+
+    The linearised bit law the autodriller stability check and the step-response
+    reference use.
+    """
+    h = max(abs(wob_N) * rel_step, 1.0)
+    hi, _ = rop_tob_from_wob(bit, wob_N + h, rpm)
+    lo, _ = rop_tob_from_wob(bit, wob_N - h, rpm)
+    return float((hi - lo) / (2.0 * h))

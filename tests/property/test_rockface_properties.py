@@ -1,0 +1,37 @@
+"""Invariants of the rock-face kernels: the face never pulls, more weight never cuts less."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from drillfatigue.dynamics import rockface as RF
+
+finite = dict(allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-1e-2, 1e-2, **finite), st.floats(-10.0, 10.0, **finite), st.floats(-100.0, 100.0, **finite),
+       st.floats(-50.0, 50.0, **finite), st.floats(0.0, 5e-3, **finite), st.integers(0, 6),
+       st.floats(1e4, 1e10, **finite), st.floats(0.0, 1e7, **finite))
+def test_rock_contact_never_pulls(u, ud, phi, om, a, n, k, c) -> None:
+    out = np.empty(2)
+    on = RF.rock_face_contact(u, ud, phi, om, a, n, k, c, out)
+    assert out[0] >= 0.0
+    assert out[1] == u - RF.rock_face_height(phi, a, n)
+    if not on:
+        assert out[0] == 0.0 and out[1] <= 0.0
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(0.0, 5e5, **finite), st.floats(0.0, 5e5, **finite), st.floats(0.01, 40.0, **finite))
+def test_detournay_more_weight_cuts_and_turns_no_less(w1, w2, om) -> None:
+    p = RF.pack_detournay_params()
+    lo, hi = sorted((w1, w2))
+    a = np.empty(3)
+    b = np.empty(3)
+    RF.detournay_response(p, lo, om, a)
+    RF.detournay_response(p, hi, om, b)
+    assert 0.0 <= a[1] <= b[1] and 0.0 <= a[2] <= b[2]
+    assert a[0] <= b[0] * (1 + 1e-12)
