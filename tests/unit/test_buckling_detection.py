@@ -9,7 +9,7 @@ import pytest
 
 from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics import buckling as B
-from drillfatigue.dynamics.softstring import torque_drag_for_case
+from drillfatigue.dynamics.torque_drag import torque_drag_for_case
 
 INC = math.radians(60.0)
 T_AXIS = np.array([math.sin(INC), 0.0, math.cos(INC)])
