@@ -28,3 +28,19 @@ def test_prescribed_rop_case_is_the_founding_papers() -> None:
     assert "rig" not in d
     assert d["operation"]["rop_m_per_s"] == pytest.approx(0.5)
     assert case_from_dict(d).rig is None
+
+
+def test_a_written_rig_case_reads_back() -> None:
+    # the run folder's case.yaml lists every field, defaults included: reading it
+    # back (the fatigue chain does, for the mud pressure) must not see the
+    # operation's default hook load or lobes as inputs the rig would ignore
+    cfg = Case2Config(n_samples=1, sample_s=40.0, boundaries="rig")
+    case = case_from_dict(case2.case_dict(cfg, "profile_1", 480.0, 1))
+    assert case.rig is not None
+    again = case_from_dict(case.model_dump(mode="json"))
+    assert again == case
+    # an explicit hook load is still refused with the rig
+    data = case.model_dump(mode="json")
+    data["operation"]["hook_load_N"] = 5e5
+    with pytest.raises(ValueError, match="hook_load_N"):
+        case_from_dict(data)

@@ -83,7 +83,10 @@ class CaseConfig(StrictModel):
         if rig is None:
             return self
         op = self.operation
-        given = op.model_fields_set
+        # given with a value other than its default (a written-out case.yaml lists
+        # every field at its default: that is no input for the mode to ignore)
+        given = {k for k in op.model_fields_set
+                 if getattr(op, k) != type(op).model_fields[k].default}
         replaced = {
             "trip_speed_m_per_s": (op.trip_speed_m_per_s != 0.0, "the block moves the string",
                                    "0; rig.block_mode trip with rig.trip_speed_m_per_s"),
