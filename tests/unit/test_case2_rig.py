@@ -23,7 +23,7 @@ def test_rig_case_has_the_autodriller_and_no_prescribed_rop() -> None:
 
 
 def test_prescribed_rop_case_is_the_founding_papers() -> None:
-    cfg = Case2Config()  # the model's default; the case2 stage's params.yaml asks for rig
+    cfg = Case2Config(boundaries="prescribed_rop")
     d = case2.case_dict(cfg, "profile_1", 480.0, 1)
     assert "rig" not in d
     assert d["operation"]["rop_m_per_s"] == pytest.approx(0.5)

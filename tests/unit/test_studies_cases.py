@@ -59,7 +59,7 @@ def test_case2_target_joint_and_samples():
     assert case2.target_joint(paper) == (3, pytest.approx(36.0))
     one = Case2Config(n_samples=1, sample_s=800.0, settle_s=0.0)
     assert case2.sample_bit_md(one) == [pytest.approx(480.0)]  # the paper's continuous window
-    cfg = Case2Config()
+    cfg = Case2Config(n_samples=8, sample_s=4.0, boundaries="prescribed_rop")
     starts = np.array(case2.sample_bit_md(cfg))
     ends = starts + cfg.rop_m_per_s * cfg.sample_s
     assert starts.size == cfg.n_samples and starts[0] > 480.0 and ends[-1] < 880.0
@@ -117,8 +117,13 @@ def test_candidate_rows_carry_the_profile():
     n_joints = w.string.dc_segments + w.string.dp_segments - 1
     rows = {n: plan.candidate_rows(cset, n) for n in cset.candidates}
     for r in rows.values():
-        assert len(r) == 3 * n_joints * 2
-        assert set(r["location"]) == {"body", "connection"}
+        # body and connection at every joint, the upset run-out at drill-pipe joints
+        assert (r["location"] == "body").sum() == (r["location"] == "connection").sum() \
+            == 3 * n_joints
+        upset = r[r["location"] == "upset"]
+        assert set(upset["component_type"]) == {"drill_pipe"}
+        assert len(upset) == 3 * int((r.loc[r["location"] == "body", "component_type"]
+                                      == "drill_pipe").sum() // 3)
         assert (r.loc[r["s_from_bit_m"] < 179.0, "component_type"] == "collar").all()
         assert np.allclose(r["md_m"], r["bit_position_md_m"] - r["s_from_bit_m"])
         assert set(r["operation.bit_md_m"]) == set(np.linspace(480.0, 880.0, 3))
