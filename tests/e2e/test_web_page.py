@@ -9,7 +9,6 @@ skips.
 from __future__ import annotations
 
 import shutil
-import sys
 from pathlib import Path
 
 import pandas as pd
@@ -17,8 +16,7 @@ import pytest
 
 from drillfatigue.service import ModelRegistry, create_app
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from service_helpers import EXAMPLES, running_server, synthetic_model  # noqa: E402
+from service_helpers import EXAMPLES, running_server, synthetic_model
 
 pytestmark = [pytest.mark.slow, pytest.mark.filterwarnings("ignore::DeprecationWarning")]
 FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",

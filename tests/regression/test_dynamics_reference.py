@@ -14,14 +14,11 @@ difference, even one ulp, means a change of arithmetic that must be explained.
 from __future__ import annotations
 
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from dynamics_reference import DATA, cases, run_case  # noqa: E402
+from dynamics_reference import DATA, cases, run_case
 
 CASES = cases()
 

@@ -30,8 +30,7 @@ from drillfatigue.surrogate import Surrogate
 from drillfatigue.surrogate.facade import PREDICTION_COLUMNS
 from drillfatigue.surrogate.twin import replay_log
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from service_helpers import (  # noqa: E402
+from service_helpers import (
     CONDITION,
     CONSTANTS,
     EXAMPLES,

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import matplotlib.image as mpimg
@@ -15,8 +14,7 @@ from drillfatigue.errors import InputError
 from drillfatigue.surrogate import Surrogate
 from drillfatigue.surrogate.window import Axis, operating_window, window_figure
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from service_helpers import CONDITION, EXAMPLES, synthetic_model  # noqa: E402
+from service_helpers import CONDITION, EXAMPLES, synthetic_model
 
 FIXED = {k: v for k, v in CONDITION.items() if k not in ("rpm", "wob_kN")}
 RTOL = 1e-5  # float32 batch round-off, see test_service.py

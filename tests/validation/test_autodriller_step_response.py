@@ -18,16 +18,13 @@ period.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from drillfatigue.dynamics import rig as R
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from rig_references import (C_ROP, K_EFF, KI, KP, KS, W0, W1,  # noqa: E402
+from rig_references import (C_ROP, K_EFF, KI, KP, KS, W0, W1,
                             single_mass_autodriller)
 
 

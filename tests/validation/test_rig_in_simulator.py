@@ -32,8 +32,6 @@ drills"; docs/rig.md).
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -47,7 +45,6 @@ from drillfatigue.dynamics.model import advance_model, build_model, straight_pat
 from drillfatigue.dynamics.rockface import rop_slope_m_per_N_s
 from drillfatigue.string import build_segments
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from rig_references import TorsionalWell, stick_slip_metrics, torsional_reference
 
 COLLAR = {"type": "collar", "od_m": 0.17145, "id_m": 0.0714}

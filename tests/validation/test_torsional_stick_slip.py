@@ -17,15 +17,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import rig_references as RR  # noqa: E402
+import rig_references as RR
 
-from drillfatigue.dynamics import rig as R  # noqa: E402
+from drillfatigue.dynamics import rig as R
 
 WELL = RR.TorsionalWell()
 

@@ -226,7 +226,9 @@ class _ConditionCache:
     def __init__(self, model: Surrogate) -> None:
         self.model = model
         self.known: dict[bytes, int] = {}
-        self.values: dict[str, list[Any]] = {k: [] for k in self._KEYS}
+        # answers by slot, grown by doubling (a replay adds new conditions every chunk)
+        self.values: dict[str, np.ndarray] = {
+            k: np.empty(1024, dtype=bool if k == "ood" else np.float64) for k in self._KEYS}
 
     def predict(self, x_num: np.ndarray, x_cat: np.ndarray) -> dict[str, np.ndarray]:
         """``log10``, ``lower``, ``upper`` and ``ood`` per row of ``x_num``/``x_cat``."""
@@ -250,11 +252,16 @@ class _ConditionCache:
         if new:
             rows_new = first[np.asarray(new)]
             r = self.model.predict_array(x_num[rows_new], x_cat[rows_new])
+            end = len(self.known)
             for k in self._KEYS:
-                self.values[k].extend(r[k].tolist())
+                buf = self.values[k]
+                if end > buf.size:
+                    grown = np.empty(max(end, 2 * buf.size), dtype=buf.dtype)
+                    grown[:end - len(new)] = buf[:end - len(new)]
+                    self.values[k] = buf = grown
+                buf[end - len(new):end] = r[k]
         pos = slot[np.asarray(inverse).reshape(-1)]
-        return {k: np.asarray(self.values[k], dtype=bool if k == "ood" else np.float64)[pos]
-                for k in self._KEYS}
+        return {k: self.values[k][pos] for k in self._KEYS}
 
 
 def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
