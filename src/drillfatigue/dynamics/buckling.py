@@ -62,9 +62,12 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
+from drillfatigue.dynamics.softstring import TorqueDrag, path_tangents, resample_path
+from drillfatigue.string import build_segments
+from drillfatigue.well import build_survey
+
 if TYPE_CHECKING:
     from drillfatigue.config import CaseConfig
-    from drillfatigue.dynamics.softstring import TorqueDrag
     from drillfatigue.well.wellbore import Wellbore
 
 #: Constant c of F = c sqrt(EI q / r_c): sinusoidal onset (Dawson & Paslay 1984).
@@ -298,10 +301,6 @@ def buckling_for_case(case: CaseConfig, td: TorqueDrag,
     hole radius at the cell's MD minus the contact radius (tool joints for
     drill pipe: they hold the body off the wall, as in the T&D torque arm).
     """
-    from drillfatigue.dynamics.softstring import path_tangents, resample_path
-    from drillfatigue.string import build_segments
-    from drillfatigue.well import build_survey
-
     op = case.operation
     sv = build_survey(case.well)
     seg = build_segments(case.string, op.mud_density_kg_per_m3)

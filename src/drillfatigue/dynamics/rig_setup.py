@@ -14,6 +14,7 @@ import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from scipy.linalg import eigh_tridiagonal
 
 from drillfatigue.config.rig import RigConfig
 from drillfatigue.dynamics import rig as R
@@ -140,8 +141,6 @@ def string_torsional_properties(case: CaseConfig) -> dict[str, float]:
     top drive) and free at the bit: the stick-slip frequency the soft-torque
     rule tunes for.
     """
-    from scipy.linalg import eigh_tridiagonal
-
     seg, lengths = _string_span(case)
     n = lengths.size
     ia_per_m = seg.inertia_axial_kg_m2[:n] / seg.length_m[:n]
