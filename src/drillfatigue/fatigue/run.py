@@ -69,6 +69,7 @@ from drillfatigue.fatigue.stress import (
     true_wall_force_N,
 )
 from drillfatigue.files import OutputFolder, atomic_output, atomic_write_bytes
+from drillfatigue.plotting import subplots
 from drillfatigue.units import HOUR_S
 from drillfatigue.well import build_survey
 
@@ -520,8 +521,6 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
 def _plots(out: Path, df: pd.DataFrame, per_joint: dict[int, Any], info: Any, joint: int,
            cfg: FatigueConfig, rp7g: pd.DataFrame | None = None,
            duration_s: float = 1.0) -> None:
-    from drillfatigue.plotting import subplots
-
     section, scf, point, pres = info
     t, L, _ = per_joint[joint]
     if pres is not None and not pres.is_zero:
