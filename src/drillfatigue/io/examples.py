@@ -33,6 +33,7 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.files import atomic_write_text
+from drillfatigue.well.survey import minimum_curvature
 
 NULL = -999.25
 START = "2026-03-14T00:00:00+00:00"
@@ -248,8 +249,6 @@ def depth_log(frame: pd.DataFrame) -> pd.DataFrame:
 
 def survey_stations_ft() -> pd.DataFrame:
     """A J well in ft: vertical to 1500 ft, build 3 deg/100 ft to 60 deg at azimuth 135, hold."""
-    from drillfatigue.well.survey import minimum_curvature
-
     md = np.arange(0.0, 9000.0 + 1, 95.0)
     md = np.unique(np.concatenate([md, [1500.0, 3500.0, 9000.0]]))
     inc = np.clip((md - 1500.0) * 3.0 / 100.0, 0.0, 60.0)

@@ -65,6 +65,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import lasio
 import numpy as np
 import pandas as pd
 
@@ -471,8 +472,6 @@ def log_bit_md_m(log: pd.DataFrame) -> np.ndarray:
 # --- formats ------------------------------------------------------------------
 
 def _read_las(p: Path) -> _Raw:
-    import lasio
-
     try:
         las = lasio.read(str(p), ignore_header_errors=False, ignore_data_comments="#")
     except (lasio.exceptions.LASHeaderError, lasio.exceptions.LASDataError,

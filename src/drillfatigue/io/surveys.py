@@ -59,9 +59,11 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.files import atomic_write_text
+from drillfatigue.io.display import check_system
+from drillfatigue.io.headers import field_text, si_from_text, split_header, unit_factor
 from drillfatigue.limits import MD_MAX_M
-from drillfatigue.io.headers import si_from_text, split_header, unit_factor
-from drillfatigue.well.survey import Survey, minimum_curvature
+from drillfatigue.well.survey import Survey, minimum_curvature, write_survey_csv
 
 __all__ = ["SurveyImport", "load_survey", "read_survey", "survey_table", "twin_survey_table"]
 
@@ -441,11 +443,6 @@ def write_survey(survey: Survey, path: str | Path, unit_system: str = "si") -> N
     gives back the same SI stations bit for bit (and its dogleg and TVD
     checks pass exactly).
     """
-    from drillfatigue.files import atomic_write_text
-    from drillfatigue.io.display import check_system
-    from drillfatigue.io.headers import field_text
-    from drillfatigue.well.survey import write_survey_csv
-
     if check_system(unit_system) == "si":
         write_survey_csv(survey, path)
         return
