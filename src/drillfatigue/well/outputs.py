@@ -18,6 +18,8 @@ import pyarrow.parquet as pq
 
 from drillfatigue.config.well import WellConfig
 from drillfatigue.files import OutputFolder, atomic_output
+from drillfatigue.io.display import Display
+from drillfatigue.plotting import figure
 from drillfatigue.well.profiles import build_survey
 from drillfatigue.well.survey import Survey, write_survey_csv
 from drillfatigue.well.wellbore import Wellbore, build_wellbore, resample_path
@@ -29,9 +31,6 @@ WELL_KIND = "well"
 
 
 def _figure(sv: Survey, title: str, display: Any = None):  # noqa: ANN202 - matplotlib Figure
-    from drillfatigue.io.display import Display
-    from drillfatigue.plotting import figure
-
     d = display if display is not None else Display("si")
     lu = d.unit("length")
     fig = figure(figsize=(13, 4.5))

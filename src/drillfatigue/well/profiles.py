@@ -162,7 +162,7 @@ def _family_legs(spec: FamilyMemberProfile, fam: FamilySpec, field: str,
 def _design(spec: object, cfg: WellConfig, field: str) -> tuple[Survey, list[KeyPoint]]:
     down = np.array([0.0, 0.0, 1.0])
     if isinstance(spec, SurveyFileProfile):
-        # imported here: drillfatigue.io.surveys builds on drillfatigue.well.survey
+        # cycle: drillfatigue.io.surveys imports drillfatigue.well.survey (this package)
         from drillfatigue.io.surveys import read_survey
 
         sv = read_survey(spec.path, spec.depth_unit)
