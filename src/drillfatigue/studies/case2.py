@@ -41,6 +41,7 @@ import pandas as pd
 from drillfatigue import rundir
 from drillfatigue.config import FatigueConfig
 from drillfatigue.config.studies import Case2Config
+from drillfatigue.dynamics.rig import drilling_window_metrics
 from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 from drillfatigue.plotting import subplots
@@ -144,8 +145,6 @@ def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, p
     when the bit speed falls below ``STUCK_FRACTION`` of its mean, ``oscillation``
     when the severity exceeds ``OSCILLATION_SEVERITY``, else ``none``).
     """
-    from drillfatigue.dynamics.rig import drilling_window_metrics
-
     ch = pd.read_parquet(run_dir / "channels.parquet")
     t = ch["time_s"].to_numpy()
     skip = max(cfg.metrics_skip_s - float(t[0]), 0.0)
