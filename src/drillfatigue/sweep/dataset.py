@@ -34,6 +34,7 @@ import pandas as pd
 from drillfatigue import rundir
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
+from drillfatigue.sweep.runner import latest_failures
 from drillfatigue.well.features import DESCRIPTIONS as POSITION_DESCRIPTIONS
 from drillfatigue.well.features import POSITION_COLUMNS
 
@@ -364,8 +365,6 @@ def dataset_card(frame: pd.DataFrame, *, design: Mapping[str, Any], metrics: Map
 
 def _failed_count(root: Path) -> int:
     """Cases still failed at the end of the latest sweep run in ``root``."""
-    from drillfatigue.sweep.runner import latest_failures
-
     return int(latest_failures(root)["final"].sum())
 
 

@@ -282,13 +282,12 @@ def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case
         finally:
             close()
         return
-    # Dask: a LocalCluster or an existing scheduler (dask and distributed are
-    # imported only for these schedulers: optional for serial and process runs)
-    from distributed import Client, LocalCluster
+    # Dask: a LocalCluster or an existing scheduler
+    from distributed import Client, LocalCluster  # optional extra [pipeline]: not for serial/process runs
 
     cluster = None
     if scheduler == "local-cluster":
-        import dask
+        import dask  # optional extra [pipeline]
 
         # forkserver: worker processes start from a server that has the heavy
         # imports done (about 1/3 faster start-up than spawn on 2 cores).
