@@ -38,6 +38,10 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from sklearn.ensemble import HistGradientBoostingRegressor
+from sklearn.exceptions import ConvergenceWarning
+from sklearn.gaussian_process import GaussianProcessRegressor
+from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
@@ -99,12 +103,6 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         Test rows: case id, y_true and per model the prediction and interval
         (log10 damage rate per hour), the ensemble's OOD flag.
     """
-    # scikit-learn: the baselines' optional dependency, loaded only to score them
-    from sklearn.ensemble import HistGradientBoostingRegressor
-    from sklearn.exceptions import ConvergenceWarning
-    from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
-
     check_columns(frame, cfg)
     y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
     sp = split_from_model(frame, model, cfg)

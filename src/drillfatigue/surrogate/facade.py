@@ -396,8 +396,7 @@ def _open_live(live_dir: str | Path) -> Any:
     git repo") before the first commit (``git init; dvc init; dvc repro``);
     the curves do not need a revision, so retry as outside a repository.
     """
-    # dvclive: optional, only to log training curves for DVC
-    import dvclive.live as dl
+    import dvclive.live as dl  # optional extra [pipeline]: only to log training curves for DVC
 
     kwargs = {"dir": str(live_dir), "dvcyaml": None, "save_dvc_exp": False, "report": None}
     try:

@@ -41,6 +41,7 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.errors import InputError
+from drillfatigue.io.display import Display
 from drillfatigue.io.logs import log_bit_md_m, log_times_s
 from drillfatigue.io.names import Vocabulary, channel_stem, force_column
 from drillfatigue.plotting import subplots
@@ -424,7 +425,6 @@ def plot_damage_along_string(result: ReplayResult, path: str, display: Any = Non
     ``display``: a :class:`drillfatigue.io.display.Display` for the distance
     axis (default SI, m).
     """
-    from drillfatigue.io.display import Display
     display = display if display is not None else Display("si")
     c = result.components.sort_values(S_COLUMN)
     fig, ax = subplots(figsize=(7, 4))

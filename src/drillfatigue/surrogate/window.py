@@ -27,6 +27,10 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from matplotlib.collections import PatchCollection
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch, Rectangle
 
 from drillfatigue.errors import InputError
 from drillfatigue.files import atomic_write_bytes
@@ -247,11 +251,6 @@ def window_figure(wmap: WindowMap, title: str | None = None) -> Any:
     longest lower-bound life is starred. Built without pyplot (no global
     figure state), so service threads can draw at the same time.
     """
-    from matplotlib.collections import PatchCollection
-    from matplotlib.figure import Figure
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch, Rectangle
-
     xe, ye = _cell_edges(wmap.x.values), _cell_edges(wmap.y.values)
     with np.errstate(divide="ignore"):
         z = np.log10(wmap.life_h)
