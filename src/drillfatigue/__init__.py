@@ -29,11 +29,11 @@ def __getattr__(name: str) -> object:
     :func:`_scope_numba_cache` has chosen the cache folder.
     """
     if name == "simulate":
-        from drillfatigue.dynamics.api import simulate
+        from drillfatigue.dynamics.api import simulate  # cycle: dynamics.api imports this package
 
         return simulate
     if name == "SimulationResult":
-        from drillfatigue.dynamics.api import SimulationResult
+        from drillfatigue.dynamics.api import SimulationResult  # cycle: dynamics.api imports this package
 
         return SimulationResult
     raise AttributeError(f"module 'drillfatigue' has no attribute {name!r}")
