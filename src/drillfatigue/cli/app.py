@@ -6,6 +6,8 @@ from pathlib import Path
 
 import typer
 
+from drillfatigue.errors import InputError
+
 app = typer.Typer(
     name="drillfatigue",
     help="Drill-string dynamics and fatigue: simulate, count cycles, estimate life.",
@@ -23,8 +25,6 @@ LegacyOutputOpt = typer.Option(None, "--output", hidden=True,
 
 def pick_out(out: Path | None, legacy_output: Path | None) -> Path | None:
     """The ``--out`` path, or the deprecated ``--output`` one (None if neither); error if both."""
-    from drillfatigue.errors import InputError
-
     if out is not None and legacy_output is not None:
         raise InputError("--out", "given twice (--out and its old spelling --output)", "one --out")
     return out if out is not None else legacy_output
@@ -32,8 +32,6 @@ def pick_out(out: Path | None, legacy_output: Path | None) -> Path | None:
 
 def require_out(out: Path | None, legacy_output: Path | None) -> Path:
     """Like :func:`pick_out` for a command that needs an output: error if neither is given."""
-    from drillfatigue.errors import InputError
-
     chosen = pick_out(out, legacy_output)
     if chosen is None:
         raise InputError("--out", "missing", "--out FILE")

@@ -12,6 +12,8 @@ from drillfatigue.config import FatigueConfig, load_params, note_default_section
 from drillfatigue.config.base import read_yaml
 from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import CRITERIA
+from drillfatigue.fatigue.run import FATIGUE_KIND, evaluate_run
+from drillfatigue.files import OutputFolder
 
 
 def _parse_joints(text: str | None) -> list[int] | None:
@@ -52,9 +54,6 @@ def fatigue(
                                             "(default: RUN_DIR/case.yaml, else defaults)"),
 ) -> None:
     """Rainflow, S-N and critical-plane damage per joint and location of a run."""
-    from drillfatigue.fatigue.run import FATIGUE_KIND, evaluate_run
-    from drillfatigue.files import OutputFolder
-
     OutputFolder.check(out, FATIGUE_KIND, "--out")  # at once, not after minutes of work
     if criterion is not None and criterion not in CRITERIA:
         raise InputError("--criterion", f"unknown criterion {criterion!r}", ", ".join(CRITERIA))

@@ -24,10 +24,17 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.twin import read_section
+from drillfatigue.config import WellConfig
 from drillfatigue.errors import InputError
+from drillfatigue.files import check_output_file
+from drillfatigue.io.names import Vocabulary, vocabulary_name
+from drillfatigue.well import build_survey
 
 _CONTEXT = {"allow_extra_args": True, "ignore_unknown_options": True,
             "help_option_names": ["-h", "--help"]}
@@ -56,8 +63,8 @@ def parse_feature_flags(args: list[str]) -> dict[str, str]:
     return out
 
 
-def _load_model(model: Path):  # noqa: ANN202 (lazy import keeps CLI start fast)
-    from drillfatigue.surrogate import Surrogate
+def _load_model(model: Path):  # noqa: ANN202
+    from drillfatigue.surrogate import Surrogate  # optional extra [surrogate]: torch
 
     if not model.is_dir():
         raise InputError("--model", f"folder {str(model)!r} not found",
@@ -71,10 +78,7 @@ def _finite(v: float) -> float | None:
 
 def _geometry_from_well(sur, well: Path, profile: str | None):  # noqa: ANN001, ANN202
     """(geometry columns the model uses, the well's survey) for ``--well``."""
-    from drillfatigue.cli.twin import read_section
-    from drillfatigue.config import WellConfig
-    from drillfatigue.well import build_survey
-    from drillfatigue.well.features import POSITION_COLUMNS
+    from drillfatigue.well.features import POSITION_COLUMNS  # start-up: scipy.ndimage, ~0.1 s
 
     cols = tuple(c for c in sur.features if c in POSITION_COLUMNS)
     for c in ("md_m", "s_from_bit_m"):
@@ -90,9 +94,7 @@ def _geometry_from_well(sur, well: Path, profile: str | None):  # noqa: ANN001, 
 
 def _add_geometry(frame, vocab, cols, survey):  # noqa: ANN001, ANN202
     """``frame`` (SI columns) with the geometry columns from the survey."""
-    import numpy as np
-
-    from drillfatigue.well.features import survey_features
+    from drillfatigue.well.features import survey_features  # start-up: scipy.ndimage, ~0.1 s
 
     for c in cols:
         if c in frame.columns:
@@ -128,10 +130,7 @@ def query(ctx: typer.Context,
     Feature flags come from the model (e.g. --rpm, --wob-kN, --rop-m-per-h,
     --component-type); run with a model and no flags to list them.
     """
-    import pandas as pd
-
-    from drillfatigue.io.names import Vocabulary, vocabulary_name
-    from drillfatigue.surrogate.io import write_csv
+    from drillfatigue.surrogate.io import write_csv  # optional extra [surrogate]: torch
 
     flags = parse_feature_flags(list(ctx.args))
     if csv is not None and flags:
@@ -144,8 +143,6 @@ def query(ctx: typer.Context,
     if csv is not None and not csv.is_file():
         raise InputError("--csv", f"file {str(csv)!r} not found", "an existing CSV file")
     if out is not None:
-        from drillfatigue.files import check_output_file
-
         check_output_file(out, "--out")
     if well is None and well_profile is not None:
         raise InputError("--well-profile", "only used with --well", "--well FILE")

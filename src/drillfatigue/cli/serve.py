@@ -22,7 +22,9 @@ from pathlib import Path
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.twin import _read_csv, parse_settings
 from drillfatigue.errors import InputError
+from drillfatigue.files import atomic_output
 
 
 @app.command("serve")
@@ -54,7 +56,7 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
         raise InputError("--max-query-rows", f"got {max_query_rows}", "1 to 10000000")
     if not 1 <= torch_threads <= 256:
         raise InputError("--torch-threads", f"got {torch_threads}", "1 to 256")
-    try:
+    try:  # optional extra [service]: uvicorn, FastAPI (and torch through the surrogate)
         import uvicorn
 
         from drillfatigue.service import Limits, ModelRegistry, create_app, parse_model_spec
@@ -64,7 +66,7 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
     specs = dict(parse_model_spec(s) for s in model)
     if len(specs) != len(model):
         raise InputError("--model", "two models with the same name", "distinct NAME=FOLDER")
-    import torch
+    import torch  # optional extra [surrogate]
 
     torch.set_num_threads(torch_threads)
     registry = ModelRegistry(specs)
@@ -101,8 +103,7 @@ def window(model: Path = typer.Option(..., "--model", help="surrogate model fold
            csv: Path | None = typer.Option(None, "--csv", help="also write the grid as CSV"),
            title: str | None = typer.Option(None, "--title", help="figure title")) -> None:
     """Operating-window map: predicted life over rpm x WOB (or x ROP), OOD cells hatched."""
-    from drillfatigue.cli.twin import _read_csv, parse_settings
-    from drillfatigue.files import atomic_output
+    # optional extra [surrogate]: torch
     from drillfatigue.surrogate import Surrogate
     from drillfatigue.surrogate.window import Axis, operating_window, plot_window
 

@@ -11,12 +11,17 @@ from __future__ import annotations
 from pathlib import Path
 
 import typer
+import yaml
 from rich.console import Console
 from rich.table import Table
 
 from drillfatigue.cli.app import app
 from drillfatigue.errors import InputError
+from drillfatigue.files import atomic_write_text
 from drillfatigue.io.display import Display, check_system
+from drillfatigue.io.tally import load_tally
+from drillfatigue.string.segments import build_segments
+from drillfatigue.units import LB_PER_FT_KG_PER_M
 
 string_app = typer.Typer(help="String tallies: show the components, import as a string section.",
                          no_args_is_help=True)
@@ -30,10 +35,6 @@ def show(tally: Path = TallyArg,
          unit_system: str = typer.Option("si", "--units", help="si (m, mm, kg/m) or field "
                                          "(ft, in, lb/ft)")) -> None:
     """Print each component: type, length, OD/ID, tool joint, grade, mass per length."""
-    from drillfatigue.io.tally import load_tally
-    from drillfatigue.string.segments import build_segments
-    from drillfatigue.units import LB_PER_FT_KG_PER_M
-
     d = Display(check_system(unit_system))
     t = load_tally(tally)
     lu, du = d.unit("length"), d.unit("diameter")
@@ -66,11 +67,6 @@ def import_(tally: Path = TallyArg,
             output: Path = typer.Option(..., "--out", "-o", help="YAML file to write "
                                         "(a string section)")) -> None:
     """Write the tally as a ``string:`` section (SI) for a case or params file."""
-    import yaml
-
-    from drillfatigue.files import atomic_write_text
-    from drillfatigue.io.tally import load_tally
-
     if output.suffix.lower() not in (".yaml", ".yml"):
         raise InputError("--out", f"unsupported file type {output.suffix or '(none)'!r}",
                          ".yaml, .yml")

@@ -14,7 +14,8 @@ from pathlib import Path
 import typer
 
 from drillfatigue.cli.app import app
-from drillfatigue.config import load_params_requiring
+from drillfatigue.config import load_params_requiring, validate
+from drillfatigue.config.sweep import SweepConfig
 from drillfatigue.errors import InputError
 
 sweep_app = typer.Typer(help="Case design and parallel, resumable sweeps.", no_args_is_help=True)
@@ -36,7 +37,7 @@ def design(params: Path = ParamsOpt,
            out: Path | None = typer.Option(None, "--out",
                                            help="default: sweep.cases_path")) -> None:
     """Sample the cases of params.yaml's sweep section into cases.parquet."""
-    from drillfatigue.sweep.stages import design_stage
+    from drillfatigue.sweep.stages import design_stage  # start-up: scipy.stats and the runner, ~0.9 s
 
     p = load_params_requiring(params, "sweep", "sweep design")
     frame = design_stage(p, out)
@@ -50,8 +51,7 @@ def run(params: Path = ParamsOpt,
         n_workers: int | None = typer.Option(None, "--n-workers", min=1),
         progress: bool = typer.Option(True, "--progress/--no-progress")) -> None:
     """Design, simulate, evaluate fatigue and assemble the dataset (resumable)."""
-    from drillfatigue.config import validate
-    from drillfatigue.config.sweep import SweepConfig
+    # start-up: the sweep package imports scipy.stats and the runner, ~0.9 s
     from drillfatigue.sweep.runner import SweepFailedError
     from drillfatigue.sweep.stages import (dataset_stage, design_stage, fatigue_stage,
                                            simulate_stage)
@@ -74,7 +74,7 @@ def run(params: Path = ParamsOpt,
 @dataset_app.command("build")
 def build(params: Path = ParamsOpt) -> None:
     """Assemble damage.parquet, README.md and metrics.json from finished cases."""
-    from drillfatigue.sweep.stages import dataset_stage
+    from drillfatigue.sweep.stages import dataset_stage  # start-up: scipy.stats and the runner, ~0.9 s
 
     p = load_params_requiring(params, "sweep", "dataset build")
     metrics = dataset_stage(p)
@@ -96,7 +96,7 @@ def export(histories: bool = typer.Option(False, "--histories",
            sweep_dir: Path | None = typer.Option(None, "--sweep-dir",
                                                  help="default: sweep.sweep_dir")) -> None:
     """Export raw histories to Parquet partitioned by case (OUT/loads, OUT/channels)."""
-    from drillfatigue.sweep.dataset import export_histories
+    from drillfatigue.sweep.dataset import export_histories  # start-up: scipy.stats, the runner, ~0.9 s
 
     if not histories:
         raise InputError("dataset export", "nothing selected to export", "--histories")

@@ -24,8 +24,9 @@ from drillfatigue.config import load_case
 from drillfatigue.dynamics.buckling import BucklingProfile, buckling_for_case
 from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
-from drillfatigue.files import check_output_file
+from drillfatigue.files import atomic_output, check_output_file
 from drillfatigue.io.display import Display, check_system
+from drillfatigue.plotting import figure
 from drillfatigue.units import KN_N
 
 _PLOT_FORMATS = ("png", "pdf", "svg")
@@ -54,11 +55,7 @@ def plot_torque_drag(td: TorqueDrag, path: str | Path, title: str,
     d = display if display is not None else Display("si")
     fu, tu, lu = d.unit("force"), d.unit("torque"), d.unit("length")
     md = d.value("length", td.md_m)
-    from matplotlib.figure import Figure
-
-    from drillfatigue.files import atomic_output
-
-    fig = Figure(figsize=(11, 5.5))
+    fig = figure(figsize=(11, 5.5))
     ax1, ax2 = fig.subplots(1, 2, sharey=True)
     for name, t in (("pick-up", td.tension_pickup_N), ("slack-off", td.tension_slackoff_N),
                     ("rotating off bottom", td.tension_rotating_N), ("drilling", td.tension_drilling_N)):

@@ -26,12 +26,18 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pandas as pd
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue.config import StringConfig, WellConfig
+from drillfatigue.config.base import read_yaml, validate
 from drillfatigue.errors import InputError
-from drillfatigue.io.display import check_system
-from drillfatigue.io.logs import DEFAULT_MAX_FILL_S, DEFAULT_MAX_GAP_S
+from drillfatigue.files import OutputFolder
+from drillfatigue.io.display import Display, check_system
+from drillfatigue.io.logs import DEFAULT_MAX_FILL_S, DEFAULT_MAX_GAP_S, load_log
+from drillfatigue.io.surveys import twin_survey_table
+from drillfatigue.io.tally import load_tally
 
 #: Kind of the ownership marker of a twin output folder.
 TWIN_KIND = "twin"
@@ -42,8 +48,6 @@ app.add_typer(twin_app, name="twin")
 
 
 def _read_csv(path: Path, option: str):  # noqa: ANN202
-    import pandas as pd
-
     if not path.is_file():
         raise InputError(option, f"file {str(path)!r} not found", "an existing CSV file")
     try:
@@ -73,8 +77,6 @@ def parse_settings(items: list[str], option: str = "--set") -> dict[str, str]:
 def read_section(path: Path, key: str, option: str, model: type) -> object:
     """A config section from YAML: a file holding ``key:`` (a case or params file) or
     the section itself."""
-    from drillfatigue.config.base import read_yaml, validate
-
     if not path.is_file():
         raise InputError(option, f"file {str(path)!r} not found", "an existing YAML file")
     data = read_yaml(path)
@@ -114,12 +116,7 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
            unit_system: str = typer.Option("si", "--units", help="units of the printed "
                                            "summary and the plot: si or field")) -> None:
     """Accumulate fatigue damage per component over an operating log."""
-    from drillfatigue.config import StringConfig, WellConfig
-    from drillfatigue.files import OutputFolder
-    from drillfatigue.io.display import Display
-    from drillfatigue.io.logs import load_log
-    from drillfatigue.io.surveys import twin_survey_table
-    from drillfatigue.io.tally import load_tally
+    # optional extra [surrogate]: torch
     from drillfatigue.surrogate import Surrogate
     from drillfatigue.surrogate.io import write_csv, write_json
     from drillfatigue.surrogate.twin import (
