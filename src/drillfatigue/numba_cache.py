@@ -4,7 +4,9 @@ numba invalidates a cached function only when its own file changes, not when
 a kernel it calls in another module does: a stale cache would silently run
 old physics. :func:`scope_numba_cache` therefore points numba's cache at
 ``<base>/<digest>``, the digest covering every package module that imports
-numba, so an edit anywhere in the kernels starts a fresh cache.
+numba and the modules of numbers the kernels read as compile-time constants
+(:data:`KERNEL_CONSTANT_MODULES`), so an edit anywhere in the kernels starts a
+fresh cache.
 
 Importing :mod:`drillfatigue` does not do this (a library must not change its
 host process's environment or numba's global settings). It is called
@@ -29,7 +31,8 @@ import re
 import sys
 from pathlib import Path
 
-__all__ = ["default_cache_base", "kernel_digest", "scope_numba_cache", "source_digest"]
+__all__ = ["KERNEL_CONSTANT_MODULES", "default_cache_base", "kernel_digest", "scope_numba_cache",
+           "source_digest"]
 
 PACKAGE_ROOT = Path(__file__).resolve().parent
 
@@ -49,9 +52,15 @@ def source_digest(root: Path, only_containing: bytes = b"") -> str:
 
 _IMPORTS_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[\s.])", re.M)
 
+#: Modules (paths under the package root) without numba whose module-level
+#: numbers the kernels read as compile-time constants: numba freezes them into
+#: the compiled code, so they key the cache like the kernels themselves.
+KERNEL_CONSTANT_MODULES: tuple[str, ...] = ("status.py", "dynamics/status.py", "dynamics/layout.py")
+
 
 def kernel_digest(root: Path) -> str:
-    """16 hex digits of SHA-256 over every module under ``root`` that imports numba.
+    """16 hex digits of SHA-256 over every module under ``root`` that imports numba
+    or is one of :data:`KERNEL_CONSTANT_MODULES`.
 
     Only modules that import numba can define or call kernels; a module that
     merely mentions numba (this one) does not invalidate the cache.
@@ -59,7 +68,8 @@ def kernel_digest(root: Path) -> str:
     digest = hashlib.sha256()
     for path in sorted(root.rglob("*.py")):
         text = path.read_bytes()
-        if _IMPORTS_NUMBA.search(text):
+        if (_IMPORTS_NUMBA.search(text)
+                or path.relative_to(root).as_posix() in KERNEL_CONSTANT_MODULES):
             digest.update(path.relative_to(root).as_posix().encode() + b"\0" + text)
     return digest.hexdigest()[:16]
 

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import drillfatigue
-from drillfatigue.numba_cache import kernel_digest, scope_numba_cache
+from drillfatigue.numba_cache import KERNEL_CONSTANT_MODULES, kernel_digest, scope_numba_cache
 
 
 def _tree(root: Path, force_body: str) -> None:
@@ -112,3 +112,19 @@ def test_a_module_that_only_mentions_numba_does_not_change_it(tmp_path: Path) ->
     assert kernel_digest(tmp_path / "a") == key
     (tmp_path / "a" / "cache.py").write_text("from numba import njit\n")
     assert kernel_digest(tmp_path / "a") != key
+
+
+def test_a_module_of_kernel_constants_changes_it(tmp_path: Path) -> None:
+    # kernels read the status codes as compile-time constants: a renumbered
+    # code must not reuse kernels compiled with the old number
+    _tree(tmp_path / "a", "def f(x): return x")
+    (tmp_path / "a" / "status.py").write_text("OK = 0\n")
+    key = kernel_digest(tmp_path / "a")
+    (tmp_path / "a" / "status.py").write_text("OK = 1\n")
+    assert kernel_digest(tmp_path / "a") != key
+
+
+def test_the_listed_constant_modules_exist() -> None:
+    # a renamed or moved module would silently fall out of the key
+    root = Path(drillfatigue.__file__).parent
+    assert all((root / name).is_file() for name in KERNEL_CONSTANT_MODULES)

@@ -1,0 +1,49 @@
+"""Status codes of the package's numba kernels: the one enumeration.
+
+Kernels never raise; they return one of these integers (and, where it helps,
+say where in an ``info`` array). The numba kernels read these module-level
+ints as compile-time constants, so :mod:`drillfatigue.numba_cache` counts this
+module as kernel source. The Python layer turns a code other than ``OK`` into
+an exception in one wrapper per chain:
+:func:`drillfatigue.dynamics.model.raise_for_status` for the simulator (it
+adds the time and the segment) and :func:`drillfatigue.errors.raise_for_status`
+for the fatigue kernels.
+
+This module imports nothing, so kernels of every subpackage may import it.
+"""
+
+OK = 0
+
+# --- simulator (drillfatigue.dynamics) --------------------------------------
+#: a position, velocity or force became NaN or infinite
+NONFINITE = 1
+#: the kinetic energy exceeded ``bp[B_ESCALE]`` (energy blow-up)
+BLOWUP = 2
+#: a segment moved faster than ``MAX_SPEED_M_PER_S`` or spun faster than
+#: ``MAX_SPIN_RAD_S`` (:mod:`drillfatigue.dynamics.status`)
+SPEED = 3
+#: a friction model id outside :mod:`drillfatigue.dynamics.friction`'s list
+UNKNOWN_FRICTION = 4
+#: a bit-law id outside :mod:`drillfatigue.dynamics.bitrock`'s list
+UNKNOWN_BIT = 5
+#: a block or top-drive mode id outside :mod:`drillfatigue.dynamics.rig`'s list
+UNKNOWN_RIG_MODE = 6
+
+# --- fatigue chain (drillfatigue.fatigue.kernels) ---------------------------
+#: a rainflow residue stack outgrew the capacity it was given (the
+#: critical-plane wrapper retries with a larger one)
+STACK_OVERFLOW = 7
+#: more cycles than the output arrays hold
+OUT_OVERFLOW = 8
+
+#: Text of each failure code, for the error message.
+MESSAGES = {
+    NONFINITE: "non-finite state",
+    BLOWUP: "kinetic energy above the blow-up limit",
+    SPEED: "speed above the divergence bound",
+    UNKNOWN_FRICTION: "unknown friction model",
+    UNKNOWN_BIT: "unknown bit model",
+    UNKNOWN_RIG_MODE: "unknown block or top-drive mode",
+    STACK_OVERFLOW: "rainflow residue stack overflow",
+    OUT_OVERFLOW: "more cycles than the output capacity",
+}
