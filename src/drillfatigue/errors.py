@@ -3,9 +3,13 @@
 Bad user input raises :class:`InputError` (a ``ValueError``) naming the field
 path, what is wrong and the allowed range. The CLI prints it as one line
 ``error: <field path>: <what is wrong> (allowed: ...)`` and exits with code 2.
+A numba kernel never raises: it returns a code of :mod:`drillfatigue.status`,
+which its Python wrapper turns into an exception (:func:`raise_for_status`).
 """
 
 from __future__ import annotations
+
+from drillfatigue.status import MESSAGES, OK
 
 
 class InputError(ValueError):
@@ -45,3 +49,21 @@ class Interrupted(Exception):
 
 class SimulationError(RuntimeError):
     """A simulation diverged or failed; the message says when, where and why."""
+
+
+class KernelError(RuntimeError):
+    """A numba kernel returned a failure code: a capacity its wrapper sized too
+    small, or a bug; not bad input. The message names the kernel and the code."""
+
+
+def raise_for_status(status: int, kernel: str) -> None:
+    """Raise :class:`KernelError` for a failure code of :mod:`drillfatigue.status`.
+
+    Nothing happens for ``OK``. The message is ``"<kernel>: <what failed>
+    (status <code>)"``, the text from :data:`drillfatigue.status.MESSAGES`. The
+    simulator's codes go through :func:`drillfatigue.dynamics.model.raise_for_status`
+    instead, which adds the time and the segment of the failure.
+    """
+    if status == OK:
+        return
+    raise KernelError(f"{kernel}: {MESSAGES.get(status, 'unknown status code')} (status {status})")

@@ -11,6 +11,7 @@ from drillfatigue.fatigue.critical_plane import (CriterionParams, plane_damage, 
 from drillfatigue.fatigue.rainflow import find_cycles_indexed
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Section, surface_coefficients
+from drillfatigue.status import OK, STACK_OVERFLOW
 
 
 def test_multiplane_kernel_equals_per_plane_reversal_search() -> None:
@@ -186,3 +187,35 @@ def test_refinement_beyond_the_dense_levels_never_loses_selection_damage() -> No
                            n_refine=k, n_refine_points=1, with_uniaxial=False).damage
          for k in (0, 2, 4, 6)]
     assert all(b >= a * (1 - 1e-12) for a, b in zip(d, d[1:], strict=False))
+
+
+def test_a_residue_beyond_the_first_stack_capacity_is_retried_not_lost(monkeypatch) -> None:
+    # a reversal at every sample with growing amplitude closes no cycle: the
+    # residue holds all 1500 reversals, over the wrapper's first capacity
+    # (1024), so the kernel returns STACK_OVERFLOW and the wrapper retries
+    n = 1500
+    k = np.arange(n)
+    L = np.zeros((n, 6))
+    L[:, 0] = 1e5 + 50.0 * (1 + k) * (-1.0) ** k
+    L[:, 3] = 20.0 * (1 + k) * (-1.0) ** (k + 1)
+    cs, ct, _ = surface_coefficients(Section(0.127, 0.1086), SCF(1, 2, 1.5), 12)
+    planes = plane_grid(30.0, False, 2)
+    curve, prm = get_curve("B1"), CriterionParams()
+    kernel, codes = K.multiplane_damage, []
+
+    def recorded(*args):  # noqa: ANN002, ANN202
+        codes.append(kernel(*args))
+        return codes[-1]
+
+    monkeypatch.setattr(K, "multiplane_damage", recorded)
+    dmg, _, _ = plane_damage(L, cs, ct, planes, curve, "findley", prm, "half")
+    assert codes == [STACK_OVERFLOW, OK]
+    pts = (0, 3, 7)
+    ref = _reference_damage(L, cs, ct, planes, curve, "findley", prm, "half", pts)
+    top = ref[list(pts)].max()
+    assert top > 0.0
+    for p in pts:
+        # as the test above (summation order only); atol: a plane whose shear
+        # coefficient is zero up to rounding gets ~1e-87 in the reference and
+        # 0 in the kernel, which skips zero-shear planes by design
+        np.testing.assert_allclose(dmg[p], ref[p], rtol=1e-10, atol=1e-12 * top)

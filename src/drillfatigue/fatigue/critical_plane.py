@@ -71,12 +71,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drillfatigue.errors import InputError
+from drillfatigue.errors import InputError, raise_for_status
 from drillfatigue.fatigue import kernels as K
 from drillfatigue.fatigue.rainflow import find_cycles_indexed
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress
 from drillfatigue.fatigue.stress import (SCF, Pressure, Section, surface_coefficients,
                                          surface_pressure_stresses, true_wall_force_N)
+from drillfatigue.status import OK, STACK_OVERFLOW
 from drillfatigue.units import MPA_PA
 
 CRITERIA: tuple[str, ...] = ("matake", "findley", "fatemi_socie", "uniaxial")
@@ -337,10 +338,10 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
                                  grp.scale, cand_n, bpa, bgrp, crit, ca, cb, cc, sel,
                                  thickness_factor / MPA_PA, seg[0], seg[1], seg[2], seg[3], mode,
                                  cap, dmg, sel_d, par)
-        if st == K.STATUS_OK:
+        if st == OK:
             return dmg, sel_d, par
-        if cap > 4 * LT.shape[1] + 16:  # pragma: no cover - cannot happen
-            raise RuntimeError("multiplane_damage: residue stack overflow")
+        if st != STACK_OVERFLOW or cap > 4 * LT.shape[1] + 16:  # pragma: no cover - cannot happen
+            raise_for_status(st, "multiplane_damage")
         cap *= 8
 
 

@@ -1,10 +1,12 @@
 """Numba kernels of the fatigue chain: indexed rainflow and multi-plane damage.
 
 Plain functions on float64 arrays in SI (stresses in Pa), importing only numpy,
-numba and math. They write into preallocated ``out`` arrays and return an
-integer status (>= 0 success, < 0 error); the Python wrappers in
-:mod:`drillfatigue.fatigue.rainflow` and :mod:`drillfatigue.fatigue.critical_plane`
-raise.
+numba and math. They write into preallocated ``out`` arrays and return a
+status code of the package's one enumeration, :mod:`drillfatigue.status`
+(:func:`rainflow_indexed` returns the number of cycles, or minus a code); the
+Python wrappers in :mod:`drillfatigue.fatigue.rainflow` and
+:mod:`drillfatigue.fatigue.critical_plane` turn a failure into an exception
+through :func:`drillfatigue.errors.raise_for_status`.
 
 Rainflow here is the 4-point method on exact (unbinned) reversals
 (Amzallag et al., Int. J. Fatigue 16 (1994) 287-293; ISO 12110-2), with the
@@ -12,14 +14,17 @@ residue closed either as half cycles (ASTM E1049-85 (2017) section 5.4.4
 equivalent: each adjacent pair of the residue is a half cycle) or by repeating
 the residue once (fatpack's ``find_rainflow_ranges`` convention).
 
-Status codes: 0 ok, -1 residue stack overflow (wrapper retries with a larger
-capacity), -2 output capacity exceeded.
+Status codes: ``OK``; ``STACK_OVERFLOW``, a residue stack over its capacity
+(the critical-plane wrapper retries with a larger one); ``OUT_OVERFLOW``, more
+cycles than the output arrays hold.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
+
+from drillfatigue.status import OK, OUT_OVERFLOW, STACK_OVERFLOW
 
 RESIDUE_HALF = 0
 RESIDUE_REPEAT = 1
@@ -29,10 +34,6 @@ CRIT_MATAKE = 0
 CRIT_FINDLEY = 1
 CRIT_FATEMI_SOCIE = 2
 CRIT_SHEAR = 3  # Tresca-type: equivalent amplitude = shear range (plane selection)
-
-STATUS_OK = 0
-STATUS_STACK_OVERFLOW = -1
-STATUS_OUT_OVERFLOW = -2
 
 
 # ---------------------------------------------------------------------------
@@ -72,7 +73,8 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
     Returns
     -------
     int
-        Number of cycles written (>= 0) or a negative status.
+        Number of cycles written (>= 0), or ``-OUT_OVERFLOW`` when the output
+        arrays are too short.
     """
     n = y.shape[0]
     stk = np.empty(2 * n + 2, dtype=np.int64)
@@ -89,7 +91,7 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
             d2 = abs(s2 - s1)
             if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
                 if nc >= cap:
-                    return STATUS_OUT_OVERFLOW
+                    return -OUT_OVERFLOW
                 out_from[nc] = stk[m - 3]
                 out_to[nc] = stk[m - 2]
                 out_count[nc] = 1.0
@@ -104,7 +106,7 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
     if residue_mode == RESIDUE_HALF:
         for i in range(m - 1):
             if nc >= cap:
-                return STATUS_OUT_OVERFLOW
+                return -OUT_OVERFLOW
             out_from[nc] = stk[i]
             out_to[nc] = stk[i + 1]
             out_count[nc] = 0.5
@@ -121,7 +123,7 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
                 d2 = abs(s2 - s1)
                 if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
                     if nc >= cap:
-                        return STATUS_OUT_OVERFLOW
+                        return -OUT_OVERFLOW
                     out_from[nc] = stk[m - 3]
                     out_to[nc] = stk[m - 2]
                     out_count[nc] = 1.0
@@ -187,22 +189,23 @@ def _pseudo_angle(x, y):
 
 @njit(cache=True, inline="always")
 def _push_group(sv, sx, sy, ms, g, v, x, y):
-    """Peak-valley filtered push of (shear v, sigma x, tau y) onto group g's stack."""
+    """Peak-valley filtered push of (shear v, sigma x, tau y) onto group g's stack;
+    ``OK`` or ``STACK_OVERFLOW``."""
     m = ms[g]
     if m >= 1 and sv[g, m - 1] == v:
-        return 0  # plateau: the reversal stays at the first sample
+        return OK  # plateau: the reversal stays at the first sample
     if m >= 2 and (sv[g, m - 1] - sv[g, m - 2]) * (v - sv[g, m - 1]) > 0.0:
         sv[g, m - 1] = v  # monotone continuation: the top was not a reversal
         sx[g, m - 1] = x
         sy[g, m - 1] = y
-        return 0
+        return OK
     if m >= sv.shape[1]:
-        return STATUS_STACK_OVERFLOW
+        return STACK_OVERFLOW
     sv[g, m] = v
     sx[g, m] = x
     sy[g, m] = y
     ms[g] = m + 1
-    return 0
+    return OK
 
 
 BATCH_FAST = {"reassoc", "nsz"}  # fastmath flags of the batch loops: sums, maxima reordered
@@ -509,7 +512,7 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
     Returns
     -------
     int
-        0 or STATUS_STACK_OVERFLOW.
+        ``OK`` or ``STACK_OVERFLOW``.
     """
     n_t = loads_T.shape[1]
     n_p = coef_sig.shape[0]
@@ -579,7 +582,7 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
         tube = a1 == 0.0 and a2 == 0.0 and a5 == 0.0 and b0 == 0.0 and b3 == 0.0 and b4 == 0.0
         sgb[0] = a0 * L0[0] + a1 * L1[0] + a2 * L2[0] + a3 * L3[0] + a4 * L4[0] + a5 * L5[0]
         tab[0] = b0 * L0[0] + b1 * L1[0] + b2 * L2[0] + b3 * L3[0] + b4 * L4[0] + b5 * L5[0]
-        st = 0
+        st = OK  # OR of the pushes' codes: STACK_OVERFLOW is the only failure they return
         for g in range(n_g):
             st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * sgb[0] + grp_c[g, 1] * tab[0],
                               sgb[0], tab[0])
@@ -768,9 +771,9 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, grp_c, mem_ptr, mem_cand, mem
             out_par[p, j] = acc_par[j]
         status[p] = st
     for p in range(n_p):
-        if status[p] != 0:
-            return STATUS_STACK_OVERFLOW
-    return STATUS_OK
+        if status[p] != OK:
+            return STACK_OVERFLOW
+    return OK
 
 
 @njit(cache=True, parallel=True)

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import fatpack
 import numpy as np
 
-from drillfatigue.errors import InputError
+from drillfatigue.errors import InputError, raise_for_status
 from drillfatigue.fatigue import kernels as K
 
 RESIDUE_MODES: tuple[str, ...] = ("half", "repeat", "carry")
@@ -237,7 +237,7 @@ def find_cycles_indexed(y: np.ndarray, residue: str = "half"
     mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
     nc = K.rainflow_indexed(y, mode, i_from, i_to, count, res)
     if nc < 0:  # pragma: no cover - capacity is a proven bound
-        raise RuntimeError(f"rainflow_indexed failed with status {nc}")
+        raise_for_status(-nc, "rainflow_indexed")
     return i_from[:nc].copy(), i_to[:nc].copy(), count[:nc].copy()
 
 
