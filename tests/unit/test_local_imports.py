@@ -11,7 +11,11 @@ the line just above its block of imports (one comment may serve a block).
 from __future__ import annotations
 
 import ast
+import json
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -85,3 +89,17 @@ def test_every_local_import_in_the_package_names_its_reason():
 ])
 def test_the_check_flags_exactly_the_undocumented_ones(source, expected):
     assert undocumented(source) == expected
+
+
+def test_the_help_loads_no_optional_extra_and_no_start_up_module():
+    # what the 'optional' and 'start-up' local imports keep out of `drillfatigue --help`
+    code = ("import sys\nfrom drillfatigue.cli import main\nmain(['--help'])\n"
+            "import json\nprint(json.dumps(sorted(m for m in ('torch', 'sklearn', 'fastapi', "
+            "'uvicorn', 'matplotlib', 'dask', 'distributed', 'dvclive', 'drillfatigue.surrogate', "
+            "'drillfatigue.studies', 'drillfatigue.sweep') if m in sys.modules)))\n")
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(PACKAGE.parent), env.get("PYTHONPATH", "")])
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=120, check=True)
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == []
+
