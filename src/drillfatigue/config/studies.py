@@ -156,7 +156,7 @@ class Case3Config(StrictModel):
                            "face (docs/case3.md); on_bottom: prescribed ROP; tripping: off "
                            "bottom, the string slides in during the whole run")
     rop_m_per_s: float = Field(0.01, ge=0.0, le=1.0, description="on_bottom mode")
-    bit_md_end_m: float = Field(1000.0, gt=0.0, le=_MD_MAX,
+    bit_md_end_m: float = Field(900.0, gt=0.0, le=_MD_MAX,
                                 description="bit MD at the end of the run (tripping, "
                                             "on_bottom) or at its start (rig)")
     trip_speed_m_per_s: float = Field(0.1, gt=0.0, le=2.0)
