@@ -233,5 +233,17 @@ def test_case3_report_line_names_the_load_and_the_gap():
             "dominant_load": "joint_bending", "life_h_joint_bending_only": 1216.0,
             "sigma_amplitude_MPa_joint_bending": 75.0}
     line = report._case3_why(near)
-    assert "in the build (5.73°/30 m)" in line and "curvature" in line
+    assert "curved up to 5.73°/30 m within 10 m" in line and "curvature" in line
     assert "factor of 10" not in line
+
+
+def test_case3_local_dogleg_counts_the_intervals_around_the_joint():
+    """Minimum curvature: a station's DLS is that of the interval ending there."""
+    class Survey:
+        md_m = np.array([0.0, 100.0, 130.0, 160.0])
+        dls_deg_per_30m = np.array([0.0, 0.0, 6.0, 0.0])  # build over 100-130 m only
+    assert case3.local_dls_deg_per_30m(Survey, 95.0) == 6.0   # 100-130 within 10 m
+    assert case3.local_dls_deg_per_30m(Survey, 85.0) == 0.0
+    assert case3.local_dls_deg_per_30m(Survey, 139.0) == 6.0
+    assert case3.local_dls_deg_per_30m(Survey, 145.0) == 0.0
+    assert case3.local_dls_deg_per_30m(Survey, 400.0) == 0.0  # beyond the survey

@@ -220,6 +220,20 @@ def stress_amplitudes(run_dir: Path, fat: FatigueConfig, joints: list[int]) -> p
     return pd.DataFrame(rows)
 
 
+def local_dls_deg_per_30m(survey: Any, md_m: float, half_m: float = 10.0) -> float:
+    """Largest dogleg severity of the hole within ``half_m`` of ``md_m``, deg/30 m.
+
+    A survey's DLS at a station is that of the interval ending there (minimum
+    curvature), so the intervals that overlap [md - half, md + half] count.
+    """
+    md = np.asarray(survey.md_m, dtype=float)
+    dls = np.asarray(survey.dls_deg_per_30m, dtype=float)
+    lo = int(np.searchsorted(md, md_m - half_m, side="right"))
+    hi = int(np.searchsorted(md, md_m + half_m, side="left"))
+    sel = dls[max(lo, 1):min(hi, md.size - 1) + 1]
+    return float(sel.max()) if sel.size else 0.0
+
+
 def _life_h(span_s: float, damage: float) -> float:
     return hours(span_s) / damage if damage > 0 else math.inf
 
@@ -261,7 +275,7 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
             "s_from_bit_m": want, "joint": j, "joint_s_from_bit_m": s,
             "component_type": str(jt.loc[j, "component_type"]),
             "md_m": md,
-            "hole_dls_deg_per_30m": float(np.interp(md, survey.md_m, survey.dls_deg_per_30m)),
+            "hole_dls_deg_per_30m": local_dls_deg_per_30m(survey, md),
             "life_h": life[crit_loc], "critical_location": crit_loc,
             **{f"life_h_{loc}": v for loc, v in life.items()},
             "paper_life_h": paper, "life_ratio_ours_to_paper": ratio,

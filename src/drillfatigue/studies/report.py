@@ -175,8 +175,8 @@ _CASE3_LOADS = {"axial_torsion": "axial force, shears and torque",
 def _case3_why(r: dict[str, Any]) -> str:
     """One line on what sets a case-3 location's life and how far it is from the paper's."""
     ratio = r.get("life_ratio_ours_to_paper")
-    where = (f"in the build ({_fmt(r.get('hole_dls_deg_per_30m'))}°/30 m)"
-             if (r.get("hole_dls_deg_per_30m") or 0.0) > 0.1 else "in straight hole")
+    where = (f"the hole curved up to {_fmt(r.get('hole_dls_deg_per_30m'))}°/30 m within "
+             "10 m" if (r.get("hole_dls_deg_per_30m") or 0.0) > 0.1 else "straight hole")
     head = (f"{r['s_from_bit_m']:g} m behind the bit (joint at {_fmt(r['joint_s_from_bit_m'])} "
             f"m, {r['component_type']}, {where}): ours {_fmt(ratio)} × the paper's")
     dom = r.get("dominant_load")
@@ -193,8 +193,8 @@ def _case3_why(r: dict[str, Any]) -> str:
         text += (" The hole's curvature bends the rotating pipe once per revolution "
                  f"(σ_a {_fmt(r.get('sigma_amplitude_MPa_joint_bending'))} MPa).")
     elif dom == "span_bending":
-        text += (" The pipe's weight bends it between its supports (stabilizer and wall), "
-                 f"σ_a {_fmt(span)} MPa.")
+        text += (" The pipe's weight bends it between the points where it rests on the "
+                 f"wall or its stabilizers, σ_a {_fmt(span)} MPa.")
     if ratio is not None and math.isfinite(ratio) and (ratio > 10.0 or ratio < 0.1):
         text += " **More than a factor of 10 from the paper.**"
     return text
@@ -210,9 +210,10 @@ def _case3_section(d: Path, out: OutputFolder) -> list[str]:
     pipe = (f"drill pipe cut {cfg['dp_joints_per_segment']} joint(s) per segment"
             if cfg.get("bha") == "paper_bha" and cfg.get("dp_joints_per_segment")
             else f"{cfg['string']['dp_segments']} drill-pipe segments")
+    how = (f" (bit on bottom, autodriller on WOB {cfg.get('wob_set_N', 0) / 1e3:g} kN, "
+           "bit-law ROP, lobed rock face)" if cfg["mode"] == "rig" else "")
     lines.append(
-        f"Mode {cfg['mode']} (rig: bit on bottom, autodriller on WOB "
-        f"{cfg.get('wob_set_N', 0) / 1e3:g} kN, bit-law ROP, lobed rock face); rest "
+        f"Mode {cfg['mode']}{how}; rest "
         f"{cfg['trip_s']:g} s, ramp to {cfg['rpm']:g} rpm in {cfg['ramp_s']:g} s, window "
         f"{cfg['window_s']:g} s (paper: 800 s trip, 40 s, 60 s); bit at "
         f"{cfg['bit_md_end_m']:g} m MD (the build ends at 821 m); BHA {cfg.get('bha')}, {pipe}; "
