@@ -58,7 +58,6 @@ from drillfatigue.dynamics.rig import drilling_window_metrics
 from drillfatigue.fatigue.run import SPAN_COLUMNS, evaluate_run, joint_locations, location_section
 from drillfatigue.fatigue.stress import LOAD_COLUMNS, SCF, Section, surface_stresses
 from drillfatigue.plotting import subplots
-from drillfatigue.well import build_survey
 from drillfatigue.studies.common import (
     hours,
     paper_bha_components,
@@ -72,6 +71,7 @@ from drillfatigue.studies.common import (
     write_csv,
     write_json,
 )
+from drillfatigue.well import build_survey
 
 #: The paper's lives at 80 (location 1, nearest the build), 40 and 8 m behind the
 #: bit, hours (docs/case3.md).
@@ -263,6 +263,10 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
     dec = dec.merge(amp, on=["joint", "location", "load"], how="left")
     dec["life_h"] = [_life_h(span, d) for d in dec["damage"]]
     jt = pd.read_parquet(run_dir / rundir.JOINTS).set_index("joint")
+    for j, s in picks:  # the joints were chosen from the string's config: the run must agree
+        if abs(float(jt.loc[j, "s_from_bit_m"]) - s) > 1e-6 * max(s, 1.0):
+            raise RuntimeError(f"case 3: joint {j} is {float(jt.loc[j, 's_from_bit_m']):.3f} m "
+                               f"from the bit in the run, {s:.3f} m in joints_behind_bit")
     rows = []
     for want, (j, s) in zip(cfg.s_from_bit_m, picks, strict=True):
         d = dec[(dec["joint"] == j) & (dec["load"] == "all")].set_index("location")["damage"]
