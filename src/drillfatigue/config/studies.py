@@ -160,7 +160,9 @@ class Case3Config(StrictModel):
                                 description="bit MD at the end of the run (tripping, "
                                             "on_bottom) or at its start (rig)")
     trip_speed_m_per_s: float = Field(0.1, gt=0.0, le=2.0)
-    trip_s: float = Field(1.0, ge=0.0, le=1e5, description="paper 800")
+    trip_s: float = Field(1.0, ge=0.0, le=1e5,
+                          description="tripping: the trip (paper 800); rig, on_bottom: at rest "
+                                      "before the ramp (the trip is the string's placement)")
     ramp_s: float = Field(2.0, gt=0.0, le=1e4, description="ramp 0 -> rpm; paper 40")
     window_s: float = Field(10.0, gt=0.0, le=1e5, description="recorded window; paper 60")
     rpm: float = Field(50.0, gt=0.0, le=400.0)
