@@ -343,10 +343,14 @@ def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
         kw = {"lw": 0.6, "label": f"{s:.0f} m behind the bit"}
         ax[0].plot(h["time_s"], h["axial_N"] / 1e3, **kw)
         ax[1].plot(h["time_s"], h["torque_Nm"] / 1e3, **kw)
-        ax[2].plot(h["time_s"], np.hypot(h["bending_x_Nm"], h["bending_y_Nm"]) / 1e3, **kw)
+        mx, my = h["bending_x_Nm"].to_numpy(), h["bending_y_Nm"].to_numpy()
+        if SPAN_COLUMNS[0] in h.columns:  # what the fatigue chain reads: joint + span
+            mx = mx + h[SPAN_COLUMNS[0]].to_numpy()
+            my = my + h[SPAN_COLUMNS[1]].to_numpy()
+        ax[2].plot(h["time_s"], np.hypot(mx, my) / 1e3, **kw)
     ax[0].set_ylabel("axial force, kN")
     ax[1].set_ylabel("torque, kN·m")
-    ax[2].set_ylabel("bending moment, kN·m")
+    ax[2].set_ylabel("bending moment\n(joint + span), kN·m")
     ax[2].set_xlabel("time, s")
     ax[0].legend(fontsize=8)
     ax[0].set_title(f"Case 3: {cfg.profile} horizontal section, {cfg.rpm:.0f} rpm window")
