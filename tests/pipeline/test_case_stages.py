@@ -15,6 +15,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 import yaml
@@ -64,7 +65,15 @@ def test_reduced_studies_and_report(tmp_path):
     assert sorted(t2["rank_ours"]) == [1, 2, 3]
     t3 = pd.read_csv(d["case3"] / "case3_life.csv")
     assert list(t3["s_from_bit_m"]) == [8.0, 40.0, 80.0]
-    assert list(t3["paper_life_h"]) == [191.0, 625.0, 677.0]
+    assert list(t3["paper_life_h"]) == [677.0, 625.0, 191.0]  # 191 h nearest the build
+    assert np.allclose(t3["life_ratio_ours_to_paper"], t3["life_h"] / t3["paper_life_h"])
+    for g in ("axial_torsion", "joint_bending", "span_bending"):  # the decomposition
+        assert (t3[f"life_h_{g}_only"] > 0).all()
+        assert (t3[f"sigma_amplitude_MPa_{g}"] >= 0).all()
+    assert set(t3["dominant_load"]) <= {"axial_torsion", "joint_bending", "span_bending",
+                                        "none"}
+    dec3 = pd.read_csv(d["case3"] / "case3_decomposition.csv")
+    assert set(dec3["load"]) == {"all", "axial_torsion", "joint_bending", "span_bending"}
     t1 = pd.read_csv(d["case1"] / "case1_whirl.csv")
     assert set(t1["model"]) == {"karnopp", "tanh_exp"} and set(t1["friction"]) == {"low", "high"}
     assert (t1["rolling_ratio"].round(3) == -1.429).all()  # -63.5 / (107.95 - 63.5)
@@ -91,6 +100,7 @@ def test_reduced_studies_and_report(tmp_path):
     # our lives stand next to the paper's, and the wall times next to 38 h / 2 h / 47-18 min
     for r in t2.itertuples():
         assert f"| {r.profile} |" in text
+    assert "span_bending only" in text and "ours / paper" in text
     for paper in ("10.3", "12.8", "5.9", "191", "625", "677", "38 h", "2 h", "47", "test note"):
         assert paper in text, paper
 

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from drillfatigue.config import FatigueConfig
 from drillfatigue.config.base import validate
 from drillfatigue.config.studies import (
     Case1Config,
@@ -41,6 +42,8 @@ def test_sections_default_constructible():
     (Case1Config, {"models": ["magic"]}, "case1.models"),
     (Case3Config, {"window_s": 0.0}, "case3.window_s"),
     (Case3Config, {"mode": "sideways"}, "case3.mode"),
+    (Case3Config, {"bha": "tricone"}, "case3.bha"),
+    (Case3Config, {"dp_joints_per_segment": 0}, "case3.dp_joints_per_segment"),
     (PlanConfig, {"confirm_top_k": -1}, "plan.confirm_top_k"),
 ])
 def test_sections_reject_bad_values(model, data, field):
@@ -72,16 +75,94 @@ def test_case2_target_joint_and_samples():
 def test_case3_joints_and_case():
     cfg = Case3Config()
     bit0 = cfg.bit_md_end_m - cfg.advance_m_per_s * cfg.duration_s
+    assert bit0 == cfg.bit_md_end_m  # rig: the bit starts on bottom at bit_md_end_m
     picks = case3.joints_behind_bit(cfg, bit0)
-    assert [round(s) for _, s in picks] == [9, 36, 81]  # 9 m collar segments
+    # paper BHA: stabilizer 0-1.5 m, collar to 10.5 m, stabilizer to 12 m, then 9.33 m
+    # collar segments: 12 + 3 x 9.33 = 40 m and 12 + 7 x 9.33 = 77.3 m
+    assert [round(s, 1) for _, s in picks] == [10.5, 40.0, 77.3]
     case, b = case3.case_dict(cfg, [j for j, _ in picks])
     assert b == pytest.approx(bit0)
     table = case["operation"]["rpm_table"]
     assert table[-2] == [cfg.trip_s + cfg.ramp_s, cfg.rpm] and table[1] == [cfg.trip_s, 0.0]
     assert case["recording"]["start_s"] == cfg.trip_s + cfg.ramp_s
+    # case 2's rig boundaries and the span options, explicitly
+    assert case["rig"]["block_mode"] == "autodriller" and case["bit"]["model"] == \
+        "yigit_christoforou"
+    assert case["rig"]["rock"]["lobe_amplitude_m"] == cfg.lobe_amplitude_m
+    assert case["operation"]["bit_on_bottom"] is True
+    assert case["contact"] == {"points": "string", "span_bending": True}
+    assert case["string"]["lateral_mud_mass"] is True
+    comps = case["string"]["components"]
+    assert [c["type"] for c in comps] == ["stabilizer", "collar", "stabilizer", "collar",
+                                          "drill_pipe"]
+    assert sum(c["length_m"] for c in comps) == pytest.approx(bit0)  # reaches the surface
+    assert comps[-1]["joints_per_segment"] == 1
+    # the paper's lives: 191 h nearest the build (80 m), 625 h at 40 m, 677 h at 8 m
+    assert case3.PAPER_LIFE_H == {80.0: 191.0, 40.0: 625.0, 8.0: 677.0}
     trip, _ = case3.case_dict(Case3Config(mode="tripping"), [0])
-    assert trip["operation"]["bit_on_bottom"] is False
+    assert trip["operation"]["bit_on_bottom"] is False and "rig" not in trip
     assert trip["operation"]["trip_speed_m_per_s"] > 0
+    bare = Case3Config(bha="bare_collars", dp_joints_per_segment=None)
+    assert [round(s) for _, s in case3.joints_behind_bit(bare, bit0)] == [9, 36, 81]
+
+
+def _synthetic_run(root, span_amp_Nm: float, axial_amp_N: float):
+    """A run folder of one collar joint: span moment rotating once per second at
+    amplitude ``span_amp_Nm`` in the pipe frame, axial force alternating at 3/s."""
+    n = 1000  # 10 s at 100 Hz, 100 samples per revolution
+    t = np.arange(n) / 100.0
+    ph = 2.0 * np.pi * t
+    loads = pd.DataFrame({
+        "time_s": t, "joint": 0, "md_m": 900.0,
+        "axial_N": axial_amp_N * np.sin(3.0 * ph), "shear_x_N": 0.0, "shear_y_N": 0.0,
+        "bending_x_Nm": 0.0, "bending_y_Nm": 0.0, "torque_Nm": 0.0,
+        "span_bending_x_Nm": span_amp_Nm * np.cos(ph),
+        "span_bending_y_Nm": span_amp_Nm * np.sin(ph)})
+    root.mkdir()
+    loads.to_parquet(root / "loads.parquet", index=False)
+    pd.DataFrame({"joint": [0], "component": [0], "component_type": ["collar"],
+                  "s_from_bit_m": [80.0], "body_od_m": [0.17145], "body_id_m": [0.0714],
+                  "conn_od_m": [0.17145], "conn_id_m": [0.0714]}).to_parquet(
+        root / "joints.parquet", index=False)
+    (root / "summary.json").write_text('{"status": "complete", "duration_s": 10.0}')
+    return root
+
+
+def test_case3_decomposition_and_amplitudes(tmp_path):
+    """Each load group alone through the fatigue chain, and its stress amplitude.
+
+    Reference: a moment M rotating in the pipe frame gives every surface point a
+    fully reversed bending stress of amplitude K_b M r / I (beam theory); 100
+    samples per revolution resolve the peak to cos(1.8 deg) = 0.9995, so 1e-3.
+    """
+    fat = FatigueConfig(plots=False)
+    run = _synthetic_run(tmp_path / "run", 8000.0, 0.0)
+    amp = case3.stress_amplitudes(run, fat, [0]).set_index(["location", "load"])
+    r_o, r_i = 0.17145 / 2, 0.0714 / 2
+    s_ref = 8000.0 * r_o / (np.pi / 4.0 * (r_o ** 4 - r_i ** 4))
+    assert amp.loc[("body", "span_bending"), "sigma_amplitude_Pa"] == \
+        pytest.approx(s_ref, rel=1e-3)
+    k_b = fat.scf["collar"].connection.bending
+    assert amp.loc[("connection", "span_bending"), "sigma_amplitude_Pa"] == \
+        pytest.approx(k_b * s_ref, rel=1e-3)
+    assert amp.loc[("body", "axial_torsion"), "sigma_amplitude_Pa"] == 0.0
+    assert amp.loc[("body", "joint_bending"), "sigma_amplitude_Pa"] == 0.0
+    dec = case3.decompose_damage(run, fat, [0], "matake").set_index(["location", "load"])
+    # only the span correction loads this joint: it alone gives the full damage
+    assert dec.loc[("connection", "all"), "damage"] > 0
+    assert dec.loc[("connection", "span_bending"), "damage"] == \
+        pytest.approx(dec.loc[("connection", "all"), "damage"], rel=1e-12)
+    assert dec.loc[("connection", "axial_torsion"), "damage"] == 0.0
+    assert dec.loc[("connection", "joint_bending"), "damage"] == 0.0
+    # an axial force alone: the axial group carries it, its amplitude is K_a F / A
+    run2 = _synthetic_run(tmp_path / "run2", 0.0, 3e5)
+    amp2 = case3.stress_amplitudes(run2, fat, [0]).set_index(["location", "load"])
+    assert amp2.loc[("body", "axial_torsion"), "sigma_amplitude_Pa"] == \
+        pytest.approx(3e5 / (np.pi * (r_o ** 2 - r_i ** 2)), rel=1e-3)
+    dec2 = case3.decompose_damage(run2, fat, [0], "matake").set_index(["location", "load"])
+    assert dec2.loc[("connection", "span_bending"), "damage"] == 0.0
+    assert dec2.loc[("connection", "axial_torsion"), "damage"] == \
+        pytest.approx(dec2.loc[("connection", "all"), "damage"], rel=1e-12)
 
 
 def test_rolling_ratio():
@@ -138,3 +219,31 @@ def test_report_formatting():
     assert report._fmt(True) == "yes"
     md = report._table(pd.DataFrame({"a": [1.0, 2.5], "b": ["x", "y"]}), {"a": "A", "b": "B"})
     assert md.splitlines() == ["| A | B |", "|---|---|", "| 1 | x |", "| 2.5 | y |"]
+
+
+def test_case3_report_line_names_the_load_and_the_gap():
+    row = {"s_from_bit_m": 40.0, "joint_s_from_bit_m": 40.0, "component_type": "collar",
+           "hole_dls_deg_per_30m": 0.0, "life_ratio_ours_to_paper": 486.0,
+           "dominant_load": "axial_torsion", "life_h_axial_torsion_only": 3.2e5,
+           "sigma_amplitude_MPa_span_bending": 0.02}
+    line = report._case3_why(row)
+    assert "straight hole" in line and "axial force, shears and torque" in line
+    assert "line contact" in line and "factor of 10" in line
+    near = {**row, "hole_dls_deg_per_30m": 5.73, "life_ratio_ours_to_paper": 0.52,
+            "dominant_load": "joint_bending", "life_h_joint_bending_only": 1216.0,
+            "sigma_amplitude_MPa_joint_bending": 75.0}
+    line = report._case3_why(near)
+    assert "curved up to 5.73°/30 m within 10 m" in line and "curvature" in line
+    assert "factor of 10" not in line
+
+
+def test_case3_local_dogleg_counts_the_intervals_around_the_joint():
+    """Minimum curvature: a station's DLS is that of the interval ending there."""
+    class Survey:
+        md_m = np.array([0.0, 100.0, 130.0, 160.0])
+        dls_deg_per_30m = np.array([0.0, 0.0, 6.0, 0.0])  # build over 100-130 m only
+    assert case3.local_dls_deg_per_30m(Survey, 95.0) == 6.0   # 100-130 within 10 m
+    assert case3.local_dls_deg_per_30m(Survey, 85.0) == 0.0
+    assert case3.local_dls_deg_per_30m(Survey, 139.0) == 6.0
+    assert case3.local_dls_deg_per_30m(Survey, 145.0) == 0.0
+    assert case3.local_dls_deg_per_30m(Survey, 400.0) == 0.0  # beyond the survey

@@ -12,8 +12,9 @@ Reductions (documented, all switchable back to the paper's settings):
   spread evenly over 480 -> 880 m; the damage of each short window is scaled to
   the share of the 800 s it stands for (quasi-stationary sampling of the
   drilling window). Coarser string (``dp_segments``, ``dc_segments``).
-* case 3: a short trip (``trip_s``), a short ramp (``ramp_s``) and a short
-  window (``window_s``) instead of 800 s / 40 s / 60 s.
+* case 3: a short rest (``trip_s``), a short ramp (``ramp_s``) and a short
+  window (``window_s``) instead of 800 s / 40 s / 60 s; drill pipe in
+  ``string.dp_segments`` equal segments instead of cut at its joints.
 * case 1: a shorter run (``duration_s``).
 """
 
@@ -133,25 +134,59 @@ class Case2Config(StrictModel):
 class Case3Config(StrictModel):
     """Horizontal section of profile 1 (paper case 3).
 
-    Paper scale: ``trip_s: 800, ramp_s: 40, window_s: 60, string.dc_segments:
-    20, string.dp_segments: 100``.
+    ``mode: rig`` (default, the paper's sequence with the bit on bottom): the
+    string in the hole with the bit on bottom at ``bit_md_end_m`` (the trip's end
+    state: a run cannot switch the block from tripping to the autodriller), at rest
+    for ``trip_s``, the rpm ramped to ``rpm`` over ``ramp_s``, then the recorded
+    window of ``window_s``; the rig boundaries of case 2 (autodriller on WOB, bit
+    law ROP, lobed rock face). String ``bha``: the ``paper_bha`` preset (collars
+    with a near-bit and a string stabilizer) with drill pipe up to the bit depth,
+    cut at its joints (``dp_joints_per_segment``) or into ``string.dp_segments``
+    equal segments; ``bare_collars``: ``string``'s collars and drill pipe. Bending
+    between supports: ``contact_points``, ``span_bending``, ``lateral_mud_mass``
+    (docs/bending.md), on.
+
+    Paper scale: ``ramp_s: 40, window_s: 60`` (the trip of 800 s is the
+    string's placement; ``trip_s`` is the rest before the ramp).
     """
 
     profile: str = "profile_1"
-    mode: Literal["on_bottom", "tripping"] = Field(
-        "tripping", description="tripping: off bottom, the string slides in during the whole "
-                                "run (the paper's sequence); on_bottom: a drilling window after "
-                                "placement")
+    mode: Literal["rig", "on_bottom", "tripping"] = Field(
+        "rig", description="rig: bit on bottom, autodriller on WOB, bit-law ROP, lobed rock "
+                           "face (docs/case3.md); on_bottom: prescribed ROP; tripping: off "
+                           "bottom, the string slides in during the whole run")
     rop_m_per_s: float = Field(0.01, ge=0.0, le=1.0, description="on_bottom mode")
-    bit_md_end_m: float = Field(1000.0, gt=0.0, le=_MD_MAX,
-                                description="bit MD at the end of the run (horizontal)")
+    bit_md_end_m: float = Field(900.0, gt=0.0, le=_MD_MAX,
+                                description="bit MD at the end of the run (tripping, "
+                                            "on_bottom) or at its start (rig)")
     trip_speed_m_per_s: float = Field(0.1, gt=0.0, le=2.0)
-    trip_s: float = Field(1.0, ge=0.0, le=1e5, description="paper 800")
+    trip_s: float = Field(1.0, ge=0.0, le=1e5,
+                          description="tripping: the trip (paper 800); rig, on_bottom: at rest "
+                                      "before the ramp (the trip is the string's placement)")
     ramp_s: float = Field(2.0, gt=0.0, le=1e4, description="ramp 0 -> rpm; paper 40")
     window_s: float = Field(10.0, gt=0.0, le=1e5, description="recorded window; paper 60")
     rpm: float = Field(50.0, gt=0.0, le=400.0)
     s_from_bit_m: tuple[float, ...] = Field((8.0, 40.0, 80.0), min_length=1)
+    bha: Literal["paper_bha", "bare_collars"] = Field(
+        "paper_bha", description="paper_bha: the preset's stabilized BHA (180 m); "
+                                 "bare_collars: string.dc_length_m of collars")
     string: StringSpec = Field(default_factory=lambda: StringSpec(dc_segments=20, dp_segments=20))
+    dp_joints_per_segment: int | None = Field(
+        1, ge=1, le=10, description="paper_bha: drill pipe cut at its joints, this many per "
+                                    "segment; null: string.dp_segments equal segments (with "
+                                    "contact_points: string only in a straight hole: a long "
+                                    "rigid segment's tool joints lie outside a build's wall)")
+    contact_points: Literal["ends", "ends_and_middle", "string"] = Field(
+        "string", description="contact.points: string = tool joints, stabilizers, collar "
+                              "points by the chord rule")
+    span_bending: bool = Field(True, description="contact.span_bending: bending of the "
+                                                 "pipe's weight between its supports")
+    lateral_mud_mass: bool = Field(True, description="string.lateral_mud_mass")
+    wob_set_N: float = Field(100e3, gt=0.0, le=2e6, description="autodriller set-point (rig)")
+    autodriller_measurement: Literal["wob", "hook_load"] = "wob"
+    block_initial_travel_m: float = Field(5.0, ge=0.0, le=60.0, description="rig")
+    lobe_amplitude_m: float = Field(0.001, ge=0.0, le=0.05,
+                                    description="lobed rock face (rig) or bit motion")
     loads_rate_hz: float = Field(100.0, gt=0.0, le=1e5)
     criterion: Literal["matake", "findley", "fatemi_socie", "uniaxial"] = "matake"
 
@@ -162,7 +197,11 @@ class Case3Config(StrictModel):
 
     @property
     def advance_m_per_s(self) -> float:
-        """Bit advance rate of the chosen mode (ROP on bottom, trip speed off bottom), m/s."""
+        """Bit advance rate the start depth is set back by, m/s: the ROP on bottom, the
+        trip speed off bottom; 0 with the rig (the bit starts at ``bit_md_end_m`` and
+        drills what the bit law gives, a few decimetres in a minute)."""
+        if self.mode == "rig":
+            return 0.0
         return self.rop_m_per_s if self.mode == "on_bottom" else self.trip_speed_m_per_s
 
 

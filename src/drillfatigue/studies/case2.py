@@ -46,6 +46,7 @@ from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 from drillfatigue.plotting import subplots
 from drillfatigue.studies.common import (
+    rig_drilling_sections,
     rp7g_rates,
     run_simulation,
     save_figure,
@@ -100,13 +101,9 @@ def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None
         operation: dict[str, Any] = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m,
                                      "rpm": cfg.rpm, "rpm_ramp_s": cfg.rpm_ramp_s,
                                      "top_axial": "neutral_point", "bit_on_bottom": True}
-        extra: dict[str, Any] = {
-            "bit": {"model": "yigit_christoforou"},
-            "rig": {"block_mode": "autodriller",
-                    "autodriller": {"measurement": cfg.autodriller_measurement,
-                                    "wob_set_N": cfg.wob_set_N},
-                    "block": {"initial_travel_m": cfg.block_initial_travel_m},
-                    "rock": {"lobe_count": 3, "lobe_amplitude_m": cfg.lobe_amplitude_m}}}
+        extra: dict[str, Any] = rig_drilling_sections(
+            wob_set_N=cfg.wob_set_N, measurement=cfg.autodriller_measurement,
+            initial_travel_m=cfg.block_initial_travel_m, lobe_amplitude_m=cfg.lobe_amplitude_m)
     else:
         operation = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
                      "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",

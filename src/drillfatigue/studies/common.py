@@ -18,6 +18,7 @@ import pandas as pd
 
 from drillfatigue import rundir
 from drillfatigue.config import CaseConfig, FatigueConfig, case_from_dict
+from drillfatigue.config.string import PRESETS
 from drillfatigue.config.studies import StringSpec
 from drillfatigue.dynamics.api import simulate
 from drillfatigue.errors import InputError
@@ -39,6 +40,57 @@ def string_components(spec: StringSpec, total_length_m: float) -> list[dict[str,
                          f"string ({total_length_m} m)", f"< {total_length_m}")
     return [{**COLLAR, "length_m": spec.dc_length_m, "n_segments": spec.dc_segments},
             {**DRILL_PIPE, "length_m": dp_len, "n_segments": spec.dp_segments}]
+
+
+def paper_bha_components(total_length_m: float, dp_segments: int,
+                         dp_joints_per_segment: int | None) -> list[dict[str, Any]]:
+    """The ``paper_bha`` preset's BHA (stabilizers and collars, docs/bending.md) with its
+    drill pipe reaching up to ``total_length_m``.
+
+    The drill pipe is cut at its joints (``dp_joints_per_segment`` whole joints per
+    segment) or, when that is None, into ``dp_segments`` equal segments (a reduced
+    string: the tool joints are then only at the segment ends).
+    """
+    comps = [c.model_dump(mode="json", exclude_none=True) for c in PRESETS["paper_bha"]()]
+    bha_m = sum(c["length_m"] for c in comps if c["type"] != "drill_pipe")
+    dp_len = total_length_m - bha_m
+    if dp_len <= 0:
+        raise InputError("bit_md_m", f"the paper BHA ({bha_m:g} m) is longer than the string "
+                         f"({total_length_m:g} m)", f"> {bha_m:g}")
+    out = []
+    for c in comps:
+        if c["type"] == "drill_pipe":
+            c = {**c, "length_m": dp_len}
+            if dp_joints_per_segment is None:
+                c.pop("joints_per_segment", None)
+                c["n_segments"] = dp_segments
+            else:
+                c["joints_per_segment"] = dp_joints_per_segment
+        out.append(c)
+    return out
+
+
+def span_sections(*, points: str = "string", span_bending: bool = True,
+                  lateral_mud_mass: bool = True) -> dict[str, dict[str, Any]]:
+    """Case sections that switch on bending between supports (docs/bending.md): contact
+    points where the string touches the wall, the span-bending correction recorded
+    beside the joint moment, mud and added mass in the lateral inertia. ``string``
+    goes into the case's string section beside its components."""
+    return {"contact": {"points": points, "span_bending": span_bending},
+            "string": {"lateral_mud_mass": lateral_mud_mass}}
+
+
+def rig_drilling_sections(*, wob_set_N: float, measurement: str, initial_travel_m: float,
+                          lobe_amplitude_m: float) -> dict[str, Any]:
+    """``bit`` and ``rig`` sections of a rig-driven drilling window (docs/rig.md): the
+    autodriller holds ``wob_set_N``, the bit law (Yigit-Christoforou) gives the ROP, the
+    rock face has three lobes of ``lobe_amplitude_m``; the operation needs
+    ``top_axial: neutral_point`` and ``bit_on_bottom: true``."""
+    return {"bit": {"model": "yigit_christoforou"},
+            "rig": {"block_mode": "autodriller",
+                    "autodriller": {"measurement": measurement, "wob_set_N": wob_set_N},
+                    "block": {"initial_travel_m": initial_travel_m},
+                    "rock": {"lobe_count": 3, "lobe_amplitude_m": lobe_amplitude_m}}}
 
 
 def write_json(path: Path, data: Any) -> None:

@@ -107,6 +107,8 @@ def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
     elif name == "case3":
         for r in s["rows"]:
             m[f"life_h_{r['s_from_bit_m']:g}m"] = r["life_h"]
+            m[f"life_ratio_to_paper_{r['s_from_bit_m']:g}m"] = r["life_ratio_ours_to_paper"]
+            m[f"dominant_load_{r['s_from_bit_m']:g}m"] = r["dominant_load"]
     else:
         for r in s["rows"]:
             m[f"whirl_ratio_{r['model']}_{r['friction']}"] = r["whirl_ratio"]
