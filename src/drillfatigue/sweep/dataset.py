@@ -30,10 +30,13 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+import pyarrow.parquet as pq
 
 from drillfatigue import rundir
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
+from drillfatigue.sweep.design import RIG_PATHS
+from drillfatigue.sweep.window import WINDOW_FILE
 from drillfatigue.well.features import DESCRIPTIONS as POSITION_DESCRIPTIONS
 from drillfatigue.well.features import POSITION_COLUMNS
 
@@ -44,7 +47,9 @@ DATASET_KIND = "dataset"
 DATASET_FILES = ("damage.parquet", "README.md", "metrics.json", "plots/damage_rate_hist.csv")
 
 __all__ = [
+    "ACHIEVED_COLUMNS",
     "DYNAMICS_COLUMNS",
+    "achieved_outputs",
     "build_dataset",
     "dataset_card",
     "dataset_metrics",
@@ -65,9 +70,32 @@ DYNAMICS_COLUMNS: dict[str, str] = {
     "whirl_class": "whirl class of the run (simulator's event detection)",
     "max_contact_force_N": "largest wall contact force of any segment",
     "bit_bounce_count": "number of times WOB reached zero (bit bounce)",
-    "duration_s": "simulated window length",
+    "duration_s": "simulated time of the run (rpm ramp included; the window used, "
+                  "sweep.window)",
     "wall_time_s": "wall-clock time of the simulation",
 }
+#: What the rig boundaries achieved over the recorded window (means of ``channels.parquet``
+#: from ``recording.start_s``): results of the run, never inputs.
+ACHIEVED_COLUMNS: dict[str, str] = {
+    "achieved_mean_wob_N": "mean weight on bit over the recorded window (a result of the "
+                           "ROP set-point and the bit law)",
+    "achieved_mean_rop_m_per_s": "mean rate of penetration the bit cut over the recorded window",
+    "achieved_mean_surface_torque_Nm": "mean surface (top-drive) torque over the recorded window",
+    "achieved_on_bottom_fraction": "fraction of the recorded window with the bit on bottom "
+                                   "(WOB > 0)",
+}
+#: The window chosen per case (``window.json`` of the run, ``sweep.window.mode: converged``).
+WINDOW_COLUMNS: dict[str, str] = {
+    "window_converged": "1 when the governing damage rate changed by less than "
+                        "sweep.window.tol_rel over the last third of the record, 0 when the "
+                        "window reached sweep.window.max_s first",
+    "window_rate_change_rel": "relative change of the governing location's uniaxial damage "
+                              "rate over the last third of the recorded window",
+}
+#: Every per-run column :func:`summary_dynamics` gives, with its description.
+RUN_COLUMNS: dict[str, str] = {**DYNAMICS_COLUMNS, **ACHIEVED_COLUMNS, **WINDOW_COLUMNS}
+_ACHIEVED_CHANNELS = {"achieved_mean_wob_N": "wob_N", "achieved_mean_rop_m_per_s": "rop_m_per_s",
+                      "achieved_mean_surface_torque_Nm": "surface_torque_Nm"}
 _UNIT_SUFFIXES: tuple[tuple[str, str], ...] = (
     ("_deg_per_30m", "deg/30 m"), ("_m_per_s", "m/s"), ("_m_per_h", "m/h"),
     ("_kg_per_m3", "kg/m³"), ("_per_h", "1/h"), ("_Nm", "N·m"), ("_kN", "kN"),
@@ -127,6 +155,8 @@ def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
             out[name] = float(value) if isinstance(value, int | float) else math.nan
     need = [n for n in ("rms_surface_torque_Nm", "peak_surface_torque_Nm") if math.isnan(out[n])]
     channels = run_dir / rundir.CHANNELS
+    out.update(achieved_outputs(channels))
+    out.update(window_record(run_dir))
     if need and channels.is_file():
         torque = pd.read_parquet(channels, columns=["surface_torque_Nm"])["surface_torque_Nm"]
         values = torque.to_numpy(dtype=float)
@@ -134,6 +164,43 @@ def summary_dynamics(run_dir: str | Path) -> dict[str, Any]:
             stats = {"rms_surface_torque_Nm": float(np.sqrt(np.mean(values**2))),
                      "peak_surface_torque_Nm": float(np.max(np.abs(values)))}
             out.update({n: stats[n] for n in need})
+    return out
+
+
+def window_record(run_dir: str | Path) -> dict[str, float]:
+    """:data:`WINDOW_COLUMNS` of a run from its ``window.json`` (NaN without one: a
+    fixed window)."""
+    out = dict.fromkeys(WINDOW_COLUMNS, math.nan)
+    try:
+        record = json.loads((Path(run_dir) / WINDOW_FILE).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return out
+    out["window_converged"] = 1.0 if record.get("converged") else 0.0
+    change = record.get("rate_change_rel")
+    out["window_rate_change_rel"] = float(change) if isinstance(change, int | float) else math.nan
+    return out
+
+
+def achieved_outputs(channels_path: str | Path) -> dict[str, float]:
+    """:data:`ACHIEVED_COLUMNS` of a run from its ``channels.parquet`` (NaN where a
+    channel is missing); the channels are sampled at a fixed rate, so plain means
+    are time means."""
+    out = dict.fromkeys(ACHIEVED_COLUMNS, math.nan)
+    path = Path(channels_path)
+    if not path.is_file():
+        return out
+    have = set(pq.read_schema(path).names)
+    cols = [c for c in ("wob_N", "rop_m_per_s", "surface_torque_Nm") if c in have]
+    if not cols:
+        return out
+    ch = pd.read_parquet(path, columns=cols)
+    if not len(ch):
+        return out
+    for name, col in _ACHIEVED_CHANNELS.items():
+        if col in ch.columns:
+            out[name] = float(ch[col].to_numpy(dtype=float).mean())
+    if "wob_N" in ch.columns:
+        out["achieved_on_bottom_fraction"] = float(np.mean(ch["wob_N"].to_numpy(dtype=float) > 0.0))
     return out
 
 
@@ -161,6 +228,15 @@ def _case_rows(case_id: str, damage: pd.DataFrame) -> pd.DataFrame:
     return wide
 
 
+def _get_path(data: Mapping[str, Any], path: str) -> Any:
+    node: Any = data
+    for key in path.split("."):
+        if not isinstance(node, Mapping) or key not in node:
+            return None
+        node = node[key]
+    return node
+
+
 def _input_table(cases: pd.DataFrame, variables: Sequence[str]) -> pd.DataFrame:
     """Inputs per case (index case_id): the design variables, then every scalar field of
     the operating-condition sections (:data:`INPUT_SECTIONS`) from the case JSON."""
@@ -172,6 +248,14 @@ def _input_table(cases: pd.DataFrame, variables: Sequence[str]) -> pd.DataFrame:
             for key, value in (case.get(section) or {}).items():
                 if isinstance(value, bool | int | float | str):
                     row[f"{section}.{key}"] = value
+        rig = case.get("rig")
+        if isinstance(rig, dict):
+            # the rig section holds the set-points the operation names stand for
+            row["rig.block_mode"] = rig.get("block_mode")
+            for src, dst in RIG_PATHS.items():
+                value = _get_path(case, dst)
+                if value is not None:
+                    row[src] = value
         rows[cid] = row
     extra = pd.DataFrame.from_dict(rows, orient="index")
     table = cases.set_index("case_id")[list(variables)]
@@ -220,7 +304,7 @@ def build_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
             wide.insert(1, name, inputs.at[cid, name])
         parts.append(wide)
     if not parts:
-        return pd.DataFrame(columns=["case_id", *variables, *KEY_COLUMNS, *DYNAMICS_COLUMNS])
+        return pd.DataFrame(columns=["case_id", *variables, *KEY_COLUMNS, *RUN_COLUMNS])
     frame = pd.concat(parts, ignore_index=True, sort=False)
     if "whirl_class" in frame.columns:
         frame["whirl_class"] = frame["whirl_class"].astype("string")
@@ -245,8 +329,8 @@ def _describe(column: str, variables: Sequence[str]) -> str:
         return f"design input `{column}` (case configuration path)"
     if column.split(".")[0] in INPUT_SECTIONS and "." in column:
         return f"case input `{column}` (constant unless a design variable)"
-    if column in DYNAMICS_COLUMNS:
-        return DYNAMICS_COLUMNS[column]
+    if column in RUN_COLUMNS:
+        return RUN_COLUMNS[column]
     fixed = {"joint": "recorded joint index (0 = nearest the bit)",
              "component": "string component name", "component_type": "component type",
              "location": "location on the component (pipe body, upset, thread root ...)",

@@ -25,6 +25,7 @@ from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks, run_case
 from drillfatigue.sweep.dataset import write_dataset
 from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
 from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
+from drillfatigue.sweep.window import run_case_converged, window_inputs
 
 __all__ = ["dataset_stage", "design_stage", "fatigue_stage", "simulate_stage", "write_report"]
 
@@ -65,9 +66,18 @@ def simulate_stage(params: Params, *, cases_path: str | Path | None = None,
                    sweep_dir: str | Path | None = None, scheduler: str | None = None,
                    n_workers: int | None = None, progress: bool = False,
                    case_fn: CaseFn = run_case) -> SweepReport:
-    """Simulate every designed case not already done (resumable); see :func:`run_sweep`."""
+    """Simulate every designed case not already done (resumable); see :func:`run_sweep`.
+
+    With ``sweep.window.mode: converged`` and the simulator's case function, each
+    case runs through :func:`drillfatigue.sweep.window.run_case_converged` (its
+    inputs: the case and the window settings, so a change of either re-runs it).
+    """
     cfg = params.sweep
     cases = cases_from_frame(read_cases(cases_path or cfg.cases_path))
+    if cfg.window.mode == "converged" and case_fn is run_case:
+        window = window_inputs(params)
+        cases = [Case(c.case_id, {"case": c.inputs, "window": window}) for c in cases]
+        case_fn = run_case_converged
     return run_sweep(cases, case_fn, sweep_dir or cfg.sweep_dir,
                      **_runner_kwargs(params, scheduler, n_workers, progress))
 
