@@ -660,14 +660,15 @@ def _failed_count(root: Path) -> int:
 def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str | Path,
                   out_dir: str | Path, *, design: Mapping[str, Any],
                   base_case: Mapping[str, Any] | None = None,
-                  floor_per_h: float | None = None) -> dict[str, Any]:
+                  floor_per_h: float | None = None, keep: Sequence[str] = ()) -> dict[str, Any]:
     """Build and write ``damage.parquet``, ``constants.json``, ``README.md``,
     ``metrics.json`` and plot data.
 
     ``design`` is the ``sweep`` section as a dict (method, seed, n_cases,
     variables, window_s, window, boundaries; ``criterion`` optionally names the
     criterion whose zero-damage rows the card counts). Columns with one value in
-    every row go to ``constants.json`` (design variables stay). ``floor_per_h``:
+    every row go to ``constants.json``, but for the design variables and the columns
+    in ``keep`` (a model's configured inputs, which it looks up by name). ``floor_per_h``:
     the censoring floor the card states. Plot data: ``plots/damage_rate_hist.csv``
     (log10 damage-rate histogram per criterion). Returns the metrics dict.
 
@@ -681,7 +682,7 @@ def write_dataset(cases: pd.DataFrame, sweep_root: str | Path, fatigue_root: str
         folder.file(name)
     variables = [v for v in design.get("variables", {}) if v in cases.columns]
     full = build_dataset(cases, sweep_root, fatigue_root, variables)
-    frame, constants = split_constants(full, keep=variables)
+    frame, constants = split_constants(full, keep=[*variables, *keep])
     metrics = dataset_metrics(
         full, n_designed=len(cases),
         n_sim_failed=_failed_count(Path(sweep_root)),

@@ -117,7 +117,8 @@ def dataset_stage(params: Params, *, cases_path: str | Path | None = None,
     design = {**cfg.model_dump(mode="json"), "criterion": params.surrogate.criterion}
     return write_dataset(frame, sweep_dir or cfg.sweep_dir, fatigue_dir or cfg.fatigue_dir,
                          dataset_dir or cfg.dataset_dir, design=design, base_case=base,
-                         floor_per_h=params.surrogate.rate_floor_per_h)
+                         floor_per_h=params.surrogate.rate_floor_per_h,
+                         keep=[*params.surrogate.features, *params.surrogate.categorical])
 
 
 
