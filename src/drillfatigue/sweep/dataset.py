@@ -352,6 +352,8 @@ def _describe(column: str, variables: Sequence[str]) -> str:
         return "case id: first 12 hex digits of SHA-256 of the case's simulation inputs"
     if column in variables:
         return f"design input `{column}` (case configuration path)"
+    if column == "operation.duration_s":
+        return "first simulated window (sweep.window_s); the window used is `duration_s`"
     if column.split(".")[0] in INPUT_SECTIONS and "." in column:
         return f"case input `{column}` (constant unless a design variable)"
     if column in RUN_COLUMNS:
