@@ -176,12 +176,18 @@ def test_heldout_stage_runs_the_sweep_code_apart_and_shares_no_case(tmp_path):
 
     params = load_params(_heldout_params(tmp_path))
     train = design_stage(params)
+    # a training table with a column that is constant in the test design
+    (tmp_path / "dataset").mkdir()
+    pd.DataFrame({"case_id": ["a", "b"], "wall_time_s": [1.0, 2.0]}).to_parquet(
+        tmp_path / "dataset" / "damage.parquet")
     metrics = heldout_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
     test = pd.read_parquet(tmp_path / "heldout" / "dataset" / "damage.parquet")
+    # the synthetic runs report a wall time of 0: constant, kept for the training table's sake
+    assert "wall_time_s" in test.columns and test["wall_time_s"].nunique() == 1
     assert metrics["n_cases_in_dataset"] == 4 == test["case_id"].nunique()
     assert not set(test["case_id"]) & set(train["case_id"])
     assert metrics["n_cases_shared_with_training_dropped"] == 0
-    # the training folders are untouched: the held-out runs live under heldout/
+    # the training runs are untouched: the held-out runs live under heldout/
     assert not (tmp_path / "sweep").exists() and (tmp_path / "heldout" / "sweep").is_dir()
     card = (tmp_path / "heldout" / "dataset" / "README.md").read_text()
     assert "seed 11" in card and f"{tmp_path / 'heldout' / 'sweep'}/failures.parquet" in card

@@ -14,10 +14,12 @@ benchmarks pass the synthetic ones).
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
+import pyarrow.parquet as pq
 
 from drillfatigue.config import Params
 from drillfatigue.errors import InputError
@@ -107,8 +109,12 @@ def fatigue_stage(params: Params, *, cases_path: str | Path | None = None,
 
 def dataset_stage(params: Params, *, cases_path: str | Path | None = None,
                   sweep_dir: str | Path | None = None, fatigue_dir: str | Path | None = None,
-                  dataset_dir: str | Path | None = None) -> dict[str, Any]:
-    """Assemble ``damage.parquet``, the dataset card and metrics; return the metrics."""
+                  dataset_dir: str | Path | None = None,
+                  keep: Sequence[str] = ()) -> dict[str, Any]:
+    """Assemble ``damage.parquet``, the dataset card and metrics; return the metrics.
+
+    Columns constant over the dataset go to ``constants.json`` except the design
+    variables, the surrogate's configured columns and those in ``keep``."""
     cfg = params.sweep
     frame = read_cases(cases_path or cfg.cases_path)
     # The card's base case comes from the case table (first case; the design
@@ -118,7 +124,8 @@ def dataset_stage(params: Params, *, cases_path: str | Path | None = None,
     return write_dataset(frame, sweep_dir or cfg.sweep_dir, fatigue_dir or cfg.fatigue_dir,
                          dataset_dir or cfg.dataset_dir, design=design, base_case=base,
                          floor_per_h=params.surrogate.rate_floor_per_h,
-                         keep=[*params.surrogate.features, *params.surrogate.categorical])
+                         keep=[*params.surrogate.features, *params.surrogate.categorical,
+                               *keep])
 
 
 
@@ -140,8 +147,9 @@ def heldout_stage(params: Params, *, progress: bool = False, case_fn: CaseFn = r
     The same functions as the training stages run on :func:`heldout_params`;
     designed cases whose id is in the training design (``sweep.cases_path``,
     when it exists) are dropped before anything runs, so training and test
-    share no case. Returns the held-out dataset's metrics plus
-    ``n_cases_shared_with_training_dropped``.
+    share no case, and the test table keeps every column of the training
+    table (``sweep.dataset_dir``, when it exists) even where it is constant.
+    Returns the held-out dataset's metrics plus ``n_cases_shared_with_training_dropped``.
     """
     if params.heldout.seed == params.sweep.seed:
         raise InputError("heldout.seed", f"equals sweep.seed ({params.sweep.seed}): the held-out "
@@ -163,5 +171,8 @@ def heldout_stage(params: Params, *, progress: bool = False, case_fn: CaseFn = r
     path = write_cases(frame, cfg.cases_path)
     simulate_stage(hp, cases_path=path, progress=progress, case_fn=case_fn)
     fatigue_stage(hp, cases_path=path, progress=progress, fatigue_fn=fatigue_fn)
-    metrics = dataset_stage(hp, cases_path=path)
+    # the test table has every column of the training table, constant here or not
+    train_table = Path(params.sweep.dataset_dir) / "damage.parquet"
+    keep = pq.read_schema(train_table).names if train_table.is_file() else []
+    metrics = dataset_stage(hp, cases_path=path, keep=keep)
     return {**metrics, "n_cases_shared_with_training_dropped": shared}
