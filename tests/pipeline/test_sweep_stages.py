@@ -158,3 +158,55 @@ def test_replicates_stage_with_synthetic_cases_resumes_and_pools(tmp_path):
     assert saved["sigma_log10"] == out["sigma_log10"] and saved["criterion"] == "matake"
     again = replicates_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
     assert again["sweeps"]["simulate"]["n_skipped"] == 4 and again["sigma_log10"] == out["sigma_log10"]
+
+
+def _heldout_params(tmp_path: Path, **sweep) -> Path:
+    path = _params(tmp_path, **sweep)
+    data = yaml.safe_load(path.read_text())
+    data["heldout"] = {"n_cases": 4, "seed": 11,
+                       **{k: str(tmp_path / "heldout" / v) for k, v in (
+                           ("cases_path", "design/cases.parquet"), ("sweep_dir", "sweep"),
+                           ("fatigue_dir", "fatigue"), ("dataset_dir", "dataset"))}}
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def test_heldout_stage_runs_the_sweep_code_apart_and_shares_no_case(tmp_path):
+    from drillfatigue.sweep.stages import heldout_stage
+
+    params = load_params(_heldout_params(tmp_path))
+    train = design_stage(params)
+    # a training table with a column that is constant in the test design
+    (tmp_path / "dataset").mkdir()
+    pd.DataFrame({"case_id": ["a", "b"], "wall_time_s": [1.0, 2.0]}).to_parquet(
+        tmp_path / "dataset" / "damage.parquet")
+    metrics = heldout_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    test = pd.read_parquet(tmp_path / "heldout" / "dataset" / "damage.parquet")
+    # the synthetic runs report a wall time of 0: constant, kept for the training table's sake
+    assert "wall_time_s" in test.columns and test["wall_time_s"].nunique() == 1
+    assert metrics["n_cases_in_dataset"] == 4 == test["case_id"].nunique()
+    assert not set(test["case_id"]) & set(train["case_id"])
+    assert metrics["n_cases_shared_with_training_dropped"] == 0
+    # the training runs are untouched: the held-out runs live under heldout/
+    assert not (tmp_path / "sweep").exists() and (tmp_path / "heldout" / "sweep").is_dir()
+    card = (tmp_path / "heldout" / "dataset" / "README.md").read_text()
+    assert "seed 11" in card and f"{tmp_path / 'heldout' / 'sweep'}/failures.parquet" in card
+
+
+def test_heldout_cases_shared_with_training_are_left_out(tmp_path):
+    """A design of two categorical values has the same two cases for every seed: the
+    held-out stage drops them, and refuses a test set left empty."""
+    from drillfatigue.errors import InputError
+    from drillfatigue.sweep.stages import heldout_stage
+
+    path = _heldout_params(tmp_path, variables={"friction.mu_dynamic": {"choices": [0.2, 0.3]}})
+    params = load_params(path)
+    with pytest.warns(UserWarning, match="merged"):
+        design_stage(params)
+    with pytest.raises(InputError) as exc, pytest.warns(UserWarning, match="merged"):
+        heldout_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    assert exc.value.field == "heldout.n_cases"
+    same_seed = params.model_copy(update={"heldout": params.heldout.model_copy(
+        update={"seed": params.sweep.seed})})
+    with pytest.raises(InputError, match="equals sweep.seed"):
+        heldout_stage(same_seed, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)

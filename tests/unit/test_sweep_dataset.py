@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pandas as pd
+import yaml
 import pytest
 
 from drillfatigue.errors import InputError
@@ -53,10 +54,12 @@ def test_damage_table_schema(sweep):
     assert len(df) == 3 * N_JOINT * 2 == metrics["n_rows"]
     assert sorted(df["case_id"].unique()) == ["c0", "c1", "c2"]
     assert not df.duplicated(["case_id", "joint", "location"]).any()
+    constants = json.loads((root / "dataset" / "constants.json").read_text())
     for col in ["operation.rpm", "well.profile", "md_m", "s_from_bit_m", "component",
                 "location", *DYNAMICS_COLUMNS, "damage_rate_per_h_uniaxial",
                 "damage_rate_per_h_matake", "damage_rate_per_h_api_rp7g", "life_h_matake"]:
-        assert col in df.columns, col
+        # a column with one value in every row is in constants.json instead
+        assert (col in df.columns) != (col in constants), col
     # inputs copied from the design table
     merged = df.merge(cases, on="case_id", suffixes=("", "_design"))
     assert (merged["operation.rpm"] == merged["operation.rpm_design"]).all()
@@ -83,23 +86,40 @@ def test_units_in_names():
     assert unit_of("max_contact_force_N") == "N"
     assert unit_of("s_from_bit_m") == "m"
     assert unit_of("well.dls_deg_per_30m") == "deg/30 m"
-    assert unit_of("stick_slip_severity") == "-"
+    assert unit_of("stick_slip_severity") == "1"
+    assert unit_of("friction.mu_dynamic") == "1"
+    assert unit_of("well.profile") == "-"
+    # compound units, each once given a wrong unit by its last token
+    assert unit_of("operation.mud_damping_axial_N_s_per_m2") == "N·s/m²"
+    assert unit_of("operation.mud_damping_torsional_N_m_s_per_m") == "N·m·s/m"
+    assert unit_of("bit.omega_threshold_rad_s") == "rad/s"
+    assert unit_of("bit.rop_c1_m_per_N_sqrt_s") == "m/(N·√s)"
+    assert unit_of("bit.tob_b1_s_per_rad") == "s/rad"
+    assert unit_of("bit.tob_b3_s2_per_rad2") == "s²/rad²"
+    assert unit_of("achieved_on_bottom_fraction") == "1"
 
 
 def test_card_and_metrics(sweep):
     root, _, metrics = sweep
     card = (root / "dataset" / "README.md").read_text()
     df = pd.read_parquet(root / "dataset" / "damage.parquet")
-    for heading in ("## Purpose", "## Sampling design", "## Schema", "## Software versions",
-                    "## Loading", "torch.utils.data.TensorDataset"):
+    for heading in ("## Purpose", "## Licence", "## How to regenerate", "## Sampling design",
+                    "## Rows are correlated: split by case", "## Column roles", "## Censoring",
+                    "## Schema", "## Constant columns", "## Software versions", "## Loading",
+                    "torch.utils.data.TensorDataset"):
         assert heading in card
-    # the card's loading snippets are valid Python; the pandas one runs on this dataset
+    # the card's loading snippets are valid Python; the pandas one splits this dataset by case
     blocks = [b.split("\n", 1)[1] for b in card.split("```python")[1:]]
     blocks = [b.split("```", 1)[0] for b in blocks]
-    assert len(blocks) == 2
+    assert len(blocks) == 3 and "from datasets import load_dataset" in blocks[1]
     for code in blocks:
         compile(code, "card", "exec")
-    exec(blocks[0].replace("data/dataset/damage.parquet", str(root / "dataset" / "damage.parquet")), {})
+    scope: dict = {}
+    exec(blocks[0], scope)
+    train, test = scope["train"], scope["test"]
+    assert len(train) + len(test) == len(df) and len(test) > 0 and len(train) > 0
+    assert not set(train["case_id"]) & set(test["case_id"])
+    assert set(scope["inputs"]) <= set(df.columns) and np.isfinite(scope["y_train"]).all()
     for col in df.columns:
         assert f"| `{col}` |" in card
     assert "| `operation.rpm` | 60.0 ... 180.0 | linear | float |" in card
@@ -187,3 +207,36 @@ def test_committed_dataset_marker_lists_the_stage_outputs():
     folder = Path(__file__).resolve().parents[2] / "data" / "dataset"
     marker = json.loads((folder / ".drillfatigue.json").read_text())
     assert marker == {"kind": DATASET_KIND, "files": sorted(DATASET_FILES)}
+
+
+def _front_matter(card: str) -> dict:
+    assert card.startswith("---\n")
+    return yaml.safe_load(card.split("---\n", 2)[1])
+
+
+def test_card_matches_the_table(sweep):
+    """Every column of the table is listed once, with its unit and role, in the schema and
+    in the machine-readable front matter; no column is constant; the constants file holds
+    the rest."""
+    root, _, _ = sweep
+    card = (root / "dataset" / "README.md").read_text()
+    df = pd.read_parquet(root / "dataset" / "damage.parquet")
+    meta = _front_matter(card)
+    assert meta["license"] == "cc-by-4.0"
+    assert [f["name"] for f in meta["dataset_info"]["features"]] == list(df.columns)
+    columns = meta["drillfatigue"]["columns"]
+    assert list(columns) == list(df.columns)
+    schema = card.split("## Schema", 1)[1].split("## Constant columns", 1)[0]
+    for col in df.columns:
+        assert schema.count(f"| `{col}` |") == 1, col
+        assert f"| `{col}` | {columns[col]['role']} | {df[col].dtype} | {unit_of(col)} |" in schema
+        assert columns[col]["unit"] == unit_of(col)
+    assert meta["drillfatigue"]["group_column"] == "case_id"
+    roles = {c: v["role"] for c, v in columns.items()}
+    assert roles["operation.rpm"] == "input" and roles["damage_rate_per_h_matake"] == "target"
+    assert roles["max_contact_force_N"] == "post_run"
+    assert all(df[c].nunique(dropna=False) > 1 for c in df.columns if c != "case_id")
+    constants = json.loads((root / "dataset" / "constants.json").read_text())
+    assert constants and not set(constants) & set(df.columns)
+    for col, entry in constants.items():
+        assert entry["unit"] == unit_of(col) and f"| `{col}` |" in card

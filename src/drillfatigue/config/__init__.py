@@ -17,6 +17,7 @@ from drillfatigue.config.bit import BitConfig
 from drillfatigue.config.contact import ContactConfig
 from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.config.friction import FrictionConfig
+from drillfatigue.config.heldout import HeldoutConfig
 from drillfatigue.config.operation import OperationConfig
 from drillfatigue.config.recording import RecordingConfig
 from drillfatigue.config.replicates import ReplicatesConfig
@@ -41,6 +42,7 @@ __all__ = [
     "ContactConfig",
     "FatigueConfig",
     "FrictionConfig",
+    "HeldoutConfig",
     "OperationConfig",
     "Params",
     "RecordingConfig",
@@ -145,6 +147,7 @@ class Params(CaseConfig):
     sweep: SweepConfig = Field(default_factory=SweepConfig)
     surrogate: SurrogateConfig = Field(default_factory=SurrogateConfig)
     replicates: ReplicatesConfig = Field(default_factory=ReplicatesConfig)
+    heldout: HeldoutConfig = Field(default_factory=HeldoutConfig)
     case1: Case1Config = Field(default_factory=Case1Config)
     case2: Case2Config = Field(default_factory=Case2Config)
     case3: Case3Config = Field(default_factory=Case3Config)
@@ -182,7 +185,8 @@ def note_default_section(path: str | Path, section: str) -> str | None:
 
 
 #: Sections of params.yaml that configure the pipeline, not one simulation.
-PIPELINE_SECTIONS = ("sweep", "surrogate", "replicates", "case1", "case2", "case3", "plan", "report")
+PIPELINE_SECTIONS = ("sweep", "surrogate", "replicates", "heldout", "case1", "case2", "case3", "plan",
+                     "report")
 
 
 def load_case(path: str | Path) -> CaseConfig:

@@ -100,6 +100,35 @@ class VariableSpec(StrictModel):
         return self
 
 
+class WindowConfig(StrictModel):
+    """How long each case is simulated (``sweep.window``; ``docs/pipeline.md``).
+
+    Attributes
+    ----------
+    mode : {'fixed', 'converged'}
+        ``fixed``: every case runs ``sweep.window_s``. ``converged``: a case
+        first runs ``sweep.window_s``; while the damage rate of its governing
+        location (largest uniaxial damage rate of any joint and location over
+        the recorded window) changes by more than ``tol_rel`` between the
+        first two thirds of the recorded window and all of it, the case is
+        simulated again with the window times ``growth``, up to ``max_s``.
+        The window used and the last change are recorded per case.
+    tol_rel : float
+        Largest relative change of the running damage rate over the last
+        third of the recorded window for a converged case, 0 < tol_rel <= 10.
+    growth : float
+        Factor on the window at each extension, 1 < growth <= 10.
+    max_s : float
+        Longest window, s (a case that has not converged by then keeps it and
+        is recorded as not converged).
+    """
+
+    mode: Literal["fixed", "converged"] = "fixed"
+    tol_rel: float = Field(0.25, gt=0.0, le=10.0)
+    growth: float = Field(2.0, gt=1.0, le=10.0)
+    max_s: float = Field(36.0, gt=0.0, le=1.0e5)
+
+
 class SweepConfig(StrictModel):
     """Settings of the ``sweep`` section (case design and the sweep engine).
 
@@ -127,6 +156,9 @@ class SweepConfig(StrictModel):
         and several stick-slip periods (documented in the dataset card).
     window_path : str
         Case path that holds the simulated duration.
+    window : WindowConfig
+        Fixed window, or one chosen per case by the convergence of its
+        governing damage rate (then ``window_s`` is the first window).
     scheduler : str
         ``processes`` (local process pool, default), ``serial`` (in-process,
         for debugging), ``local-cluster`` (Dask ``LocalCluster``) or a Dask
@@ -146,6 +178,22 @@ class SweepConfig(StrictModel):
         Add the API RP7G (Lubinski) damage rate of each pipe body beside them.
     cases_path, sweep_dir, fatigue_dir, dataset_dir : str
         Output locations of the design, simulate, fatigue and dataset stages.
+    boundaries : {'operation', 'rig'}
+        What drives each case's string. ``operation`` (the library default):
+        the ``operation`` section's prescribed ROP and lobed bit motion.
+        ``rig`` (params.yaml's setting): every case gets the rig section
+        :attr:`rig` (``docs/rig.md``), and the operation inputs the rig takes
+        over are moved onto it (:data:`drillfatigue.sweep.design.RIG_PATHS`):
+        ``operation.rop_m_per_s`` becomes the block's ROP set-point
+        ``rig.rop_set_m_per_s`` (``block_mode: rop``: the block lowers at it,
+        the bit cuts what the bit law lets it, the WOB is the result), the
+        lobes go to ``rig.rock``. Design variables and the dataset keep the
+        ``operation.*`` names, so the surrogate's features and the query
+        vocabulary mean the same set-point.
+    rig : dict
+        The rig section of every case with ``boundaries: rig`` (without the
+        set-point, which comes from ``operation.rop_m_per_s``); validated with
+        each case.
     """
 
     method: Literal["sobol", "lhs"] = "sobol"
@@ -155,6 +203,7 @@ class SweepConfig(StrictModel):
     fixed: dict[str, Any] = Field(default_factory=dict)
     window_s: float | None = Field(default=None, gt=0.0, le=1.0e5)
     window_path: str = "operation.duration_s"
+    window: WindowConfig = Field(default_factory=WindowConfig)
     scheduler: str = "processes"
     n_workers: int = Field(default=2, ge=1, le=1024)
     max_retries: int = Field(default=1, ge=0, le=10)
@@ -166,6 +215,19 @@ class SweepConfig(StrictModel):
     sweep_dir: str = "data/sweep"
     fatigue_dir: str = "data/fatigue"
     dataset_dir: str = "data/dataset"
+    boundaries: Literal["operation", "rig"] = "operation"
+    rig: dict[str, Any] = Field(default_factory=lambda: {"block_mode": "rop"})
+
+    @model_validator(mode="after")
+    def _check_window(self) -> SweepConfig:
+        if self.window.mode == "converged":
+            if self.window_s is None:
+                raise ValueError("window_s: window.mode converged starts from window_s "
+                                 "(allowed: a first window 0 < window_s <= window.max_s)")
+            if self.window.max_s < self.window_s:
+                raise ValueError(f"window.max_s: {self.window.max_s} s is shorter than the first "
+                                 f"window window_s = {self.window_s} s (allowed: max_s >= window_s)")
+        return self
 
     @field_validator("variables", "fixed")
     @classmethod

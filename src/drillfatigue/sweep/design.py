@@ -36,7 +36,7 @@ from scipy.stats import qmc
 
 from pydantic import BaseModel
 
-from drillfatigue.config import CaseConfig, case_from_dict, validate
+from drillfatigue.config import CaseConfig, OperationConfig, case_from_dict, validate
 from drillfatigue.config.sweep import SweepConfig, VariableSpec
 from drillfatigue.errors import InputError
 from drillfatigue.files import atomic_output
@@ -49,12 +49,19 @@ __all__ = [
     "case_id_of",
     "design_cases",
     "inputs_sha256",
+    "RIG_PATHS",
     "read_cases",
+    "rig_case",
     "simulation_inputs",
     "write_cases",
 ]
 
 CASE_ID_LENGTH = 12
+#: Operation inputs the rig section takes over (``sweep.boundaries: rig``): the value of the
+#: operation path is moved to the rig path and the operation field is reset to its default.
+RIG_PATHS = {"operation.rop_m_per_s": "rig.rop_set_m_per_s",
+             "operation.lobe_amplitude_m": "rig.rock.lobe_amplitude_m",
+             "operation.lobe_count": "rig.rock.lobe_count"}
 _TOKEN = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)")
 
 
@@ -140,6 +147,36 @@ def apply_overrides(base: Mapping[str, Any], overrides: Mapping[str, Any],
                 node[key] = copy.deepcopy(value)
             else:
                 node = node[key]
+    return out
+
+
+def rig_case(case: Mapping[str, Any], rig: Mapping[str, Any]) -> dict[str, Any]:
+    """``case`` driven by the rig section ``rig``, with the operation inputs of
+    :data:`RIG_PATHS` moved onto it.
+
+    The ROP goes to the block's set-point only with ``block_mode: rop`` (the
+    other modes have none; :func:`design_cases` refuses the ROP as a design
+    variable for them). The operation fields are reset to their defaults,
+    which the rig-section check of :class:`CaseConfig` reads as "not given".
+    """
+    out = copy.deepcopy(dict(case))
+    section = copy.deepcopy(dict(rig))
+    op = out.setdefault("operation", {})
+    defaults = OperationConfig.model_fields
+    for src, dst in RIG_PATHS.items():
+        key = src.split(".", 1)[1]
+        if key not in op:
+            continue
+        value = op[key]
+        op[key] = defaults[key].default
+        if dst == "rig.rop_set_m_per_s" and section.get("block_mode", "autodriller") != "rop":
+            continue
+        *parents, leaf = dst.split(".")[1:]
+        node = section
+        for name in parents:
+            node = node.setdefault(name, {})
+        node[leaf] = value
+    out["rig"] = section
     return out
 
 
@@ -235,19 +272,31 @@ def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
     fixed = dict(cfg.fixed)
     if cfg.window_s is not None:
         fixed[cfg.window_path] = cfg.window_s
-    base = apply_overrides(base_case, fixed, prefix="sweep.fixed")
-    for path, value in fixed.items():
-        trial = apply_overrides(base, {path: value}, "sweep.fixed")
-        _validate_case(trial, f"sweep.fixed.{path}", model)
-    base = _validate_case(base, "sweep.fixed", model)
-
     names = list(cfg.variables)
+    finish = _boundaries(cfg, names)
+    base = apply_overrides(base_case, fixed, prefix="sweep.fixed")
+    if cfg.boundaries == "rig":
+        # The variables address the operation form of the case; each case is
+        # moved onto the rig section before it is validated, with the
+        # variables at their first extreme (a base value a variable replaces,
+        # such as a zero ROP, is no error).
+        probe = apply_overrides(base, {p: _extremes(cfg.variables[p])[0] for p in names})
+        for path, value in fixed.items():
+            _validate_case(finish(apply_overrides(probe, {path: value}, "sweep.fixed")),
+                           f"sweep.fixed.{path}", model)
+        _validate_case(finish(probe), "sweep.rig", model)
+    else:
+        for path, value in fixed.items():
+            trial = apply_overrides(base, {path: value}, "sweep.fixed")
+            _validate_case(trial, f"sweep.fixed.{path}", model)
+        base = probe = _validate_case(base, "sweep.fixed", model)
+
     # Check every variable at each of its extremes first: a bad path or an
     # out-of-range bound fails here, naming the variable, before any work.
     for path in names:
         for value in _extremes(cfg.variables[path]):
-            trial = apply_overrides(base, {path: value})
-            _validate_case(trial, f"sweep.variables.{path}", model)
+            trial = apply_overrides(probe, {path: value})
+            _validate_case(finish(trial), f"sweep.variables.{path}", model)
 
     if not names:
         unit = np.zeros((1, 0))
@@ -259,7 +308,7 @@ def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
     seen: dict[str, int] = {}
     for i in range(unit.shape[0]):
         overrides = {p: columns[p][i] for p in names}
-        case = _validate_case(apply_overrides(base, overrides), "sweep.variables", model)
+        case = _validate_case(finish(apply_overrides(base, overrides)), "sweep.variables", model)
         cid = case_id_of(case)
         if cid in seen:
             continue
@@ -272,9 +321,32 @@ def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
     frame = pd.DataFrame(rows, columns=["case_id", "design_index", *names, "case_json"])
     for p in names:
         frame[p] = _column_frame_value(list(frame[p]))
-    frame.attrs["design"] = {"method": cfg.method, "seed": cfg.seed,
+    frame.attrs["design"] = {"method": cfg.method, "seed": cfg.seed, "boundaries": cfg.boundaries,
                              "n_requested": cfg.n_cases, "n_sampled": int(unit.shape[0])}
     return frame
+
+
+def _boundaries(cfg: SweepConfig, names: list[str]) -> Any:
+    """The function that turns a case in operation form into the case simulated
+    (``sweep.boundaries``); InputError for a rig section that sets what the
+    operation inputs give."""
+    if cfg.boundaries != "rig":
+        return lambda case: case
+    rig = dict(cfg.rig)
+    for src, dst in RIG_PATHS.items():
+        *parents, leaf = dst.split(".")[1:]
+        node: Any = rig
+        for name in parents:
+            node = node.get(name) if isinstance(node, dict) else None
+        if isinstance(node, dict) and leaf in node:
+            raise InputError(f"sweep.{dst}", f"is set from {src} with boundaries rig",
+                             f"{src} in the base case or as a design variable")
+    mode = rig.get("block_mode", "autodriller")
+    if mode != "rop" and "operation.rop_m_per_s" in names:
+        raise InputError("sweep.variables.operation.rop_m_per_s",
+                         f"the block has no ROP set-point in block_mode {mode}",
+                         "sweep.rig.block_mode rop, or no ROP design variable")
+    return lambda case: rig_case(case, rig)
 
 
 def write_cases(frame: pd.DataFrame, path: str | Path) -> Path:

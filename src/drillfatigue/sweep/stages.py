@@ -14,19 +14,24 @@ benchmarks pass the synthetic ones).
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
+import pyarrow.parquet as pq
 
 from drillfatigue.config import Params
+from drillfatigue.errors import InputError
 from drillfatigue.files import atomic_output, atomic_write_text
 from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks, run_case
 from drillfatigue.sweep.dataset import write_dataset
 from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
 from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
+from drillfatigue.sweep.window import run_case_converged, window_inputs
 
-__all__ = ["dataset_stage", "design_stage", "fatigue_stage", "simulate_stage", "write_report"]
+__all__ = ["dataset_stage", "design_stage", "fatigue_stage", "heldout_params", "heldout_stage",
+           "simulate_stage", "write_report"]
 
 
 def _write_json(path: Path, data: Any) -> None:
@@ -65,9 +70,18 @@ def simulate_stage(params: Params, *, cases_path: str | Path | None = None,
                    sweep_dir: str | Path | None = None, scheduler: str | None = None,
                    n_workers: int | None = None, progress: bool = False,
                    case_fn: CaseFn = run_case) -> SweepReport:
-    """Simulate every designed case not already done (resumable); see :func:`run_sweep`."""
+    """Simulate every designed case not already done (resumable); see :func:`run_sweep`.
+
+    With ``sweep.window.mode: converged`` and the simulator's case function, each
+    case runs through :func:`drillfatigue.sweep.window.run_case_converged` (its
+    inputs: the case and the window settings, so a change of either re-runs it).
+    """
     cfg = params.sweep
     cases = cases_from_frame(read_cases(cases_path or cfg.cases_path))
+    if cfg.window.mode == "converged" and case_fn is run_case:
+        window = window_inputs(params)
+        cases = [Case(c.case_id, {"case": c.inputs, "window": window}) for c in cases]
+        case_fn = run_case_converged
     return run_sweep(cases, case_fn, sweep_dir or cfg.sweep_dir,
                      **_runner_kwargs(params, scheduler, n_workers, progress))
 
@@ -95,14 +109,70 @@ def fatigue_stage(params: Params, *, cases_path: str | Path | None = None,
 
 def dataset_stage(params: Params, *, cases_path: str | Path | None = None,
                   sweep_dir: str | Path | None = None, fatigue_dir: str | Path | None = None,
-                  dataset_dir: str | Path | None = None) -> dict[str, Any]:
-    """Assemble ``damage.parquet``, the dataset card and metrics; return the metrics."""
+                  dataset_dir: str | Path | None = None,
+                  keep: Sequence[str] = ()) -> dict[str, Any]:
+    """Assemble ``damage.parquet``, the dataset card and metrics; return the metrics.
+
+    Columns constant over the dataset go to ``constants.json`` except the design
+    variables, the surrogate's configured columns and those in ``keep``."""
     cfg = params.sweep
     frame = read_cases(cases_path or cfg.cases_path)
     # The card's base case comes from the case table (first case; the design
     # variables are listed apart), so this stage reads no case section.
     base = json.loads(frame["case_json"].iloc[0]) if len(frame) else None
+    design = {**cfg.model_dump(mode="json"), "criterion": params.surrogate.criterion}
     return write_dataset(frame, sweep_dir or cfg.sweep_dir, fatigue_dir or cfg.fatigue_dir,
-                         dataset_dir or cfg.dataset_dir,
-                         design=cfg.model_dump(mode="json"), base_case=base)
+                         dataset_dir or cfg.dataset_dir, design=design, base_case=base,
+                         floor_per_h=params.surrogate.rate_floor_per_h,
+                         keep=[*params.surrogate.features, *params.surrogate.categorical,
+                               *keep])
 
+
+
+def heldout_params(params: Params) -> Params:
+    """``params`` with the ``sweep`` section turned into the held-out design's: the
+    ``heldout`` section's size, seed and folders, everything else (ranges, base case,
+    boundaries, window rule, criteria, scheduler) the training sweep's."""
+    h = params.heldout
+    sweep = params.sweep.model_copy(update={
+        "n_cases": h.n_cases, "seed": h.seed, "cases_path": h.cases_path,
+        "sweep_dir": h.sweep_dir, "fatigue_dir": h.fatigue_dir, "dataset_dir": h.dataset_dir})
+    return params.model_copy(update={"sweep": sweep})
+
+
+def heldout_stage(params: Params, *, progress: bool = False, case_fn: CaseFn = run_case,
+                  fatigue_fn: CaseFn = fatigue_case) -> dict[str, Any]:
+    """Design, simulate, evaluate and assemble the held-out test set (``heldout`` section).
+
+    The same functions as the training stages run on :func:`heldout_params`;
+    designed cases whose id is in the training design (``sweep.cases_path``,
+    when it exists) are dropped before anything runs, so training and test
+    share no case, and the test table keeps every column of the training
+    table (``sweep.dataset_dir``, when it exists) even where it is constant.
+    Returns the held-out dataset's metrics plus ``n_cases_shared_with_training_dropped``.
+    """
+    if params.heldout.seed == params.sweep.seed:
+        raise InputError("heldout.seed", f"equals sweep.seed ({params.sweep.seed}): the held-out "
+                         "design would repeat the training design",
+                         "a seed other than sweep.seed")
+    hp = heldout_params(params)
+    cfg = hp.sweep
+    frame = design_cases(cfg, base_case_from_params(hp))
+    train_path = Path(params.sweep.cases_path)
+    shared = 0
+    if train_path.is_file():
+        train_ids = set(read_cases(train_path)["case_id"])
+        keep = ~frame["case_id"].isin(train_ids)
+        shared = int((~keep).sum())
+        frame = frame[keep].reset_index(drop=True)
+    if not len(frame):
+        raise InputError("heldout.n_cases", "every held-out case is also a training case",
+                         "a design with cases of its own (another seed, more cases)")
+    path = write_cases(frame, cfg.cases_path)
+    simulate_stage(hp, cases_path=path, progress=progress, case_fn=case_fn)
+    fatigue_stage(hp, cases_path=path, progress=progress, fatigue_fn=fatigue_fn)
+    # the test table has every column of the training table, constant here or not
+    train_table = Path(params.sweep.dataset_dir) / "damage.parquet"
+    keep = pq.read_schema(train_table).names if train_table.is_file() else []
+    metrics = dataset_stage(hp, cases_path=path, keep=keep)
+    return {**metrics, "n_cases_shared_with_training_dropped": shared}
