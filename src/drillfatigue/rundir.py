@@ -30,6 +30,8 @@ of kind :data:`KIND`.
 
 from __future__ import annotations
 
+import numpy as np
+
 KIND = "run"
 
 LOADS = "loads.parquet"
@@ -66,6 +68,19 @@ RIG_CHANNEL_COLUMNS = ("block_travel_m", "block_velocity_m_per_s", "string_top_a
 KINEMATICS_COLUMNS = ("time_s", "segment", "s_from_bit_m", "x_m", "y_m", "z_m", "vx_m_per_s",
                       "vy_m_per_s", "vz_m_per_s", "normal_N", "dist_from_centre_m")
 CONTACTS_COLUMNS = ("time_s", "segment", "normal_N", "dist_from_centre_m")
+
+
+def recorded_span_s(time_s: np.ndarray) -> float:
+    """Exposure time a recorded history stands for, s: last minus first sample plus one
+    sample step (each sample stands for the step after it); 0 for fewer than two samples.
+
+    Damage rates divide by this, not by the run's ``duration_s``: the recording
+    starts at ``recording.start_s`` (after the rpm ramp), so the two differ.
+    """
+    t = np.unique(np.asarray(time_s, dtype=float))
+    if t.size < 2:
+        return 0.0
+    return float(t[-1] - t[0] + (t[1] - t[0]))
 
 
 def history_name(stem: str) -> str:

@@ -6,8 +6,9 @@ optionally ``span_bending_x_Nm, span_bending_y_Nm``, the span correction the
 chain adds to the joint moment),
 ``joints.parquet`` (``joint, component, component_type, s_from_bit_m,
 body_od_m, body_id_m, conn_od_m, conn_id_m``) and ``summary.json`` with
-``duration_s`` and ``status == "complete"``. Every input is checked before
-anything is written, so bad input leaves no output behind.
+``status == "complete"``. Rates and lives are per hour of the recorded
+window (:func:`drillfatigue.rundir.recorded_span_s`), not of the run's ``duration_s``.
+Every input is checked before anything is written, so bad input leaves no output behind.
 
 Locations: ``body`` (body section, body SCFs), ``connection`` (connection
 section, thread-root SCFs) and, for drill pipe and heavy-weight pipe,
@@ -351,7 +352,10 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     if out_dir is not None:
         OutputFolder.check(out_dir, FATIGUE_KIND)
     loads, jt, summary = read_run(run_dir)
-    duration_s = float(summary["duration_s"])
+    duration_s = rundir.recorded_span_s(loads["time_s"].to_numpy())
+    if duration_s <= 0.0:
+        raise InputError(str(run_dir / rundir.LOADS), "fewer than two time samples",
+                         "at least two time samples per joint")
     sel = list(joints) if joints is not None else cfg.joints
     all_joints = sorted(int(j) for j in jt["joint"])
     if sel is None:
@@ -477,7 +481,7 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
         written.append("api_rp7g.parquet")
     g = df.loc[df["damage"].idxmax()] if len(df) and df["damage"].max() > 0 else None
     summary: dict[str, Any] = {
-        "run_dir": str(run_dir), "criterion": crit, "duration_s": duration_s,
+        "run_dir": str(run_dir), "criterion": crit, "recorded_s": duration_s,
         "n_joints": int(df["joint"].nunique()), "grade": cfg.grade,
         "environment": cfg.effective_environment, "residue": cfg.residue,
         "mean_stress_uniaxial": cfg.mean_stress,

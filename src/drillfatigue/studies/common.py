@@ -147,10 +147,8 @@ def warm_up(case: dict[str, Any], duration_s: float = 0.02) -> None:
 
 def recorded_span_s(run_dir: Path) -> float:
     """Length of the recorded loads history, s (last minus first sample plus one step)."""
-    t = np.unique(pd.read_parquet(run_dir / rundir.LOADS, columns=["time_s"])["time_s"])
-    if t.size < 2:
-        return 0.0
-    return float(t[-1] - t[0] + (t[1] - t[0]))
+    return rundir.recorded_span_s(
+        pd.read_parquet(run_dir / rundir.LOADS, columns=["time_s"])["time_s"].to_numpy())
 
 
 def rp7g_rates(run_dir: Path, case: dict[str, Any], fatigue: FatigueConfig) -> pd.DataFrame:

@@ -175,8 +175,8 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
             uni = parts[0].copy()
             uni["criterion"] = "uniaxial"
             uni["damage"] = uni["uniaxial_damage"]
-            summary = json.loads((run_dir / rundir.SUMMARY).read_text(encoding="utf-8"))
-            duration_h = float(summary["duration_s"]) / HOUR_S
+            times = pd.read_parquet(run_dir / rundir.LOADS, columns=["time_s"])["time_s"]
+            duration_h = rundir.recorded_span_s(times.to_numpy()) / HOUR_S
             with np.errstate(divide="ignore"):
                 uni["damage_rate_per_h"] = uni["damage"] / duration_h
                 uni["life_h"] = duration_h / uni["damage"]
