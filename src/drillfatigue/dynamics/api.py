@@ -75,7 +75,7 @@ from drillfatigue.dynamics.model import (
     raise_for_status,
 )
 from drillfatigue.dynamics.recorder import Recorder, write_table
-from drillfatigue.dynamics.rockface import rop_slope_m_per_N_s
+from drillfatigue.dynamics.rockface import ROP_FROM_WOB_MODELS, rop_slope_m_per_N_s
 from drillfatigue.dynamics.status import OK as ST_OK
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.limits import check_run_inputs
@@ -210,7 +210,7 @@ def check_rig(config: CaseConfig) -> dict[str, float]:
     if rig is None:
         return {}
     c_rop = 0.0
-    if rig.block_mode == "autodriller" and config.bit.model == "yigit_christoforou":
+    if rig.block_mode == "autodriller" and config.bit.model in ROP_FROM_WOB_MODELS:
         c_rop = rop_slope_m_per_N_s(config.bit, rig.effective_autodriller.wob_set_N,
                                     abs(config.operation.rpm))
     return check_rig_setup(rig, config, c_rop)
