@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from drillfatigue.config import case_from_dict
 from drillfatigue.config.base import validate
 from drillfatigue.config.studies import (
     Case1Config,
@@ -67,6 +68,15 @@ def test_case2_target_joint_and_samples():
     case = case2.case_dict(cfg, "profile_2", float(starts[0]), 1)
     assert case["string"]["components"][1]["length_m"] == pytest.approx(starts[0] - 180.0)
     assert case["recording"]["joints"] == [1] and case["well"]["profile"] == "profile_2"
+    assert "rig" not in case and case["operation"]["rop_m_per_s"] == cfg.rop_m_per_s
+    # rig_rop: the same window with the rig's block lowering at the ROP set-point
+    rr = case2.case_dict(cfg.model_copy(update={"boundaries": "rig_rop"}), "profile_2",
+                         float(starts[0]), 1)
+    full = case_from_dict(rr)
+    assert full.rig is not None and full.rig.block_mode == "rop"
+    assert full.rig.rop_set_m_per_s == cfg.rop_m_per_s and full.operation.rop_m_per_s == 0.0
+    assert full.bit.model == "yigit_christoforou" and full.operation.bit_on_bottom
+    assert full.rig.rock.lobe_amplitude_m == cfg.lobe_amplitude_m
 
 
 def test_case3_joints_and_case():
@@ -127,6 +137,12 @@ def test_candidate_rows_carry_the_profile():
         assert (r.loc[r["s_from_bit_m"] < 179.0, "component_type"] == "collar").all()
         assert np.allclose(r["md_m"], r["bit_position_md_m"] - r["s_from_bit_m"])
         assert set(r["operation.bit_md_m"]) == set(np.linspace(480.0, 880.0, 3))
+        # the window drills with the rig's block lowering at the ROP set-point (block_mode
+        # rop, the sweep's mode); the set-point is the feature operation.rop_m_per_s
+        assert set(r["rig.block_mode"]) == {"rop"}
+        assert set(r["operation.rop_m_per_s"]) == {w.rop_m_per_s}
+        assert set(r["rig.rop_set_m_per_s"]) == {w.rop_m_per_s}
+        assert set(r["bit.model"]) == {"yigit_christoforou"}
     # within the builds the local DLS is each profile's solved build rate (5.7, 8.6 deg/30 m)
     assert rows["p1"]["local_dls_deg_per_30m"].max() == pytest.approx(5.73, abs=0.01)
     assert rows["p2"]["local_dls_deg_per_30m"].max() == pytest.approx(8.59, abs=0.01)
