@@ -154,3 +154,28 @@ def test_report_formatting():
     assert report._fmt(True) == "yes"
     md = report._table(pd.DataFrame({"a": [1.0, 2.5], "b": ["x", "y"]}), {"a": "A", "b": "B"})
     assert md.splitlines() == ["| A | B |", "|---|---|", "| 1 | x |", "| 2.5 | y |"]
+
+
+def test_report_shows_the_drilling_metrics_of_each_profile():
+    # two samples of profile_1 and one of profile_2, as case 2's summary holds them
+    row = {"profile": "profile_1", "sample": 0, "wob_set_N": 1e5, "metrics_from_s": 10.0,
+           "on_bottom_fraction": 0.9, "mean_wob_N": 98e3, "wob_error_rel": -0.02,
+           "mean_rop_m_per_h": 19.0, "mean_surface_torque_Nm": 11e3, "block_min_m": 5.0,
+           "block_max_m": 5.4, "stick_slip_severity": 0.3, "whirl_class": "chaotic",
+           "bounce_class": "bounce", "stick_slip_class": "none"}
+    rows = [row, {**row, "sample": 1, "on_bottom_fraction": 1.0, "mean_wob_N": 100e3,
+                  "wob_error_rel": 0.0, "stick_slip_class": "oscillation"},
+            {**row, "profile": "profile_2", "mean_rop_m_per_h": 20.0, "bounce_class": "none"}]
+    lines = report._case2_drilling_lines({"boundaries": "rig", "drilling": rows})
+    text = "\n".join(lines)
+    assert "from 10 s on" in text
+    table = [ln for ln in lines[1].splitlines() if ln.startswith("| profile_")]
+    cells = [[c.strip() for c in ln.strip("|").split("|")] for ln in table]
+    assert [c[0] for c in cells] == ["profile_1", "profile_2"]
+    # columns: on bottom, WOB, set-point, error %, ROP, torque, block range, classes, severity
+    assert cells[0][1] == "0.95" and cells[0][2] == "99" and cells[0][3] == "100"
+    assert cells[0][4] == "-1" and cells[0][6] == "11"
+    assert cells[0][7] == "0.4"  # block travel range 5.4 - 5.0 m
+    assert cells[0][8:11] == ["chaotic", "bounce", "none, oscillation"]
+    assert cells[1][5] == "20" and cells[1][9] == "none"
+    assert report._case2_drilling_lines({"drilling": []}) == []

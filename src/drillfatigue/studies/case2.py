@@ -176,6 +176,7 @@ def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, p
     mean = float(rpm.mean())
     sev = float((rpm.max() - rpm.min()) / mean) if mean > 0 else math.inf
     out["mean_rop_m_per_h"] = out["mean_rop_m_per_s"] * 3600.0
+    out["block_travel_range_m"] = out["block_max_m"] - out["block_min_m"]
     out["bit_rpm_mean"] = mean
     out["stick_slip_severity"] = sev
     out["stick_slip_class"] = ("stick_slip" if rpm.min() < STUCK_FRACTION * mean else
