@@ -6,6 +6,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from drillfatigue.config.bit import BitConfig
+from drillfatigue.dynamics import bitrock as BR
 from drillfatigue.dynamics import rockface as RF
 
 finite = dict(allow_nan=False, allow_infinity=False)
@@ -35,3 +37,18 @@ def test_detournay_more_weight_cuts_and_turns_no_less(w1, w2, om) -> None:
     RF.detournay_response(p, hi, om, b)
     assert 0.0 <= a[1] <= b[1] and 0.0 <= a[2] <= b[2]
     assert a[0] <= b[0] * (1 + 1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(0.0, 5e5, **finite), st.floats(-40.0, 40.0, **finite))
+def test_detournay_bit_model_torque_resists_the_rotation_and_cuts_only_forward(w, om) -> None:
+    mid, p = BR.pack_bit_params(BitConfig(model="detournay"))
+    out = np.empty(2)
+    assert BR.bit_response(mid, p, w, om, out) == 0
+    assert out[0] * om >= 0.0  # the torque on bit opposes the rotation: it only dissipates
+    assert out[1] >= 0.0
+    if om <= 0.0 or w <= 0.0:
+        assert out[1] == 0.0
+    ref = np.empty(3)
+    RF.detournay_response(RF.pack_detournay_params(), w, abs(om), ref)
+    assert abs(out[0]) <= ref[0] * (1.0 + 1e-12)  # the regularisation only lowers the torque

@@ -73,7 +73,7 @@ def _deviated(friction: str, k: int) -> CaseConfig:
         "contact": {"enabled": True,
                     "points": "ends_and_middle" if k % 2 else "ends"},
         "friction": {"model": friction, "mu_static": 0.4, "mu_dynamic": 0.3},
-        "solver": {"relax_s": 0.05},
+        "solver": {"relax_s": 0.05, "growth_work_trapezoid": False},
         "recording": {"loads_rate_hz": 250.0, "channels_rate_hz": 250.0,
                       "kinematics_rate_hz": 50.0, "events_start_s": 0.06},
     })
@@ -88,6 +88,7 @@ def _drilling_split() -> CaseConfig:
                       "rpm_ramp_s": 0.2, "rop_m_per_s": 1.0, "top_axial": "neutral_point",
                       "neutral_point_s_from_bit_m": 6.0, "tob_Nm": 500.0},
         "contact": {"enabled": True},
+        "solver": {"growth_work_trapezoid": False},
         "recording": {"channels_rate_hz": 100.0, "kinematics_rate_hz": 20.0,
                       "loads_rate_hz": 50.0},
     })
@@ -103,7 +104,7 @@ def _tripping(trip: float) -> CaseConfig:
         "operation": {"duration_s": 0.9, "bit_md_m": 70.0, "top_md_m": 50.0,
                       "bit_on_bottom": False, "top_axial": "fixed", "rpm": 30.0,
                       "rpm_ramp_s": 0.0, "trip_speed_m_per_s": trip},
-        "solver": {"relax_s": 0.05},
+        "solver": {"relax_s": 0.05, "growth_work_trapezoid": False},
         "recording": {"channels_rate_hz": 100.0, "kinematics_rate_hz": 20.0,
                       "loads_rate_hz": 50.0},
     })
@@ -113,9 +114,11 @@ def cases() -> dict[str, tuple[CaseConfig, Any]]:
     """Name -> (case, well path or None for the case's own well)."""
     out: dict[str, tuple[CaseConfig, Any]] = {
         "vertical_quick": (_from_file("vertical_quick.yaml", {
-            "operation": {"duration_s": 0.3, "lobe_amplitude_m": 0.001}}), None),
+            "operation": {"duration_s": 0.3, "lobe_amplitude_m": 0.001},
+            "solver": {"growth_work_trapezoid": False}}), None),
         "case1_whirl": (_from_file("case1_whirl.yaml", {
-            "operation": {"duration_s": 1.4}, "recording": {"events_start_s": 0.8}}), None),
+            "operation": {"duration_s": 1.4}, "recording": {"events_start_s": 0.8},
+            "solver": {"growth_work_trapezoid": False}}), None),
     }
     for k, fr in enumerate(FRICTION_MODELS):
         out[f"deviated_{fr}"] = (_deviated(fr, k), None)

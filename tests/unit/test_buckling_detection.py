@@ -132,6 +132,13 @@ def test_tnd_cli_reports_buckling_margins(tmp_path, capsys) -> None:
     assert out["buckling_min_margin_drilling_N"] < 0.0  # 600 kN buckles the horizontal pipe
     assert out["buckled_helical_drilling_m"] > 0.0
     assert 0.0 <= out["buckling_min_margin_slackoff_md_m"] <= 2390.0
+    # the sections cover exactly the buckled cells, with the mode names of the simulator's summary
+    secs = out["buckled_sections_drilling"]
+    assert secs and {s["mode"] for s in secs} <= {"sinusoidal", "helical"}
+    assert any(s["mode"] == "helical" for s in secs)
+    assert sum(s["md_end_m"] - s["md_start_m"] for s in secs) == pytest.approx(
+        out["buckled_sinusoidal_drilling_m"] + out["buckled_helical_drilling_m"], rel=1e-9)
+    assert all(s["min_margin_N"] < 0.0 for s in secs)
     assert png.stat().st_size > 0
     assert main(["tnd", str(case)]) == 0
     assert "margin to sinusoidal buckling" in capsys.readouterr().out

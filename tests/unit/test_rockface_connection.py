@@ -11,6 +11,7 @@ import pytest
 from drillfatigue.config.base import validate
 from drillfatigue.config.bit import BitConfig
 from drillfatigue.config.rig import ConnectionConfig, RigConfig
+from drillfatigue.dynamics import bitrock as BR
 from drillfatigue.dynamics import connection as C
 from drillfatigue.dynamics import rockface as RF
 from drillfatigue.errors import InputError
@@ -106,6 +107,36 @@ def test_rop_from_wob_is_the_bit_law_and_zero_below_thresholds() -> None:
     assert RF.rop_slope_m_per_N_s(bit, 1e5, 150.0) == pytest.approx(1.4e-8 * math.sqrt(om), rel=1e-6)
     with pytest.raises(ValueError, match="yigit_christoforou"):
         RF.rop_tob_from_wob(BitConfig(), 1e5, 150.0)
+
+
+def test_detournay_bit_model_is_the_law_with_a_continuous_torque_through_rest() -> None:
+    # bit.model detournay through the simulator's bit kernel: at drilling speed exactly the
+    # law of rockface.detournay_response with the same parameters (the default 8 1/2 in bit:
+    # 6.7 mm/rev and 60 m/h at 100 kN and 150 rpm, docs/rig.md); the torque rises through zero
+    # speed as tanh(omega / 0.5 rad/s); backwards only the wear-flat friction; off bottom nothing
+    bit = BitConfig(model="detournay")
+    mid, p = BR.pack_bit_params(bit)
+    assert mid == BR.DETOURNAY
+    om = 150.0 * 2 * math.pi / 60.0
+    out, ref = np.empty(2), np.empty(3)
+    BR.bit_response(mid, p, 1e5, om, out)
+    RF.detournay_response(RF.pack_detournay_params(), 1e5, om, ref)
+    assert out[0] == pytest.approx(ref[0], rel=1e-12) and out[1] == pytest.approx(ref[1], rel=1e-12)
+    assert ref[2] == pytest.approx(6.72e-3, rel=1e-3) and out[1] * 3600 == pytest.approx(60.5, rel=1e-2)
+    rop, tob = RF.rop_tob_from_wob(bit, 1e5, 150.0)
+    assert float(rop) == out[1] and float(tob) == out[0]
+    # dROP/dWOB = Omega / (2 pi zeta eps a)
+    assert RF.rop_slope_m_per_N_s(bit, 1e5, 150.0) == pytest.approx(
+        om / (2 * math.pi * 0.6 * 200e6 * bit.bit_radius_m), rel=1e-6)
+    BR.bit_response(mid, p, 1e5, 0.0, out)
+    assert out[0] == 0.0 and out[1] == 0.0
+    BR.bit_response(mid, p, 1e5, 1e-4, out)
+    assert out[0] == pytest.approx(ref[0] * math.tanh(1e-4 / 0.5), rel=1e-9)
+    BR.bit_response(mid, p, 1e5, -om, out)
+    wf = 60e6 * bit.bit_radius_m * 2e-3
+    assert out[0] == pytest.approx(-0.5 * 0.6 * bit.bit_radius_m * wf, rel=1e-12) and out[1] == 0.0
+    BR.bit_response(mid, p, 0.0, om, out)
+    assert out[0] == 0.0 and out[1] == 0.0
 
 
 # --- connections --------------------------------------------------------------------------

@@ -10,6 +10,7 @@ import pandas as pd
 import pytest
 
 from drillfatigue.config import FatigueConfig
+from drillfatigue.config import case_from_dict
 from drillfatigue.config.base import validate
 from drillfatigue.config.studies import (
     Case1Config,
@@ -70,6 +71,15 @@ def test_case2_target_joint_and_samples():
     case = case2.case_dict(cfg, "profile_2", float(starts[0]), 1)
     assert case["string"]["components"][1]["length_m"] == pytest.approx(starts[0] - 180.0)
     assert case["recording"]["joints"] == [1] and case["well"]["profile"] == "profile_2"
+    assert "rig" not in case and case["operation"]["rop_m_per_s"] == cfg.rop_m_per_s
+    # rig_rop: the same window with the rig's block lowering at the ROP set-point
+    rr = case2.case_dict(cfg.model_copy(update={"boundaries": "rig_rop"}), "profile_2",
+                         float(starts[0]), 1)
+    full = case_from_dict(rr)
+    assert full.rig is not None and full.rig.block_mode == "rop"
+    assert full.rig.rop_set_m_per_s == cfg.rop_m_per_s and full.operation.rop_m_per_s == 0.0
+    assert full.bit.model == "yigit_christoforou" and full.operation.bit_on_bottom
+    assert full.rig.rock.lobe_amplitude_m == cfg.lobe_amplitude_m
 
 
 def test_case3_joints_and_case():
@@ -208,6 +218,12 @@ def test_candidate_rows_carry_the_profile():
         assert (r.loc[r["s_from_bit_m"] < 179.0, "component_type"] == "collar").all()
         assert np.allclose(r["md_m"], r["bit_position_md_m"] - r["s_from_bit_m"])
         assert set(r["operation.bit_md_m"]) == set(np.linspace(480.0, 880.0, 3))
+        # the window drills with the rig's block lowering at the ROP set-point (block_mode
+        # rop, the sweep's mode); the set-point is the feature operation.rop_m_per_s
+        assert set(r["rig.block_mode"]) == {"rop"}
+        assert set(r["operation.rop_m_per_s"]) == {w.rop_m_per_s}
+        assert set(r["rig.rop_set_m_per_s"]) == {w.rop_m_per_s}
+        assert set(r["bit.model"]) == {"yigit_christoforou"}
     # within the builds the local DLS is each profile's solved build rate (5.7, 8.6 deg/30 m)
     assert rows["p1"]["local_dls_deg_per_30m"].max() == pytest.approx(5.73, abs=0.01)
     assert rows["p2"]["local_dls_deg_per_30m"].max() == pytest.approx(8.59, abs=0.01)
@@ -247,3 +263,26 @@ def test_case3_local_dogleg_counts_the_intervals_around_the_joint():
     assert case3.local_dls_deg_per_30m(Survey, 139.0) == 6.0
     assert case3.local_dls_deg_per_30m(Survey, 145.0) == 0.0
     assert case3.local_dls_deg_per_30m(Survey, 400.0) == 0.0  # beyond the survey
+def test_report_shows_the_drilling_metrics_of_each_profile():
+    # two samples of profile_1 and one of profile_2, as case 2's summary holds them
+    row = {"profile": "profile_1", "sample": 0, "wob_set_N": 1e5, "metrics_from_s": 10.0,
+           "on_bottom_fraction": 0.9, "mean_wob_N": 98e3, "wob_error_rel": -0.02,
+           "mean_rop_m_per_h": 19.0, "mean_surface_torque_Nm": 11e3, "block_min_m": 5.0,
+           "block_max_m": 5.4, "stick_slip_severity": 0.3, "whirl_class": "chaotic",
+           "bounce_class": "bounce", "stick_slip_class": "none"}
+    rows = [row, {**row, "sample": 1, "on_bottom_fraction": 1.0, "mean_wob_N": 100e3,
+                  "wob_error_rel": 0.0, "stick_slip_class": "oscillation"},
+            {**row, "profile": "profile_2", "mean_rop_m_per_h": 20.0, "bounce_class": "none"}]
+    lines = report._case2_drilling_lines({"boundaries": "rig", "drilling": rows})
+    text = "\n".join(lines)
+    assert "from 10 s on" in text
+    table = [ln for ln in lines[1].splitlines() if ln.startswith("| profile_")]
+    cells = [[c.strip() for c in ln.strip("|").split("|")] for ln in table]
+    assert [c[0] for c in cells] == ["profile_1", "profile_2"]
+    # columns: on bottom, WOB, set-point, error %, ROP, torque, block range, classes, severity
+    assert cells[0][1] == "0.95" and cells[0][2] == "99" and cells[0][3] == "100"
+    assert cells[0][4] == "-1" and cells[0][6] == "11"
+    assert cells[0][7] == "0.4"  # block travel range 5.4 - 5.0 m
+    assert cells[0][8:11] == ["chaotic", "bounce", "none, oscillation"]
+    assert cells[1][5] == "20" and cells[1][9] == "none"
+    assert report._case2_drilling_lines({"drilling": []}) == []

@@ -144,5 +144,8 @@ def tnd(
             console.print(f"{label}: smallest margin to sinusoidal buckling {margin:.1f} {fu} "
                           f"at MD {at:.0f} {lu}; buckled {sin_l:.0f} {lu} sinusoidal, "
                           f"{hel_l:.0f} {lu} helical")
+            for sec in summary[f"buckled_sections_{mode}"]:
+                console.print(f"  {sec['mode']} from MD {d.value('length', sec['md_start_m']):.0f} "
+                              f"to {d.value('length', sec['md_end_m']):.0f} {lu}")
     if output is not None:
         plot_torque_drag(td, output, f"soft-string torque and drag: {case.name}", d, buck)

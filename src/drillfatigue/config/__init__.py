@@ -111,10 +111,11 @@ class CaseConfig(StrictModel):
             if bad:
                 raise ValueError(f"operation.{name}: not used with the rig section ({why}) "
                                  f"(allowed: {allowed})")
-        if op.bit_on_bottom and self.bit.model != "yigit_christoforou":
+        if op.bit_on_bottom and self.bit.model not in ("yigit_christoforou", "detournay"):
             raise ValueError(f"bit.model: {self.bit.model} prescribes the ROP or the torque; with "
                              "the rig section the bit cuts what the bit law lets it (allowed: "
-                             "yigit_christoforou, or no rig section for prescribed-ROP runs)")
+                             "yigit_christoforou or detournay, or no rig section for "
+                             "prescribed-ROP runs)")
         if rig.block_mode == "autodriller":
             if not op.bit_on_bottom:
                 raise ValueError("rig.block_mode: the autodriller holds a weight on bit and needs "

@@ -19,3 +19,7 @@ class RecordingConfig(StrictModel):
         None, ge=0.0, le=1e6,
         description="start of the event window (stick-slip, whirl, torque figures); "
                     "default: the end of the rpm ramp")
+    detect_buckling: bool | None = Field(
+        None, description="run the buckling detector on every kinematics sample and write its "
+                          "sections to summary.json (docs/rig.md#buckling); default: on for a "
+                          "case with a rig section in a hole with a wall")

@@ -34,3 +34,9 @@ class SolverConfig(StrictModel):
                            description="damped pre-run settling the string in the hole before t = 0")
     energy_blowup_factor: float = Field(1e3, gt=1.0, le=1e12,
                                         description="divergence when energy exceeds this x its scale")
+    growth_work_trapezoid: bool = Field(
+        True, description="book the work of the string's growth (drilling, tripping) with the "
+                          "trapezoid of the axial force below the top over the step, as the "
+                          "integrator's kicks see it (docs/rig.md#in-the-simulator); false: the "
+                          "force at the end of the step only, an O(dt) error in the energy "
+                          "balance (always on with a rig section)")

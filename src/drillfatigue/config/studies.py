@@ -96,9 +96,11 @@ class Case2Config(StrictModel):
     string: StringSpec = Field(default_factory=StringSpec)
     loads_rate_hz: float = Field(100.0, gt=0.0, le=1e5)
     criterion: Literal["matake", "findley", "fatemi_socie", "uniaxial"] = "matake"
-    boundaries: Literal["rig", "prescribed_rop"] = Field(
+    boundaries: Literal["rig", "rig_rop", "prescribed_rop"] = Field(
         "rig", description="rig: the autodriller holds wob_set_N and the bit law gives the ROP "
-                           "(docs/rig.md); prescribed_rop: the bit guided at rop_m_per_s "
+                           "(docs/rig.md); rig_rop: the rig's block lowers at rop_m_per_s "
+                           "(block_mode rop, as the sweep drills) and the bit cuts what the "
+                           "bit law lets it; prescribed_rop: the bit guided at rop_m_per_s "
                            "(validation of the founding paper's set-up)")
     wob_set_N: float = Field(100e3, gt=0.0, le=2e6, description="autodriller WOB set-point (rig)")
     autodriller_measurement: Literal["wob", "hook_load"] = Field(

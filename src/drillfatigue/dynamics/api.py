@@ -56,6 +56,7 @@ from drillfatigue.config import CaseConfig
 from drillfatigue.dynamics.rig_setup import check_rig_setup
 from drillfatigue.dynamics import layout as L
 from drillfatigue.dynamics import rig as rig_kernels
+from drillfatigue.dynamics.buckling import BucklingTracker, detection_window_m
 from drillfatigue.dynamics.bundles import new_records
 from drillfatigue.dynamics.checkpoint import load_checkpoint, save_checkpoint
 from drillfatigue.dynamics.events import (
@@ -74,7 +75,7 @@ from drillfatigue.dynamics.model import (
     raise_for_status,
 )
 from drillfatigue.dynamics.recorder import Recorder, write_table
-from drillfatigue.dynamics.rockface import rop_slope_m_per_N_s
+from drillfatigue.dynamics.rockface import ROP_FROM_WOB_MODELS, rop_slope_m_per_N_s
 from drillfatigue.dynamics.status import OK as ST_OK
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.limits import check_run_inputs
@@ -209,7 +210,7 @@ def check_rig(config: CaseConfig) -> dict[str, float]:
     if rig is None:
         return {}
     c_rop = 0.0
-    if rig.block_mode == "autodriller" and config.bit.model == "yigit_christoforou":
+    if rig.block_mode == "autodriller" and config.bit.model in ROP_FROM_WOB_MODELS:
         c_rop = rop_slope_m_per_N_s(config.bit, rig.effective_autodriller.wob_set_N,
                                     abs(config.operation.rpm))
     return check_rig_setup(rig, config, c_rop)
@@ -318,6 +319,7 @@ class Runner:
                 else None
             self.rig_figures = RigFigures(ad.wob_set_N if ad is not None else None,
                                           config.rig.block.travel_m, RIG_WINDOW_SKIP_S)
+        self.buckling = self._buckling_tracker()
         self.hash = config_hash(config)
         self.wall_before = 0.0
         self.span_unsolved = 0
@@ -329,6 +331,44 @@ class Runner:
         ch = self.model.work.ch
         return float(kinetic_energy(self.state.v, self.state.w, self.model.seg)
                      + ch[L.H_PE] + ch[L.H_PG])
+
+    def _buckling_tracker(self) -> BucklingTracker | None:
+        """The run's buckling detector, when ``recording.detect_buckling`` (default: with a rig
+        section in a hole with a wall) asks for it."""
+        on = self.config.recording.detect_buckling
+        wall = self.path.wall
+        if on is None:
+            on = self.config.rig is not None
+        if not on or wall.shape[0] == 0:
+            return None
+        seg = self.model.segments
+        r_hole = float(wall[:, L.W_RAD].max())
+        max_inc = float(np.arccos(np.clip(np.abs(self.path.node_tan[:, 2]), 0.0, 1.0)).max())
+        window = detection_window_m(seg.ei_Nm2, seg.buoyed_weight_N / seg.length_m,
+                                    r_hole - seg.contact_radius_m, seg.length_m, max_inc)
+        return BucklingTracker(self.path.node_md_m, self.path.node_pos_m, self.path.node_tan,
+                               wall, window)
+
+    def _track_buckling(self, bc: np.ndarray, bk: np.ndarray) -> None:
+        """Feed the kinematics samples of a chunk to the buckling detector."""
+        tracker = self.buckling
+        if tracker is None or bk.shape[0] == 0:
+            return
+        m = self.model
+        n = m.n
+        h = m.seg[:, L.S_H]
+        s_mid = np.cumsum(np.r_[0.0, 2.0 * h[:-1]]) + h
+        t = bk[:, 0]
+        if bc.shape[0]:
+            md_bit = np.interp(t, bc[:, 0], bc[:, 1 + L.H_BITMD])
+        else:
+            md_bit = np.full(t.size, float(self.state.sc[L.C_MDROCK]))
+        kv = bk[:, 1:].reshape(t.size, n, 8)
+        joints = m.segments.joint_s_from_bit_m
+        for i in range(t.size):
+            act = np.isfinite(kv[i, :, 0])
+            tracker.add(float(t[i]), float(md_bit[i]), s_mid[act], kv[i, act, 0:3],
+                        kv[i, act, 6], m.seg[act, L.S_RC], joints)
 
     def _rig_summary(self) -> dict[str, Any]:
         """The rig boundaries' set-up and what they did, for summary.json."""
@@ -360,6 +400,8 @@ class Runner:
             self.figures.load(meta)
             if self.rig_figures is not None:
                 self.rig_figures.load(meta["rig"])
+            if self.buckling is not None:
+                self.buckling.load(meta["buckling"])
             self.wall_before = float(meta["wall"])
         atomic_write_text(folder.file(rundir.CASE), yaml.safe_dump(
             self.config.model_dump(mode="json"), sort_keys=False))
@@ -373,6 +415,8 @@ class Runner:
                 **self.figures.state()}
         if self.rig_figures is not None:
             meta["rig"] = self.rig_figures.state()
+        if self.buckling is not None:
+            meta["buckling"] = self.buckling.state()
         save_checkpoint(self.folder, meta, self.model, self.state)
 
     def _write_joints(self) -> None:
@@ -428,6 +472,7 @@ class Runner:
                 self.figures.add(bc)
                 if self.rig_figures is not None:
                     self.rig_figures.add(bc)
+                self._track_buckling(bc, bk)
                 self.recorder.write(self.recorder.tables(bl, bc, bk, m.seg,
                                                          float(s.sc[L.C_MDROCK])))
                 if st != ST_OK:
@@ -494,6 +539,8 @@ class Runner:
             summary["message"] = str(error)
         if m.rig_on:
             summary["rig"] = self._rig_summary()
+        if self.buckling is not None:
+            summary["buckling"] = self.buckling.summary()
         ev = events_summary(m.seg, m.bp, sc, self.state.cst, self.figures.wstats)
         summary["events"] = ev
         for k in EVENT_KEYS:

@@ -31,6 +31,25 @@ nothing. WOB <= 0 is bit bounce: the bit is off bottom, TOB = ROP = 0.
 ``PRESCRIBED_ROP``: the same TOB, ROP = the given value (the bit is guided
 kinematically), 0 during bit bounce.
 
+``DETOURNAY``: the depth-of-cut law of a PDC bit after Detournay & Defourny
+(Int. J. Rock Mech. Min. Sci. 29 (1992) 13; the bit-level form of Richard,
+Germay & Detournay, J. Sound Vib. 305 (2007) 432), cutting plus frictional
+contact on the wear flats::
+
+    W = W_c + W_f,   W_c = zeta eps a d,   W_f = min(W, sigma a l)
+    T = T_c + T_f,   T_c = eps a^2 d / 2,  T_f = mu gamma a W_f / 2
+    d = (W - sigma a l) / (zeta eps a)  (0 below W_f* = sigma a l),  ROP = d Omega / (2 pi)
+
+with ``a`` the bit radius, ``eps`` the intrinsic specific energy, ``zeta`` the
+ratio of normal to tangential cutting force, ``sigma`` the contact strength,
+``l`` the total wear-flat length and ``mu gamma`` the bit's friction times
+geometry number; ``d`` is the depth of cut per revolution. The bit cuts only
+turning forward; backwards only the wear-flat friction acts. The torque is
+multiplied by ``tanh(Omega / omega_reg)`` so that it passes continuously
+through zero speed (a regularised stick; at drilling speeds the factor is 1
+to round-off: 1 - 1e-27 at 150 rpm with the default 0.5 rad/s).
+:func:`detournay_law` is the law without the regularisation.
+
 Parameter vector ``p`` (float64, length ``N_PARAMS``) from
 :func:`pack_bit_params`: indices ``I_B0 .. I_ROP``.
 """
@@ -50,11 +69,12 @@ if TYPE_CHECKING:  # pydantic stays out of the kernel module at run time
 
 YIGIT_CHRISTOFOROU = 0
 PRESCRIBED_ROP = 1
+DETOURNAY = 2
 
 #: ``given_tob`` (the simulator's given-torque mode) maps to the prescribed-ROP law
 #: wherever a law is still needed (e.g. the soft-string TOB estimate).
 MODEL_IDS: dict[str, int] = {"yigit_christoforou": YIGIT_CHRISTOFOROU, "prescribed_rop": PRESCRIBED_ROP,
-                             "given_tob": PRESCRIBED_ROP}
+                             "given_tob": PRESCRIBED_ROP, "detournay": DETOURNAY}
 
 I_B0 = 0  # r_b mu0, m
 I_B1 = 1  # s/rad
@@ -67,6 +87,15 @@ I_OMEGA_TH = 7  # rad/s
 I_BAND = 8  # relative fade-in width
 I_ROP = 9  # prescribed ROP, m/s
 N_PARAMS = 10
+
+# DETOURNAY uses the first seven entries of the same vector with its own meaning
+I_DA = 0  # bit radius a, m
+I_DEPS = 1  # intrinsic specific energy eps, Pa
+I_DZETA = 2  # normal / tangential cutting force zeta
+I_DSIGMA = 3  # wear-flat contact strength sigma, Pa
+I_DL = 4  # total wear-flat length l, m
+I_DMUGAMMA = 5  # mu gamma
+I_DWREG = 6  # torque regularisation speed, rad/s
 
 
 @njit(cache=True)
@@ -82,13 +111,54 @@ def _fade_in(x, th, band):
 
 
 @njit(cache=True)
+def detournay_law(a, eps, zeta, sigma, wear_flat, mu_gamma, wob_N, omega_rad_s, out):
+    """Detournay-Defourny PDC bit law (module docstring), unregularised.
+
+    Writes ``out[0:3] = [tob_Nm, rop_m_per_s, depth_of_cut_m_per_rev]``: turning forward,
+    cutting plus wear-flat friction; at rest 0; backwards only the friction, negative.
+    WOB <= 0 (off bottom): all 0.
+    """
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = 0.0
+    if wob_N <= 0.0:
+        return
+    wf_max = sigma * a * wear_flat
+    wf = wob_N if wob_N < wf_max else wf_max
+    tf = 0.5 * mu_gamma * a * wf
+    if omega_rad_s <= 0.0:
+        out[0] = -tf if omega_rad_s < 0.0 else 0.0
+        return
+    d = (wob_N - wf) / (zeta * eps * a)
+    out[0] = 0.5 * eps * a * a * d + tf
+    out[1] = d * omega_rad_s / (2.0 * math.pi)
+    out[2] = d
+
+
+@njit(cache=True)
+def _detournay_response(p, wob_N, om, out):
+    """DETOURNAY in :func:`bit_response`: the law at ``|om|``, torque times tanh(om / w_reg)."""
+    o3 = np.zeros(3)
+    detournay_law(p[I_DA], p[I_DEPS], p[I_DZETA], p[I_DSIGMA], p[I_DL], p[I_DMUGAMMA],
+                  wob_N, abs(om), o3)
+    reg = math.tanh(om / p[I_DWREG]) if p[I_DWREG] > 0.0 else (1.0 if om > 0.0 else -1.0)
+    if om > 0.0:
+        out[0] = o3[0] * reg
+        out[1] = o3[1]
+    elif om < 0.0:
+        # backwards: no cutting, the wear flats' friction only
+        wf = min(wob_N, p[I_DSIGMA] * p[I_DA] * p[I_DL])
+        out[0] = 0.5 * p[I_DMUGAMMA] * p[I_DA] * wf * reg
+
+
+@njit(cache=True)
 def bit_response(model, p, wob_N, omega_bit_rad_s, out):
     """Torque on bit and rate of penetration.
 
     Parameters
     ----------
     model : int
-        ``YIGIT_CHRISTOFOROU`` or ``PRESCRIBED_ROP``.
+        ``YIGIT_CHRISTOFOROU``, ``PRESCRIBED_ROP`` or ``DETOURNAY``.
     p : ndarray, shape (N_PARAMS,)
         From :func:`pack_bit_params`.
     wob_N : float
@@ -112,9 +182,12 @@ def bit_response(model, p, wob_N, omega_bit_rad_s, out):
     """
     out[0] = 0.0
     out[1] = 0.0
-    if model != YIGIT_CHRISTOFOROU and model != PRESCRIBED_ROP:
+    if model != YIGIT_CHRISTOFOROU and model != PRESCRIBED_ROP and model != DETOURNAY:
         return UNKNOWN_BIT
     if wob_N <= 0.0:
+        return OK
+    if model == DETOURNAY:
+        _detournay_response(p, wob_N, omega_bit_rad_s, out)
         return OK
     om = omega_bit_rad_s
     f = _fade_in(wob_N, p[I_WOB_TH], p[I_BAND]) * _fade_in(om, p[I_OMEGA_TH], p[I_BAND])
@@ -142,6 +215,15 @@ def pack_bit_params(cfg: BitConfig, rop_m_per_s: float = 0.0) -> tuple[int, np.n
     p : ndarray, shape (N_PARAMS,), float64
     """
     p = np.zeros(N_PARAMS)
+    if cfg.model == "detournay":
+        p[I_DA] = cfg.bit_radius_m
+        p[I_DEPS] = cfg.detournay_eps_Pa
+        p[I_DZETA] = cfg.detournay_zeta
+        p[I_DSIGMA] = cfg.detournay_sigma_Pa
+        p[I_DL] = cfg.detournay_wear_flat_m
+        p[I_DMUGAMMA] = cfg.detournay_mu_gamma
+        p[I_DWREG] = cfg.detournay_omega_reg_rad_s
+        return DETOURNAY, p
     p[I_B0] = cfg.bit_radius_m * cfg.mu0
     p[I_B1] = cfg.tob_b1_s_per_rad
     p[I_B2] = cfg.tob_b2_s_per_rad

@@ -58,13 +58,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from drillfatigue.dynamics.softstring import TorqueDrag, path_tangents, resample_path
 from drillfatigue.string import build_segments
 from drillfatigue.well import build_survey
+from drillfatigue.dynamics import layout as L
+from drillfatigue.well.kernels import path_point
 
 if TYPE_CHECKING:
     from drillfatigue.config import CaseConfig
@@ -210,10 +212,17 @@ class BucklingProfile:
     state_drilling: np.ndarray
     helical_form: str
 
-    def summary(self) -> dict[str, float | int | None]:
-        """Smallest margin (N) and where (MD, m), buckled lengths (m) per mode."""
-        out: dict[str, float | int | None] = {}
-        dl = _cell_lengths(self.md_mid_m)
+    def summary(self) -> dict[str, Any]:
+        """Smallest margin (N) and where (MD, m), buckled lengths (m) and sections per mode.
+
+        ``buckled_sections_<mode>``: the runs of buckled cells, each ``md_start_m``,
+        ``md_end_m``, ``mode`` (the worst state in it) and ``min_margin_N``; the simulator's
+        summary.json reports its detections with the same mode names and lengths
+        (:meth:`BucklingTracker.summary`).
+        """
+        out: dict[str, Any] = {}
+        edges = _cell_edges(self.md_mid_m)
+        dl = np.diff(edges)
         for mode in ("slackoff", "drilling"):
             margin = getattr(self, f"margin_{mode}_N")
             state = getattr(self, f"state_{mode}")
@@ -222,15 +231,24 @@ class BucklingProfile:
             out[f"buckling_min_margin_{mode}_md_m"] = float(self.md_mid_m[k])
             out[f"buckled_sinusoidal_{mode}_m"] = float(dl[state == 1].sum())
             out[f"buckled_helical_{mode}_m"] = float(dl[state == 2].sum())
+            out[f"buckled_sections_{mode}"] = [
+                {"md_start_m": float(edges[a]), "md_end_m": float(edges[b + 1]),
+                 "mode": STATE_NAMES[int(state[a: b + 1].max())],
+                 "min_margin_N": float(margin[a: b + 1].min())}
+                for a, b in _sections(state > 0)]
         return out
 
 
-def _cell_lengths(md_mid: np.ndarray) -> np.ndarray:
+def _cell_edges(md_mid: np.ndarray) -> np.ndarray:
+    """Cell boundaries (MD, m): half-way between centres, extended by half a cell at the ends."""
     if md_mid.size == 1:
-        return np.ones(1)
-    edges = np.concatenate([[1.5 * md_mid[0] - 0.5 * md_mid[1]], 0.5 * (md_mid[1:] + md_mid[:-1]),
-                            [1.5 * md_mid[-1] - 0.5 * md_mid[-2]]])
-    return np.diff(edges)
+        return np.array([md_mid[0] - 0.5, md_mid[0] + 0.5])
+    return np.concatenate([[1.5 * md_mid[0] - 0.5 * md_mid[1]], 0.5 * (md_mid[1:] + md_mid[:-1]),
+                           [1.5 * md_mid[-1] - 0.5 * md_mid[-2]]])
+
+
+def _cell_lengths(md_mid: np.ndarray) -> np.ndarray:
+    return np.diff(_cell_edges(md_mid))
 
 
 def buckling_along_string(
@@ -503,3 +521,172 @@ def detect_buckling_in_run(
     rho, theta = lateral_offsets(np.asarray(pos_m, float)[order], centre, tan, clear)
     return detect_buckling(s[order], rho, theta, np.nan_to_num(np.asarray(normal_N, float)[order]) > 0.0,
                            window_m, **kwargs)
+
+
+# --- detections over a run, for summary.json ---------------------------------------------
+
+
+def _sections(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Index ranges [a, b] of the runs of consecutive True entries of ``mask``."""
+    out: list[tuple[int, int]] = []
+    k = 0
+    while k < mask.size:
+        if mask[k]:
+            a = k
+            while k + 1 < mask.size and mask[k + 1]:
+                k += 1
+            out.append((a, k))
+        k += 1
+    return out
+
+
+def detection_window_m(ei_Nm2: np.ndarray, w_N_per_m: np.ndarray, clearance_m: np.ndarray,
+                       segment_length_m: np.ndarray, max_inc_rad: float) -> float:
+    """Window length of the run's buckling detector, m.
+
+    Twice the median Dawson-Paslay buckle wavelength ``2 pi (EI r_c / (w sin I))^(1/4)`` of
+    the segments, with ``I`` the hole's largest inclination (at least 10 deg, so that a
+    vertical hole gets a finite window), and at least three of the longest segments (the
+    detector needs three points per window).
+    """
+    sin_i = max(math.sin(max_inc_rad), math.sin(math.radians(10.0)))
+    ok = (w_N_per_m > 0) & (clearance_m > 0)
+    if not ok.any():
+        return float(3.0 * segment_length_m.max())
+    lam = 2.0 * math.pi * (ei_Nm2[ok] * clearance_m[ok] / (w_N_per_m[ok] * sin_i)) ** 0.25
+    return float(max(2.0 * np.median(lam), 3.0 * segment_length_m.max()))
+
+
+class BucklingTracker:
+    """Buckling detections over a run, sample by sample of its kinematics, for summary.json.
+
+    Every kinematics sample goes through :func:`detect_buckling` on fixed windows along the
+    string (measured from the bit segment's centre). Per window the tracker keeps the worst
+    state seen (helical over sinusoidal), the first time a buckle was seen there, the
+    largest sideways swing (fraction of the clearance and metres), the most wall contacts
+    per metre and the wavelength or pitch at the worst state. :meth:`summary` merges
+    neighbouring buckled windows into sections.
+
+    Parameters
+    ----------
+    node_md_m, node_pos_m, node_tan : ndarray
+        The well path of the simulator (``WellPath``).
+    wall : ndarray, shape (c, N_WALL)
+        Its hole cylinders, in MD order from ``node_md_m[0]``.
+    window_m : float
+        See :func:`detection_window_m`.
+    """
+
+    def __init__(self, node_md_m: np.ndarray, node_pos_m: np.ndarray, node_tan: np.ndarray,
+                 wall: np.ndarray, window_m: float) -> None:
+        self.node_md = np.ascontiguousarray(node_md_m, dtype=np.float64)
+        self.node_pos = np.ascontiguousarray(node_pos_m, dtype=np.float64)
+        self.node_tan = np.ascontiguousarray(node_tan, dtype=np.float64)
+        lengths = wall[:, L.W_LEN]
+        self.cyl_top = float(self.node_md[0]) + np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
+        self.cyl_r = wall[:, L.W_RAD].copy()
+        self.window_m = float(window_m)
+        self.samples = 0
+        self.win: dict[int, dict[str, float]] = {}
+
+    def _axis(self, md: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        pos = np.empty((md.size, 3))
+        tan = np.empty((md.size, 3))
+        p, t = np.zeros(3), np.zeros(3)
+        hint = 0
+        for k in range(md.size):
+            hint = path_point(float(md[k]), self.node_md, self.node_pos, self.node_tan, hint, p, t)
+            pos[k] = p
+            tan[k] = t
+        c = np.clip(np.searchsorted(self.cyl_top, md, side="right") - 1, 0, self.cyl_r.size - 1)
+        return pos, tan, self.cyl_r[c]
+
+    def add(self, t_s: float, bit_md_m: float, s_from_bit_m: np.ndarray, pos_m: np.ndarray,
+            normal_N: np.ndarray, contact_radius_m: np.ndarray,
+            joint_s_from_bit_m: np.ndarray) -> None:
+        """One kinematics sample: segment centres (distance from the bit, position, wall force)."""
+        order = np.argsort(s_from_bit_m)
+        s = np.asarray(s_from_bit_m, float)[order]
+        if s.size < 3:
+            return
+        centre, tan, r_hole = self._axis(bit_md_m - s)
+        clear = r_hole - np.asarray(contact_radius_m, float)[order]
+        if np.any(clear <= 0.0):
+            return
+        rho, theta = lateral_offsets(np.asarray(pos_m, float)[order], centre, tan, clear)
+        det = detect_buckling(s, rho, theta, np.nan_to_num(np.asarray(normal_N, float)[order]) > 0.0,
+                              self.window_m)
+        self.samples += 1
+        disp = rho * clear
+        for k in range(det.state.size):
+            key = int(round((det.s_start_m[k] - s[0]) / self.window_m))
+            w = self.win.setdefault(key, {"s_start_m": float(det.s_start_m[k]),
+                                          "s_end_m": float(det.s_end_m[k]), "state": 0.0,
+                                          "onset_time_s": math.nan, "max_swing": 0.0,
+                                          "max_offset_m": 0.0, "max_contacts_per_m": 0.0,
+                                          "wavelength_m": math.nan})
+            st = int(det.state[k])
+            if st > 0 and math.isnan(w["onset_time_s"]):
+                w["onset_time_s"] = float(t_s)
+            if st > w["state"]:
+                w["state"] = float(st)
+                w["wavelength_m"] = float(det.wavelength_m[k])
+            sel = (s >= det.s_start_m[k]) & (s < det.s_end_m[k])
+            w["max_swing"] = max(w["max_swing"], float(det.max_swing[k]))
+            w["max_offset_m"] = max(w["max_offset_m"], float(disp[sel].max()))
+            w["max_contacts_per_m"] = max(w["max_contacts_per_m"], float(det.contacts_per_m[k]))
+            js = np.nonzero((joint_s_from_bit_m >= det.s_start_m[k])
+                            & (joint_s_from_bit_m < det.s_end_m[k]))[0]
+            if js.size:
+                w["joint_first"], w["joint_last"] = float(js[0]), float(js[-1])
+
+    def summary(self) -> dict[str, Any]:
+        """Sections of neighbouring buckled windows, with the lengths buckled per mode.
+
+        Keys: ``window_m``, ``samples``, ``buckled_sinusoidal_m`` and ``buckled_helical_m``
+        (length of the windows whose worst state was that mode, the names of ``drillfatigue
+        tnd``'s margins), ``sections`` (list, from the bit up: ``s_from_bit_start_m``,
+        ``s_from_bit_end_m``, ``joints`` [first, last] or None, ``mode`` (the worst state in
+        the section), ``onset_time_s`` (first detection), ``max_swing_of_clearance``,
+        ``max_lateral_offset_m`` (largest offset of a segment centre from the hole axis),
+        ``max_contacts_per_m``, ``wavelength_m`` (sinusoidal wavelength or helix pitch at the
+        worst state, None when not measured)).
+        """
+        keys = sorted(self.win)
+        rows = [self.win[k] for k in keys]
+        state = np.array([r["state"] for r in rows], dtype=int)
+        lengths = np.array([r["s_end_m"] - r["s_start_m"] for r in rows])
+        out: dict[str, Any] = {"window_m": self.window_m, "samples": self.samples,
+                               "buckled_sinusoidal_m": float(lengths[state == 1].sum()),
+                               "buckled_helical_m": float(lengths[state == 2].sum()),
+                               "sections": []}
+        for a, b in _sections(state > 0):
+            part = rows[a: b + 1]
+            worst = max(part, key=lambda r: r["state"])
+            firsts = [r["joint_first"] for r in part if "joint_first" in r]
+            lasts = [r["joint_last"] for r in part if "joint_last" in r]
+            wave = worst["wavelength_m"]
+            out["sections"].append({
+                "s_from_bit_start_m": part[0]["s_start_m"],
+                "s_from_bit_end_m": part[-1]["s_end_m"],
+                "joints": [int(min(firsts)), int(max(lasts))] if firsts else None,
+                "mode": STATE_NAMES[int(worst["state"])],
+                "onset_time_s": float(np.nanmin([r["onset_time_s"] for r in part])),
+                "max_swing_of_clearance": max(r["max_swing"] for r in part),
+                "max_lateral_offset_m": max(r["max_offset_m"] for r in part),
+                "max_contacts_per_m": max(r["max_contacts_per_m"] for r in part),
+                "wavelength_m": None if math.isnan(wave) else wave,
+            })
+        return out
+
+    def state(self) -> dict[str, Any]:
+        """JSON-able state for a checkpoint."""
+        return {"samples": self.samples,
+                "win": {str(k): {n: (None if isinstance(v, float) and math.isnan(v) else v)
+                                 for n, v in w.items()} for k, w in self.win.items()}}
+
+    def load(self, d: dict[str, Any]) -> None:
+        """Restore :meth:`state`."""
+        self.samples = int(d["samples"])
+        self.win = {int(k): {n: (math.nan if v is None else float(v)) for n, v in w.items()}
+                    for k, w in d["win"].items()}

@@ -19,11 +19,12 @@ The growth is applied once per step (the joint below the top is shortened by
 dL at once), so the booking carries an O(dt) error of about k_a dL^2 / 2 per
 step: with 3 m pipe segments at 0.5 m/s the summary's
 ``energy_balance_error_rel`` reaches ~0.2 (it halves with the step); without
-growth the balance closes to ~1e-4. With the rig boundaries the growth is
-booked as a prescribed velocity of the top segment's lower end: the energy
-difference plus the correction that turns its force into the trapezoid of the
-joint's axial force over the step (what the integrator's kicks see), which
-closes the balance while drilling. The damper of the joint below the top
+growth the balance closes to ~1e-4. With the rig boundaries, and by default
+(``solver.growth_work_trapezoid``, ``bp[B_GROWTRAP]``) also with a prescribed
+ROP or trip speed, the growth is booked as a prescribed velocity of the top
+segment's lower end: the energy difference plus the correction that turns its
+force into the trapezoid of the joint's axial force over the step (what the
+integrator's kicks see), which closes the balance while drilling. The damper of the joint below the top
 sees the growth rate (:func:`growth_rate`), so no spurious static load builds
 up there.
 
@@ -42,7 +43,7 @@ from numba import njit
 from drillfatigue.dynamics.boundaries import top_joint
 from drillfatigue.dynamics.joints import joint_force
 from drillfatigue.dynamics.layout import (
-    B_AXMODE, B_BITON, B_EXT, B_FREEZE, B_RIG, C_VGROW, B_LMIN, B_LNOM, B_LSPLIT, B_TOPAUTO_A, B_TOPAUTO_T,
+    B_AXMODE, B_BITON, B_EXT, B_FREEZE, B_GROWTRAP, B_RIG, C_VGROW, B_LMIN, B_LNOM, B_LSPLIT, B_TOPAUTO_A, B_TOPAUTO_T,
     B_TOPLAT, B_TOPMODE, B_ZB, B_ZJ, C_GUARD, C_MDROCK, C_NACT, C_NMERGE, C_NSPLIT, C_ROPNOW,
     C_WIN, CS_ONT, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, MAX_CONTACT_POINTS, S_CA, S_CC,
     S_CL, S_CRA, S_CRL, S_H, S_IA, S_IT, S_M, S_RB, S_RC, S_W, T_CAPL, T_CLPL, T_CRAPL, T_CRLPL,
@@ -449,10 +450,10 @@ def grow_top(n, t1, s, p, wk):
     if dL == 0.0:
         return n
     top = n - 1
-    rig = bp[B_RIG] == 1.0 and top >= 1
-    t_prev = wk.loads[top - 1, 0] if rig else 0.0
+    trap = (bp[B_RIG] == 1.0 or bp[B_GROWTRAP] == 1.0) and top >= 1
+    t_prev = wk.loads[top - 1, 0] if trap else 0.0
     e_before = tail_energy(top, t1, s, p, wk)
-    if rig:
+    if trap:
         # growth as a prescribed velocity: the feed works against the axial force of the
         # joint below the top with the trapezoid of that force over the step (its value at
         # the last force evaluation and at the end of the drift), as the integrator's

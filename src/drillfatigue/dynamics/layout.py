@@ -97,7 +97,8 @@ B_CONPICK = 54   # connection pick-up distance (m)
 B_CONSTAND = 55  # stand length (m)
 B_KROCK = 56     # rock contact stiffness (N/m)
 B_CROCK = 57     # rock contact damping (N s/m)
-N_BP = 58
+B_GROWTRAP = 58  # 1: growth work booked with the force trapezoid (solver.growth_work_trapezoid)
+N_BP = 59
 
 # topp -- per-length properties of the extensible top segment (index n-1) and
 # section of segment n-2, to rebuild the top rows as the top grows

@@ -411,6 +411,7 @@ def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
     bp[L.B_ZB] = zb
     bp[L.B_ZJ] = sv.joint_damping_ratio
     bp[L.B_MD0] = op.bit_md_m
+    bp[L.B_GROWTRAP] = 1.0 if sv.growth_work_trapezoid or config.rig is not None else 0.0
     topp = np.zeros(L.N_TOPP)
     t_ = n - 1
     topp[L.T_MPL] = segs.mass_per_length_kg_per_m[t_]
@@ -978,10 +979,14 @@ def max_segments(config: CaseConfig, n0: int, lnom: float, omega_max: float,
     op = config.operation
     if op.bit_on_bottom:
         rate = op.rop_m_per_s
-        if config.bit.model == "yigit_christoforou":
-            b = config.bit
+        b = config.bit
+        if b.model == "yigit_christoforou":
             rate = max(rate, b.rop_c1_m_per_N_sqrt_s * abs(weight_N) * math.sqrt(omega_max)
                        + max(b.rop_c2_m_per_s, 0.0))
+        elif b.model == "detournay":
+            # the depth of cut with the whole buoyed weight on the bit
+            rate = max(rate, abs(weight_N) / (b.detournay_zeta * b.detournay_eps_Pa
+                                              * b.bit_radius_m) * omega_max / (2.0 * math.pi))
     else:
         rate = max(op.trip_speed_m_per_s, 0.0)
     extra = int(math.ceil(rate * op.duration_s / max(lnom, 1e-6))) + 2 if rate > 0 else 0

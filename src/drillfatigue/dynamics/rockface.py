@@ -42,10 +42,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from drillfatigue.dynamics.bitrock import bit_response, pack_bit_params
+from drillfatigue.dynamics.bitrock import bit_response, detournay_law, pack_bit_params
 
 if TYPE_CHECKING:
     from drillfatigue.config.bit import BitConfig
+
+#: bit laws whose ROP follows from the WOB (the rig's bit cuts what the weight lets it)
+ROP_FROM_WOB_MODELS = ("yigit_christoforou", "detournay")
 
 #: Detournay parameter vector indices
 DP_A = 0  # bit radius, m
@@ -122,22 +125,8 @@ def detournay_response(p, wob_N, omega_rad_s, out):
     int
         0.
     """
-    out[0] = 0.0
-    out[1] = 0.0
-    out[2] = 0.0
-    if wob_N <= 0.0:
-        return 0
-    a = p[DP_A]
-    wf_max = p[DP_SIGMA] * a * p[DP_L]
-    wf = wob_N if wob_N < wf_max else wf_max
-    tf = 0.5 * p[DP_MUGAMMA] * a * wf
-    if omega_rad_s <= 0.0:
-        out[0] = -tf if omega_rad_s < 0.0 else 0.0
-        return 0
-    d = (wob_N - wf) / (p[DP_ZETA] * p[DP_EPS] * a)
-    out[0] = 0.5 * p[DP_EPS] * a * a * d + tf
-    out[1] = d * omega_rad_s / (2.0 * math.pi)
-    out[2] = d
+    detournay_law(p[DP_A], p[DP_EPS], p[DP_ZETA], p[DP_SIGMA], p[DP_L], p[DP_MUGAMMA], wob_N,
+                  omega_rad_s, out)
     return 0
 
 
@@ -172,12 +161,13 @@ def rop_tob_from_wob(bit: BitConfig, wob_N: float | np.ndarray, rpm: float | np.
     The bit cuts what the weight lets it: with ``model = yigit_christoforou``
     this is ``ROP = c1 WOB sqrt(Omega) + c2`` above the Sarker thresholds
     (:mod:`drillfatigue.dynamics.bitrock`), 0 below them and off bottom; with
-    ``prescribed_rop``/``given_tob`` the rate is not a function of WOB and the
-    call is refused.
+    ``detournay`` the depth of cut of the Detournay-Defourny law times the
+    revolutions per second; with ``prescribed_rop``/``given_tob`` the rate is
+    not a function of WOB and the call is refused.
     """
-    if bit.model != "yigit_christoforou":
+    if bit.model not in ROP_FROM_WOB_MODELS:
         raise ValueError(f"bit.model {bit.model} prescribes the ROP; the ROP from WOB needs "
-                         "bit.model yigit_christoforou")
+                         f"bit.model {' or '.join(ROP_FROM_WOB_MODELS)}")
     mid, p = pack_bit_params(bit, 0.0)
     w, r = np.broadcast_arrays(np.asarray(wob_N, float), np.asarray(rpm, float))
     rop = np.empty(w.shape)

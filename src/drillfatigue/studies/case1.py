@@ -12,7 +12,10 @@ choices: 8 1/2 in horizontal hole along north, 5 in drill-pipe body without tool
 joints, r_p = 63.5 mm, R_h = 107.95 mm, so rolling without slip is
 Omega_w = -r_p/(R_h - r_p) omega = -1.43 omega; free top, bit off bottom,
 constant torque applied at once), with this study's friction model and level,
-torque and duration. Wall times are measured after a short warm-up run, so
+torque and duration. The study has no rig section on purpose: nothing is drilled
+(bit off bottom, no ROP), and the paper's free ends and torque drive are the
+boundary conditions a block and a top-drive speed controller would replace
+(docs/rig.md#the-stages-and-the-rig-boundaries). Wall times are measured after a short warm-up run, so
 they exclude numba compilation.
 
 Whirl analysis from ``kinematics.parquet``: the orbit angle of each segment

@@ -104,6 +104,18 @@ def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None
         extra: dict[str, Any] = rig_drilling_sections(
             wob_set_N=cfg.wob_set_N, measurement=cfg.autodriller_measurement,
             initial_travel_m=cfg.block_initial_travel_m, lobe_amplitude_m=cfg.lobe_amplitude_m)
+    elif cfg.boundaries == "rig_rop":
+        # the rig's block lowers at the ROP set-point (block_mode rop, the sweep's rig mode);
+        # the string starts with its neutral point at the top of the collars and the bit
+        # cuts what the bit law lets it
+        operation = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
+                     "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",
+                     "bit_on_bottom": True}
+        extra = {
+            "bit": {"model": "yigit_christoforou"},
+            "rig": {"block_mode": "rop", "rop_set_m_per_s": cfg.rop_m_per_s,
+                    "block": {"initial_travel_m": cfg.block_initial_travel_m},
+                    "rock": {"lobe_count": 3, "lobe_amplitude_m": cfg.lobe_amplitude_m}}}
     else:
         operation = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
                      "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",
@@ -160,6 +172,7 @@ def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, p
     mean = float(rpm.mean())
     sev = float((rpm.max() - rpm.min()) / mean) if mean > 0 else math.inf
     out["mean_rop_m_per_h"] = out["mean_rop_m_per_s"] * 3600.0
+    out["block_travel_range_m"] = out["block_max_m"] - out["block_min_m"]
     out["bit_rpm_mean"] = mean
     out["stick_slip_severity"] = sev
     out["stick_slip_class"] = ("stick_slip" if rpm.min() < STUCK_FRACTION * mean else

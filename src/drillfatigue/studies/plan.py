@@ -19,7 +19,7 @@ shared end point) and the drilling window they are compared on::
 Surrogate prediction (fast): for each candidate, the string is placed at
 ``surrogate_bit_positions`` bit depths over the window; every joint of the
 string x location (body, connection) at each depth is one query row whose
-features (``operation.*``, ``friction.*``, ``md_m``, ``s_from_bit_m``, the
+features (``operation.*``, ``friction.*``, ``bit.*``, ``rig.*``, ``md_m``, ``s_from_bit_m``, the
 hole-geometry columns of :mod:`drillfatigue.well.features`, component type,
 location) are taken from the same
 simulator case the confirmation would run. A component's damage over the
@@ -29,6 +29,11 @@ repetitions of the window, with the interval from summing the rows' interval
 bounds the same way (each bound is a calibrated per-row bound; the summed
 bound is conservative, not a calibrated joint interval). Out-of-domain rows
 are counted and reported.
+
+The window drills with the rig boundaries in ``block_mode: rop`` by default
+(``boundaries: rig_rop``, the sweep's mode): the block lowers at the window's
+``rop_m_per_s``, which the query rows carry as ``operation.rop_m_per_s``, the
+name the sweep varies.
 
 Simulator confirmation (slow, top-k by the surrogate): the case-2 machinery
 (:mod:`drillfatigue.studies.case2`) on the candidate's profile, all joints
@@ -69,7 +74,7 @@ PLAN_KIND = "plan"
 
 #: Tolerance on the shared end point, m.
 END_POINT_TOL_M = 1.0
-INPUT_SECTIONS = ("well", "operation", "friction", "bit")
+INPUT_SECTIONS = ("well", "operation", "friction", "bit", "rig")
 
 
 class CandidateFile(StrictModel):
@@ -77,7 +82,7 @@ class CandidateFile(StrictModel):
 
     family: FamilySpec = Field(default_factory=FamilySpec)
     window: Case2Config = Field(default_factory=lambda: Case2Config(
-        n_samples=4, sample_s=4.0, boundaries="prescribed_rop"))
+        n_samples=4, sample_s=4.0, boundaries="rig_rop"))
     surrogate_bit_positions: int = Field(17, ge=2, le=1000)
     fatigue: FatigueConfig = Field(default_factory=lambda: FatigueConfig(plots=False),
                                    description="fatigue settings of the confirmation runs")
@@ -142,6 +147,11 @@ def _flat_inputs(case: dict[str, Any]) -> dict[str, Any]:
         for key, value in (full.get(section) or {}).items():
             if isinstance(value, bool | int | float | str):
                 row[f"{section}.{key}"] = value
+    rig = full.get("rig") or {}
+    if rig.get("block_mode") == "rop":
+        # the sweep varies the block's ROP set-point under the name operation.rop_m_per_s
+        # (the rig section refuses that operation field, so the case carries it in the rig)
+        row["operation.rop_m_per_s"] = rig["rop_set_m_per_s"]
     return row
 
 

@@ -116,6 +116,7 @@ def _case2_section(d: Path, out: OutputFolder) -> list[str]:
     lines.append(f"Order (longest life first): ours {' > '.join(s['order_ours'])}; API RP7G "
                  f"{' > '.join(s['order_api_rp7g'])}; paper {' > '.join(s['order_paper'])}. "
                  f"Agrees with the paper: {_fmt(s['order_agrees'])}.\n")
+    lines += _case2_drilling_lines(s)
     agg = diag.groupby("profile").agg(
         dls_mean=("local_dls_deg_per_30m", "mean"),
         in_build=("local_dls_deg_per_30m", lambda v: float((v > 0.5).mean())),
@@ -198,6 +199,38 @@ def _case3_why(r: dict[str, Any]) -> str:
     if ratio is not None and math.isfinite(ratio) and (ratio > 10.0 or ratio < 0.1):
         text += " **More than a factor of 10 from the paper.**"
     return text
+def _case2_drilling_lines(s: dict[str, Any]) -> list[str]:
+    """What the rig did in each profile's window (case 2's ``drilling`` metrics)."""
+    rows = s.get("drilling") or []
+    if not rows:
+        return []
+    dr = pd.DataFrame(rows)
+    if "block_travel_range_m" not in dr:
+        dr["block_travel_range_m"] = dr["block_max_m"] - dr["block_min_m"]
+    num = ["on_bottom_fraction", "mean_wob_N", "wob_set_N", "wob_error_rel", "mean_rop_m_per_h",
+           "mean_surface_torque_Nm", "block_travel_range_m", "stick_slip_severity"]
+    agg = dr.groupby("profile")[num].mean().reset_index()
+    for col in ("whirl_class", "bounce_class", "stick_slip_class"):
+        agg[col] = dr.groupby("profile")[col].agg(
+            lambda v: ", ".join(sorted({str(x) for x in v}))).to_numpy()
+    agg["wob_error_pct"] = 100.0 * agg["wob_error_rel"]
+    agg["mean_wob_kN"] = agg["mean_wob_N"] / 1e3
+    agg["wob_set_kN"] = agg["wob_set_N"] / 1e3
+    agg["torque_kNm"] = agg["mean_surface_torque_Nm"] / 1e3
+    skip = float(dr["metrics_from_s"].min())
+    lines = [f"Drilling at the rig (`boundaries: {s.get('boundaries', 'rig')}`: the autodriller "
+             "holds the WOB set-point, the bit law gives the ROP; docs/rig.md), per profile "
+             f"from {skip:g} s on (after the start-up), averaged over the samples:\n"]
+    lines.append(_table(agg, {
+        "profile": "profile", "on_bottom_fraction": "on bottom, fraction of time",
+        "mean_wob_kN": "mean WOB, kN", "wob_set_kN": "WOB set-point, kN",
+        "wob_error_pct": "WOB error, %", "mean_rop_m_per_h": "mean ROP, m/h",
+        "torque_kNm": "mean surface torque, kN·m",
+        "block_travel_range_m": "block travel range, m", "whirl_class": "whirl",
+        "bounce_class": "bit bounce", "stick_slip_class": "stick-slip",
+        "stick_slip_severity": "stick-slip severity"}))
+    lines.append("")
+    return lines
 
 
 def _case3_section(d: Path, out: OutputFolder) -> list[str]:
