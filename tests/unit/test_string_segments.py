@@ -85,3 +85,33 @@ def test_operation_rejects_inconsistent_top_and_bit() -> None:
     with pytest.raises(InputError, match="tripping"):
         case_from_dict({"operation": {"bit_on_bottom": False, "top_axial": "hook_load",
                                       "trip_speed_m_per_s": -0.5}})
+
+
+def test_hole_fit_rule_splits_collars_and_keeps_drill_pipe_joints() -> None:
+    """Reference: chord geometry, L^2 kappa / 8 <= f_seg c (exact arithmetic, no tolerance)."""
+    cfg = StringConfig(preset="paper_bha")
+    kappa = math.radians(8.0) / 30.0
+    n_comp = len(cfg.components)
+    listed = build_segments(cfg, 1200.0)
+    fitted = build_segments(cfg, 1200.0, np.full(n_comp, kappa), np.full(n_comp, 0.10795))
+    c = 0.10795 - 0.5 * 0.17145
+    for ci, comp in enumerate(cfg.components):
+        lengths = fitted.length_m[fitted.component_index == ci]
+        assert lengths.sum() == pytest.approx(comp.length_m, rel=1e-12)
+        if comp.type == "drill_pipe":  # whole joints, as listed
+            np.testing.assert_array_equal(lengths, listed.length_m[listed.component_index == ci])
+        else:
+            assert np.all(lengths ** 2 * kappa / 8.0 <= 0.5 * c * (1.0 + 1e-12))
+            # the fewest equal segments that fit: one fewer would not
+            n = lengths.size
+            if n > comp.n_segments:
+                assert (comp.length_m / (n - 1)) ** 2 * kappa / 8.0 > 0.5 * c
+    # 168 m of collars: sqrt(8 * 0.5 * 0.02223 / 4.654e-3) = 4.37 m -> 39 segments
+    assert int((fitted.component_index == 3).sum()) == 39
+    # a straight hole or the rule switched off: the listed segments, bit for bit
+    straight = build_segments(cfg, 1200.0, np.zeros(n_comp), np.full(n_comp, 0.10795))
+    off = build_segments(cfg.model_copy(update={"segment_fit_fraction": None}), 1200.0,
+                         np.full(n_comp, kappa), np.full(n_comp, 0.10795))
+    for segs in (straight, off):
+        np.testing.assert_array_equal(segs.length_m, listed.length_m)
+        np.testing.assert_array_equal(segs.mass_kg, listed.mass_kg)

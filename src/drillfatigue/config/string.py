@@ -216,6 +216,14 @@ class StringConfig(StrictModel):
     torsional inertia stay the steel's; default off (it changes every dynamic
     result). ``added_mass_coefficient``: C_a instead of the confined
     potential-flow value (R^2 + r^2)/(R^2 - r^2).
+    ``segment_fit_fraction``: the share f_seg of the radial clearance c by
+    which a rigid segment may depart from the hole's arc, L^2 kappa_max / 8
+    <= f_seg c (:func:`drillfatigue.string.segments.hole_fit_length_m`); the
+    simulator splits every component that is not cut at its joints (collars,
+    stabilizers, subs, jars, MWD, bit; not drill pipe or heavy-weight pipe,
+    whose tool joints are the supports) into more equal segments where the
+    well's curvature needs it. Default 0.5 (docs/bending.md); null keeps
+    ``n_segments``.
     """
 
     preset: Literal["bare_collars", "paper_bha"] | None = Field(
@@ -224,6 +232,11 @@ class StringConfig(StrictModel):
     shear_coefficient: float = Field(0.5, gt=0.0, le=1.0)
     lateral_mud_mass: bool = False
     added_mass_coefficient: float | None = Field(None, ge=0.0, le=50.0)
+    segment_fit_fraction: float | None = Field(
+        0.5, gt=0.0, le=2.0, description="hole-fit rule of the segmentation: a rigid segment of "
+        "a component that is not cut at its joints is at most sqrt(8 f c / kappa_max) long "
+        "(c its radial clearance, kappa_max the largest curvature where it can be); null: "
+        "n_segments as given")
 
     @model_validator(mode="before")
     @classmethod

@@ -439,7 +439,11 @@ def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
     bp[L.B_TRAMP] = op.rpm_ramp_s
     bp[L.B_TOPLAT] = 1.0 if op.top_lateral == "held" else 0.0
     comp_top = config.string.components[-1]
-    lnom = comp_top.length_m / comp_top.n_segments
+    n_top = int((segs.component_index == len(config.string.components) - 1).sum())
+    # the nominal length of the top component's segments (more than n_segments when
+    # the hole-fit rule split it; a jointed component keeps its historical value)
+    lnom = comp_top.length_m / (n_top if n_top > comp_top.n_segments
+                                and comp_top.joints_per_segment is None else comp_top.n_segments)
     bp[L.B_LNOM] = lnom
     bp[L.B_LSPLIT] = max(2.0 * lnom, top_len + lnom)
     bp[L.B_LMIN] = min(0.5 * lnom, 0.5 * top_len)
@@ -665,6 +669,48 @@ def _max_curvature(path: WellPath) -> float:
     return float((np.arccos(cosang[ok]) / dmd[ok]).max())
 
 
+def component_hole_fit(config: CaseConfig, path: WellPath) -> tuple[np.ndarray, np.ndarray]:
+    """Largest curvature (rad/m) and smallest hole radius (m) over the MD range each
+    string component can occupy during the run, for the hole-fit rule of
+    :func:`drillfatigue.string.build_segments`.
+
+    A component sits at ``bit MD - s`` for s between its ends' distances from the
+    bit (the top component reaches up to ``operation.top_md_m``); the bit moves
+    from ``bit_md_m`` by the prescribed ROP on bottom and the trip speed over
+    ``duration_s``. Curvature of a path interval: angle between its node tangents
+    / its MD length. Without a wall (contact off) both are zero: no fitting.
+    """
+    comps = config.string.components
+    n_comp = len(comps)
+    kap = np.zeros(n_comp)
+    rad = np.zeros(n_comp)
+    wall = path.wall
+    if wall.shape[0] == 0 or path.node_tan.shape[0] < 2:
+        return kap, rad
+    op = config.operation
+    t = path.node_tan
+    md = path.node_md_m
+    dmd = np.diff(md)
+    cosang = np.clip((t[1:] * t[:-1]).sum(axis=1), -1.0, 1.0)
+    k_int = np.where(dmd > 1e-9, np.arccos(cosang) / np.maximum(dmd, 1e-9), 0.0)
+    travel = op.duration_s * ((op.rop_m_per_s if op.bit_on_bottom else 0.0)
+                              + op.trip_speed_m_per_s)
+    bit_lo, bit_hi = sorted((op.bit_md_m, op.bit_md_m + travel))
+    s0 = 0.0
+    for ci, comp in enumerate(comps):
+        s1 = s0 + comp.length_m
+        md_top = op.top_md_m if ci == n_comp - 1 else bit_lo - s1
+        md_bot = bit_hi - s0
+        sel = (md[1:] >= md_top) & (md[:-1] <= md_bot)
+        if not sel.any():
+            sel = np.zeros(dmd.size, dtype=bool)
+            sel[int(np.clip(np.searchsorted(md, md_bot) - 1, 0, dmd.size - 1))] = True
+        kap[ci] = float(k_int[sel].max())
+        rad[ci] = float(wall[sel[:wall.shape[0]], L.W_RAD].min())
+        s0 = s1
+    return kap, rad
+
+
 def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
                         path: WellPath) -> tuple[np.ndarray, np.ndarray]:
     """Contact points of the segments below the top, from the string's components.
@@ -758,7 +804,8 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     (Model, State)
     """
     op = config.operation
-    segs = build_segments(config.string, op.mud_density_kg_per_m3)
+    segs = build_segments(config.string, op.mud_density_kg_per_m3,
+                          *component_hole_fit(config, path))
     n = segs.n_segments
     place = place_segments(config, segs, path)
     seg = pack_segments(config, segs, place.lengths)

@@ -10,6 +10,21 @@ practice). Inertia of a tube segment (docs/model.md#bodies):
 I_axial = m (r_o^2 + r_i^2) / 2, I_transverse = m (3 (r_o^2 + r_i^2) + L^2) / 12.
 Buoyancy uses the displaced steel volume m / rho_steel (open-ended pipe, mud
 inside and out: the buoyed weight is the effective weight).
+
+Hole-fit rule (docs/bending.md). A straight rigid segment of length L in a
+hole of curvature kappa departs from the arc by L^2 kappa / 8 at its middle.
+When that approaches the diametral clearance 2c the segment cannot lie along
+one wall: its ends touch one wall and its middle the other, and the supports
+of the span bending sit on opposite walls. :func:`build_segments`, given the
+largest curvature ``kappa_max`` each component can meet and the hole radius
+there, cuts every component that is not cut at its joints into equal
+segments no longer than
+
+    L_fit = sqrt(8 f_seg c / kappa_max)
+
+(``string.segment_fit_fraction`` = f_seg, c = hole radius - body radius),
+keeping ``n_segments`` when that is already enough. Drill pipe and
+heavy-weight pipe are left whole: their tool joints are the supports.
 """
 
 from __future__ import annotations
@@ -19,7 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drillfatigue.config.string import StringConfig
+from drillfatigue.config.string import JOINTED_TYPES, ComponentConfig, StringConfig
+from drillfatigue.errors import InputError
 
 #: Component type names; ``Segments.component_type_code`` indexes this tuple.
 COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub",
@@ -85,7 +101,50 @@ class Segments:
         return float(self.length_m.sum())
 
 
-def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Segments:
+def hole_fit_length_m(clearance_m: float, curvature_rad_per_m: float,
+                      fit_fraction: float) -> float:
+    """Longest rigid segment that follows a hole of curvature kappa: sqrt(8 f c / kappa), m.
+
+    ``inf`` in a straight hole (kappa = 0).
+    """
+    if not (clearance_m > 0.0):
+        raise InputError("clearance_m", f"must be > 0, got {clearance_m!r}",
+                         "hole radius > body radius")
+    if not (curvature_rad_per_m >= 0.0 and math.isfinite(curvature_rad_per_m)):
+        raise InputError("curvature_rad_per_m", f"must be finite and >= 0, got "
+                         f"{curvature_rad_per_m!r}", ">= 0")
+    if curvature_rad_per_m == 0.0:
+        return math.inf
+    return math.sqrt(8.0 * fit_fraction * clearance_m / curvature_rad_per_m)
+
+
+def fitted_segment_lengths_m(comp: ComponentConfig, fit_fraction: float | None,
+                             curvature_rad_per_m: float, hole_radius_m: float) -> list[float]:
+    """Segment lengths of one component under the hole-fit rule (module docstring), m.
+
+    Components cut at their joints (``joints_per_segment``) and drill pipe or
+    heavy-weight pipe keep :attr:`ComponentConfig.segment_lengths_m`; so does
+    every component when ``fit_fraction`` is None.
+    """
+    base = comp.segment_lengths_m
+    if fit_fraction is None or comp.type in JOINTED_TYPES or comp.joints_per_segment is not None \
+            or curvature_rad_per_m == 0.0:
+        return base
+    clearance = hole_radius_m - 0.5 * comp.od_m
+    if not (clearance > 0.0):
+        raise InputError("string.components.od_m",
+                         f"body OD {comp.od_m} does not fit the hole {2.0 * hole_radius_m}",
+                         f"< {2.0 * hole_radius_m}")
+    l_fit = hole_fit_length_m(clearance, curvature_rad_per_m, fit_fraction)
+    n = max(comp.n_segments, math.ceil(comp.length_m / l_fit - 1e-9))
+    if n == comp.n_segments:
+        return base
+    return [comp.length_m / n] * n
+
+
+def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float,
+                   curvature_rad_per_m: np.ndarray | None = None,
+                   hole_radius_m: np.ndarray | None = None) -> Segments:
     """Cut the string into rigid segments.
 
     Parameters
@@ -94,12 +153,26 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Se
         Components from the bit up.
     mud_density_kg_per_m3 : float
         Mud density, for the buoyed weight.
+    curvature_rad_per_m, hole_radius_m : ndarray, shape (n_components,), optional
+        Largest hole curvature (rad/m) and smallest hole radius (m) over the MD
+        range each component can occupy. Given together, they apply the
+        hole-fit rule with ``string.segment_fit_fraction`` (module
+        docstring); without them each component keeps its ``n_segments``
+        (per-length properties, all a soft-string caller needs, are the same).
 
     Returns
     -------
     Segments
         Per-segment and per-joint arrays, index 0 at the bit end.
     """
+    n_comp = len(string_cfg.components)
+    fit = curvature_rad_per_m is not None and hole_radius_m is not None
+    if fit:
+        kap = np.asarray(curvature_rad_per_m, dtype=np.float64)
+        rad = np.asarray(hole_radius_m, dtype=np.float64)
+        if kap.shape != (n_comp,) or rad.shape != (n_comp,):
+            raise InputError("curvature_rad_per_m", f"needs one value per component ({n_comp})",
+                             "arrays of shape (n_components,)")
     cols: dict[str, list[float]] = {k: [] for k in (
         "length_m", "od_m", "id_m", "mass_kg", "volume_m3", "contact_radius_m", "ia", "it",
         "ea", "ei", "gj", "kga", "mpl", "comp", "code", "conn_od", "conn_id")}
@@ -115,7 +188,10 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Se
         if mpl is None:
             mpl = mat.density_kg_per_m3 * ((1.0 - f) * a_body + f * a_conn)
         i_area = 0.25 * math.pi * (ro ** 4 - ri ** 4)
-        for length in comp.segment_lengths_m:
+        lengths = (fitted_segment_lengths_m(comp, string_cfg.segment_fit_fraction,
+                                            float(kap[ci]), float(rad[ci]))
+                   if fit else comp.segment_lengths_m)
+        for length in lengths:
             m = mpl * length
             cols["length_m"].append(length)
             cols["od_m"].append(comp.od_m)
