@@ -38,6 +38,7 @@ from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
+from drillfatigue.string.segments import HoleFit
 from drillfatigue.string.added_mass import lateral_mass_kg
 from drillfatigue.string.contacts import contact_points
 from drillfatigue.well.kernels import path_point
@@ -669,24 +670,18 @@ def _max_curvature(path: WellPath) -> float:
     return float((np.arccos(cosang[ok]) / dmd[ok]).max())
 
 
-def component_hole_fit(config: CaseConfig, path: WellPath) -> tuple[np.ndarray, np.ndarray]:
-    """Largest curvature (rad/m) and smallest hole radius (m) over the MD range each
-    string component can occupy during the run, for the hole-fit rule of
-    :func:`drillfatigue.string.build_segments`.
+def hole_fit(config: CaseConfig, path: WellPath) -> HoleFit | None:
+    """The hole the string can meet during the run, for the hole-fit rule of
+    :func:`drillfatigue.string.build_segments` (None without a wall: contact off).
 
-    A component sits at ``bit MD - s`` for s between its ends' distances from the
-    bit (the top component reaches up to ``operation.top_md_m``); the bit moves
-    from ``bit_md_m`` by the prescribed ROP on bottom and the trip speed over
-    ``duration_s``. Curvature of a path interval: angle between its node tangents
-    / its MD length. Without a wall (contact off) both are zero: no fitting.
+    The bit moves from ``bit_md_m`` by the prescribed ROP on bottom and the trip
+    speed over ``duration_s``; the top component reaches ``operation.top_md_m``.
+    Curvature of a path interval: the angle between its node tangents / its MD
+    length.
     """
-    comps = config.string.components
-    n_comp = len(comps)
-    kap = np.zeros(n_comp)
-    rad = np.zeros(n_comp)
     wall = path.wall
     if wall.shape[0] == 0 or path.node_tan.shape[0] < 2:
-        return kap, rad
+        return None
     op = config.operation
     t = path.node_tan
     md = path.node_md_m
@@ -695,20 +690,10 @@ def component_hole_fit(config: CaseConfig, path: WellPath) -> tuple[np.ndarray, 
     k_int = np.where(dmd > 1e-9, np.arccos(cosang) / np.maximum(dmd, 1e-9), 0.0)
     travel = op.duration_s * ((op.rop_m_per_s if op.bit_on_bottom else 0.0)
                               + op.trip_speed_m_per_s)
-    bit_lo, bit_hi = sorted((op.bit_md_m, op.bit_md_m + travel))
-    s0 = 0.0
-    for ci, comp in enumerate(comps):
-        s1 = s0 + comp.length_m
-        md_top = op.top_md_m if ci == n_comp - 1 else bit_lo - s1
-        md_bot = bit_hi - s0
-        sel = (md[1:] >= md_top) & (md[:-1] <= md_bot)
-        if not sel.any():
-            sel = np.zeros(dmd.size, dtype=bool)
-            sel[int(np.clip(np.searchsorted(md, md_bot) - 1, 0, dmd.size - 1))] = True
-        kap[ci] = float(k_int[sel].max())
-        rad[ci] = float(wall[sel[:wall.shape[0]], L.W_RAD].min())
-        s0 = s1
-    return kap, rad
+    lo, hi = sorted((op.bit_md_m, op.bit_md_m + travel))
+    return HoleFit(md_m=md, curvature_rad_per_m=k_int,
+                   radius_m=np.ascontiguousarray(wall[:dmd.size, L.W_RAD]),
+                   bit_md_lo_m=lo, bit_md_hi_m=hi, top_md_m=op.top_md_m)
 
 
 def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
@@ -804,8 +789,7 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     (Model, State)
     """
     op = config.operation
-    segs = build_segments(config.string, op.mud_density_kg_per_m3,
-                          *component_hole_fit(config, path))
+    segs = build_segments(config.string, op.mud_density_kg_per_m3, hole_fit(config, path))
     n = segs.n_segments
     place = place_segments(config, segs, path)
     seg = pack_segments(config, segs, place.lengths)

@@ -24,7 +24,11 @@ segments no longer than
 
 (``string.segment_fit_fraction`` = f_seg, c = hole radius - body radius),
 keeping ``n_segments`` when that is already enough. Drill pipe and
-heavy-weight pipe are left whole: their tool joints are the supports.
+heavy-weight pipe are only ever cut at their joints (their tool joints are
+the supports): when a listed segment is longer than ``L_fit`` for the hole it
+can meet, the component is re-cut into whole joints, each segment taking as
+many as fit the curvature where it can be (at most the listed length, at
+least one joint), so pipe in the vertical keeps long segments.
 """
 
 from __future__ import annotations
@@ -118,33 +122,110 @@ def hole_fit_length_m(clearance_m: float, curvature_rad_per_m: float,
     return math.sqrt(8.0 * fit_fraction * clearance_m / curvature_rad_per_m)
 
 
-def fitted_segment_lengths_m(comp: ComponentConfig, fit_fraction: float | None,
-                             curvature_rad_per_m: float, hole_radius_m: float) -> list[float]:
-    """Segment lengths of one component under the hole-fit rule (module docstring), m.
+@dataclass(frozen=True)
+class HoleFit:
+    """The hole a string can meet during a run, for the hole-fit rule (module docstring).
 
-    Components cut at their joints (``joints_per_segment``) and drill pipe or
-    heavy-weight pipe keep :attr:`ComponentConfig.segment_lengths_m`; so does
-    every component when ``fit_fraction`` is None.
+    A string point ``s`` m from the bit sits between MD ``bit_md_lo_m - s`` and
+    ``bit_md_hi_m - s`` (the bit's extreme positions over the run); the top of
+    the top component reaches up to ``top_md_m``. ``md_m`` (P,): path stations;
+    per interval between them (P - 1,): ``curvature_rad_per_m`` and
+    ``radius_m`` (hole radius).
     """
-    base = comp.segment_lengths_m
-    if fit_fraction is None or comp.type in JOINTED_TYPES or comp.joints_per_segment is not None \
-            or curvature_rad_per_m == 0.0:
-        return base
+
+    md_m: np.ndarray
+    curvature_rad_per_m: np.ndarray
+    radius_m: np.ndarray
+    bit_md_lo_m: float
+    bit_md_hi_m: float
+    top_md_m: float
+
+    def over(self, s_lo_m: float, s_hi_m: float, to_top: bool = False) -> tuple[float, float]:
+        """Largest curvature (rad/m) and smallest hole radius (m) the string stretch
+        ``s_lo_m .. s_hi_m`` (from the bit) can meet; ``to_top``: it reaches the top MD."""
+        md = self.md_m
+        md_top = self.top_md_m if to_top else self.bit_md_lo_m - s_hi_m
+        md_bot = self.bit_md_hi_m - s_lo_m
+        sel = (md[1:] >= md_top) & (md[:-1] <= md_bot)
+        if not sel.any():  # beyond the path: its nearest interval
+            sel = np.zeros(md.size - 1, dtype=bool)
+            sel[int(np.clip(np.searchsorted(md, md_bot) - 1, 0, md.size - 2))] = True
+        return float(self.curvature_rad_per_m[sel].max()), float(self.radius_m[sel].min())
+
+
+def _clearance(comp: ComponentConfig, hole_radius_m: float) -> float:
     clearance = hole_radius_m - 0.5 * comp.od_m
     if not (clearance > 0.0):
         raise InputError("string.components.od_m",
                          f"body OD {comp.od_m} does not fit the hole {2.0 * hole_radius_m}",
                          f"< {2.0 * hole_radius_m}")
-    l_fit = hole_fit_length_m(clearance, curvature_rad_per_m, fit_fraction)
-    n = max(comp.n_segments, math.ceil(comp.length_m / l_fit - 1e-9))
-    if n == comp.n_segments:
+    return clearance
+
+
+def _fits(length_m: float, comp: ComponentConfig, fit_fraction: float, hole: HoleFit,
+          s_lo_m: float, s_hi_m: float, to_top: bool = False) -> bool:
+    kappa, radius = hole.over(s_lo_m, s_hi_m, to_top)
+    return length_m * length_m * kappa / 8.0 <= fit_fraction * _clearance(comp, radius)
+
+
+def fitted_segment_lengths_m(comp: ComponentConfig, fit_fraction: float | None,
+                             hole: HoleFit | None, s0_m: float = 0.0,
+                             is_top: bool = False) -> list[float]:
+    """Segment lengths of one component under the hole-fit rule (module docstring), m.
+
+    ``s0_m``: distance bit -> the component's lower end; ``is_top``: the top
+    component (it reaches the top MD). Collars and the other BHA components:
+    the fewest equal segments (at least ``n_segments``) no longer than
+    ``L_fit`` for the largest curvature the component can meet. Drill pipe and
+    heavy-weight pipe keep whole joints: when a listed segment is longer than
+    ``L_fit`` where it can be, the component is re-cut at its joints from the
+    bit up, each segment taking as many whole joints as fit the hole it can
+    meet (at most the listed length, never fewer than one: a single joint
+    longer than ``L_fit`` stays whole, its tool joints are its supports,
+    docs/bending.md). Every component keeps
+    :attr:`ComponentConfig.segment_lengths_m` when ``fit_fraction`` or ``hole``
+    is None.
+    """
+    base = comp.segment_lengths_m
+    if fit_fraction is None or hole is None:
         return base
-    return [comp.length_m / n] * n
+    if comp.type not in JOINTED_TYPES:
+        kappa, radius = hole.over(s0_m, s0_m + comp.length_m, is_top)
+        if kappa == 0.0:
+            return base
+        l_fit = hole_fit_length_m(_clearance(comp, radius), kappa, fit_fraction)
+        n = max(comp.n_segments, math.ceil(comp.length_m / l_fit - 1e-9))
+        return base if n == comp.n_segments else [comp.length_m / n] * n
+    z = s0_m
+    ok = True
+    for length in base:
+        ok = ok and _fits(length, comp, fit_fraction, hole, z, z + length)
+        z += length
+    if ok:
+        return base
+    jl = comp.joint_length_m
+    k_cap = comp.joints_per_segment or max(1, int(max(base) / jl + 1e-9))
+    n_full = comp.n_joints
+    out: list[float] = []
+    i = 0
+    while i < n_full:
+        k = min(k_cap, n_full - i)
+        lo = s0_m + i * jl
+        while k > 1 and not _fits(k * jl, comp, fit_fraction, hole, lo, lo + k * jl):
+            k -= 1
+        out.append(k * jl)
+        i += k
+    rest = comp.length_m - n_full * jl
+    if rest > 1e-9 * comp.length_m:
+        if out and rest < 0.5 * jl:
+            out[-1] += rest  # a short pup joint rides with the last whole joints
+        else:
+            out.append(rest)
+    return out
 
 
 def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float,
-                   curvature_rad_per_m: np.ndarray | None = None,
-                   hole_radius_m: np.ndarray | None = None) -> Segments:
+                   hole: HoleFit | None = None) -> Segments:
     """Cut the string into rigid segments.
 
     Parameters
@@ -153,31 +234,23 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float,
         Components from the bit up.
     mud_density_kg_per_m3 : float
         Mud density, for the buoyed weight.
-    curvature_rad_per_m, hole_radius_m : ndarray, shape (n_components,), optional
-        Largest hole curvature (rad/m) and smallest hole radius (m) over the MD
-        range each component can occupy. Given together, they apply the
-        hole-fit rule with ``string.segment_fit_fraction`` (module
-        docstring); without them each component keeps its ``n_segments``
-        (per-length properties, all a soft-string caller needs, are the same).
+    hole : HoleFit, optional
+        The hole the string can meet during the run: applies the hole-fit rule
+        with ``string.segment_fit_fraction`` (module docstring). Without it
+        each component keeps its listed segments (per-length properties, all a
+        soft-string caller needs, are the same).
 
     Returns
     -------
     Segments
         Per-segment and per-joint arrays, index 0 at the bit end.
     """
-    n_comp = len(string_cfg.components)
-    fit = curvature_rad_per_m is not None and hole_radius_m is not None
-    if fit:
-        kap = np.asarray(curvature_rad_per_m, dtype=np.float64)
-        rad = np.asarray(hole_radius_m, dtype=np.float64)
-        if kap.shape != (n_comp,) or rad.shape != (n_comp,):
-            raise InputError("curvature_rad_per_m", f"needs one value per component ({n_comp})",
-                             "arrays of shape (n_components,)")
     cols: dict[str, list[float]] = {k: [] for k in (
         "length_m", "od_m", "id_m", "mass_kg", "volume_m3", "contact_radius_m", "ia", "it",
         "ea", "ei", "gj", "kga", "mpl", "comp", "code", "conn_od", "conn_id")}
     types: list[str] = []
     kappa = string_cfg.shear_coefficient
+    s0 = 0.0
     for ci, comp in enumerate(string_cfg.components):
         mat = comp.material
         ro, ri = 0.5 * comp.od_m, 0.5 * comp.id_m
@@ -188,9 +261,9 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float,
         if mpl is None:
             mpl = mat.density_kg_per_m3 * ((1.0 - f) * a_body + f * a_conn)
         i_area = 0.25 * math.pi * (ro ** 4 - ri ** 4)
-        lengths = (fitted_segment_lengths_m(comp, string_cfg.segment_fit_fraction,
-                                            float(kap[ci]), float(rad[ci]))
-                   if fit else comp.segment_lengths_m)
+        lengths = fitted_segment_lengths_m(comp, string_cfg.segment_fit_fraction, hole, s0,
+                                           ci == len(string_cfg.components) - 1)
+        s0 += comp.length_m
         for length in lengths:
             m = mpl * length
             cols["length_m"].append(length)
