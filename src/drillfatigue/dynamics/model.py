@@ -702,8 +702,9 @@ def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
 
     :func:`drillfatigue.string.contacts.contact_points` lists them (tool joints
     at the tool-joint radius, stabilizer blades, centre upsets, extra body
-    points spaced by the chord/sag rule for the well's largest curvature and the
-    largest hole radius, chord fraction ``contact.chord_fraction``). Returns ``cp_n`` (n,) and ``cp`` (n, MAX_TABLE_POINTS,
+    points spaced by the chord/sag rule for the largest curvature each segment
+    can meet during the run (:func:`hole_fit`) and the largest hole radius,
+    chord fraction ``contact.chord_fraction``). Returns ``cp_n`` (n,) and ``cp`` (n, MAX_TABLE_POINTS,
     2): [offset from the centre along e3 (> 0 towards the bit), radius], m. The
     top segment's row stays empty (it keeps its end points while it grows).
     """
@@ -714,7 +715,14 @@ def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
     if wall.shape[0] == 0:
         return cp_n, cp
     hole_d = 2.0 * float(wall[:, L.W_RAD].max())
-    pts = contact_points(config.string, segs, hole_d, _max_curvature(path),
+    # each segment's points are spaced for the largest curvature it can meet during
+    # the run (pipe in the vertical needs no chord points)
+    hole = hole_fit(config, path)
+    top = np.cumsum(segs.length_m)
+    kappa = np.array([hole.over(float(a), float(b))[0] if hole is not None
+                      else _max_curvature(path) for a, b in zip(top - segs.length_m, top,
+                                                                strict=True)])
+    pts = contact_points(config.string, segs, hole_d, kappa,
                          chord_fraction=config.contact.chord_fraction)
     for i in range(n - 1):
         s_m, r_m, _ = pts.of_segment(i)
