@@ -40,8 +40,10 @@ def test_run_directory_has_the_contracted_files_and_columns(tmp_path: Path) -> N
     run = tmp_path / "run"
     assert res.status == "complete"
     loads = pq.read_table(run / "loads.parquet")
+    # the span-bending correction is recorded by default (contact.span_bending)
     assert loads.column_names == ["time_s", "joint", "md_m", "axial_N", "shear_x_N", "shear_y_N",
-                                  "bending_x_Nm", "bending_y_Nm", "torque_Nm"]
+                                  "bending_x_Nm", "bending_y_Nm", "torque_Nm",
+                                  "span_bending_x_Nm", "span_bending_y_Nm"]
     n_joints = 7  # 8 segments (the top one stretched to reach the surface)
     assert loads.num_rows == 200 * n_joints
     joints = pq.read_table(run / "joints.parquet").to_pandas()
@@ -63,7 +65,7 @@ def test_run_directory_has_the_contracted_files_and_columns(tmp_path: Path) -> N
     assert summary["energy_balance_error_rel"] < 0.01
     assert not (run / "checkpoint.npz").exists() and not (run / ".parts").exists()
     # the one definition of the format is what the files hold
-    assert tuple(loads.column_names) == rundir.LOADS_COLUMNS
+    assert tuple(loads.column_names) == rundir.LOADS_COLUMNS + rundir.SPAN_COLUMNS
     assert tuple(joints.columns) == rundir.JOINTS_COLUMNS
     assert tuple(ch.column_names) == rundir.CHANNELS_COLUMNS
     assert tuple(kin.column_names) == rundir.KINEMATICS_COLUMNS

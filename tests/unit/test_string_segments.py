@@ -10,6 +10,7 @@ import pytest
 from drillfatigue.config import StringConfig, case_from_dict
 from drillfatigue.errors import InputError
 from drillfatigue.string import COMPONENT_TYPES, build_segments
+from drillfatigue.string.segments import HoleFit
 
 
 def test_default_string_is_the_papers_120_segments() -> None:
@@ -85,3 +86,54 @@ def test_operation_rejects_inconsistent_top_and_bit() -> None:
     with pytest.raises(InputError, match="tripping"):
         case_from_dict({"operation": {"bit_on_bottom": False, "top_axial": "hook_load",
                                       "trip_speed_m_per_s": -0.5}})
+
+
+def _hole(kappa: float, kop_md_m: float = 0.0) -> HoleFit:
+    """An 8 1/2 in hole, vertical to ``kop_md_m``, then curving at ``kappa``; bit at 2000 m."""
+    return HoleFit(md_m=np.array([0.0, kop_md_m, 5000.0]),
+                   curvature_rad_per_m=np.array([0.0, kappa]), radius_m=np.full(2, 0.10795),
+                   bit_md_lo_m=2000.0, bit_md_hi_m=2000.0, top_md_m=0.0)
+
+
+def test_hole_fit_rule_splits_collars_and_keeps_drill_pipe_joints() -> None:
+    """Reference: chord geometry, L^2 kappa / 8 <= f_seg c (exact arithmetic, no tolerance)."""
+    cfg = StringConfig(preset="paper_bha")
+    kappa = math.radians(8.0) / 30.0
+    listed = build_segments(cfg, 1200.0)
+    fitted = build_segments(cfg, 1200.0, _hole(kappa))
+    c = 0.10795 - 0.5 * 0.17145
+    for ci, comp in enumerate(cfg.components):
+        lengths = fitted.length_m[fitted.component_index == ci]
+        assert lengths.sum() == pytest.approx(comp.length_m, rel=1e-12)
+        if comp.type == "drill_pipe":  # whole joints, as listed
+            np.testing.assert_array_equal(lengths, listed.length_m[listed.component_index == ci])
+        else:
+            assert np.all(lengths ** 2 * kappa / 8.0 <= 0.5 * c * (1.0 + 1e-12))
+            # the fewest equal segments that fit: one fewer would not
+            n = lengths.size
+            if n > comp.n_segments:
+                assert (comp.length_m / (n - 1)) ** 2 * kappa / 8.0 > 0.5 * c
+    # 168 m of collars: sqrt(8 * 0.5 * 0.02223 / 4.654e-3) = 4.37 m -> 39 segments
+    assert int((fitted.component_index == 3).sum()) == 39
+    # drill pipe listed in 31.25 m segments (the reduced default string) is re-cut at whole
+    # joints: one 9.144 m joint per segment, since two (18.3 m) do not fit
+    dp = StringConfig(components=[{"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086,
+                                   "length_m": 500.0, "tool_joint_od_m": 0.1683,
+                                   "n_segments": 16}])
+    cut = build_segments(dp, 1200.0, _hole(kappa))
+    assert cut.n_segments == 55  # 54 joints and the 6.2 m pup joint on top
+    np.testing.assert_allclose(cut.length_m[:-1], 9.144, rtol=1e-12)
+    assert cut.length_m[-1] == pytest.approx(500.0 - 54 * 9.144, rel=1e-9)
+    assert cut.length_m.sum() == pytest.approx(500.0, rel=1e-12)
+    # the pipe in the vertical above a kick-off keeps its listed 31.25 m (3 whole joints)
+    part = build_segments(dp, 1200.0, _hole(kappa, kop_md_m=1700.0))
+    in_build = 2000.0 - np.cumsum(part.length_m) > 1700.0 - 1e-9  # top end below the kick-off
+    np.testing.assert_allclose(part.length_m[in_build], 9.144, rtol=1e-12)
+    assert np.all(part.length_m[~in_build][1:-1] == pytest.approx(3 * 9.144, rel=1e-12))
+    # a straight hole or the rule switched off: the listed segments, bit for bit
+    straight = build_segments(cfg, 1200.0, _hole(0.0))
+    off = build_segments(cfg.model_copy(update={"segment_fit_fraction": None}), 1200.0,
+                         _hole(kappa))
+    for segs in (straight, off):
+        np.testing.assert_array_equal(segs.length_m, listed.length_m)
+        np.testing.assert_array_equal(segs.mass_kg, listed.mass_kg)

@@ -18,7 +18,10 @@ from drillfatigue.dynamics.model import advance_model, build_model, straight_pat
 
 def _perturbed(damping: bool):
     cfg = uniform_chain_case(5, 20.0, damping=damping,
-                             extra={"operation": {"mud_density_kg_per_m3": 1100.0}})
+                             extra={"operation": {"mud_density_kg_per_m3": 1100.0},
+                                    # steel-only lateral inertia: the energy channels count
+                                    # the steel's kinetic energy, not the mud moved with it
+                                    "string": {"lateral_mud_mass": False}})
     model, state = build_model(cfg, straight_path(60.0, inclination_deg=30.0))
     # smooth initial velocities (free at the bit, zero at the held top): lateral,
     # axial, spin and tilt, so all joint springs and the gyroscopic term work

@@ -70,7 +70,9 @@ def test_low_friction_climbs_the_wall_and_slides_back() -> None:
     y = kin.y_m.to_numpy()
     assert np.abs(y).max() > 0.001  # it does climb ...
     # static friction angle: 4.4 mm; the spinning drop onto the wall overshoots it
-    # (measured 7.7 mm); a whirling pipe would reach the full clearance
-    assert np.abs(y).max() < 0.25 * clearance
+    # (measured 7.7 mm with the steel's lateral inertia, 13.5 mm with the mud inside
+    # and the confined added mass, string.lateral_mud_mass: 2.6 x the inertia carried
+    # into the wall); a whirling pipe would reach the full clearance (44 mm)
+    assert np.abs(y).max() < 0.4 * clearance
     ev = res.summary["events"]
     assert max(abs(a) for a in ev["orbit_angle_rad"]) < np.pi  # ... and slides back

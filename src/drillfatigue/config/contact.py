@@ -34,13 +34,13 @@ class ContactConfig(StrictModel):
     c_c_N_s_per_m : float or None
         Fixed dash-pot value instead of ``damping_ratio`` (N s/m), >= 0.
     points : str
-        Contact points per segment: ``ends`` (its two end points),
-        ``ends_and_middle`` (plus its centre, for long segments) or
-        ``string`` (the points of the string's components below the growing
-        top segment: every tool joint at the tool-joint radius, stabilizer
-        blades, centre upsets, and extra body points no further apart than
-        the chord/sag rule of :mod:`drillfatigue.string.contacts`; the top
-        segment keeps its two ends).
+        Contact points per segment: ``string`` (default: the points of the
+        string's components below the growing top segment: every tool joint
+        at the tool-joint radius, stabilizer blades, centre upsets, and extra
+        body points no further apart than the chord/sag rule of
+        :mod:`drillfatigue.string.contacts`; the top segment keeps its two
+        ends), ``ends`` (its two end points) or ``ends_and_middle`` (plus its
+        centre).
     tool_joints : bool
         Add a contact point at each tool joint with the tool-joint radius.
     chord_fraction : float
@@ -54,10 +54,9 @@ class ContactConfig(StrictModel):
         weight between the contact points in the wall,
         :mod:`drillfatigue.dynamics.span_record`) at the recorded joints as
         ``span_bending_x_Nm`` / ``span_bending_y_Nm`` in ``loads.parquet``;
-        the fatigue chain adds it to the joint moment. Default off: it
-        changes every simulated damage (docs/bending.md). Use it with
-        ``points: string`` so that the supports are the tool joints and
-        stabilizers.
+        the fatigue chain adds it to the joint moment. Default on
+        (docs/bending.md); its supports are the contact points, so it is
+        meant with ``points: string`` (tool joints and stabilizers).
 
     The hole's cylinder chain and its resampling are set in the ``well``
     section (``drillfatigue.well.build_wellbore``), not here.
@@ -67,7 +66,7 @@ class ContactConfig(StrictModel):
     k_c_N_per_m: float = Field(5e7, ge=1e4, le=1e11)
     damping_ratio: float = Field(0.2, ge=0.0, le=1.0)
     c_c_N_s_per_m: float | None = Field(None, ge=0.0, le=1e9)
-    points: Literal["ends", "ends_and_middle", "string"] = "ends"
+    points: Literal["ends", "ends_and_middle", "string"] = "string"
     tool_joints: bool = True
     chord_fraction: float = Field(0.25, gt=0.0, le=1.0)
-    span_bending: bool = False
+    span_bending: bool = True

@@ -213,17 +213,29 @@ class StringConfig(StrictModel):
     ``lateral_mud_mass``: the segments' lateral inertia (translation across
     the axis and tilt) carries the mud inside the pipe and the confined added
     mass of the annular mud (:mod:`drillfatigue.string.added_mass`), axial and
-    torsional inertia stay the steel's; default off (it changes every dynamic
-    result). ``added_mass_coefficient``: C_a instead of the confined
+    torsional inertia stay the steel's; default on. ``added_mass_coefficient``: C_a instead of the confined
     potential-flow value (R^2 + r^2)/(R^2 - r^2).
+    ``segment_fit_fraction``: the share f_seg of the radial clearance c by
+    which a rigid segment may depart from the hole's arc, L^2 kappa_max / 8
+    <= f_seg c (:func:`drillfatigue.string.segments.hole_fit_length_m`); the
+    simulator splits collars, stabilizers, subs, jars, MWD and the bit into
+    more equal segments where the well's curvature needs it, and re-cuts drill
+    pipe and heavy-weight pipe whose segments are too long at whole joints (as
+    many per segment as fit, at least one: their tool joints are the
+    supports). Default 0.5 (docs/bending.md); null keeps the listed segments.
     """
 
     preset: Literal["bare_collars", "paper_bha"] | None = Field(
         None, description="a named string (PRESETS) used when components are not given")
     components: list[ComponentConfig] = Field(default_factory=_default_components, min_length=1)
     shear_coefficient: float = Field(0.5, gt=0.0, le=1.0)
-    lateral_mud_mass: bool = False
+    lateral_mud_mass: bool = True
     added_mass_coefficient: float | None = Field(None, ge=0.0, le=50.0)
+    segment_fit_fraction: float | None = Field(
+        0.5, gt=0.0, le=2.0, description="hole-fit rule of the segmentation: a rigid segment "
+        "is at most sqrt(8 f c / kappa_max) long (c its radial clearance, kappa_max the largest "
+        "curvature where it can be); drill pipe and HWDP are cut only at whole joints; null: "
+        "segments as listed")
 
     @model_validator(mode="before")
     @classmethod

@@ -251,7 +251,7 @@ MAX_CONTACT_POINTS = 3
 # (cp[i, k] = [offset from the centre along e3 (m, > 0 towards the bit), radius (m)]);
 # the hint of its point k is hint[MAX_CONTACT_POINTS * rows + MAX_TABLE_POINTS * i + k]
 # (rows: allocated segment rows; -1: not located yet, start from the segment's first hint)
-MAX_TABLE_POINTS = 16
+MAX_TABLE_POINTS = 32
 
 # info[:] written by contact.wall_force for one contact point
 WI_DELTA = 0     # penetration (m), > 0 in contact

@@ -38,6 +38,7 @@ from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
+from drillfatigue.string.segments import HoleFit
 from drillfatigue.string.added_mass import lateral_mass_kg
 from drillfatigue.string.contacts import contact_points
 from drillfatigue.well.kernels import path_point
@@ -440,7 +441,11 @@ def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
     bp[L.B_TRAMP] = op.rpm_ramp_s
     bp[L.B_TOPLAT] = 1.0 if op.top_lateral == "held" else 0.0
     comp_top = config.string.components[-1]
-    lnom = comp_top.length_m / comp_top.n_segments
+    n_top = int((segs.component_index == len(config.string.components) - 1).sum())
+    # the nominal length of the top component's segments (more than n_segments when
+    # the hole-fit rule split it; a jointed component keeps its historical value)
+    lnom = comp_top.length_m / (n_top if n_top > comp_top.n_segments
+                                and comp_top.joints_per_segment is None else comp_top.n_segments)
     bp[L.B_LNOM] = lnom
     bp[L.B_LSPLIT] = max(2.0 * lnom, top_len + lnom)
     bp[L.B_LMIN] = min(0.5 * lnom, 0.5 * top_len)
@@ -666,14 +671,41 @@ def _max_curvature(path: WellPath) -> float:
     return float((np.arccos(cosang[ok]) / dmd[ok]).max())
 
 
+def hole_fit(config: CaseConfig, path: WellPath) -> HoleFit | None:
+    """The hole the string can meet during the run, for the hole-fit rule of
+    :func:`drillfatigue.string.build_segments` (None without a wall: contact off).
+
+    The bit moves from ``bit_md_m`` by the prescribed ROP on bottom and the trip
+    speed over ``duration_s``; the top component reaches ``operation.top_md_m``.
+    Curvature of a path interval: the angle between its node tangents / its MD
+    length.
+    """
+    wall = path.wall
+    if wall.shape[0] == 0 or path.node_tan.shape[0] < 2:
+        return None
+    op = config.operation
+    t = path.node_tan
+    md = path.node_md_m
+    dmd = np.diff(md)
+    cosang = np.clip((t[1:] * t[:-1]).sum(axis=1), -1.0, 1.0)
+    k_int = np.where(dmd > 1e-9, np.arccos(cosang) / np.maximum(dmd, 1e-9), 0.0)
+    travel = op.duration_s * ((op.rop_m_per_s if op.bit_on_bottom else 0.0)
+                              + op.trip_speed_m_per_s)
+    lo, hi = sorted((op.bit_md_m, op.bit_md_m + travel))
+    return HoleFit(md_m=md, curvature_rad_per_m=k_int,
+                   radius_m=np.ascontiguousarray(wall[:dmd.size, L.W_RAD]),
+                   bit_md_lo_m=lo, bit_md_hi_m=hi, top_md_m=op.top_md_m)
+
+
 def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
                         path: WellPath) -> tuple[np.ndarray, np.ndarray]:
     """Contact points of the segments below the top, from the string's components.
 
     :func:`drillfatigue.string.contacts.contact_points` lists them (tool joints
     at the tool-joint radius, stabilizer blades, centre upsets, extra body
-    points spaced by the chord/sag rule for the well's largest curvature and the
-    largest hole radius, chord fraction ``contact.chord_fraction``). Returns ``cp_n`` (n,) and ``cp`` (n, MAX_TABLE_POINTS,
+    points spaced by the chord/sag rule for the largest curvature each segment
+    can meet during the run (:func:`hole_fit`) and the largest hole radius,
+    chord fraction ``contact.chord_fraction``). Returns ``cp_n`` (n,) and ``cp`` (n, MAX_TABLE_POINTS,
     2): [offset from the centre along e3 (> 0 towards the bit), radius], m. The
     top segment's row stays empty (it keeps its end points while it grows).
     """
@@ -684,7 +716,14 @@ def pack_contact_points(config: CaseConfig, segs: Segments, place: Placement,
     if wall.shape[0] == 0:
         return cp_n, cp
     hole_d = 2.0 * float(wall[:, L.W_RAD].max())
-    pts = contact_points(config.string, segs, hole_d, _max_curvature(path),
+    # each segment's points are spaced for the largest curvature it can meet during
+    # the run (pipe in the vertical needs no chord points)
+    hole = hole_fit(config, path)
+    top = np.cumsum(segs.length_m)
+    kappa = np.array([hole.over(float(a), float(b))[0] if hole is not None
+                      else _max_curvature(path) for a, b in zip(top - segs.length_m, top,
+                                                                strict=True)])
+    pts = contact_points(config.string, segs, hole_d, kappa,
                          chord_fraction=config.contact.chord_fraction)
     for i in range(n - 1):
         s_m, r_m, _ = pts.of_segment(i)
@@ -759,7 +798,7 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     (Model, State)
     """
     op = config.operation
-    segs = build_segments(config.string, op.mud_density_kg_per_m3)
+    segs = build_segments(config.string, op.mud_density_kg_per_m3, hole_fit(config, path))
     n = segs.n_segments
     place = place_segments(config, segs, path)
     seg = pack_segments(config, segs, place.lengths)

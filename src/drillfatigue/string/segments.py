@@ -10,6 +10,25 @@ practice). Inertia of a tube segment (docs/model.md#bodies):
 I_axial = m (r_o^2 + r_i^2) / 2, I_transverse = m (3 (r_o^2 + r_i^2) + L^2) / 12.
 Buoyancy uses the displaced steel volume m / rho_steel (open-ended pipe, mud
 inside and out: the buoyed weight is the effective weight).
+
+Hole-fit rule (docs/bending.md). A straight rigid segment of length L in a
+hole of curvature kappa departs from the arc by L^2 kappa / 8 at its middle.
+When that approaches the diametral clearance 2c the segment cannot lie along
+one wall: its ends touch one wall and its middle the other, and the supports
+of the span bending sit on opposite walls. :func:`build_segments`, given the
+largest curvature ``kappa_max`` each component can meet and the hole radius
+there, cuts every component that is not cut at its joints into equal
+segments no longer than
+
+    L_fit = sqrt(8 f_seg c / kappa_max)
+
+(``string.segment_fit_fraction`` = f_seg, c = hole radius - body radius),
+keeping ``n_segments`` when that is already enough. Drill pipe and
+heavy-weight pipe are only ever cut at their joints (their tool joints are
+the supports): when a listed segment is longer than ``L_fit`` for the hole it
+can meet, the component is re-cut into whole joints, each segment taking as
+many as fit the curvature where it can be (at most the listed length, at
+least one joint), so pipe in the vertical keeps long segments.
 """
 
 from __future__ import annotations
@@ -19,7 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drillfatigue.config.string import StringConfig
+from drillfatigue.config.string import JOINTED_TYPES, ComponentConfig, StringConfig
+from drillfatigue.errors import InputError
 
 #: Component type names; ``Segments.component_type_code`` indexes this tuple.
 COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub",
@@ -85,7 +105,127 @@ class Segments:
         return float(self.length_m.sum())
 
 
-def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Segments:
+def hole_fit_length_m(clearance_m: float, curvature_rad_per_m: float,
+                      fit_fraction: float) -> float:
+    """Longest rigid segment that follows a hole of curvature kappa: sqrt(8 f c / kappa), m.
+
+    ``inf`` in a straight hole (kappa = 0).
+    """
+    if not (clearance_m > 0.0):
+        raise InputError("clearance_m", f"must be > 0, got {clearance_m!r}",
+                         "hole radius > body radius")
+    if not (curvature_rad_per_m >= 0.0 and math.isfinite(curvature_rad_per_m)):
+        raise InputError("curvature_rad_per_m", f"must be finite and >= 0, got "
+                         f"{curvature_rad_per_m!r}", ">= 0")
+    if curvature_rad_per_m == 0.0:
+        return math.inf
+    return math.sqrt(8.0 * fit_fraction * clearance_m / curvature_rad_per_m)
+
+
+@dataclass(frozen=True)
+class HoleFit:
+    """The hole a string can meet during a run, for the hole-fit rule (module docstring).
+
+    A string point ``s`` m from the bit sits between MD ``bit_md_lo_m - s`` and
+    ``bit_md_hi_m - s`` (the bit's extreme positions over the run); the top of
+    the top component reaches up to ``top_md_m``. ``md_m`` (P,): path stations;
+    per interval between them (P - 1,): ``curvature_rad_per_m`` and
+    ``radius_m`` (hole radius).
+    """
+
+    md_m: np.ndarray
+    curvature_rad_per_m: np.ndarray
+    radius_m: np.ndarray
+    bit_md_lo_m: float
+    bit_md_hi_m: float
+    top_md_m: float
+
+    def over(self, s_lo_m: float, s_hi_m: float, to_top: bool = False) -> tuple[float, float]:
+        """Largest curvature (rad/m) and smallest hole radius (m) the string stretch
+        ``s_lo_m .. s_hi_m`` (from the bit) can meet; ``to_top``: it reaches the top MD."""
+        md = self.md_m
+        md_top = self.top_md_m if to_top else self.bit_md_lo_m - s_hi_m
+        md_bot = self.bit_md_hi_m - s_lo_m
+        sel = (md[1:] >= md_top) & (md[:-1] <= md_bot)
+        if not sel.any():  # beyond the path: its nearest interval
+            sel = np.zeros(md.size - 1, dtype=bool)
+            sel[int(np.clip(np.searchsorted(md, md_bot) - 1, 0, md.size - 2))] = True
+        return float(self.curvature_rad_per_m[sel].max()), float(self.radius_m[sel].min())
+
+
+def _clearance(comp: ComponentConfig, hole_radius_m: float) -> float:
+    clearance = hole_radius_m - 0.5 * comp.od_m
+    if not (clearance > 0.0):
+        raise InputError("string.components.od_m",
+                         f"body OD {comp.od_m} does not fit the hole {2.0 * hole_radius_m}",
+                         f"< {2.0 * hole_radius_m}")
+    return clearance
+
+
+def _fits(length_m: float, comp: ComponentConfig, fit_fraction: float, hole: HoleFit,
+          s_lo_m: float, s_hi_m: float, to_top: bool = False) -> bool:
+    kappa, radius = hole.over(s_lo_m, s_hi_m, to_top)
+    return length_m * length_m * kappa / 8.0 <= fit_fraction * _clearance(comp, radius)
+
+
+def fitted_segment_lengths_m(comp: ComponentConfig, fit_fraction: float | None,
+                             hole: HoleFit | None, s0_m: float = 0.0,
+                             is_top: bool = False) -> list[float]:
+    """Segment lengths of one component under the hole-fit rule (module docstring), m.
+
+    ``s0_m``: distance bit -> the component's lower end; ``is_top``: the top
+    component (it reaches the top MD). Collars and the other BHA components:
+    the fewest equal segments (at least ``n_segments``) no longer than
+    ``L_fit`` for the largest curvature the component can meet. Drill pipe and
+    heavy-weight pipe keep whole joints: when a listed segment is longer than
+    ``L_fit`` where it can be, the component is re-cut at its joints from the
+    bit up, each segment taking as many whole joints as fit the hole it can
+    meet (at most the listed length, never fewer than one: a single joint
+    longer than ``L_fit`` stays whole, its tool joints are its supports,
+    docs/bending.md). Every component keeps
+    :attr:`ComponentConfig.segment_lengths_m` when ``fit_fraction`` or ``hole``
+    is None.
+    """
+    base = comp.segment_lengths_m
+    if fit_fraction is None or hole is None:
+        return base
+    if comp.type not in JOINTED_TYPES:
+        kappa, radius = hole.over(s0_m, s0_m + comp.length_m, is_top)
+        if kappa == 0.0:
+            return base
+        l_fit = hole_fit_length_m(_clearance(comp, radius), kappa, fit_fraction)
+        n = max(comp.n_segments, math.ceil(comp.length_m / l_fit - 1e-9))
+        return base if n == comp.n_segments else [comp.length_m / n] * n
+    z = s0_m
+    ok = True
+    for length in base:
+        ok = ok and _fits(length, comp, fit_fraction, hole, z, z + length)
+        z += length
+    if ok:
+        return base
+    jl = comp.joint_length_m
+    k_cap = comp.joints_per_segment or max(1, int(max(base) / jl + 1e-9))
+    n_full = comp.n_joints
+    out: list[float] = []
+    i = 0
+    while i < n_full:
+        k = min(k_cap, n_full - i)
+        lo = s0_m + i * jl
+        while k > 1 and not _fits(k * jl, comp, fit_fraction, hole, lo, lo + k * jl):
+            k -= 1
+        out.append(k * jl)
+        i += k
+    rest = comp.length_m - n_full * jl
+    if rest > 1e-9 * comp.length_m:
+        if out and rest < 0.5 * jl:
+            out[-1] += rest  # a short pup joint rides with the last whole joints
+        else:
+            out.append(rest)
+    return out
+
+
+def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float,
+                   hole: HoleFit | None = None) -> Segments:
     """Cut the string into rigid segments.
 
     Parameters
@@ -94,6 +234,11 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Se
         Components from the bit up.
     mud_density_kg_per_m3 : float
         Mud density, for the buoyed weight.
+    hole : HoleFit, optional
+        The hole the string can meet during the run: applies the hole-fit rule
+        with ``string.segment_fit_fraction`` (module docstring). Without it
+        each component keeps its listed segments (per-length properties, all a
+        soft-string caller needs, are the same).
 
     Returns
     -------
@@ -105,6 +250,7 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Se
         "ea", "ei", "gj", "kga", "mpl", "comp", "code", "conn_od", "conn_id")}
     types: list[str] = []
     kappa = string_cfg.shear_coefficient
+    s0 = 0.0
     for ci, comp in enumerate(string_cfg.components):
         mat = comp.material
         ro, ri = 0.5 * comp.od_m, 0.5 * comp.id_m
@@ -115,7 +261,10 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float) -> Se
         if mpl is None:
             mpl = mat.density_kg_per_m3 * ((1.0 - f) * a_body + f * a_conn)
         i_area = 0.25 * math.pi * (ro ** 4 - ri ** 4)
-        for length in comp.segment_lengths_m:
+        lengths = fitted_segment_lengths_m(comp, string_cfg.segment_fit_fraction, hole, s0,
+                                           ci == len(string_cfg.components) - 1)
+        s0 += comp.length_m
+        for length in lengths:
             m = mpl * length
             cols["length_m"].append(length)
             cols["od_m"].append(comp.od_m)
