@@ -1,7 +1,14 @@
-"""Simulator speed: real-time factor and peak memory vs a numpy + scipy BDF baseline.
+"""Simulator speed: µs per segment-step against a machine-speed reference, real-time
+factor, peak memory, and a numpy + scipy BDF baseline.
 
 Usage: ``python benchmarks/bench_simulator.py [--quick]`` -> ``benchmarks/results/simulator.json``.
 
+* Machine-speed reference: :func:`reference_chain_step`, a plain rigid chain frozen in
+  this file (about 300 flops and 7 transcendental functions per segment and step),
+  timed (best of 5) at the start and at the end of the run. Every case below is
+  reported as µs per segment-step and as ``ratio_to_reference`` (its µs per
+  segment-step over the reference's): absolute times do not carry across machines,
+  the ratios do (to within the differences of their instruction mixes).
 * For 5, 30 and 120 segments (collars + 5 in drill pipe, ~9 m segments, vertical
   hole, 150 rpm, TOB, ROP with the growing top segment, lobed bit motion, loads
   of every joint recorded at 200 Hz): simulated seconds per wall second on one
@@ -12,15 +19,19 @@ Usage: ``python benchmarks/bench_simulator.py [--quick]`` -> ``benchmarks/result
   (BDF, rtol 1e-5, max step 1 ms, as the paper) on the 30-segment case over a
   short window; the numba run of the very same case (no ROP, no lobes) gives the
   ratio. The numpy RHS is checked against the numba force kernel first.
-* Deviated drilling: ``data/cases/case2_profile.yaml`` -- 120 segments
-  on profile_1 from 480 m, wall contact, tanh-exponential friction, 150 rpm,
-  drilling at 0.5 m/s (segments split off the top as it grows), 0.5 s
-  relaxation; real-time factor over the run after a warm-up.
+* Deviated drilling, the paper-scale case 2 in a short window:
+  ``data/cases/case2_profile.yaml`` -- 120 segments on profile_1 from 480 m, wall
+  contact, tanh-exponential friction, 150 rpm, drilling at 0.5 m/s (segments split
+  off the top as it grows), 0.5 s relaxation; real-time factor and µs per
+  segment-step over the run after a warm-up, with the contact points at the segment
+  ends (the case as written) and with ``contact.points: string`` and
+  ``contact.span_bending: true`` (:data:`OPTION_SETS`).
 * Friction-law cost: ``data/cases/case1_whirl.yaml`` (5 segments,
   sustained backward whirl) with Karnopp and with tanh-exponential: wall-time
   ratio of the stepping loop (paper: 47 vs 18 min, 2.6x).
-Goals (issues 3, 4): 120 segments >= 1x real time (vertical and deviated drilling);
->= 50x the scipy baseline.
+Goals: 120 segments >= 1x real time (vertical and deviated drilling);
+>= 50x the scipy baseline; deviated drilling <= 0.5 µs per segment-step and case 2
+>= 5x real time on one core. ``benchmarks/profile_step.py`` splits one step by room.
 """
 
 from __future__ import annotations

@@ -55,6 +55,7 @@ from drillfatigue.dynamics.forces import body_forces, rotations  # noqa: E402
 from drillfatigue.dynamics.growth import grow_top, growth_rate  # noqa: E402
 from drillfatigue.dynamics.integrator import advance, record, speed_excess  # noqa: E402
 from drillfatigue.dynamics.joints import joint_forces  # noqa: E402
+from drillfatigue.dynamics.model import stable_step  # noqa: E402
 from drillfatigue.dynamics.rigid import free_rotation, kick  # noqa: E402
 from drillfatigue.dynamics.span_record import span_sample  # noqa: E402
 
@@ -238,9 +239,18 @@ def profile(options: str, steps: int, reps: int, settle_s: float) -> dict:
     whole_s = min(whole() for _ in range(reps))
     us = {k: 1e6 * v / (steps * n) for k, v in parts.items()}
     return {"options": options, "n_segments": n, "dt_s": m.dt, "steps": steps,
-            "points_per_segment_mean": _points(m, n),
+            "points_per_segment_mean": _points(m, n), "step": step_limits(m),
             "us_per_segment_step": us, "sum_of_parts_us": sum(us.values()),
             "whole_step_us": 1e6 * whole_s / (steps * n)}
+
+
+def step_limits(m) -> dict:
+    """The stable step of the model (before the safety factor) with and without the wall
+    contact's penalty springs: how much smaller the contact makes the step."""
+    dt_all = stable_step(m.seg, m.jp, m.bp, m.cpar, m.cp_n)
+    dt_joints = stable_step(m.seg, m.jp, m.bp)
+    return {"dt_s": m.dt, "stable_dt_s": dt_all, "stable_dt_without_contact_s": dt_joints,
+            "contact_step_ratio": dt_joints / dt_all}
 
 
 def _points(m, n: int) -> float:
@@ -285,6 +295,11 @@ def main() -> None:
            "settle_s": args.settle, "results": results,
            "note": "best of the repetitions; one thread; the machine may be shared"}
     print(table(results, ref_us))
+    for r in results:
+        st = r["step"]
+        print(f"{r['options']}: dt {st['dt_s']:.3g} s; stable step {st['stable_dt_s']:.3g} s, "
+              f"{st['stable_dt_without_contact_s']:.3g} s without the contact springs "
+              f"({st['contact_step_ratio']:.2f}x)")
     print(f"reference kernel: {ref_us:.4f} µs per segment-step")
     args.out.parent.mkdir(parents=True, exist_ok=True)
     tmp = args.out.with_suffix(".json.tmp")

@@ -41,7 +41,7 @@ from drillfatigue.dynamics.layout import (
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_log, quat_mul, quat_to_rot
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def joint_force(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_up,
                 k_a, k_s, k_b, k_t, c_a, c_s, c_b, c_t,
                 qr, qh, qm, Rm, F_lo, M_lo, M_up, loads, ed):
