@@ -17,16 +17,16 @@ plain numba loop around the room's kernel, as :func:`integrator.advance` calls i
   contact statistics);
 * ``integrator``: two half kicks, the drift with the exact free rotor and the speed
   check (:mod:`rigid`);
-* ``growth``: the top segment's length change (:func:`growth.grow_top` without splits);
+* ``growth``: the top segment's length change (:func:`growth.grow_top`);
 * ``recorder``: the rows of the record buffers at the run's rates (per step, amortised);
 * ``span record``: the span-bending correction of the recorded joints (per step,
   amortised over the loads interval; only with ``contact.span_bending``).
 
 Each part is timed in CPU time of this thread (``time.thread_time``: a shared machine
 takes the core away, but the time the thread runs is what the kernel costs) as the best
-of ``--repeat`` loops, and compared with the whole step (:func:`integrator.advance` on a copy of the state). Two
-option sets: the case as written (contact points at the segment ends) and
-``contact.points: string`` with ``contact.span_bending: true``.
+of ``--repeat`` loops, and compared with the whole step (:func:`integrator.advance` on a
+copy of the state). Two option sets: the case as written (contact points at the segment
+ends) and ``contact.points: string`` with ``contact.span_bending: true``.
 """
 
 from __future__ import annotations
