@@ -91,7 +91,7 @@ OUT_SIZE = 6
 OUTSIDE_CHAIN = -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _clamped_q(x, p0, axis, length, i):
     """Squared clamped distance of x from the centre-line segment i, and s."""
     vx = x[0] - p0[i, 0]
@@ -111,7 +111,7 @@ def _clamped_q(x, p0, axis, length, i):
     return q, s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def find_contact(x, r_contact, p0, axis, length, radius, hint, out):
     """Locate a contact point in the wellbore cylinder chain and measure its penetration.
 
@@ -247,7 +247,7 @@ def find_contact(x, r_contact, p0, axis, length, radius, hint, out):
     return status
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def normal_force(delta, delta_dot, k_c, c_c):
     """Penalty normal force magnitude of the wall on the string; never pulls.
 
@@ -278,7 +278,7 @@ def normal_force(delta, delta_dot, k_c, c_c):
     return f
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hint,
                k_c, c_c, fmodel, fp, f_other, dt, info, force, moment):
     """Wall contact plus friction force on one segment at one of its contact points.
@@ -379,7 +379,7 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
     return OK
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact_point(seg, i, p):
     """Where contact point ``p`` of segment ``i`` sits: (offset along the axis from the
     centre, m, > 0 downhole; contact radius, m).

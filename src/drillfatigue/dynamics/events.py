@@ -35,7 +35,7 @@ EVENT_KEYS = ("stick_slip_severity", "whirl_class", "bit_bounce_count", "max_con
               "rms_surface_torque_Nm", "peak_surface_torque_Nm")
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def record_contact(i, t, md_bit, nsum, dmax, dt, cst):
     """Contact statistics of segment ``i`` this step; returns whether it touches the wall.
 
@@ -59,7 +59,7 @@ def record_contact(i, t, md_bit, nsum, dmax, dt, cst):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def track_whirl(i, xc, wW, r_contact, wall, ic, dt, cst, dirn):
     """Orbit and spin angles of segment ``i`` about the axis of hole cylinder ``ic``.
 

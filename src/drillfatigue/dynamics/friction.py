@@ -92,7 +92,7 @@ I_TRIG_DECAY = 9
 N_PARAMS = 10
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _tanh(x):
     """tanh, skipping the libm call where it is 1.0 in float64 (x >= 19.1)."""
     if x >= 19.1:
@@ -100,7 +100,7 @@ def _tanh(x):
     return math.tanh(x)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def slip_coefficient(model, p, speed):
     """Friction coefficient ``mu(|v|)`` of a sliding model at slip speed ``speed`` (m/s).
 
@@ -214,7 +214,7 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
     return OK
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def friction_force_split(model, p, v_slip, axial_dir, N, f_other, dt, out):
     """Friction force with a separate axial (drag) coefficient.
 

@@ -162,6 +162,12 @@ def joint_force(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_
              + c_b * (ol0 * ol0 + ol1 * ol1) + c_t * ol2 * ol2)
 
 
+#: :func:`joint_force` compiled into the joint loop of the step (it runs n - 1 times per
+#: step there); the other callers (top drive, growth) keep the compiled call, which holds
+#: the step's compile time down. Never called from Python, so never compiled alone.
+_joint_force_inline = njit(inline="always")(joint_force.py_func)
+
+
 @njit(cache=True, inline="always")
 def joint_forces(n, growth, s, p, wk):
     """Loads of the n - 1 joints between the active segments, added to the segments.
@@ -199,11 +205,11 @@ def joint_forces(n, growth, s, p, wk):
             for k in range(3):
                 vtop[k] = v[j + 1, k] + growth * R[j + 1, k, 2]
             vu = vtop
-        joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
-                    x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
-                    jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
-                    jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
-                    qr, qh, qm, Rm, Fl, Ml, Mu, loads[j], ed)
+        _joint_force_inline(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
+                            x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
+                            jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
+                            jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
+                            qr, qh, qm, Rm, Fl, Ml, Mu, loads[j], ed)
         ch[H_PE] += ed[0]
         ch[H_PDISS] += ed[1]
         for k in range(3):

@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def quat_to_rot(q, out):
     """Rotation matrix of a unit quaternion.
 
@@ -41,7 +41,7 @@ def quat_to_rot(q, out):
     out[2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def quat_mul(a, b, out):
     """Hamilton product out = a * b (shapes (4,)); ``out`` must not alias a or b."""
     out[0] = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3]
@@ -50,7 +50,7 @@ def quat_mul(a, b, out):
     out[3] = a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def quat_conj_mul(a, b, out):
     """out = conj(a) * b: the rotation of b relative to a, in a's body frame."""
     out[0] = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
@@ -59,7 +59,7 @@ def quat_conj_mul(a, b, out):
     out[3] = a[0] * b[3] - a[1] * b[2] + a[2] * b[1] - a[3] * b[0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def quat_log(q, out):
     """Rotation vector (axis x angle, rad) of a unit quaternion, shortest arc.
 
@@ -83,7 +83,7 @@ def quat_log(q, out):
     out[2] = f * z
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def quat_exp_mul(q, th0, th1, th2, tmp, out):
     """out = q * exp(theta / 2), theta a body-frame rotation vector; renormalised."""
     a = math.sqrt(th0 * th0 + th1 * th1 + th2 * th2)
@@ -101,7 +101,7 @@ def quat_exp_mul(q, th0, th1, th2, tmp, out):
         out[k] /= n
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def kick(v, w, F, Mb, m, It, Ia, h):
     """Kick of one body: v += h F / m; w += h I^-1 M_b (body frame).
 
@@ -124,7 +124,7 @@ def kick(v, w, F, Mb, m, It, Ia, h):
     w[2] += h * Mb[2] / Ia
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def kick_lateral(v, w, F, Mb, m, ratio, It, Ia, axis, h):
     """:func:`kick` with the body-frame mass diag(m r, m r, m) and transverse inertia
     It r (r = ``ratio`` >= 1: the mud moving with the pipe across its axis); ``axis``
@@ -140,7 +140,7 @@ def kick_lateral(v, w, F, Mb, m, ratio, It, Ia, axis, h):
     w[2] += h * Mb[2] / Ia
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def free_rotation(q, w, It, Ia, dt, tmp, tmp2):
     """Exact torque-free motion of an axisymmetric body over dt (in place).
 
