@@ -36,6 +36,7 @@ from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import update_top
 from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
+from drillfatigue.dynamics.rockface import ROP_FROM_WOB_MODELS, wob_for_rop_N
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
 from drillfatigue.string.segments import HoleFit
@@ -503,7 +504,8 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
 
     Block at ``rig.block.initial_travel_m``; the autodriller starts at its steady
     state (integral giving the ROP of the bit law at the set-point WOB and the
-    start speed, the block lowering at that ROP); the top drive at the start speed
+    start speed, capped at its ROP limit, the block lowering at that ROP; the
+    measurement at the starting WOB, :func:`static_preload`); the top drive at the start speed
     and the initial drive angle, its PI integral holding the string's torque now
     (no start-up kick); no connection scheduled.
     """
@@ -522,9 +524,10 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
         blk[R.BS_I] = rop0 / ki if ki > 0.0 else 0.0
         blk[R.BS_VCMD] = rop0
         blk[R.BS_V] = rop0
-        wob_set = float(bp[L.B_BLKP + R.BP_WOBSET])
-        blk[R.BS_MEAS] = wob_set if int(bp[L.B_BLKMODE]) == R.BLOCK_AUTODRILLER_WOB \
-            else float(bp[L.B_BLKP + R.BP_HOFF]) - wob_set
+        # the measurement starts at the WOB the string starts with (static_preload)
+        wob0 = float(model.wob0_N)
+        blk[R.BS_MEAS] = wob0 if int(bp[L.B_BLKMODE]) == R.BLOCK_AUTODRILLER_WOB \
+            else float(bp[L.B_BLKP + R.BP_HOFF]) - wob0
     sc[L.C_CON:L.C_CON + 8] = -np.inf  # no connection yet: the drilling phase
     sc[L.C_TD + R.TS_OMEGA] = omega0
     sc[L.C_TD + R.TS_PHI] = phi0
@@ -572,8 +575,13 @@ def static_preload(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.n
         wob = 0.0
         hook = total_ax
     elif config.rig is not None and config.rig.block_mode == "autodriller":
-        # the autodriller starts holding its set-point
-        wob = config.rig.effective_autodriller.wob_set_N
+        # the autodriller starts in steady drilling: at its set-point, or, where the bit
+        # law cuts faster than the ROP limit there, at the WOB that cuts the ROP limit
+        ad = config.rig.effective_autodriller
+        wob = ad.wob_set_N
+        if config.bit.model in ROP_FROM_WOB_MODELS:
+            wob = wob_for_rop_N(config.bit, ad.rop_limit_m_per_s, omega0 * 30.0 / math.pi,
+                                ad.wob_set_N)
         hook = total_ax - wob
     elif op.top_axial == "hook_load":
         hook = op.hook_load_N

@@ -180,6 +180,23 @@ def rop_tob_from_wob(bit: BitConfig, wob_N: float | np.ndarray, rpm: float | np.
     return rop, tob
 
 
+def wob_for_rop_N(bit: BitConfig, rop_m_per_s: float, rpm: float, wob_max_N: float) -> float:
+    """The steady WOB at which the bit law cuts ``rop_m_per_s`` at ``rpm``, N, searched
+    in [0, ``wob_max_N``] by bisection (the law's ROP is non-decreasing in WOB);
+    ``wob_max_N`` when even that WOB cuts slower."""
+    hi_rop = float(rop_tob_from_wob(bit, wob_max_N, rpm)[0])
+    if hi_rop <= rop_m_per_s:
+        return float(wob_max_N)
+    lo, hi = 0.0, float(wob_max_N)
+    for _ in range(60):  # 2^-60 of the bracket: far below a newton
+        mid = 0.5 * (lo + hi)
+        if float(rop_tob_from_wob(bit, mid, rpm)[0]) < rop_m_per_s:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
 def rop_slope_m_per_N_s(bit: BitConfig, wob_N: float, rpm: float, rel_step: float = 1e-3) -> float:
     """``dROP/dWOB`` of the bit law at an operating point (central difference), m/(N s).
 

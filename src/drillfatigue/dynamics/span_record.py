@@ -29,13 +29,23 @@ without feeding anything back into the integrator:
    frame of ``bending_x/y_Nm``), which turns with the pipe, so the correction
    alternates once per revolution.
 
+5. Where the elastic pipe would reach the wall between two supports (its
+   mid-span deflection, :func:`~drillfatigue.dynamics.span_bending.midspan_deflection`,
+   exceeds the room of its body to the wall: hole radius - body radius) or a
+   span is at its Euler load in compression (v >= ``BUCKLED_V``), the pipe
+   lies on the wall there: a support is added at that span's middle and the
+   chain solved again, up to ``MAX_SPLIT_ROUNDS`` times (a span into at most
+   16 pieces). This bounds the beam-column's amplification in compression by
+   the wall, as it is bounded in the hole. The room is the full radial
+   clearance, so a span sagging toward supports on the same side (tool joints
+   on the low side) touches earlier than this test says: there the moment is
+   an upper estimate.
+
 Validity (see :mod:`drillfatigue.dynamics.span_bending`): small deflections,
-a span that does not touch the wall between its supports (not checked here:
-the contact points' spacing rule of :mod:`drillfatigue.string.contacts` puts
-points where a span could reach the wall), supports that do not move
-relative to each other under the load. A span at or beyond its Euler load
-in compression gives a status other than OK: the sample's corrections are
-then zero and the status is returned (the caller counts such samples).
+supports that do not move relative to each other under the load. A span
+still buckled after the last round gives a status other than OK: the
+sample's corrections are then zero and the status is returned (the caller
+counts such samples).
 Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
 p.ei, p.topp``, ``wk.loads``; scratch allocated per call (a sample is taken
 every few hundred steps).
@@ -48,10 +58,12 @@ from numba import njit
 
 from drillfatigue.dynamics.contact import OUT_DELTA, OUT_SIZE, contact_point, find_contact
 from drillfatigue.dynamics.layout import (
-    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_CL, S_H, S_W,
+    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_CL, S_H, S_RB, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
-from drillfatigue.dynamics.span_bending import END_PINNED, STATUS_OK, chain_span_moments
+from drillfatigue.dynamics.span_bending import (
+    BUCKLED_V, END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments, midspan_deflection,
+)
 
 #: supports closer than this along the string are one support, m
 MERGE_M = 0.01
@@ -72,6 +84,80 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
     qh[3] = qr[3] / nrm
     quat_mul(q_lo, qh, qm)
     quat_to_rot(qm, Rm)
+
+
+#: rounds of mid-span supports added where a span touches the wall or buckles
+#: (each round halves the offending spans: up to 2^rounds pieces)
+MAX_SPLIT_ROUNDS = 4
+#: internal: the supports were split, solve again
+STATUS_SPLIT = -1
+
+
+@njit(cache=True)
+def _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s, rxy, rz,
+                    may_split):
+    """Solve the chain on ``sup_c``; where a span's mid-span deflection exceeds the
+    room its body has to the wall, or it is at its Euler load in compression, the
+    elastic pipe lies on the wall there: with ``may_split`` add a support at that
+    span's middle and return ``(STATUS_SPLIT, new supports)``; else the solve's status."""
+    m = sup_c.shape[0]
+    span_L = np.zeros(m - 1)
+    span_ei = np.zeros(m - 1)
+    span_T = np.zeros(m - 1)
+    span_q = np.zeros((m - 1, 2))
+    work = np.zeros((m, 6))
+    sup_M = np.zeros((m, 2))
+    sup_Mz = np.zeros((m, 2))
+    span_qz = np.zeros((m - 1, 2))
+    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_q, END_PINNED, END_PINNED, read_s,
+                            span_L, span_ei, span_T, span_q, work, sup_M, rxy)
+    if st == STATUS_OK:
+        st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED,
+                                read_s, span_L, span_ei, span_T, span_qz, work, sup_Mz, rz)
+    if st != STATUS_OK and st != STATUS_SPAN_BUCKLED:
+        return st, sup_c
+    if not may_split:
+        return st, sup_c
+    split = np.zeros(m - 1, dtype=np.bool_)
+    nsplit = 0
+    d_xy = np.zeros(m - 1)
+    d_z = np.zeros(m - 1)
+    ok_xy = STATUS_SPAN_BUCKLED
+    ok_z = STATUS_SPAN_BUCKLED
+    if st == STATUS_OK:
+        ok_xy = midspan_deflection(span_L, span_ei, span_T, span_q, sup_M, d_xy)
+        ok_z = midspan_deflection(span_L, span_ei, span_T, span_qz, sup_Mz, d_z)
+    for k in range(m - 1):
+        L = span_L[k]
+        v2 = -span_T[k] * L * L / span_ei[k]
+        buckled = v2 >= BUCKLED_V * BUCKLED_V
+        room = _span_gap(sup_c[k], sup_c[k + 1], top_s, seg_gap)
+        touches = (ok_xy == STATUS_OK and ok_z == STATUS_OK
+                   and d_xy[k] * d_xy[k] + d_z[k] * d_z[k] > room * room)
+        if (buckled or touches) and L > 2.0 * MERGE_M:
+            split[k] = True
+            nsplit += 1
+    if nsplit == 0:
+        return st, sup_c
+    out = np.zeros(m + nsplit)
+    j = 0
+    for k in range(m):
+        out[j] = sup_c[k]
+        j += 1
+        if k < m - 1 and split[k]:
+            out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
+            j += 1
+    return STATUS_SPLIT, out
+
+
+@njit(cache=True)
+def _span_gap(a, b, top_s, seg_gap):
+    """Smallest room to the wall of the segments a span [a, b] crosses, m."""
+    g = np.inf
+    for i in range(seg_gap.shape[0]):
+        if top_s[i + 1] > a and top_s[i] < b:
+            g = min(g, seg_gap[i])
+    return g if np.isfinite(g) else 0.0
 
 
 @njit(cache=True)
@@ -183,20 +269,21 @@ def span_sample(n, s, p, wk, sel, out):
     read_s = np.zeros(nr)
     for a in range(nr):
         read_s[a] = top_s[min(sel[a], n - 1) + 1]
-    span_L = np.zeros(m - 1)
-    span_ei = np.zeros(m - 1)
-    span_T = np.zeros(m - 1)
-    span_q = np.zeros((m - 1, 2))
-    work = np.zeros((m, 6))
-    sup_M = np.zeros((m, 2))
+    # per-segment room for the body to sag: hole radius at its cylinder - body radius
+    seg_gap = np.zeros(n)
+    rmin = rad.min()
+    for i in range(n):
+        h0 = hint[MAX_CONTACT_POINTS * i]
+        r_hole = rad[h0] if 0 <= h0 < rad.shape[0] else rmin
+        seg_gap[i] = max(r_hole - seg[i, S_RB], 0.0)
     rxy = np.zeros((nr, 2))
     rz = np.zeros((nr, 2))
-    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_q, END_PINNED, END_PINNED, read_s,
-                            span_L, span_ei, span_T, span_q, work, sup_M, rxy)
-    if st != STATUS_OK:
-        return st
-    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED, read_s,
-                            span_L, span_ei, span_T, span_q, work, sup_M, rz)
+    st = STATUS_OK
+    for _round in range(MAX_SPLIT_ROUNDS + 1):
+        st, sup_c = _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
+                                    read_s, rxy, rz, _round < MAX_SPLIT_ROUNDS)
+        if st != STATUS_SPLIT:
+            break
     if st != STATUS_OK:
         return st
     qr = np.zeros(4)

@@ -59,9 +59,16 @@ __all__ = [
 CASE_ID_LENGTH = 12
 #: Operation inputs the rig section takes over (``sweep.boundaries: rig``): the value of the
 #: operation path is moved to the rig path and the operation field is reset to its default.
+#: The ROP goes to the block's set-point in ``block_mode: rop`` and to the autodriller's ROP
+#: limit in ``block_mode: autodriller`` (:data:`ROP_TARGETS`).
 RIG_PATHS = {"operation.rop_m_per_s": "rig.rop_set_m_per_s",
              "operation.lobe_amplitude_m": "rig.rock.lobe_amplitude_m",
              "operation.lobe_count": "rig.rock.lobe_count"}
+#: Where the designed ROP goes, per block mode: the ``rop`` block lowers at it; the
+#: autodriller drills at it unless the WOB limit (its set-point) is reached first, as a
+#: driller's autodriller with an ROP target and a WOB limit does.
+ROP_TARGETS = {"rop": "rig.rop_set_m_per_s",
+               "autodriller": "rig.autodriller.rop_limit_m_per_s"}
 _TOKEN = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)")
 
 
@@ -154,8 +161,8 @@ def rig_case(case: Mapping[str, Any], rig: Mapping[str, Any]) -> dict[str, Any]:
     """``case`` driven by the rig section ``rig``, with the operation inputs of
     :data:`RIG_PATHS` moved onto it.
 
-    The ROP goes to the block's set-point only with ``block_mode: rop`` (the
-    other modes have none; :func:`design_cases` refuses the ROP as a design
+    The ROP goes where :data:`ROP_TARGETS` says for the block mode (the other
+    modes have no ROP input; :func:`design_cases` refuses the ROP as a design
     variable for them). The operation fields are reset to their defaults,
     which the rig-section check of :class:`CaseConfig` reads as "not given".
     """
@@ -169,8 +176,11 @@ def rig_case(case: Mapping[str, Any], rig: Mapping[str, Any]) -> dict[str, Any]:
             continue
         value = op[key]
         op[key] = defaults[key].default
-        if dst == "rig.rop_set_m_per_s" and section.get("block_mode", "autodriller") != "rop":
-            continue
+        if dst == "rig.rop_set_m_per_s":
+            target = ROP_TARGETS.get(section.get("block_mode", "autodriller"))
+            if target is None:
+                continue
+            dst = target
         *parents, leaf = dst.split(".")[1:]
         node = section
         for name in parents:
@@ -342,10 +352,17 @@ def _boundaries(cfg: SweepConfig, names: list[str]) -> Any:
             raise InputError(f"sweep.{dst}", f"is set from {src} with boundaries rig",
                              f"{src} in the base case or as a design variable")
     mode = rig.get("block_mode", "autodriller")
-    if mode != "rop" and "operation.rop_m_per_s" in names:
+    if mode not in ROP_TARGETS and "operation.rop_m_per_s" in names:
         raise InputError("sweep.variables.operation.rop_m_per_s",
-                         f"the block has no ROP set-point in block_mode {mode}",
-                         "sweep.rig.block_mode rop, or no ROP design variable")
+                         f"the block has no ROP set-point or limit in block_mode {mode}",
+                         f"sweep.rig.block_mode {' or '.join(ROP_TARGETS)}, "
+                         "or no ROP design variable")
+    if mode == "autodriller":
+        ad = rig.get("autodriller") or {}
+        if "rop_limit_m_per_s" in ad:
+            raise InputError("sweep.rig.autodriller.rop_limit_m_per_s",
+                             "is set from operation.rop_m_per_s with boundaries rig",
+                             "operation.rop_m_per_s in the base case or as a design variable")
     return lambda case: rig_case(case, rig)
 
 
