@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import pickle
 import platform
 import warnings
@@ -49,7 +50,7 @@ _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 PREDICTION_COLUMNS = (
     "log10_damage_rate_per_h", "log10_damage_rate_per_h_lower", "log10_damage_rate_per_h_upper",
     "sigma_log10", "damage_rate_per_h", "damage_rate_per_h_lower", "damage_rate_per_h_upper",
-    "life_h", "life_h_lower", "life_h_upper", "ood", "ood_reason",
+    "life_h", "life_h_lower", "life_h_upper", "beyond_horizon", "ood", "ood_reason",
 )
 
 
@@ -61,8 +62,13 @@ def regressor_from_config(cfg: SurrogateConfig) -> DeepEnsembleRegressor:
         activation=cfg.activation, loss=cfg.loss, learning_rate=cfg.learning_rate,
         weight_decay=cfg.weight_decay, batch_size=cfg.batch_size, max_epochs=cfg.max_epochs,
         patience=cfg.patience, validation_fraction=cfg.validation_fraction,
-        nll_beta=cfg.nll_beta, stop_on=cfg.stop_on, random_state=cfg.split_seed,
-        n_threads=cfg.n_threads)
+        nll_beta=cfg.nll_beta, stop_on=cfg.stop_on, censor_below=censor_level(cfg),
+        random_state=cfg.split_seed, n_threads=cfg.n_threads)
+
+
+def censor_level(cfg: SurrogateConfig) -> float | None:
+    """log10 damage rate per hour at the horizon (-log10 horizon_h); None without censoring."""
+    return -math.log10(cfg.horizon_h) if cfg.censoring == "likelihood" else None
 
 
 class Surrogate:
@@ -102,10 +108,16 @@ class Surrogate:
         return float(self.module.conformal_q.item())
 
     # -- fit ----------------------------------------------------------------
+    @property
+    def horizon_h(self) -> float | None:
+        """Life horizon (h) beyond which an answer is "longer than"; None for older models."""
+        h = self.metadata.get("horizon_h")
+        return None if h is None else float(h)
+
     @classmethod
     def fit(cls, frame: pd.DataFrame, cfg: SurrogateConfig,
             callback: Callable[[int, np.ndarray, np.ndarray, np.ndarray], None] | None = None,
-            ) -> Surrogate:
+            design_bounds: dict[str, tuple[float, float]] | None = None) -> Surrogate:
         """Split by case, fit the ensemble, calibrate intervals and the domain test.
 
         Parameters
@@ -116,6 +128,10 @@ class Surrogate:
         cfg : SurrogateConfig
         callback : callable, optional
             Per-epoch hook of :meth:`DeepEnsembleRegressor.fit`.
+        design_bounds : dict, optional
+            Design range (low, high) per numeric feature that the sweep varied
+            (:func:`design_bounds`); the domain test refuses queries outside
+            it. Features not in it are bounded by the training rows.
         """
         check_columns(frame, cfg)
         y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
@@ -126,7 +142,8 @@ class Surrogate:
         reg.fit(tr, y[split.train], groups=groups[split.train], callback=callback)
         cal = frame.loc[split.calibration]
         mu_c, sd_c = reg.predict_dist(cal)
-        conf = SplitConformal(cfg.coverage).fit(mu_c, sd_c, y[split.calibration])
+        conf = SplitConformal(cfg.coverage).fit(mu_c, sd_c, y[split.calibration],
+                                                censor_below=censor_level(cfg))
         if not np.isfinite(conf.quantile_):
             raise InputError("surrogate.calibration_fraction",
                              "too few calibration rows for the coverage", "a larger fraction")
@@ -136,7 +153,7 @@ class Surrogate:
         p = reg.preprocessor_
         domain = DomainChecker(p.numeric, cfg.ood_k, cfg.ood_quantile, cfg.ood_reference_rows,
                                cfg.split_seed).fit(
-            p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_)
+            p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_, design_bounds)
         hist = reg.history_
         meta = {
             "format_version": FORMAT_VERSION,
@@ -144,6 +161,8 @@ class Surrogate:
             "target_column": cfg.target_column,
             "criterion": cfg.criterion,
             "rate_floor_per_h": cfg.rate_floor_per_h,
+            "horizon_h": cfg.horizon_h,
+            "censoring": cfg.censoring,
             "coverage": cfg.coverage,
             "n_calibration": conf.n_calibration_,
             "architecture": {"n_numeric": module.n_numeric, "n_levels": module.n_levels,
@@ -208,7 +227,9 @@ class Surrogate:
         -------
         dict of ndarray, shape (n,)
             ``log10``, ``sigma``, ``lower``, ``upper`` (log10 damage rate per
-            hour and its interval), ``ood`` (bool), ``knn_distance``.
+            hour and its interval, also for out-of-domain rows: the caller
+            decides to refuse them), ``beyond_horizon`` (bool: predicted life
+            longer than :attr:`horizon_h`), ``ood`` (bool), ``knn_distance``.
         """
         x_num = np.asarray(x_num, dtype=np.float64)
         if x_cat is None:
@@ -239,6 +260,9 @@ class Surrogate:
             map_chunks(run, range(0, n, share))
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
+        h = self.horizon_h
+        res["beyond_horizon"] = (res["log10"] < -math.log10(h) if h is not None
+                                 else np.zeros(n, dtype=bool))
         if ood:
             flag, dist = self.domain.check(x_num, knn=knn)
         else:
@@ -247,7 +271,7 @@ class Surrogate:
         res["knn_distance"] = dist
         return res
 
-    def predict(self, frame: pd.DataFrame) -> pd.DataFrame:
+    def predict(self, frame: pd.DataFrame, refuse: bool = True) -> pd.DataFrame:
         """Damage rate per hour, life in hours, interval and OOD flag per row.
 
         Parameters
@@ -260,12 +284,17 @@ class Surrogate:
         -------
         DataFrame, same index, columns :data:`PREDICTION_COLUMNS`. Rates are per
         hour of operation (Miner damage), lives in hours (1 / rate); the
-        interval has the calibrated coverage :attr:`coverage`.
+        interval has the calibrated coverage :attr:`coverage`;
+        ``beyond_horizon`` marks a predicted life longer than
+        :attr:`horizon_h` (read it as "longer than the horizon": the model
+        was trained on such lives as censored, not as numbers). With
+        ``refuse`` (default) an out-of-domain row (``ood``, the reason in
+        ``ood_reason``) has no number: NaN in every numeric column.
         """
         x_num, x_cat = self.encode(frame)
         r = self.predict_array(x_num, x_cat)
         reasons = self.domain.reasons(x_num, r["knn_distance"], r["ood"])
-        return prediction_frame(r, reasons, frame.index)
+        return prediction_frame(r, reasons, frame.index, refuse=refuse)
 
     # -- persistence --------------------------------------------------------
     def save(self, path: str | Path, export: bool = True, *, option: str = "--out") -> Path:
@@ -367,8 +396,17 @@ def _sha256(path: Path) -> str:
     return h.hexdigest()
 
 
-def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray) -> dict[str, np.ndarray]:
-    """The :data:`PREDICTION_COLUMNS` as arrays from :meth:`Surrogate.predict_array` output."""
+def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray,
+                       refuse: bool = False) -> dict[str, np.ndarray]:
+    """The :data:`PREDICTION_COLUMNS` as arrays from :meth:`Surrogate.predict_array` output.
+
+    ``refuse``: out-of-domain rows get NaN in every number (no answer).
+    """
+    if refuse and np.any(r["ood"]):
+        r = dict(r)
+        for k in ("log10", "lower", "upper", "sigma"):
+            r[k] = np.where(r["ood"], np.nan, r[k])
+        r["beyond_horizon"] = r["beyond_horizon"] & ~r["ood"]
     rate = 10.0 ** r["log10"]
     lo = 10.0 ** r["lower"]
     hi = 10.0 ** r["upper"]
@@ -379,14 +417,14 @@ def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray) -> dict[st
         "sigma_log10": r["sigma"],
         "damage_rate_per_h": rate, "damage_rate_per_h_lower": lo, "damage_rate_per_h_upper": hi,
         "life_h": 1.0 / rate, "life_h_lower": 1.0 / hi, "life_h_upper": 1.0 / lo,
-        "ood": r["ood"], "ood_reason": reasons,
+        "beyond_horizon": r["beyond_horizon"], "ood": r["ood"], "ood_reason": reasons,
     }
 
 
 def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
-                     index: Any = None) -> pd.DataFrame:
+                     index: Any = None, refuse: bool = False) -> pd.DataFrame:
     """Assemble the :data:`PREDICTION_COLUMNS` frame from :meth:`Surrogate.predict_array` output."""
-    return pd.DataFrame(prediction_columns(r, reasons), index=index)
+    return pd.DataFrame(prediction_columns(r, reasons, refuse), index=index)
 
 
 def _open_live(live_dir: str | Path) -> Any:
@@ -413,15 +451,34 @@ def _open_live(live_dir: str | Path) -> Any:
             dl.get_dvc_repo = original
 
 
+def design_bounds(variables: dict[str, Any], features: list[str] | tuple[str, ...]
+                  ) -> dict[str, tuple[float, float]]:
+    """(low, high) of each numeric design variable of ``sweep.variables`` that is a feature.
+
+    ``variables``: name -> an object (or mapping) with ``low``/``high`` (a
+    numeric variable) or ``choices`` (categorical: skipped, unseen levels are
+    rejected by the encoder).
+    """
+    out: dict[str, tuple[float, float]] = {}
+    for name, spec in variables.items():
+        get = spec.get if isinstance(spec, dict) else (lambda k, sp=spec: getattr(sp, k, None))
+        lo, hi = get("low"), get("high")
+        if name in features and lo is not None and hi is not None:
+            out[name] = (float(lo), float(hi))
+    return out
+
+
 def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
-                  live_dir: str | Path | None = None) -> Surrogate:
+                  live_dir: str | Path | None = None,
+                  bounds: dict[str, tuple[float, float]] | None = None) -> Surrogate:
     """Fit a :class:`Surrogate`; log per-member train/val loss per epoch with dvclive.
 
     ``live_dir``: dvclive folder (``Live(dir=..., dvcyaml=None,
     save_dvc_exp=False)``, for use inside a DVC stage); None: no logging.
+    ``bounds``: design ranges of the domain test (:func:`design_bounds`).
     """
     if live_dir is None:
-        return Surrogate.fit(frame, cfg)
+        return Surrogate.fit(frame, cfg, design_bounds=bounds)
     with _open_live(live_dir) as live:
         def log_epoch(epoch: int, tr: np.ndarray, va: np.ndarray, active: np.ndarray) -> None:
             for m in range(tr.shape[0]):
@@ -430,6 +487,6 @@ def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
             live.log_metric("active_members", int(active.sum()), plot=True)
             live.next_step()
 
-        model = Surrogate.fit(frame, cfg, callback=log_epoch)
+        model = Surrogate.fit(frame, cfg, callback=log_epoch, design_bounds=bounds)
         live.summary["best_epoch"] = model.metadata["training"]["best_epoch"]
     return model
