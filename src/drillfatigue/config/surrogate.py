@@ -78,6 +78,9 @@ class SurrogateConfig(StrictModel):
     # as beyond the horizon, and evaluate scores the rows predicted within it ---
     horizon_h: float = Field(1e5, gt=0.0, le=1e12)
     censoring: Literal["likelihood", "none"] = "likelihood"
+    # --- evaluation: a dataset of its own design (same schema) to score on;
+    # None: the model's test cases of the training dataset ---
+    heldout_path: str | None = None
     ood_k: int = Field(5, ge=1, le=100)
     ood_quantile: float = Field(0.99, gt=0.5, le=1.0)
     ood_reference_rows: int = Field(2000, ge=10, le=200_000)
