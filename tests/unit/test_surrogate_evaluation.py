@@ -13,8 +13,9 @@ import pytest
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
-from drillfatigue.surrogate.evaluation import deciding_metrics, evaluate, fit_gbm, monotone_check
+from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
+from drillfatigue.surrogate.evaluation import deciding_metrics, evaluate, monotone_check
+from drillfatigue.surrogate.gbm import design_matrix, fit_gbm
 
 
 def _pred() -> pd.DataFrame:
@@ -135,3 +136,25 @@ def test_evaluate_on_a_heldout_dataset(fitted) -> None:
     # a "held-out" set that repeats training cases is no held-out set
     with pytest.raises(InputError, match="training cases"):
         evaluate(data, model, CFG, baselines=False, heldout=data)
+
+
+def test_served_gbm_behind_the_same_interface(fitted, tmp_path) -> None:
+    data, _ = fitted
+    cfg = CFG.model_copy(update={"served_model": "gbm"})
+    sur = fit_surrogate(data, cfg)
+    rows = data.iloc[::11]
+    p = sur.predict(rows, refuse=False)
+    # the numbers are the boosted trees' with the constant conformal half-width
+    mu = sur.gbm.predict(design_matrix(sur.preprocessor, *sur.encode(rows)))
+    np.testing.assert_array_equal(p["log10_damage_rate_per_h"].to_numpy(), mu)
+    half = sur.metadata["gbm"]["conformal_quantile"]
+    np.testing.assert_allclose(p["log10_damage_rate_per_h_upper"] - mu, half, rtol=1e-12)
+    assert sur.metadata["served_model"] == "gbm" and sur.gbm.n_iter_ <= CFG.hgb_max_iter
+    sur.save(tmp_path / "m")
+    names = {f.name for f in (tmp_path / "m").iterdir()}
+    assert "gbm.pkl" in names and "model.ts" not in names  # the exports are the ensemble's
+    again = Surrogate.load(tmp_path / "m")
+    pd.testing.assert_frame_equal(again.predict(rows), sur.predict(rows))
+    # monotone in the local dogleg by construction
+    assert monotone_check(lambda f: sur.predict(f, refuse=False)["log10_damage_rate_per_h"]
+                          .to_numpy(), rows, sur.domain)["fraction_rows_violating"] == 0.0

@@ -81,6 +81,10 @@ class SurrogateConfig(StrictModel):
     # --- evaluation: a dataset of its own design (same schema) to score on;
     # None: the model's test cases of the training dataset ---
     heldout_path: str | None = None
+    # --- the model that answers queries (twin, service, plan): the ensemble, or
+    # gradient boosting (stopped on whole cases, monotone in the dogleg inputs)
+    # behind the same interface; docs/surrogate.md says which and why ---
+    served_model: Literal["ensemble", "gbm"] = "ensemble"
     ood_k: int = Field(5, ge=1, le=100)
     ood_quantile: float = Field(0.99, gt=0.5, le=1.0)
     ood_reference_rows: int = Field(2000, ge=10, le=200_000)

@@ -12,9 +12,9 @@ calibration cases as the ensemble, scored on the same test cases:
   ensemble's (normalised scores on the calibration set).
 - **HistGradientBoosting** (``HistGradientBoostingRegressor``, squared error,
   one-hot categorical inputs, non-decreasing in the dogleg inputs
-  :data:`MONOTONE_FEATURES`), early stopping on whole cases
-  (:func:`fit_gbm`): intervals from split conformal prediction on absolute
-  residuals (constant width).
+  :data:`drillfatigue.surrogate.gbm.MONOTONE_FEATURES`), early stopping on
+  whole cases (:func:`drillfatigue.surrogate.gbm.fit_gbm`): intervals from
+  split conformal prediction on absolute residuals (constant width).
 
 All models see the same inputs: standardised numeric features and one-hot
 categorical levels (the ensemble's fitted :class:`Preprocessor`).
@@ -51,9 +51,10 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.metrics import decade_label, factor2_by_decade
 from drillfatigue.plotting import subplots
-from drillfatigue.surrogate.conformal import SplitConformal, conformal_quantile
+from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import Split, check_columns, log10_target
 from drillfatigue.surrogate.facade import Surrogate
+from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.io import save_figure
 
 LOG10_2 = math.log10(2.0)
@@ -85,75 +86,7 @@ def split_from_model(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig
 
 
 def _design(model: Surrogate, frame: pd.DataFrame) -> np.ndarray:
-    x_num, x_cat = model.encode(frame)
-    p = model.preprocessor
-    z = (x_num - p.mean_) / p.scale_
-    blocks = [z]
-    for j, col in enumerate(p.categorical):
-        blocks.append((x_cat[:, j:j + 1] == np.arange(len(p.categories_[col]))).astype(float))
-    return np.hstack(blocks)
-
-
-def _gbm_loss(y: np.ndarray, mu: np.ndarray, censor_below: float | None) -> float:
-    """Mean squared error; a censored row (y <= level) only counts mu above the level."""
-    if censor_below is None:
-        return float(np.mean((mu - y) ** 2))
-    err = np.where(y <= censor_below, np.maximum(mu - censor_below, 0.0), mu - y)
-    return float(np.mean(err**2))
-
-
-def fit_gbm(x: np.ndarray, y: np.ndarray, groups: np.ndarray, cfg: SurrogateConfig,
-            monotone: np.ndarray | None = None) -> tuple[Any, dict[str, Any]]:
-    """Gradient boosting with early stopping on whole cases.
-
-    scikit-learn's own early stopping holds out random rows, so rows of one
-    case land on both sides and the stopping point is set by near-copies of
-    training rows. Here a seeded fraction ``cfg.validation_fraction`` of the
-    training *cases* is held out (``GroupShuffleSplit`` on ``groups``); the
-    model is grown to ``cfg.hgb_max_iter`` trees on the rest, the number of
-    trees with the least validation loss (:func:`_gbm_loss`, censored rows as
-    the ensemble's validation counts them) is kept, and the model is refitted
-    with that many trees on all training rows.
-
-    Parameters
-    ----------
-    x : ndarray, shape (n, d)
-        Encoded inputs (:func:`_design`).
-    y : ndarray, shape (n,)
-        log10 damage rate per hour.
-    groups : ndarray, shape (n,)
-        Case id per row.
-    cfg : SurrogateConfig
-    monotone : ndarray of int, shape (d,), optional
-        scikit-learn ``monotonic_cst`` (1: non-decreasing in that input).
-
-    Returns
-    -------
-    model, info
-        The refitted ``HistGradientBoostingRegressor``; ``info`` with
-        ``n_iter`` (trees kept), ``val_loss`` (its validation loss) and
-        ``n_val_cases``.
-    """
-    # scikit-learn: the baselines' optional dependency, loaded only to score them
-    from sklearn.ensemble import HistGradientBoostingRegressor
-    from sklearn.model_selection import GroupShuffleSplit
-
-    censor = (-math.log10(cfg.horizon_h) if cfg.censoring == "likelihood" else None)
-    kw = {"random_state": cfg.split_seed, "early_stopping": False,
-          "monotonic_cst": None if monotone is None else list(map(int, monotone))}
-    split = GroupShuffleSplit(n_splits=1, test_size=cfg.validation_fraction,
-                              random_state=cfg.split_seed)
-    fit_i, val_i = next(split.split(x, y, groups))
-    probe = HistGradientBoostingRegressor(max_iter=cfg.hgb_max_iter, **kw).fit(x[fit_i], y[fit_i])
-    losses = [_gbm_loss(y[val_i], mu, censor) for mu in probe.staged_predict(x[val_i])]
-    best = int(np.argmin(losses)) + 1
-    model = HistGradientBoostingRegressor(max_iter=best, **kw).fit(x, y)
-    return model, {"n_iter": best, "val_loss": float(losses[best - 1]),
-                   "n_val_cases": int(pd.unique(groups[val_i]).size)}
-
-
-#: inputs in which damage may not decrease (docs/surrogate.md, "Monotone in dogleg")
-MONOTONE_FEATURES = ("local_dls_deg_per_30m", "local_max_dls_deg_per_30m")
+    return design_matrix(model.preprocessor, *model.encode(frame))
 
 
 def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
@@ -270,11 +203,7 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
 
         # gradient boosting, early stopping on whole cases, monotone in the dogleg
         # inputs, conformalised absolute residuals (constant width)
-        names = list(model.preprocessor.numeric)
-        cst = np.zeros(x_tr.shape[1], dtype=np.int64)
-        for f in MONOTONE_FEATURES:
-            if f in names:
-                cst[names.index(f)] = 1
+        cst = monotone_constraints(model.preprocessor)
         groups_tr = frame.loc[sp.train, cfg.group_column].astype(str).to_numpy()
         hgb, info = fit_gbm(x_tr, y_tr, groups_tr, cfg, cst)
         mu_hc = hgb.predict(x_ca)

@@ -6,6 +6,9 @@ is a folder::
     metadata.json     feature lists, category levels, scaler, ranges, conformal
                       quantile, OOD threshold, target, versions, training summary
     ensemble.pt       torch state dict of the EnsembleModule (weights only)
+    gbm.pkl           the gradient-boosting model when it is the served one
+                      (``surrogate.served_model: gbm``; pickled scikit-learn,
+                      SHA-256 in metadata.json)
     ood_reference.npy standardised reference rows of the k-NN domain test
     model.ts          TorchScript export, scaler and conformal quantile baked in
     model.onnx        the same as ONNX (onnxruntime servers)
@@ -34,6 +37,7 @@ from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
+from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
@@ -42,7 +46,8 @@ FORMAT_VERSION = 1
 #: Kind of the ownership marker of a model folder (:class:`drillfatigue.files.OutputFolder`).
 MODEL_KIND = "model"
 #: Files a model folder may hold (the exports only when saved with ``export=True``).
-MODEL_FILES = ("metadata.json", "ensemble.pt", "ood_reference.npy", "model.ts", "model.onnx")
+MODEL_FILES = ("metadata.json", "ensemble.pt", "ood_reference.npy", "model.ts", "model.onnx",
+               "gbm.pkl")
 _CHUNK_ROWS = 1024  # rows per forward pass in predict_array: the fastest measured of 512-4096
 _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 
@@ -78,8 +83,10 @@ class Surrogate:
     """
 
     def __init__(self, module: EnsembleModule, preprocessor: Preprocessor,
-                 domain: DomainChecker, metadata: dict[str, Any]) -> None:
+                 domain: DomainChecker, metadata: dict[str, Any], gbm: Any = None) -> None:
         self.module = module.eval()
+        # served gradient boosting (None: the ensemble answers)
+        self.gbm = gbm
         self._scripted: torch.jit.ScriptModule | None = None
         self.preprocessor = preprocessor
         self.domain = domain
@@ -154,6 +161,21 @@ class Surrogate:
         domain = DomainChecker(p.numeric, cfg.ood_k, cfg.ood_quantile, cfg.ood_reference_rows,
                                cfg.split_seed).fit(
             p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_, design_bounds)
+        gbm = None
+        gbm_meta: dict[str, Any] | None = None
+        if cfg.served_model == "gbm":
+            x_tr = design_matrix(p, *reg._encode(tr))
+            gbm, info = fit_gbm(x_tr, y[split.train], groups[split.train].astype(str), cfg,
+                                monotone_constraints(p))
+            mu_g = gbm.predict(design_matrix(p, *reg._encode(cal)))
+            y_c = y[split.calibration]
+            q_g = SplitConformal(cfg.coverage).fit(mu_g, np.ones_like(mu_g), y_c,
+                                                   censor_below=censor_level(cfg)).quantile_
+            if not np.isfinite(q_g):
+                raise InputError("surrogate.calibration_fraction",
+                                 "too few calibration rows for the coverage", "a larger fraction")
+            gbm_meta = info | {"conformal_quantile": float(q_g),
+                               "sigma_log10": float(np.sqrt(np.mean((mu_g - y_c) ** 2)))}
         hist = reg.history_
         meta = {
             "format_version": FORMAT_VERSION,
@@ -176,8 +198,10 @@ class Surrogate:
                          "best_epoch": hist["best_epoch"].tolist(),
                          "best_val_loss": hist["best_val_loss"].tolist(),
                          "n_train_rows": int(split.train.sum())},
+            "served_model": cfg.served_model,
+            "gbm": gbm_meta,
         }
-        return cls(module, p, domain, meta)
+        return cls(module, p, domain, meta, gbm)
 
     # -- encode -------------------------------------------------------------
     def encode(self, frame: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
@@ -234,6 +258,8 @@ class Surrogate:
         x_num = np.asarray(x_num, dtype=np.float64)
         if x_cat is None:
             x_cat = np.zeros((x_num.shape[0], len(self.categorical)), dtype=np.int64)
+        if self.gbm is not None:
+            return self._predict_gbm(x_num, x_cat, ood, knn)
         xt = torch.from_numpy(x_num.astype(np.float32))
         ct = torch.from_numpy(np.ascontiguousarray(x_cat, dtype=np.int64))
         out = np.empty((x_num.shape[0], 4), dtype=np.float32)
@@ -260,9 +286,24 @@ class Surrogate:
             map_chunks(run, range(0, n, share))
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
+        return self._finish(res, x_num, ood, knn)
+
+    def _predict_gbm(self, x_num: np.ndarray, x_cat: np.ndarray, ood: bool,
+                     knn: bool) -> dict[str, np.ndarray]:
+        """:meth:`predict_array` of the served gradient boosting (constant-width interval)."""
+        mu = self.gbm.predict(design_matrix(self.preprocessor, x_num, x_cat))
+        g = self.metadata["gbm"]
+        half = float(g["conformal_quantile"])
+        res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
+               "lower": mu - half, "upper": mu + half}
+        return self._finish(res, x_num, ood, knn)
+
+    def _finish(self, res: dict[str, np.ndarray], x_num: np.ndarray, ood: bool,
+                knn: bool) -> dict[str, np.ndarray]:
+        """Add ``beyond_horizon``, ``ood`` and ``knn_distance`` to a prediction."""
         h = self.horizon_h
         res["beyond_horizon"] = (res["log10"] < -math.log10(h) if h is not None
-                                 else np.zeros(n, dtype=bool))
+                                 else np.zeros(x_num.shape[0], dtype=bool))
         if ood:
             flag, dist = self.domain.check(x_num, knn=knn)
         else:
@@ -321,7 +362,10 @@ class Surrogate:
 
         put("ensemble.pt", lambda t: torch.save(self.module.state_dict(), t))
         put("ood_reference.npy", lambda t: np.save(t, self.domain.reference_))
-        if export:
+        if self.gbm is not None:
+            put("gbm.pkl", lambda t: t.write_bytes(pickle.dumps(self.gbm)))
+        # the exports are the ensemble's network: written only when it is the served model
+        if export and self.gbm is None:
             put("model.ts", lambda t: export_torchscript(self, t))
             put("model.onnx", lambda t: export_onnx(self, t))
         meta = dict(self.metadata)
@@ -376,6 +420,11 @@ class Surrogate:
             module.load_state_dict(torch.load(p / "ensemble.pt", weights_only=True))
             what = str(p / "ood_reference.npy")
             domain = DomainChecker.from_dict(meta.pop("domain"), np.load(p / "ood_reference.npy"))
+            gbm = None
+            if meta.get("served_model") == "gbm":
+                what = str(p / "gbm.pkl")
+                # our own file, its SHA-256 checked against metadata.json above
+                gbm = pickle.loads((p / "gbm.pkl").read_bytes())  # noqa: S301
         except FileNotFoundError:
             raise InputError(what, "missing from the model folder", allowed) from None
         except (KeyError, TypeError, ValueError, RuntimeError, EOFError, OSError,
@@ -385,7 +434,7 @@ class Surrogate:
         meta.pop("conformal_quantile", None)
         meta.pop("versions", None)
         meta.pop("files_sha256", None)
-        return cls(module, pre, domain, meta)
+        return cls(module, pre, domain, meta, gbm)
 
 
 def _sha256(path: Path) -> str:
