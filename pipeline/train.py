@@ -33,7 +33,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         from drillfatigue.files import OutputFolder
         from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
-        from drillfatigue.surrogate.facade import MODEL_KIND, design_bounds
+        from drillfatigue.surrogate.bounds import domain_bounds
+        from drillfatigue.surrogate.facade import MODEL_KIND
         from drillfatigue.surrogate.data import read_dataset
 
         params = load_params(args.params)
@@ -41,9 +42,9 @@ def main(argv: list[str] | None = None) -> int:
         OutputFolder.check(args.out, MODEL_KIND, "--out")  # before minutes of training
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
                  if args.synthetic_cases > 0 else read_dataset(args.data))
-        # the sweep's ranges bound the domain the model answers (the synthetic
+        # the sweep's design bounds the domain the model answers (the synthetic
         # table has its own ranges: bounded by its rows)
-        bounds = (design_bounds(params.sweep.variables, cfg.features)
+        bounds = (domain_bounds(params, cfg.features, frame["s_from_bit_m"].to_numpy())
                   if args.synthetic_cases == 0 else None)
         model = fit_surrogate(frame, cfg, live_dir=args.live, bounds=bounds)
         model.save(args.out, option="--out")

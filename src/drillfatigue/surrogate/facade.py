@@ -137,8 +137,9 @@ class Surrogate:
             Per-epoch hook of :meth:`DeepEnsembleRegressor.fit`.
         design_bounds : dict, optional
             Design range (low, high) per numeric feature that the sweep varied
-            (:func:`design_bounds`); the domain test refuses queries outside
-            it. Features not in it are bounded by the training rows.
+            (or derived from it); the domain test refuses queries outside
+            it. Features not in it are bounded by the training rows
+            (:func:`drillfatigue.surrogate.bounds.domain_bounds`).
         """
         check_columns(frame, cfg)
         y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
@@ -500,23 +501,6 @@ def _open_live(live_dir: str | Path) -> Any:
             dl.get_dvc_repo = original
 
 
-def design_bounds(variables: dict[str, Any], features: list[str] | tuple[str, ...]
-                  ) -> dict[str, tuple[float, float]]:
-    """(low, high) of each numeric design variable of ``sweep.variables`` that is a feature.
-
-    ``variables``: name -> an object (or mapping) with ``low``/``high`` (a
-    numeric variable) or ``choices`` (categorical: skipped, unseen levels are
-    rejected by the encoder).
-    """
-    out: dict[str, tuple[float, float]] = {}
-    for name, spec in variables.items():
-        get = spec.get if isinstance(spec, dict) else (lambda k, sp=spec: getattr(sp, k, None))
-        lo, hi = get("low"), get("high")
-        if name in features and lo is not None and hi is not None:
-            out[name] = (float(lo), float(hi))
-    return out
-
-
 def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
                   live_dir: str | Path | None = None,
                   bounds: dict[str, tuple[float, float]] | None = None) -> Surrogate:
@@ -524,7 +508,8 @@ def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
 
     ``live_dir``: dvclive folder (``Live(dir=..., dvcyaml=None,
     save_dvc_exp=False)``, for use inside a DVC stage); None: no logging.
-    ``bounds``: design ranges of the domain test (:func:`design_bounds`).
+    ``bounds``: ranges of the domain test
+    (:func:`drillfatigue.surrogate.bounds.domain_bounds`).
     """
     if live_dir is None:
         return Surrogate.fit(frame, cfg, design_bounds=bounds)
