@@ -23,7 +23,7 @@ def test_domain_bounds_follow_the_design() -> None:
     assert b["operation.rpm"] == (v["operation.rpm"].low, v["operation.rpm"].high)
     bit_lo, bit_hi = v["operation.bit_md_m"].low, v["operation.bit_md_m"].high
     assert b["md_m"] == (bit_lo - 300.0, bit_hi - 5.0)
-    assert "s_from_bit_m" not in b  # the string's layout, not a design variable
+    assert b["s_from_bit_m"] == (5.0, 300.0)  # the string's locations
     # any designed condition (profile, bit depth, location) lies inside: sampled
     # apart from the 1 m grid the bounds were built on
     rng = np.random.default_rng(0)

@@ -6,9 +6,10 @@ numeric feature:
 
 - a design variable (``sweep.variables`` with ``low``/``high``, e.g.
   ``operation.rpm``) takes its design range;
-- the location features follow from the design: ``md_m`` = bit MD - distance
-  from the bit, so [bit low - largest distance, bit high - smallest
-  distance] over the string's locations (the training rows' distances), and
+- the location features follow from the design: ``s_from_bit_m`` spans the
+  string's locations (the training rows' distances: the string is fixed by
+  params, not drawn), ``md_m`` = bit MD - distance from the bit, so [bit low
+  - largest distance, bit high - smallest distance], and
   the hole geometry (:data:`drillfatigue.well.features.POSITION_COLUMNS`) is
   computed from each designed profile's survey at every location for bit
   depths on a 1 m grid across the bit-depth range (or the fixed bit depth);
@@ -79,6 +80,8 @@ def domain_bounds(params: Any, features: Sequence[str],
         lo = hi = float(params.operation.bit_md_m)
     if "md_m" in features and s.size:
         out["md_m"] = (float(lo) - float(s.max()), float(hi) - float(s.min()))
+    if "s_from_bit_m" in features and s.size:
+        out["s_from_bit_m"] = (float(s.min()), float(s.max()))
     geo = tuple(c for c in POSITION_COLUMNS if c in features)
     if not geo or not s.size:
         return out
