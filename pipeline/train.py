@@ -33,14 +33,20 @@ def main(argv: list[str] | None = None) -> int:
     try:
         from drillfatigue.files import OutputFolder
         from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
+        from drillfatigue.surrogate.bounds import domain_bounds
         from drillfatigue.surrogate.facade import MODEL_KIND
         from drillfatigue.surrogate.data import read_dataset
 
-        cfg = load_params(args.params).surrogate
+        params = load_params(args.params)
+        cfg = params.surrogate
         OutputFolder.check(args.out, MODEL_KIND, "--out")  # before minutes of training
         frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
                  if args.synthetic_cases > 0 else read_dataset(args.data))
-        model = fit_surrogate(frame, cfg, live_dir=args.live)
+        # the sweep's design bounds the domain the model answers (the synthetic
+        # table has its own ranges: bounded by its rows)
+        bounds = (domain_bounds(params, cfg.features, frame["s_from_bit_m"].to_numpy())
+                  if args.synthetic_cases == 0 else None)
+        model = fit_surrogate(frame, cfg, live_dir=args.live, bounds=bounds)
         model.save(args.out, option="--out")
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)

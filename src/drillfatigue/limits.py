@@ -3,8 +3,9 @@
 A value outside these bounds is an input error (the one-line
 :class:`~drillfatigue.errors.InputError` naming the field and the allowed
 range). A value inside them but outside the data a surrogate was trained on
-is not an error: the surrogate answers it with its out-of-domain flag and a
-widened interval (:mod:`drillfatigue.surrogate.ood`). The bounds are wide on
+is not an input error: the surrogate refuses it with its own out-of-domain
+answer, naming the variable and the range it was trained on
+(:mod:`drillfatigue.surrogate.ood`). The bounds are wide on
 purpose; they catch typing slips, sign errors and unit mix-ups (a depth in
 feet given as metres beyond any well, an rpm of 1e9), not unusual operations.
 Each bound and its reason is listed in ``docs/trust.md``.

@@ -8,6 +8,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from drillfatigue.surrogate import make_synthetic_dataset
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -41,6 +43,20 @@ def test_train_then_evaluate(tmp_path: Path, capsys) -> None:
     pred = pd.read_csv(plots / "predictions.csv")
     assert len(pred) == m["n_test_rows"]
     assert (plots / "parity.png").is_file() and (plots / "residuals.png").is_file()
+    assert m["test_source"] == "split" and "deciding" in m and "monotone_dls" in m
+    # a held-out dataset of its own design, named in params: every row scored
+    held = make_synthetic_dataset(6, seed=99)
+    held["case_id"] = "held_" + held["case_id"]
+    held_path = tmp_path / "heldout.parquet"
+    held.to_parquet(held_path)
+    params.write_text(params.read_text(encoding="utf-8") + f"  heldout_path: {held_path}\n",
+                      encoding="utf-8")
+    assert _stage("evaluate").main(["--params", str(params), "--model", str(model),
+                                    "--metrics", str(metrics), "--plots", str(plots),
+                                    "--synthetic-cases", "25"]) == 0
+    m = json.loads(metrics.read_text())
+    assert m["test_source"] == "heldout" and m["n_test_rows"] == len(held)
+    assert "scored on heldout cases (6)" in capsys.readouterr().out
 
 
 def test_missing_dataset_exits_2(tmp_path: Path, capsys) -> None:

@@ -14,6 +14,8 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.config import load_params
+from drillfatigue.surrogate import fit_surrogate
+from drillfatigue.surrogate.bounds import domain_bounds
 
 _RANGES = {
     "operation.rpm": (80.0, 180.0),
@@ -52,10 +54,11 @@ def tiny_table(features: tuple[str, ...], n_cases: int = 40, seed: int = 0) -> p
 
 def train_tiny_surrogate(params_path: Path, out_dir: Path) -> Path:
     """Fit 5 one-layer members for a few epochs on :func:`tiny_table`; save to ``out_dir``."""
-    from drillfatigue.surrogate import fit_surrogate
-
-    cfg = load_params(params_path).surrogate.model_copy(
+    params = load_params(params_path)
+    cfg = params.surrogate.model_copy(
         update={"hidden_layers": (8,), "max_epochs": 20, "patience": 5})
-    model = fit_surrogate(tiny_table(cfg.features), cfg)
+    # the domain from the design, as the train stage saves it
+    bounds = domain_bounds(params, cfg.features, np.array(_RANGES["s_from_bit_m"]))
+    model = fit_surrogate(tiny_table(cfg.features), cfg, bounds=bounds)
     model.save(out_dir)
     return out_dir

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from drillfatigue.errors import InputError
 from drillfatigue.surrogate.ood import DomainChecker, knn_distance
 
 
@@ -61,8 +62,8 @@ def test_outside_range_flagged_with_reason() -> None:
     flag, dist = dc.check(x)
     assert flag.all()
     reasons = dc.reasons(x, dist, flag)
-    assert "rpm=1.5 above training max" in reasons[0]
-    assert "mu=-0.3 below training min" in reasons[1]
+    assert "rpm=1.5 above the range of the training data" in reasons[0]
+    assert "mu=-0.3 below the range of the training data" in reasons[1]
 
 
 def test_empty_corner_flagged_although_inside_ranges() -> None:
@@ -82,3 +83,30 @@ def test_roundtrip_dict() -> None:
     b, db = again.check(x[:200])
     np.testing.assert_array_equal(a, b)
     np.testing.assert_allclose(da, db)
+
+
+def test_design_bounds_replace_the_training_range() -> None:
+    # the sweep designed rpm on [0, 2] but the training rows only reached [0, 1]:
+    # 1.5 is inside the design (range test passes), 2.5 is outside it
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0, 1, (3000, 3))
+    tr, cal = x[:2000], x[2000:]
+    dc = DomainChecker(["rpm", "wob", "mu"]).fit(tr, cal, tr.mean(axis=0), tr.std(axis=0),
+                                                 design_bounds={"rpm": (0.0, 2.0)})
+    flag, _ = dc.check(np.array([[1.5, 0.5, 0.5], [2.5, 0.5, 0.5], [0.5, 1.2, 0.5]]), knn=False)
+    assert flag.tolist() == [False, True, True]
+    again = DomainChecker.from_dict(dc.to_dict(), dc.reference_)
+    assert again.source_ == ["design", "training", "training"]
+    err = again.refusal(np.array([2.5, 0.5, 0.5]), 0.0)
+    assert isinstance(err, InputError)
+    assert err.field == "rpm" and "design range" in err.problem and err.allowed == "0 <= rpm <= 2"
+    err = again.refusal(np.array([0.5, 1.2, 0.5]), 0.0)
+    assert err.field == "wob" and "training data" in err.problem
+
+
+def test_refusal_of_a_far_point_names_the_distance() -> None:
+    dc, _ = _fit()
+    x = np.array([[0.97, 0.97, 0.5]])
+    _, dist = dc.check(x)
+    err = dc.refusal(x[0], float(dist[0]), field_prefix="rows[0].")
+    assert err.field == "rows[0].query" and "far from the training data" in err.problem

@@ -66,15 +66,52 @@ def test_single_query_json(model_dir: Path, capsys) -> None:
     frame = pd.DataFrame({k: [v] for k, v in res["inputs_si"].items()})
     assert sur.predict(frame)["damage_rate_per_h"].iloc[0] == pytest.approx(
         res["damage_rate_per_h"], rel=1e-12)
-    assert isinstance(res["out_of_domain"], bool)
+    assert res["out_of_domain"] is False
+    assert res["horizon_h"] == TINY.horizon_h
+    assert res["beyond_horizon"] is (res["life_h"] > res["horizon_h"])
 
 
-def test_text_output_and_ood(model_dir: Path, capsys) -> None:
+def test_text_output_says_longer_than_the_horizon(model_dir: Path, tmp_path: Path,
+                                                   capsys) -> None:
+    assert main(["query", "--model", str(model_dir), *FLAGS, "--json"]) == 0
+    life_h = json.loads(capsys.readouterr().out)["life_h"]
+    # the same model with a horizon below that life answers "longer than"
+    sur = Surrogate.load(model_dir)
+    sur.metadata["horizon_h"] = life_h / 10.0
+    sur.save(tmp_path / "m", export=False)
+    assert main(["query", "--model", str(tmp_path / "m"), *FLAGS]) == 0
+    out = capsys.readouterr().out
+    assert f"longer than the horizon {life_h / 10.0:.4g} h" in out
+    assert main(["query", "--model", str(model_dir), *FLAGS]) == 0
+    assert f"life: {life_h:.4g} h" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("json_flag", [[], ["--json"]])
+def test_out_of_domain_query_is_refused(model_dir: Path, capsys, json_flag) -> None:
+    """rpm 400 is physical but outside the training data: no number, exit 2, one line
+    naming the variable and the range the model answers."""
     flags = list(FLAGS)
     flags[flags.index("--rpm") + 1] = "400"
-    assert main(["query", "--model", str(model_dir), *flags]) == 0
-    out = capsys.readouterr().out
-    assert "damage rate" in out and "OUT OF DOMAIN" in out and "operation.rpm=400" in out
+    assert main(["query", "--model", str(model_dir), *flags, *json_flag]) == 2
+    cap = capsys.readouterr()
+    assert cap.out == ""
+    lo, hi = Surrogate.load(model_dir).domain.min_[0], Surrogate.load(model_dir).domain.max_[0]
+    assert cap.err == (f"error: operation.rpm: 400 is outside the surrogate's training data: "
+                       f"no answer (allowed: {lo:.6g} <= operation.rpm <= {hi:.6g})\n")
+
+
+def test_batch_out_of_domain_row_has_no_number(model_dir: Path, tmp_path: Path,
+                                               capsys) -> None:
+    table = pd.read_csv(EXAMPLES / "conditions.csv")
+    table.loc[1, "rpm"] = 400.0
+    cond = tmp_path / "cond.csv"
+    table.to_csv(cond, index=False)
+    out = tmp_path / "pred.csv"
+    assert main(["query", "--model", str(model_dir), "--csv", str(cond), "--out", str(out)]) == 0
+    p = pd.read_csv(out)
+    assert p["ood"].tolist()[1] and "operation.rpm=400" in p["ood_reason"][1]
+    assert p.loc[1, ["damage_rate_per_h", "life_h", "life_h_lower"]].isna().all()
+    assert p.loc[[0, 2], "damage_rate_per_h"].notna().all()
 
 
 def test_batch_csv(model_dir: Path, tmp_path: Path, capsys) -> None:
@@ -211,14 +248,15 @@ def test_physically_absurd_query_is_an_input_error(model_dir: Path, capsys, flag
     assert f"(allowed: {word})" in err
 
 
-def test_physical_but_untrained_value_keeps_the_ood_flag(model_dir: Path, capsys) -> None:
-    """rpm 900 is physical (motor drilling) but far outside the training data: answered
-    with the out-of-domain flag, not an error."""
+def test_physical_but_untrained_value_is_refused_not_bounded(model_dir: Path, capsys) -> None:
+    """rpm 900 is physical (motor drilling) but far outside the training data: refused
+    by the surrogate's domain, not by the physical bounds."""
     flags = list(FLAGS)
     flags[flags.index("--rpm") + 1] = "900"
-    assert main(["query", "--model", str(model_dir), *flags, "--json"]) == 0
-    res = json.loads(capsys.readouterr().out)
-    assert res["out_of_domain"] is True and "operation.rpm" in res["ood_reason"]
+    assert main(["query", "--model", str(model_dir), *flags, "--json"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: operation.rpm: 900 is outside the surrogate's")
+    assert "physical range" not in err
 
 
 def test_batch_absurd_row_named(model_dir: Path, tmp_path: Path, capsys) -> None:

@@ -14,8 +14,11 @@ from drillfatigue.errors import InputError
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
 from drillfatigue.surrogate.twin import _ConditionCache, replay_log
 
+# every row regressed: these tests are about the replay's bookkeeping, and the
+# cross-replay bit-equality below holds for these weights (eager and TorchScript
+# GEMMs of different row counts may differ in the last bit for other weights)
 TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
-                       n_threads=1)
+                       n_threads=1, censoring="none")
 EXAMPLES = Path(__file__).resolve().parents[2] / "data" / "examples"
 CONSTANTS = {"mu_static": 0.35, "mu_dynamic": 0.28, "mud_density_sg": 1.25,
              "amplitude_mm": 1.0, "lobes": 3, "kop_m": 500, "dls_deg_per_30m": 5,
@@ -48,7 +51,7 @@ def test_constant_conditions_give_rate_times_T(model: Surrogate) -> None:
         "local_dls_deg_per_30m": 0.0, "s_from_bit_m": comps["s_from_bit_m"],
         "md_m": 1500.0 - comps["s_from_bit_m"], "component_type": comps["component_type"],
         "location": comps["location"]})
-    p = model.predict(frame)
+    p = model.predict(frame, refuse=False)  # the twin counts out-of-domain time apart
     T_h = 7.3
     # exact bookkeeping: damage = rate x T at 1e-9 with the rate the twin used
     rate = res["last_damage_rate_per_h"]
@@ -254,7 +257,7 @@ def test_survey_geometry_features_reach_the_model() -> None:
                                                    None, 800.0 - s, np.full(s.shape, 800.0),
                                                    ("local_dls_deg_per_30m",))[
                                                        "local_dls_deg_per_30m"]})
-    p = geo_model.predict(frame)
+    p = geo_model.predict(frame, refuse=False)
     # float32 network, batch-size dependent round-off: 1e-5 relative (see above)
     np.testing.assert_allclose(res["damage"], p["damage_rate_per_h"] * 1.0, rtol=1e-5)
     with pytest.raises(InputError, match="inc_deg"):

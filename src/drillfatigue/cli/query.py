@@ -1,5 +1,12 @@
 """``drillfatigue query``: ask the surrogate for a damage rate, life, interval, OOD flag.
 
+A condition outside the surrogate's domain (a design variable outside the
+sweep's range, or far from every training condition) gets no number: a single
+query exits with code 2 and the one-line error naming the variable and its
+range; a batch writes the row with empty numbers and the reason. A predicted
+life beyond the model's horizon (``surrogate.horizon_h``) is answered as
+"longer than" the horizon.
+
 Single query (flags built from the model's features, user units)::
 
     drillfatigue query --model data/surrogate/model --rpm 120 --wob-kN 80 \\
@@ -76,6 +83,10 @@ def _finite(v: float) -> float | None:
     return v if math.isfinite(v) else None
 
 
+def _shown(v: float | None) -> str:
+    return "inf" if v is None else f"{v:.3g}"
+
+
 def _geometry_from_well(sur, well: Path, profile: str | None):  # noqa: ANN001, ANN202
     """(geometry columns the model uses, the well's survey) for ``--well``."""
     from drillfatigue.well.features import POSITION_COLUMNS  # start-up: scipy.ndimage, ~0.1 s
@@ -130,6 +141,7 @@ def query(ctx: typer.Context,
     Feature flags come from the model (e.g. --rpm, --wob-kN, --rop-m-per-h,
     --component-type); run with a model and no flags to list them.
     """
+    from drillfatigue.surrogate.facade import prediction_frame  # optional extra [surrogate]: torch
     from drillfatigue.surrogate.io import write_csv  # optional extra [surrogate]: torch
 
     flags = parse_feature_flags(list(ctx.args))
@@ -169,12 +181,18 @@ def query(ctx: typer.Context,
         result = pd.concat([table.reset_index(drop=True), pred.reset_index(drop=True)], axis=1)
         write_csv(result, out)
         n_ood = int(pred["ood"].sum())
-        print(f"wrote {len(result)} predictions to {out} ({n_ood} out of domain)")
+        print(f"wrote {len(result)} predictions to {out} ({n_ood} out of domain: refused, "
+              "no number)")
         return
     frame = vocab.frame_from_mapping(flags, require=need)
     if geometry is not None:
         frame = _add_geometry(frame, vocab, *geometry)
-    row = sur.predict(frame).iloc[0]
+    x_num, x_cat = sur.encode(frame)
+    r = sur.predict_array(x_num, x_cat)
+    if r["ood"][0]:
+        raise sur.domain.refusal(x_num[0], float(r["knn_distance"][0]))
+    row = prediction_frame(r, np.full(1, "", dtype=object)).iloc[0]
+    horizon = sur.horizon_h
     res = {
         "criterion": sur.metadata["criterion"],
         "coverage": sur.coverage,
@@ -185,6 +203,8 @@ def query(ctx: typer.Context,
         "life_h_interval": [_finite(float(row["life_h_lower"])),
                             _finite(float(row["life_h_upper"]))],
         "log10_damage_rate_per_h": float(row["log10_damage_rate_per_h"]),
+        "horizon_h": horizon,
+        "beyond_horizon": bool(row["beyond_horizon"]),
         "out_of_domain": bool(row["ood"]),
         "ood_reason": str(row["ood_reason"]),
         "inputs_si": {c: (float(frame[c].iloc[0]) if c in sur.features else str(frame[c].iloc[0]))
@@ -198,8 +218,10 @@ def query(ctx: typer.Context,
     print(f"damage rate ({res['criterion']}): {res['damage_rate_per_h']:.4g} per h "
           f"({pct} % interval {lo:.3g} .. {hi:.3g})")
     llo, lhi = res["life_h_interval"]
-    print(f"life: {res['life_h']:.4g} h ({pct} % interval {llo:.3g} .. {lhi:.3g} h)")
-    if res["out_of_domain"]:
-        print(f"OUT OF DOMAIN: {res['ood_reason']}")
+    if res["beyond_horizon"]:
+        print(f"life: longer than the horizon {horizon:.4g} h (lives beyond it are "
+              "trained as censored, not as numbers)")
     else:
-        print("in the training domain")
+        print(f"life: {res['life_h']:.4g} h ({pct} % interval {llo:.3g} .. "
+              f"{_shown(lhi)} h)")
+    print("in the training domain")

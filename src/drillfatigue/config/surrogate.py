@@ -73,9 +73,18 @@ class SurrogateConfig(StrictModel):
     n_threads: int = Field(2, ge=1, le=256)
     # --- uncertainty and domain ---
     coverage: float = Field(0.90, gt=0.5, lt=1.0)
-    # --- evaluation: rows whose simulated life is at most this (h) are scored
-    # apart as the ones that can limit a plan (metrics "governing") ---
-    relevant_life_h: float = Field(1e5, gt=0.0, le=1e12)
+    # --- target: a life beyond this horizon (h of rotation) is censored ("longer
+    # than"): trained on its likelihood P(log10 rate <= -log10 horizon), answered
+    # as beyond the horizon, and evaluate scores the rows predicted within it ---
+    horizon_h: float = Field(1e5, gt=0.0, le=1e12)
+    censoring: Literal["likelihood", "none"] = "likelihood"
+    # --- evaluation: a dataset of its own design (same schema) to score on;
+    # None: the model's test cases of the training dataset ---
+    heldout_path: str | None = None
+    # --- the model that answers queries (twin, service, plan): the ensemble, or
+    # gradient boosting (stopped on whole cases, monotone in the dogleg inputs)
+    # behind the same interface; docs/surrogate.md says which and why ---
+    served_model: Literal["ensemble", "gbm"] = "ensemble"
     ood_k: int = Field(5, ge=1, le=100)
     ood_quantile: float = Field(0.99, gt=0.5, le=1.0)
     ood_reference_rows: int = Field(2000, ge=10, le=200_000)

@@ -102,13 +102,19 @@ def predict_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "
     """Columns and rows of a query answer: the inputs as given, then the predictions.
 
     The predictions are those of :meth:`Surrogate.predict` (same arrays, same
-    formulas); infinite or NaN numbers become None (JSON null).
+    formulas); infinite or NaN numbers become None (JSON null). Outside the
+    surrogate's domain there is no number, as with ``drillfatigue query``: a
+    single row is refused with the InputError of :meth:`DomainChecker.refusal`
+    naming the variable and its range (HTTP 422, the same one line as the
+    CLI); in a batch the row's numbers are null, with ``ood`` and the reason.
     """
     sur = lm.surrogate
     x_num, x_cat = encode_rows(lm, rows, field)
     r = sur.predict_array(x_num, x_cat)
+    if len(rows) == 1 and r["ood"][0]:
+        raise sur.domain.refusal(x_num[0], float(r["knn_distance"][0]), f"{field}[0].")
     reasons = sur.domain.reasons(x_num, r["knn_distance"], r["ood"])
-    cols = prediction_columns(r, reasons)
+    cols = prediction_columns(r, reasons, refuse=True)
     lists = {c: np.asarray(cols[c]).tolist() for c in PREDICTION_COLUMNS}
     out = []
     for i, row in enumerate(rows):

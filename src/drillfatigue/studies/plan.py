@@ -211,7 +211,9 @@ def predict_candidates(cset: CandidateFile, surrogate: Any) -> pd.DataFrame:
             raise InputError("surrogate", f"model needs column(s) {', '.join(missing)} that a "
                              "well-plan query cannot supply", "a surrogate trained on case, "
                              "location and well-curvature features")
-        pred = surrogate.predict(q)
+        # numbers also where out of domain: the ranking reports ood_fraction and the
+        # simulator confirms the top candidates
+        pred = surrogate.predict(q, refuse=False)
         # trapezoid weights over the bit positions
         wts = np.full(cset.surrogate_bit_positions, dt_h)
         wts[[0, -1]] *= 0.5

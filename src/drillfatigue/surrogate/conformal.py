@@ -68,11 +68,23 @@ class SplitConformal:
     def __init__(self, coverage: float = 0.90) -> None:
         self.coverage = coverage
 
-    def fit(self, mu: np.ndarray, sigma: np.ndarray, y: np.ndarray) -> SplitConformal:
+    def fit(self, mu: np.ndarray, sigma: np.ndarray, y: np.ndarray,
+            censor_below: float | None = None) -> SplitConformal:
+        """Calibrate q; rows with ``y <= censor_below`` are censored ("at most c").
+
+        A censored row is covered when the interval reaches down to its level
+        (mu - q sigma <= c), so its score is max(mu - c, 0) / sigma, the
+        smallest q that covers it. The coverage guarantee then reads: the
+        interval contains Y, or Y is censored and the interval reaches down
+        to c.
+        """
         mu, sigma, y = (np.asarray(a, dtype=np.float64).reshape(-1) for a in (mu, sigma, y))
         if np.any(sigma <= 0):
             raise InputError("sigma", "non-positive spread", "sigma > 0")
         scores = np.abs(y - mu) / sigma
+        if censor_below is not None:
+            cens = y <= censor_below
+            scores[cens] = np.maximum(mu[cens] - censor_below, 0.0) / sigma[cens]
         self.quantile_ = conformal_quantile(scores, self.coverage)
         self.n_calibration_ = int(scores.size)
         return self

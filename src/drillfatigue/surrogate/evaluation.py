@@ -1,5 +1,7 @@
-"""Scoring of the surrogate against baselines on the same case-wise split.
+"""Scoring of the surrogate against baselines on the same held-out cases.
 
+The test cases are the model's test split, or every case of a held-out
+dataset of its own design when one is given (``surrogate.heldout_path``).
 Baselines, trained on the same training cases and calibrated on the same
 calibration cases as the ensemble, scored on the same test cases:
 
@@ -9,8 +11,10 @@ calibration cases as the ensemble, scored on the same test cases:
   training rows. Intervals: the GP standard deviation conformalised like the
   ensemble's (normalised scores on the calibration set).
 - **HistGradientBoosting** (``HistGradientBoostingRegressor``, squared error,
-  native categorical support via one-hot inputs): intervals from split
-  conformal prediction on absolute residuals (constant width).
+  one-hot categorical inputs, non-decreasing in the dogleg inputs
+  :data:`drillfatigue.surrogate.gbm.MONOTONE_FEATURES`), early stopping on
+  whole cases (:func:`drillfatigue.surrogate.gbm.fit_gbm`): intervals from
+  split conformal prediction on absolute residuals (constant width).
 
 All models see the same inputs: standardised numeric features and one-hot
 categorical levels (the ensemble's fitted :class:`Preprocessor`).
@@ -20,12 +24,15 @@ interval coverage and mean width (decades), and the fraction of rows whose
 predicted damage is within a factor of 2 of the simulated one
 (|log10 pred - log10 true| <= log10 2).
 
-Where it counts (:func:`governing_metrics`): a string's life is set by its most
-damaged component, so the same errors are also scored on each test case's
-governing damage rate (largest over its rows, simulated vs predicted, whichever
-rows they are) and on the rows whose simulated life is at most
-``surrogate.relevant_life_h`` (default 1e5 h of operation: a component that
-lasts longer does not limit any plan).
+Where it counts: a string's life is set by its most damaged component and
+lives beyond ``surrogate.horizon_h`` (1e5 h of rotation) are answered as
+"longer than". :func:`deciding_metrics` scores the rows whose *predicted*
+life is within the horizon (what a user reads as a number), per decade, well
+profile and component type, the "longer than" answers as a classification,
+and the governing damage per case and component type (the headline).
+:func:`governing_metrics` keeps the per-case maximum and the rows whose
+*simulated* life is within the horizon. :func:`monotone_check` catches
+predictions that fall as the dogleg severity rises.
 """
 
 from __future__ import annotations
@@ -33,6 +40,7 @@ from __future__ import annotations
 import json
 import math
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -45,11 +53,12 @@ from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.metrics import factor2_by_decade
+from drillfatigue.metrics import decade_label, factor2_by_decade
 from drillfatigue.plotting import subplots
-from drillfatigue.surrogate.conformal import SplitConformal, conformal_quantile
+from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import Split, check_columns, log10_target
 from drillfatigue.surrogate.facade import Surrogate
+from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.io import save_figure
 
 LOG10_2 = math.log10(2.0)
@@ -81,95 +90,296 @@ def split_from_model(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig
 
 
 def _design(model: Surrogate, frame: pd.DataFrame) -> np.ndarray:
-    x_num, x_cat = model.encode(frame)
-    p = model.preprocessor
-    z = (x_num - p.mean_) / p.scale_
-    blocks = [z]
-    for j, col in enumerate(p.categorical):
-        blocks.append((x_cat[:, j:j + 1] == np.arange(len(p.categories_[col]))).astype(float))
-    return np.hstack(blocks)
+    return design_matrix(model.preprocessor, *model.encode(frame))
 
 
 def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
-             baselines: bool = True) -> tuple[dict[str, Any], pd.DataFrame]:
-    """Score the ensemble (and the baselines) on the model's test cases.
+             baselines: bool = True, heldout: pd.DataFrame | None = None
+             ) -> tuple[dict[str, Any], pd.DataFrame]:
+    """Score the ensemble (and the baselines) on held-out cases.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        The dataset the model was trained on (its split is in the model's
+        metadata); the baselines train and calibrate on the same cases.
+    heldout : DataFrame, optional
+        A dataset of its own design (same schema): every row is scored. None:
+        the model's test cases of ``frame`` are scored.
 
     Returns
     -------
     metrics : dict
         Per model ("ensemble", "gp", "hgb") the :func:`score` dict, plus
-        dataset facts (test rows/cases, censored fraction, OOD fraction).
+        dataset facts (test rows/cases, censored fraction, OOD fraction),
+        ``governing`` (:func:`governing_metrics`), ``deciding``
+        (:func:`deciding_metrics`: the rows whose predicted life is within the
+        horizon, censoring, governing damage per component) and
+        ``monotone_dls`` (:func:`monotone_check` per model).
     predictions : DataFrame
-        Test rows: case id, y_true and per model the prediction and interval
-        (log10 damage rate per hour), the ensemble's OOD flag.
+        Test rows: case id, profile, component type, location, y_true and per
+        model the prediction and interval (log10 damage rate per hour), the
+        ensemble's OOD flag.
     """
     check_columns(frame, cfg)
     y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
     sp = split_from_model(frame, model, cfg)
-    if not sp.test.any():
-        raise InputError(cfg.group_column, "no test case of the model in the dataset",
-                         "the dataset the model was trained on")
-    test = frame.loc[sp.test]
-    y_te = y[sp.test]
-    pred = model.predict(test)
+    if heldout is None:
+        if not sp.test.any():
+            raise InputError(cfg.group_column, "no test case of the model in the dataset",
+                             "the dataset the model was trained on")
+        test = frame.loc[sp.test]
+        y_te = y[sp.test]
+        source = "split"
+    else:
+        check_columns(heldout, cfg)
+        test = heldout
+        y_te = log10_target(heldout[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
+        # case ids hash the case's settings: a shared id is the same simulation
+        shared = (set(map(str, heldout[cfg.group_column]))
+                  & set(model.metadata["split"]["train_cases"]))
+        if shared:
+            raise InputError("--heldout", f"{len(shared)} case(s) also in the model's "
+                             "training cases", "a dataset of its own design (held-out stage)")
+        source = "heldout"
+    x_num, x_cat = model.encode(test)
+    r = model.predict_array(x_num, x_cat)
     metrics: dict[str, Any] = {
+        "test_source": source,
         "coverage_nominal": model.coverage,
         "criterion": cfg.criterion,
-        "n_test_rows": int(sp.test.sum()),
+        "horizon_h": cfg.horizon_h,
+        "censoring": cfg.censoring,
+        "n_test_rows": int(len(test)),
         "n_test_cases": int(test[cfg.group_column].nunique()),
         "censored_fraction_test": float(np.mean(y_te <= math.log10(cfg.rate_floor_per_h))),
-        "ood_fraction_test": float(pred["ood"].mean()),
+        "beyond_horizon_fraction_test": float(np.mean(y_te < -math.log10(cfg.horizon_h))),
+        "ood_fraction_test": float(r["ood"].mean()),
     }
-    out = pd.DataFrame({"case_id": test[cfg.group_column].to_numpy(), "y_true": y_te})
-    mu = pred["log10_damage_rate_per_h"].to_numpy()
-    lo = pred["log10_damage_rate_per_h_lower"].to_numpy()
-    hi = pred["log10_damage_rate_per_h_upper"].to_numpy()
+    out = pd.DataFrame({"case_id": test[cfg.group_column].astype(str).to_numpy(),
+                        "y_true": y_te})
+    for col in ("well.profile", "component_type", "location", "s_from_bit_m"):
+        if col in test.columns:
+            out[col] = test[col].to_numpy()
+    mu, lo, hi = r["log10"], r["lower"], r["upper"]
     metrics["ensemble"] = score(y_te, mu, lo, hi)
-    ind = ~pred["ood"].to_numpy()
+    ind = ~r["ood"]
     if ind.any():
         metrics["ensemble_in_domain"] = score(y_te[ind], mu[ind], lo[ind], hi[ind])
     out["ensemble"], out["ensemble_lower"], out["ensemble_upper"] = mu, lo, hi
     out["ensemble_ood"] = ~ind
-    if not baselines:
-        return metrics, out
+    models: tuple[str, ...] = ("ensemble",)
+    monotone: dict[str, Any] = {"ensemble": monotone_check(
+        lambda f: model.predict_array(*model.encode(f), ood=False)["log10"], test,
+        model.domain)}
+    if baselines:
+        x_tr = _design(model, frame.loc[sp.train])
+        x_ca = _design(model, frame.loc[sp.calibration])
+        x_te = _design(model, test)
+        y_tr, y_ca = y[sp.train], y[sp.calibration]
+        censor = -math.log10(cfg.horizon_h) if cfg.censoring == "likelihood" else None
 
-    x_tr = _design(model, frame.loc[sp.train])
-    x_ca = _design(model, frame.loc[sp.calibration])
-    x_te = _design(model, test)
-    y_tr, y_ca = y[sp.train], y[sp.calibration]
+        # Gaussian process on a subsample
+        rng = np.random.default_rng(cfg.split_seed)
+        n_gp = min(cfg.gp_max_rows, x_tr.shape[0])
+        sub = np.sort(rng.choice(x_tr.shape[0], n_gp, replace=False))
+        d = x_tr.shape[1]
+        kernel = (ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.ones(d), (1e-2, 1e3))
+                  + WhiteKernel(1e-2, (1e-6, 1.0)))
+        gp = GaussianProcessRegressor(kernel, normalize_y=True, random_state=cfg.split_seed,
+                                      n_restarts_optimizer=0)
+        with warnings.catch_warnings():
+            # a length scale at its upper bound means an irrelevant input: expected, not a fault
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            gp.fit(x_tr[sub], y_tr[sub])
+        mu_c, sd_c = gp.predict(x_ca, return_std=True)
+        conf = SplitConformal(model.coverage).fit(mu_c, np.maximum(sd_c, 1e-9), y_ca,
+                                                  censor_below=censor)
+        mu_t, sd_t = gp.predict(x_te, return_std=True)
+        lo_t, hi_t = conf.interval(mu_t, np.maximum(sd_t, 1e-9))
+        metrics["gp"] = score(y_te, mu_t, lo_t, hi_t) | {"train_rows": int(n_gp)}
+        out["gp"], out["gp_lower"], out["gp_upper"] = mu_t, lo_t, hi_t
 
-    # Gaussian process on a subsample
-    rng = np.random.default_rng(cfg.split_seed)
-    n_gp = min(cfg.gp_max_rows, x_tr.shape[0])
-    sub = np.sort(rng.choice(x_tr.shape[0], n_gp, replace=False))
-    d = x_tr.shape[1]
-    kernel = (ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.ones(d), (1e-2, 1e3))
-              + WhiteKernel(1e-2, (1e-6, 1.0)))
-    gp = GaussianProcessRegressor(kernel, normalize_y=True, random_state=cfg.split_seed,
-                                  n_restarts_optimizer=0)
-    with warnings.catch_warnings():
-        # a length scale at its upper bound means an irrelevant input: expected, not a fault
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        gp.fit(x_tr[sub], y_tr[sub])
-    mu_c, sd_c = gp.predict(x_ca, return_std=True)
-    conf = SplitConformal(model.coverage).fit(mu_c, np.maximum(sd_c, 1e-9), y_ca)
-    mu_t, sd_t = gp.predict(x_te, return_std=True)
-    lo_t, hi_t = conf.interval(mu_t, np.maximum(sd_t, 1e-9))
-    metrics["gp"] = score(y_te, mu_t, lo_t, hi_t) | {"train_rows": int(n_gp)}
-    out["gp"], out["gp_lower"], out["gp_upper"] = mu_t, lo_t, hi_t
-
-    # gradient boosting, conformalised absolute residuals
-    hgb = HistGradientBoostingRegressor(max_iter=cfg.hgb_max_iter, random_state=cfg.split_seed,
-                                        early_stopping=True, validation_fraction=cfg.validation_fraction)
-    hgb.fit(x_tr, y_tr)
-    q = conformal_quantile(np.abs(y_ca - hgb.predict(x_ca)), model.coverage)
-    mu_h = hgb.predict(x_te)
-    metrics["hgb"] = score(y_te, mu_h, mu_h - q, mu_h + q) | {"train_rows": int(x_tr.shape[0])}
-    out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - q, mu_h + q
-    best = min(("ensemble", "gp", "hgb"), key=lambda k: metrics[k]["rmse"])
-    metrics["best_rmse_model"] = best
-    metrics["governing"] = governing_metrics(out, relevant_life_h=cfg.relevant_life_h)
+        # gradient boosting, early stopping on whole cases, monotone in the dogleg
+        # inputs, conformalised absolute residuals (constant width)
+        cst = monotone_constraints(model.preprocessor)
+        groups_tr = frame.loc[sp.train, cfg.group_column].astype(str).to_numpy()
+        hgb, info = fit_gbm(x_tr, y_tr, groups_tr, cfg, cst)
+        mu_hc = hgb.predict(x_ca)
+        ones = np.ones_like(mu_hc)
+        q = SplitConformal(model.coverage).fit(mu_hc, ones, y_ca, censor_below=censor).quantile_
+        mu_h = hgb.predict(x_te)
+        metrics["hgb"] = (score(y_te, mu_h, mu_h - q, mu_h + q)
+                          | {"train_rows": int(x_tr.shape[0])} | info)
+        out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - q, mu_h + q
+        monotone["hgb"] = monotone_check(lambda f: hgb.predict(_design(model, f)), test,
+                                         model.domain)
+        models = ("ensemble", "gp", "hgb")
+        metrics["best_rmse_model"] = min(models, key=lambda k: metrics[k]["rmse"])
+    metrics["governing"] = governing_metrics(out, models, relevant_life_h=cfg.horizon_h)
+    metrics["deciding"] = deciding_metrics(out, models, cfg.horizon_h)
+    metrics["monotone_dls"] = monotone
     return metrics, out
+
+
+def _errs(e: np.ndarray, covered: np.ndarray | None = None) -> dict[str, float]:
+    if e.size == 0:
+        res = {"rmse": float("nan"), "mae": float("nan"), "factor2_fraction": float("nan"),
+               "n": 0}
+    else:
+        res = {"rmse": float(np.sqrt(np.mean(e**2))), "mae": float(np.mean(np.abs(e))),
+               "factor2_fraction": float(np.mean(np.abs(e) <= LOG10_2)), "n": int(e.size)}
+    if covered is not None:
+        res["coverage"] = float(np.mean(covered)) if covered.size else float("nan")
+    return res
+
+
+def deciding_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", "gp", "hgb"),
+                     horizon_h: float = 1e5) -> dict[str, Any]:
+    """Errors on the answers that decide a string's life, as a user meets them.
+
+    A user sees the prediction, not the simulation: the rows "with life within
+    the horizon" are those whose *predicted* life is at most ``horizon_h``
+    (predicted log10 rate >= -log10 horizon_h); a row predicted beyond it is
+    answered "longer than the horizon" and is scored as a classification.
+
+    Parameters
+    ----------
+    pred : DataFrame
+        Test rows of :func:`evaluate`: ``case_id``, ``y_true``, per model ``m``
+        the columns ``m``, ``m_lower``, ``m_upper`` (log10 damage rate per
+        hour); optional ``well.profile``, ``component_type``, ``location``,
+        ``s_from_bit_m`` for the breakdowns and the governing location.
+    models : tuple of str
+    horizon_h : float
+        Horizon, h (> 0).
+
+    Returns
+    -------
+    dict
+        Per model: ``rows`` (RMSE, MAE, factor-2 fraction, interval coverage
+        on the rows predicted within the horizon), ``by_decade`` (the same per
+        decade of the simulated rate), ``by_profile``, ``by_component_type``,
+        ``beyond_horizon`` (precision, recall and counts of the "longer than
+        the horizon" answers against the simulation) and ``governing`` (per
+        case and component type: the largest predicted against the largest
+        simulated rate; ``same_location_fraction``: the predicted governing
+        row is the simulated one's location and distance from the bit; the
+        error scored where either is within the horizon).
+    """
+    if not horizon_h > 0:
+        raise ValueError(f"horizon_h must be > 0, got {horizon_h}")
+    c = -math.log10(horizon_h)
+    y = pred["y_true"].to_numpy(dtype=np.float64)
+    out: dict[str, Any] = {"horizon_h": float(horizon_h)}
+    for m in models:
+        if m not in pred:
+            continue
+        mu = pred[m].to_numpy(dtype=np.float64)
+        lo = pred[f"{m}_lower"].to_numpy(dtype=np.float64)
+        hi = pred[f"{m}_upper"].to_numpy(dtype=np.float64)
+        within = mu >= c
+        cov = (y >= lo) & (y <= hi)
+        res: dict[str, Any] = {"rows": _errs(mu[within] - y[within], cov[within])}
+        dec = decade_label(y)
+        res["by_decade"] = {str(k): _errs(mu[within & (dec == k)] - y[within & (dec == k)],
+                                          cov[within & (dec == k)])
+                            for k in sorted(set(dec[within]), key=float)}
+        for col, key in (("well.profile", "by_profile"), ("component_type", "by_component_type")):
+            if col in pred:
+                g = pred[col].astype(str).to_numpy()
+                res[key] = {str(k): _errs(mu[within & (g == k)] - y[within & (g == k)],
+                                          cov[within & (g == k)])
+                            for k in sorted(set(g[within]))}
+        pb, tb = ~within, y < c
+        res["beyond_horizon"] = {
+            "n_predicted": int(pb.sum()), "n_simulated": int(tb.sum()),
+            "precision": float(np.mean(tb[pb])) if pb.any() else float("nan"),
+            "recall": float(np.mean(pb[tb])) if tb.any() else float("nan")}
+        res["governing"] = _governing_per_component(pred, m, c)
+        out[m] = res
+    return out
+
+
+def _governing_per_component(pred: pd.DataFrame, m: str, c: float) -> dict[str, Any]:
+    """Largest predicted vs largest simulated rate per case and component type."""
+    keys = ["case_id"] + (["component_type"] if "component_type" in pred else [])
+    y = pred["y_true"].to_numpy(dtype=np.float64)
+    mu = pred[m].to_numpy(dtype=np.float64)
+    frame = pred.assign(_row=np.arange(len(pred)))
+    where = [col for col in ("location", "s_from_bit_m") if col in pred]
+    e, same, both_beyond, n = [], [], 0, 0
+    by_type: dict[str, list[float]] = {}
+    for key, g in frame.groupby(keys, sort=True):
+        rows = g["_row"].to_numpy()
+        i_sim, i_pred = rows[np.argmax(y[rows])], rows[np.argmax(mu[rows])]
+        n += 1
+        if y[i_sim] < c and mu[i_pred] < c:
+            both_beyond += 1  # answered "longer than the horizon", and so it is
+            continue
+        e.append(mu[i_pred] - y[i_sim])
+        ctype = str(key[1]) if len(keys) > 1 else "all"
+        by_type.setdefault(ctype, []).append(e[-1])
+        same.append(all(pred[col].iloc[i_sim] == pred[col].iloc[i_pred] for col in where))
+    res = {"n_groups": n, "n_both_beyond_horizon": both_beyond, **_errs(np.asarray(e)),
+           "same_location_fraction": float(np.mean(same)) if same else float("nan")}
+    res["by_component_type"] = {k: _errs(np.asarray(v)) for k, v in sorted(by_type.items())}
+    return res
+
+
+def monotone_check(predict: Callable[[pd.DataFrame], np.ndarray], rows: pd.DataFrame,
+                   domain: Any = None, n_grid: int = 9, max_rows: int = 200,
+                   tol_decades: float = 0.05, seed: int = 0) -> dict[str, Any]:
+    """Catch predictions that fall as the dogleg severity rises.
+
+    Each of up to ``max_rows`` rows (seeded sample of ``rows``) is moved
+    along a grid of ``n_grid`` local dogleg severities (``local_dls_deg_per_30m``
+    from the domain's lower to upper bound, or the rows' range without a
+    domain), everything else held; the windowed maximum dogleg
+    (``local_max_dls_deg_per_30m``), when present, is raised to at least the
+    local value (it cannot be smaller). A *violation* is a step where the
+    predicted log10 damage rate drops by more than ``tol_decades`` (0.05: a
+    12 % drop, well below the factor-2 scale of the errors).
+
+    Parameters
+    ----------
+    predict : callable
+        DataFrame -> log10 damage rate per hour, shape (n,).
+    rows : DataFrame
+        Rows with the model's inputs.
+    domain : DomainChecker, optional
+        Bounds of the grid.
+
+    Returns
+    -------
+    dict
+        ``n_rows``, ``fraction_rows_violating``, ``fraction_steps_violating``,
+        ``max_drop_decades``, ``grid_deg_per_30m`` (the grid), ``tol_decades``;
+        an empty dict when the rows have no ``local_dls_deg_per_30m``.
+    """
+    f = "local_dls_deg_per_30m"
+    if f not in rows.columns or len(rows) == 0:
+        return {}
+    if domain is not None and f in getattr(domain, "names", []):
+        j = domain.names.index(f)
+        lo, hi = float(domain.min_[j]), float(domain.max_[j])
+    else:
+        lo, hi = float(rows[f].min()), float(rows[f].max())
+    grid = np.linspace(lo, hi, int(n_grid))
+    rng = np.random.default_rng(seed)
+    pick = rows.iloc[np.sort(rng.choice(len(rows), min(max_rows, len(rows)), replace=False))]
+    big = pick.loc[pick.index.repeat(grid.size)].reset_index(drop=True)
+    g = np.tile(grid, len(pick))
+    big[f] = g
+    if "local_max_dls_deg_per_30m" in big.columns:
+        big["local_max_dls_deg_per_30m"] = np.maximum(big["local_max_dls_deg_per_30m"], g)
+    yk = np.asarray(predict(big), dtype=np.float64).reshape(len(pick), grid.size)
+    drop = yk[:, :-1] - yk[:, 1:]  # > 0: the prediction fell as the dogleg rose
+    bad = drop > tol_decades
+    return {"n_rows": int(len(pick)), "fraction_rows_violating": float(bad.any(axis=1).mean()),
+            "fraction_steps_violating": float(bad.mean()),
+            "max_drop_decades": float(max(drop.max(), 0.0)), "grid_deg_per_30m": grid.tolist(),
+            "tol_decades": float(tol_decades)}
 
 
 def governing_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", "gp", "hgb"),

@@ -6,6 +6,9 @@ is a folder::
     metadata.json     feature lists, category levels, scaler, ranges, conformal
                       quantile, OOD threshold, target, versions, training summary
     ensemble.pt       torch state dict of the EnsembleModule (weights only)
+    gbm.pkl           the gradient-boosting model when it is the served one
+                      (``surrogate.served_model: gbm``; pickled scikit-learn,
+                      SHA-256 in metadata.json)
     ood_reference.npy standardised reference rows of the k-NN domain test
     model.ts          TorchScript export, scaler and conformal quantile baked in
     model.onnx        the same as ONNX (onnxruntime servers)
@@ -15,6 +18,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import pickle
 import platform
 import warnings
@@ -33,6 +37,7 @@ from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
+from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
@@ -41,7 +46,8 @@ FORMAT_VERSION = 1
 #: Kind of the ownership marker of a model folder (:class:`drillfatigue.files.OutputFolder`).
 MODEL_KIND = "model"
 #: Files a model folder may hold (the exports only when saved with ``export=True``).
-MODEL_FILES = ("metadata.json", "ensemble.pt", "ood_reference.npy", "model.ts", "model.onnx")
+MODEL_FILES = ("metadata.json", "ensemble.pt", "ood_reference.npy", "model.ts", "model.onnx",
+               "gbm.pkl")
 _CHUNK_ROWS = 1024  # rows per forward pass in predict_array: the fastest measured of 512-4096
 _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 
@@ -49,7 +55,7 @@ _ONE_THREAD_ROWS = 256  # up to this many rows, predict on one torch thread
 PREDICTION_COLUMNS = (
     "log10_damage_rate_per_h", "log10_damage_rate_per_h_lower", "log10_damage_rate_per_h_upper",
     "sigma_log10", "damage_rate_per_h", "damage_rate_per_h_lower", "damage_rate_per_h_upper",
-    "life_h", "life_h_lower", "life_h_upper", "ood", "ood_reason",
+    "life_h", "life_h_lower", "life_h_upper", "beyond_horizon", "ood", "ood_reason",
 )
 
 
@@ -61,8 +67,13 @@ def regressor_from_config(cfg: SurrogateConfig) -> DeepEnsembleRegressor:
         activation=cfg.activation, loss=cfg.loss, learning_rate=cfg.learning_rate,
         weight_decay=cfg.weight_decay, batch_size=cfg.batch_size, max_epochs=cfg.max_epochs,
         patience=cfg.patience, validation_fraction=cfg.validation_fraction,
-        nll_beta=cfg.nll_beta, stop_on=cfg.stop_on, random_state=cfg.split_seed,
-        n_threads=cfg.n_threads)
+        nll_beta=cfg.nll_beta, stop_on=cfg.stop_on, censor_below=censor_level(cfg),
+        random_state=cfg.split_seed, n_threads=cfg.n_threads)
+
+
+def censor_level(cfg: SurrogateConfig) -> float | None:
+    """log10 damage rate per hour at the horizon (-log10 horizon_h); None without censoring."""
+    return -math.log10(cfg.horizon_h) if cfg.censoring == "likelihood" else None
 
 
 class Surrogate:
@@ -72,8 +83,10 @@ class Surrogate:
     """
 
     def __init__(self, module: EnsembleModule, preprocessor: Preprocessor,
-                 domain: DomainChecker, metadata: dict[str, Any]) -> None:
+                 domain: DomainChecker, metadata: dict[str, Any], gbm: Any = None) -> None:
         self.module = module.eval()
+        # served gradient boosting (None: the ensemble answers)
+        self.gbm = gbm
         self._scripted: torch.jit.ScriptModule | None = None
         self.preprocessor = preprocessor
         self.domain = domain
@@ -102,10 +115,16 @@ class Surrogate:
         return float(self.module.conformal_q.item())
 
     # -- fit ----------------------------------------------------------------
+    @property
+    def horizon_h(self) -> float | None:
+        """Life horizon (h) beyond which an answer is "longer than"; None for older models."""
+        h = self.metadata.get("horizon_h")
+        return None if h is None else float(h)
+
     @classmethod
     def fit(cls, frame: pd.DataFrame, cfg: SurrogateConfig,
             callback: Callable[[int, np.ndarray, np.ndarray, np.ndarray], None] | None = None,
-            ) -> Surrogate:
+            design_bounds: dict[str, tuple[float, float]] | None = None) -> Surrogate:
         """Split by case, fit the ensemble, calibrate intervals and the domain test.
 
         Parameters
@@ -116,6 +135,11 @@ class Surrogate:
         cfg : SurrogateConfig
         callback : callable, optional
             Per-epoch hook of :meth:`DeepEnsembleRegressor.fit`.
+        design_bounds : dict, optional
+            Design range (low, high) per numeric feature that the sweep varied
+            (or derived from it); the domain test refuses queries outside
+            it. Features not in it are bounded by the training rows
+            (:func:`drillfatigue.surrogate.bounds.domain_bounds`).
         """
         check_columns(frame, cfg)
         y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
@@ -126,7 +150,8 @@ class Surrogate:
         reg.fit(tr, y[split.train], groups=groups[split.train], callback=callback)
         cal = frame.loc[split.calibration]
         mu_c, sd_c = reg.predict_dist(cal)
-        conf = SplitConformal(cfg.coverage).fit(mu_c, sd_c, y[split.calibration])
+        conf = SplitConformal(cfg.coverage).fit(mu_c, sd_c, y[split.calibration],
+                                                censor_below=censor_level(cfg))
         if not np.isfinite(conf.quantile_):
             raise InputError("surrogate.calibration_fraction",
                              "too few calibration rows for the coverage", "a larger fraction")
@@ -136,7 +161,22 @@ class Surrogate:
         p = reg.preprocessor_
         domain = DomainChecker(p.numeric, cfg.ood_k, cfg.ood_quantile, cfg.ood_reference_rows,
                                cfg.split_seed).fit(
-            p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_)
+            p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_, design_bounds)
+        gbm = None
+        gbm_meta: dict[str, Any] | None = None
+        if cfg.served_model == "gbm":
+            x_tr = design_matrix(p, *reg._encode(tr))
+            gbm, info = fit_gbm(x_tr, y[split.train], groups[split.train].astype(str), cfg,
+                                monotone_constraints(p))
+            mu_g = gbm.predict(design_matrix(p, *reg._encode(cal)))
+            y_c = y[split.calibration]
+            q_g = SplitConformal(cfg.coverage).fit(mu_g, np.ones_like(mu_g), y_c,
+                                                   censor_below=censor_level(cfg)).quantile_
+            if not np.isfinite(q_g):
+                raise InputError("surrogate.calibration_fraction",
+                                 "too few calibration rows for the coverage", "a larger fraction")
+            gbm_meta = info | {"conformal_quantile": float(q_g),
+                               "sigma_log10": float(np.sqrt(np.mean((mu_g - y_c) ** 2)))}
         hist = reg.history_
         meta = {
             "format_version": FORMAT_VERSION,
@@ -144,6 +184,8 @@ class Surrogate:
             "target_column": cfg.target_column,
             "criterion": cfg.criterion,
             "rate_floor_per_h": cfg.rate_floor_per_h,
+            "horizon_h": cfg.horizon_h,
+            "censoring": cfg.censoring,
             "coverage": cfg.coverage,
             "n_calibration": conf.n_calibration_,
             "architecture": {"n_numeric": module.n_numeric, "n_levels": module.n_levels,
@@ -157,8 +199,10 @@ class Surrogate:
                          "best_epoch": hist["best_epoch"].tolist(),
                          "best_val_loss": hist["best_val_loss"].tolist(),
                          "n_train_rows": int(split.train.sum())},
+            "served_model": cfg.served_model,
+            "gbm": gbm_meta,
         }
-        return cls(module, p, domain, meta)
+        return cls(module, p, domain, meta, gbm)
 
     # -- encode -------------------------------------------------------------
     def encode(self, frame: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
@@ -208,11 +252,15 @@ class Surrogate:
         -------
         dict of ndarray, shape (n,)
             ``log10``, ``sigma``, ``lower``, ``upper`` (log10 damage rate per
-            hour and its interval), ``ood`` (bool), ``knn_distance``.
+            hour and its interval, also for out-of-domain rows: the caller
+            decides to refuse them), ``beyond_horizon`` (bool: predicted life
+            longer than :attr:`horizon_h`), ``ood`` (bool), ``knn_distance``.
         """
         x_num = np.asarray(x_num, dtype=np.float64)
         if x_cat is None:
             x_cat = np.zeros((x_num.shape[0], len(self.categorical)), dtype=np.int64)
+        if self.gbm is not None:
+            return self._predict_gbm(x_num, x_cat, ood, knn)
         xt = torch.from_numpy(x_num.astype(np.float32))
         ct = torch.from_numpy(np.ascontiguousarray(x_cat, dtype=np.int64))
         out = np.empty((x_num.shape[0], 4), dtype=np.float32)
@@ -239,6 +287,24 @@ class Surrogate:
             map_chunks(run, range(0, n, share))
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
+        return self._finish(res, x_num, ood, knn)
+
+    def _predict_gbm(self, x_num: np.ndarray, x_cat: np.ndarray, ood: bool,
+                     knn: bool) -> dict[str, np.ndarray]:
+        """:meth:`predict_array` of the served gradient boosting (constant-width interval)."""
+        mu = self.gbm.predict(design_matrix(self.preprocessor, x_num, x_cat))
+        g = self.metadata["gbm"]
+        half = float(g["conformal_quantile"])
+        res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
+               "lower": mu - half, "upper": mu + half}
+        return self._finish(res, x_num, ood, knn)
+
+    def _finish(self, res: dict[str, np.ndarray], x_num: np.ndarray, ood: bool,
+                knn: bool) -> dict[str, np.ndarray]:
+        """Add ``beyond_horizon``, ``ood`` and ``knn_distance`` to a prediction."""
+        h = self.horizon_h
+        res["beyond_horizon"] = (res["log10"] < -math.log10(h) if h is not None
+                                 else np.zeros(x_num.shape[0], dtype=bool))
         if ood:
             flag, dist = self.domain.check(x_num, knn=knn)
         else:
@@ -247,7 +313,7 @@ class Surrogate:
         res["knn_distance"] = dist
         return res
 
-    def predict(self, frame: pd.DataFrame) -> pd.DataFrame:
+    def predict(self, frame: pd.DataFrame, refuse: bool = True) -> pd.DataFrame:
         """Damage rate per hour, life in hours, interval and OOD flag per row.
 
         Parameters
@@ -260,12 +326,17 @@ class Surrogate:
         -------
         DataFrame, same index, columns :data:`PREDICTION_COLUMNS`. Rates are per
         hour of operation (Miner damage), lives in hours (1 / rate); the
-        interval has the calibrated coverage :attr:`coverage`.
+        interval has the calibrated coverage :attr:`coverage`;
+        ``beyond_horizon`` marks a predicted life longer than
+        :attr:`horizon_h` (read it as "longer than the horizon": the model
+        was trained on such lives as censored, not as numbers). With
+        ``refuse`` (default) an out-of-domain row (``ood``, the reason in
+        ``ood_reason``) has no number: NaN in every numeric column.
         """
         x_num, x_cat = self.encode(frame)
         r = self.predict_array(x_num, x_cat)
         reasons = self.domain.reasons(x_num, r["knn_distance"], r["ood"])
-        return prediction_frame(r, reasons, frame.index)
+        return prediction_frame(r, reasons, frame.index, refuse=refuse)
 
     # -- persistence --------------------------------------------------------
     def save(self, path: str | Path, export: bool = True, *, option: str = "--out") -> Path:
@@ -292,7 +363,10 @@ class Surrogate:
 
         put("ensemble.pt", lambda t: torch.save(self.module.state_dict(), t))
         put("ood_reference.npy", lambda t: np.save(t, self.domain.reference_))
-        if export:
+        if self.gbm is not None:
+            put("gbm.pkl", lambda t: t.write_bytes(pickle.dumps(self.gbm)))
+        # the exports are the ensemble's network: written only when it is the served model
+        if export and self.gbm is None:
             put("model.ts", lambda t: export_torchscript(self, t))
             put("model.onnx", lambda t: export_onnx(self, t))
         meta = dict(self.metadata)
@@ -347,6 +421,11 @@ class Surrogate:
             module.load_state_dict(torch.load(p / "ensemble.pt", weights_only=True))
             what = str(p / "ood_reference.npy")
             domain = DomainChecker.from_dict(meta.pop("domain"), np.load(p / "ood_reference.npy"))
+            gbm = None
+            if meta.get("served_model") == "gbm":
+                what = str(p / "gbm.pkl")
+                # our own file, its SHA-256 checked against metadata.json above
+                gbm = pickle.loads((p / "gbm.pkl").read_bytes())  # noqa: S301
         except FileNotFoundError:
             raise InputError(what, "missing from the model folder", allowed) from None
         except (KeyError, TypeError, ValueError, RuntimeError, EOFError, OSError,
@@ -356,7 +435,7 @@ class Surrogate:
         meta.pop("conformal_quantile", None)
         meta.pop("versions", None)
         meta.pop("files_sha256", None)
-        return cls(module, pre, domain, meta)
+        return cls(module, pre, domain, meta, gbm)
 
 
 def _sha256(path: Path) -> str:
@@ -367,8 +446,17 @@ def _sha256(path: Path) -> str:
     return h.hexdigest()
 
 
-def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray) -> dict[str, np.ndarray]:
-    """The :data:`PREDICTION_COLUMNS` as arrays from :meth:`Surrogate.predict_array` output."""
+def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray,
+                       refuse: bool = False) -> dict[str, np.ndarray]:
+    """The :data:`PREDICTION_COLUMNS` as arrays from :meth:`Surrogate.predict_array` output.
+
+    ``refuse``: out-of-domain rows get NaN in every number (no answer).
+    """
+    if refuse and np.any(r["ood"]):
+        r = dict(r)
+        for k in ("log10", "lower", "upper", "sigma"):
+            r[k] = np.where(r["ood"], np.nan, r[k])
+        r["beyond_horizon"] = r["beyond_horizon"] & ~r["ood"]
     rate = 10.0 ** r["log10"]
     lo = 10.0 ** r["lower"]
     hi = 10.0 ** r["upper"]
@@ -379,14 +467,14 @@ def prediction_columns(r: dict[str, np.ndarray], reasons: np.ndarray) -> dict[st
         "sigma_log10": r["sigma"],
         "damage_rate_per_h": rate, "damage_rate_per_h_lower": lo, "damage_rate_per_h_upper": hi,
         "life_h": 1.0 / rate, "life_h_lower": 1.0 / hi, "life_h_upper": 1.0 / lo,
-        "ood": r["ood"], "ood_reason": reasons,
+        "beyond_horizon": r["beyond_horizon"], "ood": r["ood"], "ood_reason": reasons,
     }
 
 
 def prediction_frame(r: dict[str, np.ndarray], reasons: np.ndarray,
-                     index: Any = None) -> pd.DataFrame:
+                     index: Any = None, refuse: bool = False) -> pd.DataFrame:
     """Assemble the :data:`PREDICTION_COLUMNS` frame from :meth:`Surrogate.predict_array` output."""
-    return pd.DataFrame(prediction_columns(r, reasons), index=index)
+    return pd.DataFrame(prediction_columns(r, reasons, refuse), index=index)
 
 
 def _open_live(live_dir: str | Path) -> Any:
@@ -413,14 +501,17 @@ def _open_live(live_dir: str | Path) -> Any:
 
 
 def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
-                  live_dir: str | Path | None = None) -> Surrogate:
+                  live_dir: str | Path | None = None,
+                  bounds: dict[str, tuple[float, float]] | None = None) -> Surrogate:
     """Fit a :class:`Surrogate`; log per-member train/val loss per epoch with dvclive.
 
     ``live_dir``: dvclive folder (``Live(dir=..., dvcyaml=None,
     save_dvc_exp=False)``, for use inside a DVC stage); None: no logging.
+    ``bounds``: ranges of the domain test
+    (:func:`drillfatigue.surrogate.bounds.domain_bounds`).
     """
     if live_dir is None:
-        return Surrogate.fit(frame, cfg)
+        return Surrogate.fit(frame, cfg, design_bounds=bounds)
     with _open_live(live_dir) as live:
         def log_epoch(epoch: int, tr: np.ndarray, va: np.ndarray, active: np.ndarray) -> None:
             for m in range(tr.shape[0]):
@@ -429,6 +520,6 @@ def fit_surrogate(frame: pd.DataFrame, cfg: SurrogateConfig,
             live.log_metric("active_members", int(active.sum()), plot=True)
             live.next_step()
 
-        model = Surrogate.fit(frame, cfg, callback=log_epoch)
+        model = Surrogate.fit(frame, cfg, callback=log_epoch, design_bounds=bounds)
         live.summary["best_epoch"] = model.metadata["training"]["best_epoch"]
     return model

@@ -353,6 +353,15 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         Validation metric of early stopping: the member's mean squared error
         (default: the mean is what matters, sigma is recalibrated by split
         conformal prediction afterwards) or its plain Gaussian NLL.
+    censor_below : float or None
+        Censoring level of the target (e.g. log10 of 1 / horizon): a row with
+        ``y <= censor_below`` only says "the target is at most this" (a life
+        beyond the horizon). Its likelihood is the Gaussian's probability
+        mass below the level, P(Y <= c) = Phi((c - mu) / sigma), so the loss
+        is -log Phi((c - mu) / sigma) (Tobit-type censored likelihood) instead
+        of the density at the recorded value; with ``loss="mse"`` and in the
+        validation metric it is the squared excess max(mu - c, 0)^2. None: no
+        row is censored.
     validation_fraction : float
         Fraction of rows (of groups, if ``groups`` is given to ``fit``) held
         out for early stopping.
@@ -377,7 +386,8 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                  loss: str = "gaussian_nll", learning_rate: float = 2e-3,
                  weight_decay: float = 0.0, batch_size: int = 256, max_epochs: int = 300,
                  patience: int = 30, validation_fraction: float = 0.15,
-                 nll_beta: float = 0.5, stop_on: str = "mse", random_state: int = 0,
+                 nll_beta: float = 0.5, stop_on: str = "mse",
+                 censor_below: float | None = None, random_state: int = 0,
                  n_threads: int = 2) -> None:
         self.numeric_features = numeric_features
         self.categorical_features = categorical_features
@@ -393,6 +403,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         self.validation_fraction = validation_fraction
         self.nll_beta = nll_beta
         self.stop_on = stop_on
+        self.censor_below = censor_below
         self.random_state = random_state
         self.n_threads = n_threads
 
@@ -462,6 +473,9 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         module.init_members(seeds)
         y_mean = float(yv[~is_val].mean())
         y_std = float(yv[~is_val].std()) or 1.0
+        # censoring level in scaled target units (-inf: no row is censored)
+        self.censor_scaled_ = (-math.inf if self.censor_below is None
+                               else (float(self.censor_below) - y_mean) / y_std)
         with torch.no_grad():
             module.x_mean.copy_(torch.as_tensor(self.preprocessor_.mean_, dtype=torch.float32))
             module.x_scale.copy_(torch.as_tensor(self.preprocessor_.scale_, dtype=torch.float32))
@@ -482,13 +496,25 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
     def _member_loss(self, module: EnsembleModule, z: Tensor, y: Tensor,
                      beta: float = 0.0) -> Tensor:
         mu, logvar = module.members(z)
+        c = self.censor_scaled_
+        cens = y <= c
         if module.gaussian:
             per = 0.5 * (logvar + (y - mu) ** 2 * torch.exp(-logvar))
+            if math.isfinite(c):  # censored rows: -log P(Y <= c)
+                zc = (c - mu) * torch.exp(-0.5 * logvar)
+                per = torch.where(cens, -torch.special.log_ndtr(zc), per)
             if beta > 0.0:  # beta-NLL weight sigma^(2 beta), no gradient through it
                 per = per * torch.exp(beta * logvar.detach())
         else:
-            per = (y - mu) ** 2
+            per = self._squared_error(mu, y, cens, c)
         return per.mean(dim=1)  # (M,)
+
+    @staticmethod
+    def _squared_error(mu: Tensor, y: Tensor, cens: Tensor, c: float) -> Tensor:
+        """(mu - y)^2, and max(mu - c, 0)^2 on censored rows (any mu <= c is right there)."""
+        if not math.isfinite(c):
+            return (mu - y) ** 2
+        return torch.where(cens, torch.relu(mu - c) ** 2, (mu - y) ** 2)
 
     def _train(self, module: EnsembleModule, x_num: np.ndarray, x_cat: np.ndarray,
                ys: np.ndarray, is_val: np.ndarray, seeds: list[int],
@@ -528,7 +554,9 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
             with torch.no_grad():
                 if self.stop_on == "mse":
                     mu_va, _ = module.members(z_va)
-                    val = ((mu_va - y_va) ** 2).mean(dim=1).numpy().astype(np.float64)
+                    c = self.censor_scaled_
+                    val = self._squared_error(mu_va, y_va, y_va <= c, c).mean(dim=1)
+                    val = val.numpy().astype(np.float64)
                 else:
                     val = self._member_loss(module, z_va, y_va).numpy().astype(np.float64)
             tr = (tot / n_tr).numpy().astype(np.float64)

@@ -2,8 +2,11 @@
 
 A query is flagged (never silently extrapolated) when
 
-1. **range**: any numeric feature lies outside the [min, max] seen in
-   training (per feature), or
+1. **range**: any numeric feature lies outside its domain: the design range
+   of the sweep that produced the training data (``sweep.variables``, saved
+   with the model at training) for a feature that is a design variable, the
+   [min, max] seen in training for a feature derived from the design (the
+   location's MD, distance from the bit, hole geometry), or
 2. **joint distance**: the mean Euclidean distance to its k nearest training
    points, in standardised numeric-feature space, exceeds the ``quantile``
    (default 99th percentile) of the same distance for the held-out
@@ -12,6 +15,9 @@ A query is flagged (never silently extrapolated) when
    combined with low WOB if no case had both) is thereby flagged.
 
 Categorical levels unseen in training are rejected earlier, as input errors.
+A flagged query is refused by the public answers (:meth:`Surrogate.predict`,
+``drillfatigue query``, the service): :meth:`DomainChecker.refusal` gives the
+one-line error naming the first variable outside its range and that range.
 The reference set is a seeded subsample of the training rows (at most
 ``reference_rows``) to bound memory and query cost. Distances are computed in
 chunks as one matrix product each (exact brute force).
@@ -19,11 +25,12 @@ chunks as one matrix product each (exact brute force).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import torch
 
+from drillfatigue.errors import InputError
 from drillfatigue.surrogate.kernels import outside_ranges
 from drillfatigue.surrogate.parallel import map_chunks
 
@@ -96,10 +103,22 @@ class DomainChecker:
         self.seed = seed
 
     def fit(self, x_train: np.ndarray, x_cal: np.ndarray, mean: np.ndarray,
-            scale: np.ndarray) -> DomainChecker:
-        """Ranges from ``x_train``; threshold from ``x_cal`` (raw SI arrays (n, d))."""
-        self.min_ = x_train.min(axis=0)
-        self.max_ = x_train.max(axis=0)
+            scale: np.ndarray,
+            design_bounds: Mapping[str, tuple[float, float]] | None = None) -> DomainChecker:
+        """Ranges and threshold (raw SI arrays (n, d)).
+
+        ``design_bounds``: per feature name the design range (low, high) of
+        the sweep; a feature not in it takes the [min, max] of ``x_train``.
+        The k-NN threshold comes from ``x_cal``.
+        """
+        self.min_ = x_train.min(axis=0).astype(np.float64)
+        self.max_ = x_train.max(axis=0).astype(np.float64)
+        self.source_ = ["training"] * len(self.names)
+        for j, name in enumerate(self.names):
+            if design_bounds and name in design_bounds:
+                lo, hi = design_bounds[name]
+                self.min_[j], self.max_[j] = float(lo), float(hi)
+                self.source_[j] = "design"
         self.mean_ = np.asarray(mean, dtype=np.float64)
         self.scale_ = np.asarray(scale, dtype=np.float64)
         z = (x_train - self.mean_) / self.scale_
@@ -141,20 +160,48 @@ class DomainChecker:
         for i in np.flatnonzero(flag):
             bits = []
             for j, name in enumerate(self.names):
-                if x[i, j] < self.min_[j] - tol[j]:
-                    bits.append(f"{name}={x[i, j]:.6g} below training min {self.min_[j]:.6g}")
-                elif x[i, j] > self.max_[j] + tol[j]:
-                    bits.append(f"{name}={x[i, j]:.6g} above training max {self.max_[j]:.6g}")
+                if x[i, j] < self.min_[j] - tol[j] or x[i, j] > self.max_[j] + tol[j]:
+                    bits.append(f"{name}={x[i, j]:.6g} {self._outside(j, x[i, j])}")
             if np.isfinite(dist[i]) and dist[i] > self.threshold_:
                 bits.append(f"far from training data (kNN distance {dist[i]:.3g} "
                             f"> {self.threshold_:.3g})")
             out[i] = "; ".join(bits)
         return out
 
+    def _outside(self, j: int, v: float) -> str:
+        side = "below" if v < self.min_[j] else "above"
+        what = ("the design range" if self.source_[j] == "design"
+                else "the range of the training data")
+        return f"{side} {what} {self.min_[j]:.6g} .. {self.max_[j]:.6g}"
+
+    def refusal(self, x_row: np.ndarray, dist: float, field_prefix: str = "") -> InputError:
+        """The one-line error refusing an out-of-domain row (raw SI, shape (d,)).
+
+        Field: the first feature outside its range (its design range, or the
+        training data's for a derived feature), with that range as the allowed
+        values; a row inside every range but far from the training data names
+        the k-NN distance and its threshold.
+        """
+        span = self.max_ - self.min_
+        tol = 1e-9 * np.where(span > 0, span, np.abs(self.max_) + 1.0)
+        for j, name in enumerate(self.names):
+            v = float(x_row[j])
+            if v < self.min_[j] - tol[j] or v > self.max_[j] + tol[j]:
+                what = "design range" if self.source_[j] == "design" else "training data"
+                return InputError(field_prefix + name,
+                                  f"{v:.6g} is outside the surrogate's {what}: no answer",
+                                  f"{self.min_[j]:.6g} <= {name} <= {self.max_[j]:.6g}")
+        return InputError(field_prefix + "query",
+                          f"far from the training data (kNN distance {dist:.3g} in "
+                          "standardised features): no answer",
+                          f"kNN distance <= {self.threshold_:.3g}, a condition like "
+                          "the simulated ones")
+
     def to_dict(self) -> dict:
         return {"names": self.names, "k": self.k, "quantile": self.quantile,
                 "reference_rows": self.reference_rows, "seed": self.seed,
                 "min": self.min_.tolist(), "max": self.max_.tolist(),
+                "source": list(self.source_),
                 "mean": self.mean_.tolist(), "scale": self.scale_.tolist(),
                 "threshold": self.threshold_}
 
@@ -163,6 +210,7 @@ class DomainChecker:
         c = cls(d["names"], d["k"], d["quantile"], d["reference_rows"], d["seed"])
         c.min_ = np.asarray(d["min"])
         c.max_ = np.asarray(d["max"])
+        c.source_ = list(d.get("source", ["training"] * len(c.names)))
         c.mean_ = np.asarray(d["mean"])
         c.scale_ = np.asarray(d["scale"])
         c.threshold_ = float(d["threshold"])

@@ -1,0 +1,160 @@
+"""Evaluation where it decides life: rows chosen by the predicted life, the
+"longer than the horizon" answers, governing damage per component, the
+monotone-in-dogleg check, gradient boosting stopped on whole cases, and
+scoring on a held-out dataset."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.errors import InputError
+from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
+from drillfatigue.surrogate.evaluation import deciding_metrics, evaluate, monotone_check
+from drillfatigue.surrogate.gbm import design_matrix, fit_gbm
+
+
+def _pred() -> pd.DataFrame:
+    # horizon 1e5 h: level -5. Case a: collar rows -2 / -4, pipe row -9; case b: all
+    # beyond the horizon in the simulation, one row predicted within it.
+    return pd.DataFrame({
+        "case_id": ["a", "a", "a", "b", "b"],
+        "component_type": ["collar", "collar", "drill_pipe", "collar", "drill_pipe"],
+        "well.profile": ["p1", "p1", "p1", "p3", "p3"],
+        "location": ["connection", "body", "body", "connection", "body"],
+        "s_from_bit_m": [5.0, 5.0, 200.0, 5.0, 200.0],
+        "y_true": [-2.0, -4.0, -9.0, -6.0, -8.0],
+        "ensemble": [-2.1, -3.0, -7.0, -4.5, -8.5],
+        "ensemble_lower": [-2.5, -3.5, -8.0, -5.0, -9.0],
+        "ensemble_upper": [-1.5, -2.5, -6.0, -4.0, -8.0],
+    })
+
+
+def test_deciding_rows_are_chosen_by_the_predicted_life() -> None:
+    d = deciding_metrics(_pred(), ("ensemble", "gp"), horizon_h=1e5)
+    assert "gp" not in d
+    e = d["ensemble"]
+    # predicted >= -5: rows 0, 1 (errors -0.1, +1.0) and row 3 (-4.5 vs -6: +1.5),
+    # although row 3's simulated life is beyond the horizon
+    r = e["rows"]
+    assert r["n"] == 3
+    assert r["rmse"] == pytest.approx(math.sqrt((0.01 + 1.0 + 2.25) / 3), rel=1e-12)
+    assert r["factor2_fraction"] == pytest.approx(1 / 3)
+    assert r["coverage"] == pytest.approx(1 / 3)  # only row 0's interval holds its truth
+    assert e["by_profile"]["p3"]["n"] == 1 and e["by_profile"]["p1"]["n"] == 2
+    assert set(e["by_decade"]) == {"1e-02", "1e-04", "1e-06"}
+    # "longer than": rows 2 and 4 predicted beyond, both truly beyond (precision 1);
+    # 3 simulated beyond, 2 of them found (recall 2/3)
+    bh = e["beyond_horizon"]
+    assert bh == {"n_predicted": 2, "n_simulated": 3, "precision": 1.0,
+                  "recall": pytest.approx(2 / 3)}
+
+
+def test_governing_damage_per_component_type() -> None:
+    g = deciding_metrics(_pred(), ("ensemble",), horizon_h=1e5)["ensemble"]["governing"]
+    # groups (a, collar): sim max -2 (row 0), pred max -2.1 (row 0): error -0.1, same place
+    # (a, drill_pipe): both -9 / -7 beyond the horizon: agreed "longer than", not scored
+    # (b, collar): sim -6, pred -4.5 within: error +1.5 (a false alarm, scored)
+    # (b, drill_pipe): both beyond
+    assert g["n_groups"] == 4 and g["n_both_beyond_horizon"] == 2 and g["n"] == 2
+    assert g["rmse"] == pytest.approx(math.sqrt((0.01 + 2.25) / 2), rel=1e-12)
+    assert g["factor2_fraction"] == 0.5 and g["same_location_fraction"] == 1.0
+    assert g["by_component_type"]["collar"]["n"] == 2
+    with pytest.raises(ValueError, match="horizon_h"):
+        deciding_metrics(_pred(), horizon_h=0.0)
+
+
+def _rows(n: int = 30) -> pd.DataFrame:
+    rng = np.random.default_rng(0)
+    return pd.DataFrame({"local_dls_deg_per_30m": rng.uniform(0, 9, n),
+                         "local_max_dls_deg_per_30m": rng.uniform(0, 9, n),
+                         "operation.rpm": rng.uniform(80, 180, n)})
+
+
+def test_monotone_check_passes_a_monotone_model_and_catches_a_dip() -> None:
+    rows = _rows()
+    ok = monotone_check(lambda f: -6.0 + 0.3 * f["local_dls_deg_per_30m"].to_numpy()
+                        + 0.1 * f["local_max_dls_deg_per_30m"].to_numpy(), rows)
+    assert ok["fraction_rows_violating"] == 0.0 and ok["n_rows"] == 30
+    # a model with a dip of 0.4 decades around 4.5 deg/30 m for rpm > 130 only
+    def dip(f: pd.DataFrame) -> np.ndarray:
+        x = f["local_dls_deg_per_30m"].to_numpy()
+        return (-6.0 + 0.1 * x - 0.4 * np.exp(-((x - 4.5) / 1.0) ** 2)
+                * (f["operation.rpm"].to_numpy() > 130.0))
+    bad = monotone_check(dip, rows, n_grid=19)
+    share = float(np.mean(rows["operation.rpm"] > 130.0))
+    assert bad["fraction_rows_violating"] == pytest.approx(share)
+    assert bad["max_drop_decades"] > 0.1
+    assert monotone_check(dip, rows.drop(columns="local_dls_deg_per_30m")) == {}
+
+
+def test_gbm_early_stopping_holds_out_whole_cases() -> None:
+    # 40 cases x 10 identical rows, the target pure per-case noise: nothing to learn
+    # across cases. Held-out rows of seen cases would reward memorising each case
+    # (many trees); held-out cases stop after a few trees.
+    rng = np.random.default_rng(1)
+    x_case, y_case = rng.uniform(size=(40, 3)), rng.normal(size=40)
+    x, y = np.repeat(x_case, 10, axis=0), np.repeat(y_case, 10)
+    groups = np.repeat(np.arange(40), 10)
+    cfg = SurrogateConfig(hgb_max_iter=60, censoring="none")
+    model, info = fit_gbm(x, y, groups, cfg)
+    assert info["n_val_cases"] == 6  # 15 % of 40 cases, rounded up by GroupShuffleSplit
+    assert info["n_iter"] <= 10 and model.n_iter_ == info["n_iter"]
+    # with rows held out instead, the memorising model keeps (nearly) all trees
+    model_rows, info_rows = fit_gbm(x, y, np.arange(x.shape[0]), cfg)
+    assert info_rows["n_iter"] > 40
+
+
+CFG = SurrogateConfig(hidden_layers=(16,), max_epochs=20, patience=5, batch_size=64,
+                      n_threads=1, gp_max_rows=80, hgb_max_iter=40, horizon_h=1e7)
+
+
+@pytest.fixture(scope="module")
+def fitted() -> tuple[pd.DataFrame, object]:
+    data = make_synthetic_dataset(30, seed=2)
+    return data, fit_surrogate(data, CFG)
+
+
+def test_evaluate_on_a_heldout_dataset(fitted) -> None:
+    data, model = fitted
+    held = make_synthetic_dataset(8, seed=11)
+    held["case_id"] = "held_" + held["case_id"]
+    met, pred = evaluate(data, model, CFG, heldout=held)
+    assert met["test_source"] == "heldout" and met["n_test_cases"] == 8
+    assert met["n_test_rows"] == len(held) == len(pred)
+    for m in ("ensemble", "gp", "hgb"):
+        assert met["deciding"][m]["rows"]["n"] + met["deciding"][m]["beyond_horizon"][
+            "n_predicted"] == len(held)
+    assert met["monotone_dls"]["hgb"]["fraction_rows_violating"] == 0.0  # constrained
+    split, _ = evaluate(data, model, CFG, baselines=False)
+    assert split["test_source"] == "split"
+    assert split["n_test_cases"] == len(model.metadata["split"]["test_cases"])
+    # a "held-out" set that repeats training cases is no held-out set
+    with pytest.raises(InputError, match="training cases"):
+        evaluate(data, model, CFG, baselines=False, heldout=data)
+
+
+def test_served_gbm_behind_the_same_interface(fitted, tmp_path) -> None:
+    data, _ = fitted
+    cfg = CFG.model_copy(update={"served_model": "gbm"})
+    sur = fit_surrogate(data, cfg)
+    rows = data.iloc[::11]
+    p = sur.predict(rows, refuse=False)
+    # the numbers are the boosted trees' with the constant conformal half-width
+    mu = sur.gbm.predict(design_matrix(sur.preprocessor, *sur.encode(rows)))
+    np.testing.assert_array_equal(p["log10_damage_rate_per_h"].to_numpy(), mu)
+    half = sur.metadata["gbm"]["conformal_quantile"]
+    np.testing.assert_allclose(p["log10_damage_rate_per_h_upper"] - mu, half, rtol=1e-12)
+    assert sur.metadata["served_model"] == "gbm" and sur.gbm.n_iter_ <= CFG.hgb_max_iter
+    sur.save(tmp_path / "m")
+    names = {f.name for f in (tmp_path / "m").iterdir()}
+    assert "gbm.pkl" in names and "model.ts" not in names  # the exports are the ensemble's
+    again = Surrogate.load(tmp_path / "m")
+    pd.testing.assert_frame_equal(again.predict(rows), sur.predict(rows))
+    # monotone in the local dogleg by construction
+    assert monotone_check(lambda f: sur.predict(f, refuse=False)["log10_damage_rate_per_h"]
+                          .to_numpy(), rows, sur.domain)["fraction_rows_violating"] == 0.0
