@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.api import simulate
+from drillfatigue.dynamics.api import check_rig, simulate
 from drillfatigue.dynamics.rockface import rop_tob_from_wob, steady_wob_for_rop_N
 from drillfatigue.errors import InputError
 
@@ -93,6 +93,15 @@ def test_an_rop_set_point_the_bit_law_cannot_reach_is_refused_before_any_step(tm
         simulate(case_from_dict(d), None, progress=False)
     assert exc.value.field == "rig.rop_set_m_per_s"
     assert "threshold" in exc.value.problem
+    # a sharp WOB threshold (no fade-in band): the law jumps from 0 to c1 W_th sqrt(Omega)
+    d["operation"]["rpm"] = RPM
+    d["bit"]["threshold_band"] = 0.0
+    d["rig"]["rop_set_m_per_s"] = 1e-5
+    with pytest.raises(InputError) as exc:
+        check_rig(case_from_dict(d))
+    assert exc.value.field == "rig.rop_set_m_per_s"
+    # 1.4e-8 x 5 kN x sqrt(4 pi) = 2.481e-4 m/s
+    assert exc.value.allowed.startswith("0.0002481 <= rop_set_m_per_s")
 
 
 def test_the_inverse_in_the_threshold_band_and_for_the_detournay_law() -> None:

@@ -151,7 +151,8 @@ def rop_start_wob_N(rig: RigConfig, case: CaseConfig) -> float:
     raise InputError("rig.rop_set_m_per_s",
                      f"{rop:.4g} m/s is not reachable by the bit law ({case.bit.model}) at "
                      f"{rpm:g} rpm with a WOB up to {wob_max:.0f} N",
-                     f"{lo:.4g} <= rop_set_m_per_s <= {hi:.4g}")
+                     # with a fade-in band the law's ROP rises continuously from 0
+                     f"{'0 <' if lo < 1e-9 * hi else f'{lo:.4g} <='} rop_set_m_per_s <= {hi:.4g}")
 
 
 # --- packing for the kernels -------------------------------------------------------------
