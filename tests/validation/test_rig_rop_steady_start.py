@@ -116,3 +116,13 @@ def test_the_inverse_in_the_threshold_band_and_for_the_detournay_law() -> None:
     wob, _, _ = steady_wob_for_rop_N(det, ROP_SET, RPM, 1e6)
     rop, _ = rop_tob_from_wob(det, wob, RPM)
     assert float(rop) == pytest.approx(ROP_SET, rel=1e-9)
+
+
+@pytest.mark.parametrize("operation", [{"top_axial": "fixed"},
+                                       {"neutral_point_s_from_bit_m": 30.0}])
+def test_a_rop_block_on_bottom_takes_no_other_axial_start(operation: dict[str, Any]) -> None:
+    d = copy.deepcopy(CASE)
+    d["operation"].update(operation)
+    with pytest.raises(InputError) as exc:
+        case_from_dict(d)
+    assert exc.value.field == "operation.top_axial"
