@@ -125,6 +125,12 @@ class CaseConfig(StrictModel):
                 raise ValueError("operation.top_axial: the autodriller starts at its WOB set-point "
                                  "(allowed: top_axial neutral_point without "
                                  "neutral_point_s_from_bit_m with block_mode autodriller)")
+        if rig.block_mode == "rop" and op.bit_on_bottom and (
+                op.neutral_point_s_from_bit_m is not None or op.top_axial != "neutral_point"):
+            raise ValueError("operation.top_axial: a block lowering at its ROP set-point starts in "
+                             "steady drilling, at the bit law's WOB for the set-point (allowed: "
+                             "top_axial neutral_point without neutral_point_s_from_bit_m with "
+                             "block_mode rop on bottom)")
         return self
 
     @model_validator(mode="after")

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillfatigue.config import CaseConfig
-from drillfatigue.dynamics.rig_setup import block_params, top_drive_params
+from drillfatigue.dynamics.rig_setup import block_params, rop_start_wob_N, top_drive_params
 from drillfatigue.dynamics import bitrock, friction, layout as L, status
 from drillfatigue.dynamics import rig as R
 from drillfatigue.dynamics.bundles import Params, State, Work, new_records, new_work
@@ -36,7 +36,7 @@ from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import update_top
 from drillfatigue.dynamics.integrator import advance, kinetic_energy
 from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
-from drillfatigue.dynamics.rockface import ROP_FROM_WOB_MODELS, wob_for_rop_N
+from drillfatigue.dynamics.rockface import ROP_FROM_WOB_MODELS, steady_wob_for_rop_N
 from drillfatigue.errors import InputError, SimulationError
 from drillfatigue.string import Segments, build_segments
 from drillfatigue.string.segments import HoleFit
@@ -130,6 +130,8 @@ class Model:
     rig_info: dict = field(default_factory=dict)
     #: block travel at t = 0 (m below the top of its travel)
     block_x0_m: float = 0.0
+    #: a ``block_mode: rop`` run on bottom: it starts in steady drilling at the set-point
+    rig_rop_start: bool = False
 
     @property
     def n(self) -> int:
@@ -505,7 +507,9 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
     Block at ``rig.block.initial_travel_m``; the autodriller starts at its steady
     state (integral giving the ROP of the bit law at the set-point WOB and the
     start speed, capped at its ROP limit, the block lowering at that ROP; the
-    measurement at the starting WOB, :func:`static_preload`); the top drive at the start speed
+    measurement at the starting WOB, :func:`static_preload`); a ``rop`` block on
+    bottom starts lowering at its set-point, with the bit cutting the law's ROP at
+    the initial (steady) WOB and the start speed; the top drive at the start speed
     and the initial drive angle, its PI integral holding the string's torque now
     (no start-up kick); no connection scheduled.
     """
@@ -528,12 +532,20 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
         wob0 = float(model.wob0_N)
         blk[R.BS_MEAS] = wob0 if int(bp[L.B_BLKMODE]) == R.BLOCK_AUTODRILLER_WOB \
             else float(bp[L.B_BLKP + R.BP_HOFF]) - wob0
+    v_block = rop0
+    if model.rig_rop_start:
+        out = np.zeros(2)
+        bitrock.bit_response(int(model.cpar[L.P_BITMODEL]),
+                             model.cpar[L.P_BP:L.P_BP + bitrock.N_PARAMS], model.wob0_N, omega0, out)
+        rop0 = float(out[1])
+        v_block = float(bp[L.B_BLKP + R.BP_VSET])
+        blk[R.BS_V] = v_block
     sc[L.C_CON:L.C_CON + 8] = -np.inf  # no connection yet: the drilling phase
     sc[L.C_TD + R.TS_OMEGA] = omega0
     sc[L.C_TD + R.TS_PHI] = phi0
     sc[L.C_PHID] = phi0
     sc[L.C_ROPNOW] = rop0
-    sc[L.C_VGROW] = rop0
+    sc[L.C_VGROW] = v_block
 
 
 def start_rig_drive(model: Model, state: State) -> None:
@@ -580,9 +592,22 @@ def static_preload(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.n
         ad = config.rig.effective_autodriller
         wob = ad.wob_set_N
         if config.bit.model in ROP_FROM_WOB_MODELS:
-            wob = wob_for_rop_N(config.bit, ad.rop_limit_m_per_s, omega0 * 30.0 / math.pi,
-                                ad.wob_set_N)
+            w_lim, _, _ = steady_wob_for_rop_N(config.bit, ad.rop_limit_m_per_s,
+                                               omega0 * 30.0 / math.pi, ad.wob_set_N)
+            if math.isfinite(w_lim):  # NaN: the set-point cuts no faster than the limit
+                wob = min(w_lim, ad.wob_set_N)
         hook = total_ax - wob
+    elif config.rig is not None and config.rig.block_mode == "rop":
+        # the block lowers at the ROP set-point: start in steady drilling, at the bit
+        # law's WOB for that ROP, with the neutral point where the string's axial
+        # weight from the bit up equals it (none when the WOB is above the string's
+        # axial weight: the block pushes, the hook load is negative)
+        wob = rop_start_wob_N(config.rig, config)
+        hook = total_ax - wob
+        cum = np.cumsum(w_ax)
+        if 0.0 < wob <= total_ax and bool(np.all(np.diff(cum) >= 0.0)):
+            s_np = float(np.interp(wob, np.concatenate([[0.0], cum]),
+                                   np.concatenate([[0.0], s_top_end])))
     elif op.top_axial == "hook_load":
         hook = op.hook_load_N
         wob = total_ax - hook
@@ -861,7 +886,9 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
                   wob0_N=pre.wob_N, neutral_point_s_from_bit_m=pre.s_np_m,
                   top_length_m=place.top_len, cpar=cpar, n0=n, segment_length_m=lnom,
                   rig_info=rig_info,
-                  block_x0_m=config.rig.block.initial_travel_m if config.rig is not None else 0.0)
+                  block_x0_m=config.rig.block.initial_travel_m if config.rig is not None else 0.0,
+                  rig_rop_start=(config.rig is not None and config.rig.block_mode == "rop"
+                                 and op.bit_on_bottom))
     # bending stiffness per row for the span correction; rows split off the top later
     # have the top's section
     model.ei = np.ascontiguousarray(np.r_[segs.ei_Nm2, np.full(nmax - n, segs.ei_Nm2[-1])])
@@ -883,8 +910,9 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     model.new_work()
     if model.rig_on:
         init_rig_state(model, state, omega0, pre.phi_drive_rad)
-        rop0 = float(state.sc[L.C_ROPNOW])
-        state.v[: n - 1] = rop0 * place.e3s[: n - 1]
+        # the string below the top moves down with the block
+        v_block = float(state.sc[L.C_VGROW])
+        state.v[: n - 1] = v_block * place.e3s[: n - 1]
     evaluate_forces(model, state)
     if config.solver.relax_s > 0.0:
         relax_state(model, state, config.solver.relax_s)

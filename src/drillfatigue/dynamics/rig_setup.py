@@ -19,7 +19,9 @@ from scipy.linalg import eigh_tridiagonal
 from drillfatigue.config.rig import RigConfig
 from drillfatigue.dynamics import rig as R
 from drillfatigue.dynamics.rig import autodriller_delay_s, autodriller_loop
+from drillfatigue.dynamics.rockface import steady_wob_for_rop_N
 from drillfatigue.errors import InputError
+from drillfatigue.limits import FEATURE_BOUNDS
 from drillfatigue.string import build_segments
 from drillfatigue.units import HOUR_S
 
@@ -60,7 +62,8 @@ def check_rig_setup(rig: RigConfig, case: CaseConfig, c_rop_m_per_N_s: float = 0
 
     Raises :class:`InputError` (one line) for an autodriller whose loop is
     unstable or has less than ``MIN_PHASE_MARGIN_RAD`` of phase margin on
-    this string (criterion of :mod:`drillfatigue.dynamics.rig`), a connection
+    this string (criterion of :mod:`drillfatigue.dynamics.rig`), an ROP set-point
+    the bit law cannot reach (:func:`rop_start_wob_N`), a connection
     longer than the simulated window, and a trip or ROP set-point above the
     block speed limit (also refused by :class:`RigConfig` itself).
 
@@ -75,8 +78,10 @@ def check_rig_setup(rig: RigConfig, case: CaseConfig, c_rop_m_per_N_s: float = 0
     Returns
     -------
     dict
-        ``omega_c_rad_s``, ``phase_margin_rad``, ``delay_s`` of the autodriller loop
-        (empty without an autodriller), for ``summary.json``.
+        ``omega_c_rad_s``, ``phase_margin_rad``, ``delay_s`` of the autodriller loop;
+        ``rop_start_wob_N`` (the bit law's steady WOB at the set-point,
+        :func:`rop_start_wob_N`) of a ``block_mode: rop`` run on bottom; empty
+        otherwise. For ``summary.json``.
     """
 
     window = case.operation.duration_s
@@ -84,6 +89,9 @@ def check_rig_setup(rig: RigConfig, case: CaseConfig, c_rop_m_per_N_s: float = 0
         raise InputError("rig.connection", f"one connection takes {rig.connection.duration_s:.0f} s, "
                          f"longer than the window operation.duration_s = {window:.0f} s",
                          "connection duration <= operation.duration_s")
+    if rig.block_mode == "rop" and case.operation.bit_on_bottom:
+        # the run starts in steady drilling at the set-point: the law must reach it
+        return {"rop_start_wob_N": rop_start_wob_N(rig, case)}
     if rig.block_mode != "autodriller":
         return {}
     ad = rig.effective_autodriller
@@ -109,6 +117,42 @@ def check_rig_setup(rig: RigConfig, case: CaseConfig, c_rop_m_per_N_s: float = 0
                          f"{math.degrees(MIN_PHASE_MARGIN_RAD):.0f} deg; string stiffness "
                          f"{props['k_axial_N_per_m']:.3g} N/m, loop delay {delay:.2f} s)", allowed)
     return {"omega_c_rad_s": wc, "phase_margin_rad": pm, "delay_s": delay}
+
+
+def drilling_rpm(case: CaseConfig) -> float:
+    """The speed the run drills at after its start-up: the last entry of
+    ``operation.rpm_table``, else ``operation.rpm``."""
+    op = case.operation
+    return float(op.rpm_table[-1][1]) if op.rpm_table is not None else float(op.rpm)
+
+
+def rop_start_wob_N(rig: RigConfig, case: CaseConfig) -> float:
+    """Initial WOB of a ``block_mode: rop`` run on bottom: the bit law's steady WOB for
+    ``rig.rop_set_m_per_s`` at the drilling speed (:func:`drilling_rpm`), N.
+
+    The block lowers at the set-point and, in steady drilling, the bit cuts as fast
+    as the block lowers; the law is inverted by
+    :func:`drillfatigue.dynamics.rockface.steady_wob_for_rop_N` up to the largest WOB
+    of :data:`drillfatigue.limits.FEATURE_BOUNDS` (1000 kN). A set-point the law
+    cannot give below that WOB, or below its threshold, is an :class:`InputError`
+    naming ``rig.rop_set_m_per_s`` and the reachable range, raised before any step.
+    """
+    rop = float(rig.rop_set_m_per_s)  # type: ignore[arg-type]
+    rpm = drilling_rpm(case)
+    wob_max = FEATURE_BOUNDS["wob_N"].hi
+    wob, lo, hi = steady_wob_for_rop_N(case.bit, rop, rpm, wob_max)
+    if math.isfinite(wob):
+        return wob
+    if hi <= 0.0:
+        raise InputError("rig.rop_set_m_per_s",
+                         f"the bit law ({case.bit.model}) cuts nothing at {rpm:g} rpm (below its "
+                         "bit-speed threshold), so no WOB gives an ROP of "
+                         f"{rop:.4g} m/s", "a drilling speed above the bit law's threshold")
+    raise InputError("rig.rop_set_m_per_s",
+                     f"{rop:.4g} m/s is not reachable by the bit law ({case.bit.model}) at "
+                     f"{rpm:g} rpm with a WOB up to {wob_max:.0f} N",
+                     # with a fade-in band the law's ROP rises continuously from 0
+                     f"{'0 <' if lo < 1e-9 * hi else f'{lo:.4g} <='} rop_set_m_per_s <= {hi:.4g}")
 
 
 # --- packing for the kernels -------------------------------------------------------------

@@ -180,23 +180,6 @@ def rop_tob_from_wob(bit: BitConfig, wob_N: float | np.ndarray, rpm: float | np.
     return rop, tob
 
 
-def wob_for_rop_N(bit: BitConfig, rop_m_per_s: float, rpm: float, wob_max_N: float) -> float:
-    """The steady WOB at which the bit law cuts ``rop_m_per_s`` at ``rpm``, N, searched
-    in [0, ``wob_max_N``] by bisection (the law's ROP is non-decreasing in WOB);
-    ``wob_max_N`` when even that WOB cuts slower."""
-    hi_rop = float(rop_tob_from_wob(bit, wob_max_N, rpm)[0])
-    if hi_rop <= rop_m_per_s:
-        return float(wob_max_N)
-    lo, hi = 0.0, float(wob_max_N)
-    for _ in range(60):  # 2^-60 of the bracket: far below a newton
-        mid = 0.5 * (lo + hi)
-        if float(rop_tob_from_wob(bit, mid, rpm)[0]) < rop_m_per_s:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
-
-
 def rop_slope_m_per_N_s(bit: BitConfig, wob_N: float, rpm: float, rel_step: float = 1e-3) -> float:
     """``dROP/dWOB`` of the bit law at an operating point (central difference), m/(N s).
 
@@ -207,3 +190,64 @@ def rop_slope_m_per_N_s(bit: BitConfig, wob_N: float, rpm: float, rel_step: floa
     hi, _ = rop_tob_from_wob(bit, wob_N + h, rpm)
     lo, _ = rop_tob_from_wob(bit, wob_N - h, rpm)
     return float((hi - lo) / (2.0 * h))
+
+
+def steady_wob_for_rop_N(bit: BitConfig, rop_m_per_s: float, rpm: float, wob_max_N: float
+                         ) -> tuple[float, float, float]:
+    """The WOB at which the configured bit law cuts ``rop_m_per_s`` at ``rpm`` (steady drilling).
+
+    The inverse of :func:`rop_tob_from_wob` in WOB, in closed form where the law has
+    one (Yigit-Christoforou above the Sarker thresholds and their fade-in band:
+    ``WOB = (ROP - c2) / (c1 sqrt(Omega))``; Detournay above the wear-flat load:
+    ``WOB = sigma a l + 2 pi zeta eps a ROP / Omega``), otherwise by bisection of the
+    law's ROP, which does not decrease with WOB, on ``[0, wob_max_N]``.
+
+    Returns
+    -------
+    (wob_N, rop_min_m_per_s, rop_max_m_per_s)
+        ``wob_N`` is NaN where no WOB up to ``wob_max_N`` gives the set-point; the
+        reachable range is the law's smallest positive ROP above its threshold and
+        its ROP at ``wob_max_N``.
+    """
+    if bit.model not in ROP_FROM_WOB_MODELS:
+        raise ValueError(f"bit.model {bit.model} prescribes the ROP; the steady WOB needs "
+                         f"bit.model {' or '.join(ROP_FROM_WOB_MODELS)}")
+    omega = abs(rpm) * 2.0 * math.pi / 60.0
+
+    def rop_at(w: float) -> float:
+        return float(rop_tob_from_wob(bit, w, abs(rpm))[0])
+
+    rop_max = rop_at(wob_max_N)
+    # the smallest positive ROP: at the WOB threshold (sharp switch) or just above
+    # the point where the law starts cutting
+    lo, hi = 0.0, wob_max_N
+    if rop_max > 0.0:
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if rop_at(mid) > 0.0:
+                hi = mid
+            else:
+                lo = mid
+        rop_min = rop_at(hi)
+    else:
+        rop_min = 0.0
+    if not (rop_max > 0.0 and rop_min <= rop_m_per_s <= rop_max):
+        return math.nan, rop_min, rop_max
+    if bit.model == "detournay":
+        a = bit.bit_radius_m
+        wob = (bit.detournay_sigma_Pa * a * bit.detournay_wear_flat_m
+               + 2.0 * math.pi * bit.detournay_zeta * bit.detournay_eps_Pa * a * rop_m_per_s / omega)
+        return wob, rop_min, rop_max
+    band = 1.0 + bit.threshold_band
+    wob = (rop_m_per_s - bit.rop_c2_m_per_s) / (bit.rop_c1_m_per_N_sqrt_s * math.sqrt(omega))
+    if wob >= bit.wob_threshold_N * band and omega >= bit.omega_threshold_rad_s * band:
+        return wob, rop_min, rop_max
+    # in the thresholds' fade-in band: the law's ROP is monotone in WOB there
+    lo, hi = 0.0, wob_max_N
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if rop_at(mid) < rop_m_per_s:
+            lo = mid
+        else:
+            hi = mid
+    return hi, rop_min, rop_max

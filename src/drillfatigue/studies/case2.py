@@ -106,8 +106,8 @@ def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None
             initial_travel_m=cfg.block_initial_travel_m, lobe_amplitude_m=cfg.lobe_amplitude_m)
     elif cfg.boundaries == "rig_rop":
         # the rig's block lowers at the ROP set-point (block_mode rop, the sweep's rig mode);
-        # the string starts with its neutral point at the top of the collars and the bit
-        # cuts what the bit law lets it
+        # the string starts in steady drilling at the bit law's WOB for that ROP and the
+        # bit cuts what the bit law lets it
         operation = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
                      "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",
                      "bit_on_bottom": True}
