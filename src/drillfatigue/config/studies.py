@@ -98,9 +98,10 @@ class Case2Config(StrictModel):
     criterion: Literal["matake", "findley", "fatemi_socie", "uniaxial"] = "matake"
     boundaries: Literal["rig", "rig_rop", "prescribed_rop"] = Field(
         "rig", description="rig: the autodriller holds wob_set_N and the bit law gives the ROP "
-                           "(docs/rig.md); rig_rop: the rig's block lowers at rop_m_per_s "
-                           "(block_mode rop, as the sweep drills) and the bit cuts what the "
-                           "bit law lets it; prescribed_rop: the bit guided at rop_m_per_s "
+                           "(docs/rig.md); rig_rop: the autodriller drills at rop_m_per_s (its "
+                           "ROP limit) unless the WOB reaches wob_set_N first, as the sweep "
+                           "drills, and the bit cuts what the bit law lets it; prescribed_rop: the "
+                           "bit guided at rop_m_per_s "
                            "(validation of the founding paper's set-up)")
     wob_set_N: float = Field(100e3, gt=0.0, le=2e6, description="autodriller WOB set-point (rig)")
     autodriller_measurement: Literal["wob", "hook_load"] = Field(

@@ -105,17 +105,16 @@ def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None
             wob_set_N=cfg.wob_set_N, measurement=cfg.autodriller_measurement,
             initial_travel_m=cfg.block_initial_travel_m, lobe_amplitude_m=cfg.lobe_amplitude_m)
     elif cfg.boundaries == "rig_rop":
-        # the rig's block lowers at the ROP set-point (block_mode rop, the sweep's rig mode);
-        # the string starts in steady drilling at the bit law's WOB for that ROP and the
-        # bit cuts what the bit law lets it
+        # the sweep's rig mode: the autodriller drills at the ROP target (its ROP limit)
+        # unless the WOB reaches its limit (the set-point) first; the run starts in
+        # steady drilling and the bit cuts what the bit law lets it
         operation = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
                      "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",
                      "bit_on_bottom": True}
-        extra = {
-            "bit": {"model": "yigit_christoforou"},
-            "rig": {"block_mode": "rop", "rop_set_m_per_s": cfg.rop_m_per_s,
-                    "block": {"initial_travel_m": cfg.block_initial_travel_m},
-                    "rock": {"lobe_count": 3, "lobe_amplitude_m": cfg.lobe_amplitude_m}}}
+        extra = rig_drilling_sections(
+            wob_set_N=cfg.wob_set_N, measurement=cfg.autodriller_measurement,
+            initial_travel_m=cfg.block_initial_travel_m, lobe_amplitude_m=cfg.lobe_amplitude_m)
+        extra["rig"]["autodriller"]["rop_limit_m_per_s"] = cfg.rop_m_per_s
     else:
         operation = {"duration_s": cfg.sample_s, "bit_md_m": bit_md_m, "rpm": cfg.rpm,
                      "rpm_ramp_s": cfg.rpm_ramp_s, "top_axial": "neutral_point",

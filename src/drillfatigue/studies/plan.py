@@ -30,10 +30,10 @@ bounds the same way (each bound is a calibrated per-row bound; the summed
 bound is conservative, not a calibrated joint interval). Out-of-domain rows
 are counted and reported.
 
-The window drills with the rig boundaries in ``block_mode: rop`` by default
-(``boundaries: rig_rop``, the sweep's mode): the block lowers at the window's
-``rop_m_per_s``, which the query rows carry as ``operation.rop_m_per_s``, the
-name the sweep varies.
+The window drills with the rig boundaries as the sweep does (``boundaries:
+rig_rop``): the autodriller drills at the window's ``rop_m_per_s`` (its ROP
+limit) unless the WOB reaches its limit first; the query rows carry it as
+``operation.rop_m_per_s``, the name the sweep varies.
 
 Simulator confirmation (slow, top-k by the surrogate): the case-2 machinery
 (:mod:`drillfatigue.studies.case2`) on the candidate's profile, all joints
