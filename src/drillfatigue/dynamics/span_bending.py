@@ -71,7 +71,10 @@ resolves the moments in the pipe-fixed frame, where they alternate once per
 revolution.
 
 Kernels take float64 arrays in SI, write into ``out`` arrays and return a
-status code (``STATUS_OK`` = 0).
+status code of the package's one enumeration, :mod:`drillfatigue.status`
+(``STATUS_OK`` = ``OK`` = 0, ``STATUS_BAD_SPAN`` = ``BAD_SPAN``,
+``STATUS_SPAN_BUCKLED`` = ``SPAN_BUCKLED``, ``STATUS_SINGULAR`` = ``SINGULAR``;
+the local names are kept for the callers of this module).
 
 References
 ----------
@@ -87,10 +90,10 @@ import math
 
 from numba import njit
 
-STATUS_OK = 0
-STATUS_BAD_SPAN = 1
-STATUS_SPAN_BUCKLED = 2
-STATUS_SINGULAR = 3
+from drillfatigue.status import BAD_SPAN as STATUS_BAD_SPAN
+from drillfatigue.status import OK as STATUS_OK
+from drillfatigue.status import SINGULAR as STATUS_SINGULAR
+from drillfatigue.status import SPAN_BUCKLED as STATUS_SPAN_BUCKLED
 
 END_PINNED = 0
 END_CLAMPED = 1
