@@ -34,8 +34,12 @@ a span that does not touch the wall between its supports (not checked here:
 the contact points' spacing rule of :mod:`drillfatigue.string.contacts` puts
 points where a span could reach the wall), supports that do not move
 relative to each other under the load. A span at or beyond its Euler load
-in compression gives a status other than OK: the sample's corrections are
-then zero and the status is returned (the caller counts such samples).
+in compression (or one the solution cannot handle) is handled locally by
+:func:`drillfatigue.dynamics.span_bending.chain_span_moments`: the chain is
+cut there, pinned over that span's supports, the span gets no correction
+and every other span is solved as in the chain without it; the number of
+such spans is returned (the caller counts them and the samples that had
+any), so a buckled span far away never zeroes a joint's correction.
 Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
 p.ei, p.topp``, ``wk.loads``; scratch allocated per call (a sample is taken
 every few hundred steps).
@@ -77,12 +81,16 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
 @njit(cache=True)
 def span_sample(n, s, p, wk, sel, out):
     """Span-bending moments at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
-    ``sel[a]``'s frame, N m (module docstring). Returns a span-bending status."""
+    ``sel[a]``'s frame, N m (module docstring).
+
+    Returns the number of spans handled locally (no correction in them, the chain
+    cut there), or minus a status code when no span could be solved (every
+    ``out`` zero)."""
     for a in range(sel.size):
         out[a, 0] = 0.0
         out[a, 1] = 0.0
     if n < 2:
-        return STATUS_OK
+        return 0
     seg = p.seg
     cpar = p.cpar
     x = s.x
@@ -162,7 +170,8 @@ def span_sample(n, s, p, wk, sel, out):
             seg_q[i, 0] = 0.0
             seg_q[i, 1] = 0.0
             seg_qz[i, 0] = 0.0
-    sup_s = np.sort(sup[:nsup])
+    # clipped to the chain before merging, so that the kept supports stay strictly increasing
+    sup_s = np.sort(np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n]))
     keep = np.zeros(nsup, dtype=np.bool_)
     last = -1.0
     m = 0
@@ -172,12 +181,12 @@ def span_sample(n, s, p, wk, sel, out):
             last = sup_s[k]
             m += 1
     if m < 2:
-        return STATUS_OK
+        return 0
     sup_c = np.zeros(m)
     j = 0
     for k in range(nsup):
         if keep[k]:
-            sup_c[j] = min(max(sup_s[k], 0.0), top_s[n])
+            sup_c[j] = sup_s[k]
             j += 1
     nr = sel.size
     read_s = np.zeros(nr)
@@ -191,14 +200,20 @@ def span_sample(n, s, p, wk, sel, out):
     sup_M = np.zeros((m, 2))
     rxy = np.zeros((nr, 2))
     rz = np.zeros((nr, 2))
+    cut = np.zeros(m - 1, dtype=np.int64)
     st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_q, END_PINNED, END_PINNED, read_s,
-                            span_L, span_ei, span_T, span_q, work, sup_M, rxy)
+                            span_L, span_ei, span_T, span_q, work, sup_M, rxy, cut)
     if st != STATUS_OK:
-        return st
+        return -st
+    # same spans, axial forces and stiffness: the same spans are cut
     st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED, read_s,
-                            span_L, span_ei, span_T, span_q, work, sup_M, rz)
+                            span_L, span_ei, span_T, span_q, work, sup_M, rz, cut)
     if st != STATUS_OK:
-        return st
+        return -st
+    n_cut = 0
+    for k in range(m - 1):
+        if cut[k] != STATUS_OK:
+            n_cut += 1
     qr = np.zeros(4)
     qh = np.zeros(4)
     qm = np.zeros(4)
@@ -221,4 +236,4 @@ def span_sample(n, s, p, wk, sel, out):
         mw2 = msx * t1 - msy * t0
         out[a, 0] = Rm[0, 0] * mw0 + Rm[1, 0] * mw1 + Rm[2, 0] * mw2
         out[a, 1] = Rm[0, 1] * mw0 + Rm[1, 1] * mw1 + Rm[2, 1] * mw2
-    return STATUS_OK
+    return n_cut
