@@ -47,18 +47,29 @@ every few hundred steps).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.contact import OUT_DELTA, OUT_SIZE, contact_point, find_contact
 from drillfatigue.dynamics.layout import (
-    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_CL, S_H, S_W,
+    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_CL, S_H, S_RB, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import END_PINNED, STATUS_OK, chain_span_moments
 
 #: supports closer than this along the string are one support, m
 MERGE_M = 0.01
+#: tolerance of the line-contact test in a curved hole, as a share of the segment's
+#: chord bulge L^2 kappa / 8: the middle of a segment resting on the outer wall of the
+#: polygonal hole measured up to 1.01 bulge off it; a segment leaving the wall is off
+#: by more at its ends (near the bit, below the held top: several bulges)
+CHORD_TOL = 0.1
+#: hole curvature below which the hole counts as straight, 1/m (0.017 deg/30 m: the
+#: bulge of a 10 m segment is 0.13 mm, below the contact penetration at rest; it keeps
+#: the round-off of a straight cylinder chain's axes from changing anything)
+STRAIGHT_KAPPA = 1e-5
 
 
 @njit(cache=True)
@@ -76,6 +87,25 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
     qh[3] = qr[3] / nrm
     quat_mul(q_lo, qh, qm)
     quat_to_rot(qm, Rm)
+
+
+@njit(cache=True)
+def _hole_curvature(axc, lnc, ic):
+    """Curvature of the hole at cylinder ``ic`` of the chain, 1/m: the larger turning
+    rate of its axis towards its two neighbours (angle between the axes over the
+    distance between the cylinders' middles); zero in a straight hole."""
+    kap = 0.0
+    for j in (ic - 1, ic + 1):
+        if j < 0 or j >= lnc.shape[0]:
+            continue
+        c = axc[ic, 0] * axc[j, 0] + axc[ic, 1] * axc[j, 1] + axc[ic, 2] * axc[j, 2]
+        s0 = axc[ic, 1] * axc[j, 2] - axc[ic, 2] * axc[j, 1]
+        s1 = axc[ic, 2] * axc[j, 0] - axc[ic, 0] * axc[j, 2]
+        s2 = axc[ic, 0] * axc[j, 1] - axc[ic, 1] * axc[j, 0]
+        # atan2 keeps small angles exact (acos of a cosine near 1 does not)
+        ang = math.atan2(math.sqrt(s0 * s0 + s1 * s1 + s2 * s2), c)
+        kap = max(kap, ang / (0.5 * (lnc[ic] + lnc[j])))
+    return kap
 
 
 @njit(cache=True)
@@ -143,11 +173,15 @@ def span_sample(n, s, p, wk, sel, out):
     nsup = 1
     X = np.zeros(3)
     info = np.zeros(OUT_SIZE)
+    pt_u = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
+    pt_gap = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
     for i in range(n):
         own = table and i < n - 1
         npi = int(p.cp_n[i]) if own else npts
         h = seg[i, S_H]
         ncon = 0
+        kap = 0.0
+        raised = False
         for pt in range(npi):
             if own:
                 off = p.cp[i, pt, 0]
@@ -160,12 +194,38 @@ def span_sample(n, s, p, wk, sel, out):
                 hi = hint[MAX_CONTACT_POINTS * i + pt]
             for k in range(3):
                 X[k] = x[i, k] + off * R[i, k, 2]
-            find_contact(X, rc, p0, axc, lnc, rad, hi, info)
+            ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
+            if ic >= 0:
+                kap = max(kap, _hole_curvature(axc, lnc, ic))
+            pt_u[pt] = off
+            pt_gap[pt] = -info[OUT_DELTA]
             if info[OUT_DELTA] > 0.0:
                 sup[nsup] = top_s[i] + h - off
                 nsup += 1
                 ncon += 1
-        if npi >= 3 and ncon == npi:
+            if rc != seg[i, S_RB]:
+                raised = True
+        line = npi >= 3 and ncon == npi
+        if kap > STRAIGHT_KAPPA and not raised and not line:
+            # along the wall of a curved hole: every point no further from the wall than
+            # the chord's offset from the arc there, (h^2 - u^2) kappa / 2 resting on the
+            # outer wall (ends in it) or u^2 kappa / 2 on the inner wall (middle in it)
+            tol = CHORD_TOL * 0.5 * h * h * kap
+            outer = True
+            inner = True
+            for pt in range(npi):
+                u2 = pt_u[pt] * pt_u[pt]
+                if pt_gap[pt] > 0.5 * (h * h - u2) * kap + tol:
+                    outer = False
+                if pt_gap[pt] > 0.5 * u2 * kap + tol:
+                    inner = False
+            if outer or inner:
+                line = True
+                for pt in range(npi):
+                    if pt_gap[pt] >= 0.0:
+                        sup[nsup] = top_s[i] + h - pt_u[pt]
+                        nsup += 1
+        if line:
             # line contact: the wall carries the segment's weight along its length
             seg_q[i, 0] = 0.0
             seg_q[i, 1] = 0.0
