@@ -324,6 +324,7 @@ class Runner:
         self.wall_before = 0.0
         self.span_cut_samples = 0
         self.span_cut_spans = 0
+        self.span_unsolved = 0
         self.folder: OutputFolder | None = None
         self.recorder = Recorder(m.segments.joint_s_from_bit_m, self.sel, m.n, None)
 
@@ -465,6 +466,7 @@ class Runner:
                 st = advance(k, s, params, wk, rec)
                 self.span_cut_samples += int(rec.counts[3])
                 self.span_cut_spans += int(rec.counts[4])
+                self.span_unsolved += int(rec.counts[5])
                 bl = rec.buf_l[: rec.counts[0]]
                 bc = rec.buf_c[: rec.counts[1]]
                 bk = rec.buf_k[: rec.counts[2]]
@@ -539,6 +541,8 @@ class Runner:
             # those spans got no correction, the chain was cut there (span_record)
             summary["span_bending_buckled_samples"] = self.span_cut_samples
             summary["span_bending_buckled_spans"] = self.span_cut_spans
+            # samples with no span solved at all (recorded as zero at every joint)
+            summary["span_bending_unsolved_samples"] = self.span_unsolved
         if error is not None:
             summary["message"] = str(error)
         if m.rig_on:
