@@ -181,6 +181,7 @@ def span_sample(n, s, p, wk, sel, out):
         h = seg[i, S_H]
         ncon = 0
         kap = 0.0
+        clr = np.inf
         raised = False
         for pt in range(npi):
             if own:
@@ -197,6 +198,7 @@ def span_sample(n, s, p, wk, sel, out):
             ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
             if ic >= 0:
                 kap = max(kap, _hole_curvature(axc, lnc, ic))
+                clr = min(clr, rad[ic] - rc)
             pt_u[pt] = off
             pt_gap[pt] = -info[OUT_DELTA]
             if info[OUT_DELTA] > 0.0:
@@ -206,10 +208,12 @@ def span_sample(n, s, p, wk, sel, out):
             if rc != seg[i, S_RB]:
                 raised = True
         line = npi >= 3 and ncon == npi
-        if kap > STRAIGHT_KAPPA and not raised and not line:
+        if kap > STRAIGHT_KAPPA and not raised and not line and 0.5 * h * h * kap < clr:
             # along the wall of a curved hole: every point no further from the wall than
             # the chord's offset from the arc there, (h^2 - u^2) kappa / 2 resting on the
-            # outer wall (ends in it) or u^2 kappa / 2 on the inner wall (middle in it)
+            # outer wall (ends in it) or u^2 kappa / 2 on the inner wall (middle in it).
+            # A segment whose bulge exceeds the clearance cannot lie along one wall (it
+            # touches both; the hole-fit rule cuts segments so that it does not)
             tol = CHORD_TOL * 0.5 * h * h * kap
             outer = True
             inner = True
