@@ -18,8 +18,23 @@ without feeding anything back into the integrator:
    concentrated wall and joint forces hold, smeared uniformly over the
    segment. At rest on its supports this is the weight. (The inertia of the
    segment's tilting, a load varying linearly along it, is not included.)
-   A segment with three or more points, all in the wall, is in line contact:
-   the wall carries its load along its length and it gets none.
+   A segment in line contact gets none (the wall carries its load along its
+   length) and all its points are supports:
+
+   * three or more points, all in the wall (any hole);
+   * in a curved hole (curvature kappa above ``STRAIGHT_KAPPA`` at any of its
+     points), a segment without raised points (tool joints, blades, upsets:
+     every point at the body radius) whose chord bulge h^2 kappa / 2 (L^2
+     kappa / 8, L = 2h) is below its clearance, with every point no further
+     from the wall than the chord's offset from the arc there: (h^2 - u^2)
+     kappa / 2 resting on the outer wall (ends in it), or u^2 kappa / 2 on
+     the inner wall (middle in it), u the point's offset from the segment's
+     centre, plus ``CHORD_TOL`` x the bulge. The real pipe there is bent to
+     the hole's curvature and lies along the wall: the moment E I kappa of
+     that bending is what the rigid chain's joint moments hold, and its
+     weight goes to the wall where it lies, not to a span between the rigid
+     segment's ends. Without this the span moment of collars lying in a
+     build scaled with L^2 (halving the segments took 75 % off it).
 3. Axial force of a segment: the mean effective tension of its two joints
    (the bit end of the first segment takes its one joint's value).
 4. :func:`drillfatigue.dynamics.span_bending.chain_span_moments` with both
