@@ -36,6 +36,15 @@ STACK_OVERFLOW = 7
 #: more cycles than the output arrays hold
 OUT_OVERFLOW = 8
 
+# --- span bending (drillfatigue.dynamics.span_bending) ----------------------
+#: a span or bending stiffness <= 0 or not finite, unsorted supports, or a
+#: read point outside its span
+BAD_SPAN = 9
+#: a span in compression at or beyond the Euler load of the pinned span
+SPAN_BUCKLED = 10
+#: the three-moment system could not be solved (zero or non-finite pivot)
+SINGULAR = 11
+
 #: Text of each failure code, for the error message.
 MESSAGES = {
     NONFINITE: "non-finite state",
@@ -46,4 +55,7 @@ MESSAGES = {
     UNKNOWN_RIG_MODE: "unknown block or top-drive mode",
     STACK_OVERFLOW: "rainflow residue stack overflow",
     OUT_OVERFLOW: "more cycles than the output capacity",
+    BAD_SPAN: "bad span, stiffness, support order or read point",
+    SPAN_BUCKLED: "a span in compression at or beyond its Euler load",
+    SINGULAR: "singular three-moment system",
 }

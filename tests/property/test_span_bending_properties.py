@@ -12,7 +12,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.span import continuous_beam_moments, pipe_frame_moments
+from drillfatigue.dynamics.span import (chain_span_moments, continuous_beam_moments,
+                                        pipe_frame_moments)
 
 spans = st.lists(st.floats(1.0, 15.0), min_size=1, max_size=8)
 loads = st.floats(-2e3, 2e3)
@@ -69,3 +70,37 @@ def test_turning_the_load_turns_the_moments(L: list[float], seed: int, a: float)
     # the pipe-fixed frame: turning the pipe by a undoes a load turned by a
     back = pipe_frame_moments(t.support_Nm, np.full(n + 1, a))
     np.testing.assert_allclose(back, r.support_Nm, atol=1e-9 * (1.0 + np.abs(r.support_Nm).max()))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.floats(1.0, 15.0), min_size=2, max_size=8), st.integers(0, 2**31),
+       st.integers(0, 7), st.floats(1.0, 3.0), ENDS, ENDS)
+def test_a_buckled_span_leaves_the_chain_without_it(L: list[float], seed: int, k: int,
+                                                    over: float, e0: str, e1: str) -> None:
+    """A span beyond its Euler load (``over`` times pi^2 EI/L^2 in compression) cuts
+    the chain: every other span's moments are those of the continuous beam without
+    it, pinned at the cut (the chain's own end condition at a chain end), to
+    rounding of the same solve (1e-9 of the largest moment)."""
+    n = len(L)
+    k = k % n
+    rng = np.random.default_rng(seed)
+    q = _q(n, seed)
+    T = rng.uniform(-0.5, 2.0, n) * np.pi ** 2 * EI / np.asarray(L) ** 2
+    T[k] = -over * np.pi ** 2 * EI / L[k] ** 2
+    bounds = np.concatenate([[0.0], np.cumsum(L)])
+    mid = 0.5 * (bounds[:-1] + bounds[1:])
+    sup_M, rd, cut = chain_span_moments(bounds, bounds, np.full(n, EI), T, q, mid, (e0, e1))
+    assert cut[k] != 0 and np.count_nonzero(cut) == 1
+    want_sup = np.zeros((n + 1, 2))
+    want_rd = np.zeros((n, 2))
+    for a, b in ((0, k), (k + 1, n)):
+        if b <= a:
+            continue
+        ends = (e0 if a == 0 else "pinned", e1 if b == n else "pinned")
+        r = continuous_beam_moments(L[a:b], EI, q[a:b], T[a:b], ends,
+                                    read_span=np.arange(b - a), read_x_m=0.5 * np.asarray(L[a:b]))
+        want_sup[a:b + 1] = r.support_Nm
+        want_rd[a:b] = r.read_Nm
+    scale = max(np.abs(want_sup).max(), np.abs(want_rd).max(), 1.0)
+    np.testing.assert_allclose(sup_M, want_sup, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(rd, want_rd, rtol=0, atol=1e-9 * scale)

@@ -21,6 +21,7 @@ from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics import layout as L
 from drillfatigue.dynamics.model import build_model, evaluate_forces, straight_path
 from drillfatigue.dynamics.rigid import quat_mul
+from drillfatigue.dynamics.span import continuous_beam_moments
 from drillfatigue.dynamics.span_record import span_sample
 
 JOINT_M = 9.144
@@ -97,3 +98,43 @@ def test_moments_scale_with_the_weight(k: float) -> None:
     finally:
         MODEL.seg[:, L.S_W] = saved
     assert np.allclose(got, k * BASE, rtol=0, atol=1e-9 * k * np.abs(BASE).max())
+
+
+def test_a_buckled_segment_only_cuts_its_own_span() -> None:
+    """Joints 2 and 3 at 1.5 times segment 3's Euler load in compression (segment 3
+    at 1.5 P_E, its neighbours at 0.75 P_E): the recorder cuts the chain at
+    segment 3 only. Every other joint keeps a correction equal to the continuous
+    beam of the chain without that span (the spans are the segments, supported at
+    their tool joints; load the weight per length; axial forces as recorded),
+    the two joints of the cut span get none. Tolerance 1e-6 relative: the
+    recorder's supports are the tool-joint points found in the wall, 0.1 mm
+    penetration away from the segment ends."""
+    s = STATE.copy()
+    evaluate_forces(MODEL, s)
+    s.Fw[:] = 0.0
+    s.v[:] = 0.0
+    n = MODEL.n0
+    length = 2.0 * MODEL.seg[:n, L.S_H]
+    ei = MODEL.params.ei[:n].copy()
+    w = MODEL.seg[:n, L.S_W] / length
+    p_e = math.pi ** 2 * ei[3] / length[3] ** 2
+    loads = MODEL.work.loads
+    saved = loads.copy()
+    try:
+        loads[:, 0] = 0.0
+        loads[2, 0] = loads[3, 0] = -1.5 * p_e
+        out = np.zeros((SEL.size, 2))
+        assert span_sample(n, s, MODEL.params, MODEL.work, SEL, out) == 1
+    finally:
+        loads[:] = saved
+    T = np.zeros(n)
+    T[2] = T[4] = -0.75 * p_e
+    q = np.stack([np.zeros(n), -w], axis=1)
+    left = continuous_beam_moments(length[:3], ei[:3], q[:3], T[:3])
+    right = continuous_beam_moments(length[4:], ei[4:], q[4:], T[4:])
+    want = np.concatenate([left.support_Nm[1:, 0], right.support_Nm[:-1, 0]])
+    mag = np.hypot(out[:, 0], out[:, 1])
+    assert want[2] == 0.0 and want[3] == 0.0
+    np.testing.assert_allclose(mag, np.abs(want), rtol=1e-6, atol=1e-9 * np.abs(want).max())
+    # nothing zeroed away from the cut (the last joint, next to the 5 m pup, carries least)
+    assert np.all(mag[[0, 1, 4, 5]] > 0.03 * w[0] * JOINT_M ** 2)

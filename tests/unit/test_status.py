@@ -8,13 +8,15 @@ import numpy as np
 import pytest
 
 import drillfatigue.dynamics.status as dynamics_status
+import drillfatigue.dynamics.span_bending as SB
 import drillfatigue.fatigue.kernels as K
+import drillfatigue.numba_cache as NC
 import drillfatigue.status as S
 from drillfatigue.errors import KernelError, raise_for_status
 
 FAILURES = {name: getattr(S, name) for name in (
     "NONFINITE", "BLOWUP", "SPEED", "UNKNOWN_FRICTION", "UNKNOWN_BIT", "UNKNOWN_RIG_MODE",
-    "STACK_OVERFLOW", "OUT_OVERFLOW")}
+    "STACK_OVERFLOW", "OUT_OVERFLOW", "BAD_SPAN", "SPAN_BUCKLED", "SINGULAR")}
 
 
 def test_codes_are_distinct_and_each_failure_has_a_message() -> None:
@@ -66,3 +68,27 @@ def test_group_push_reports_a_full_stack_as_stack_overflow() -> None:
     assert K._push_group(sv, sx, sy, ms, 0, 1.0, 0.0, 0.0) == S.OK
     assert K._push_group(sv, sx, sy, ms, 0, -2.0, 0.0, 0.0) == S.OK
     assert K._push_group(sv, sx, sy, ms, 0, 3.0, 0.0, 0.0) == S.STACK_OVERFLOW  # a third reversal
+
+
+def test_span_bending_codes_are_the_enumerations() -> None:
+    assert (S.BAD_SPAN, S.SPAN_BUCKLED, S.SINGULAR) == (9, 10, 11)
+    assert SB.STATUS_OK == S.OK
+    assert SB.STATUS_BAD_SPAN == S.BAD_SPAN
+    assert SB.STATUS_SPAN_BUCKLED == S.SPAN_BUCKLED
+    assert SB.STATUS_SINGULAR == S.SINGULAR
+    # the kernels freeze these numbers: the numba cache key must cover their module
+    assert "status.py" in NC.KERNEL_CONSTANT_MODULES
+
+
+def test_span_kernel_returns_the_enumerations_codes() -> None:
+    work = np.empty((3, 6))
+    out = np.empty((3, 2))
+    q = np.zeros((2, 2))
+    ei = np.ones(2)
+    assert SB.support_moments(np.array([1.0, 1.0]), ei, np.zeros(2), q, SB.END_PINNED,
+                              SB.END_PINNED, work, out) == S.OK
+    assert SB.support_moments(np.array([1.0, -1.0]), ei, np.zeros(2), q, SB.END_PINNED,
+                              SB.END_PINNED, work, out) == S.BAD_SPAN
+    # compression of 1.2 pi^2 EI/L^2 on the second span: beyond its Euler load
+    assert SB.support_moments(np.array([1.0, 1.0]), ei, np.array([0.0, -1.2 * np.pi ** 2]), q,
+                              SB.END_PINNED, SB.END_PINNED, work, out) == S.SPAN_BUCKLED

@@ -21,7 +21,9 @@ import pytest
 from drillfatigue.config.string import StringConfig
 from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 from drillfatigue.string import build_segments
-from drillfatigue.dynamics.span import continuous_beam_moments, pipe_frame_moments
+from drillfatigue.dynamics.span import (chain_span_moments, continuous_beam_moments,
+                                        pipe_frame_moments)
+from drillfatigue.status import OK, SPAN_BUCKLED
 
 G = 9.80665
 
@@ -148,24 +150,47 @@ def test_chain_of_one_joint_segments_on_tool_joints_gives_wl2_over_12() -> None:
     joints carry wL^2/12 within 2 %, and a chain of collars whose segments
     (9.33 m) do not coincide with stabilizer spans (18 m) matches the direct
     continuous beam on those spans to rounding (1e-9)."""
-    from drillfatigue.dynamics.span import chain_span_moments
-
     dp, dc = _dp_and_collar()
     L, n = 9.144, 30
     bounds = np.arange(n + 1) * L
-    sup_M, rd = chain_span_moments(bounds, bounds, np.full(n, dp["ei"]), np.zeros(n),
-                                   _down(n, dp["w"]), bounds[1:-1])
+    sup_M, rd, _ = chain_span_moments(bounds, bounds, np.full(n, dp["ei"]), np.zeros(n),
+                                      _down(n, dp["w"]), bounds[1:-1])
     assert rd[14, 0] == pytest.approx(dp["w"] * L * L / 12.0, rel=0.02)
     np.testing.assert_allclose(rd[:, 0], sup_M[1:-1, 0], rtol=1e-12)
     bounds = np.arange(20) * (168.0 / 18)
     sup = np.arange(0.0, bounds[-1] + 1e-9, 18.0)
     sup = np.append(sup[sup < bounds[-1] - 1e-9], bounds[-1])
     T = np.full(19, -3e4)
-    _, rd = chain_span_moments(sup, bounds, np.full(19, dc["ei"]), T, _down(19, dc["w"]),
-                               bounds[1:-1])
+    _, rd, _ = chain_span_moments(sup, bounds, np.full(19, dc["ei"]), T, _down(19, dc["w"]),
+                                  bounds[1:-1])
     direct = continuous_beam_moments(np.diff(sup), dc["ei"], _down(sup.size - 1, dc["w"]), -3e4,
                                      read_span=np.searchsorted(sup, bounds[1:-1], side="right")
                                      - 1,
                                      read_x_m=bounds[1:-1] - sup[np.searchsorted(
                                          sup, bounds[1:-1], side="right") - 1])
     np.testing.assert_allclose(rd, direct.read_Nm, atol=1e-9 * np.abs(direct.read_Nm).max())
+
+
+def test_a_buckled_span_cuts_the_chain_and_the_rest_keeps_the_table_values() -> None:
+    """Six equal spans, the third in compression at 1.2 pi^2 EI/L^2 (beyond its Euler
+    load): the chain is cut there, so the two spans on its left are the two-span
+    beam (qL^2/8 over their middle support, qL^2/16 sagging at mid span) and the
+    three on its right the three-span beam (qL^2/10 over both interior supports);
+    the cut span and its two supports carry nothing. Reference: the table values
+    above (Roark table 8.1). The three-moment solve is exact for these, so the
+    agreement is to rounding (1e-12 relative)."""
+    L, EI, w, n = 9.0, 1.2e6, 300.0, 6
+    bounds = np.arange(n + 1) * L
+    T = np.zeros(n)
+    T[2] = -1.2 * math.pi ** 2 * EI / L ** 2
+    read = np.concatenate([bounds[1:-1], [0.5 * L, 4.5 * L]])
+    sup_M, rd, cut = chain_span_moments(bounds, bounds, np.full(n, EI), T, _down(n, w), read)
+    ql2 = w * L * L
+    assert list(cut) == [OK, OK, SPAN_BUCKLED, OK, OK, OK]
+    np.testing.assert_allclose(sup_M[:, 0], [0.0, ql2 / 8, 0.0, 0.0, ql2 / 10, ql2 / 10, 0.0],
+                               rtol=1e-12, atol=1e-12 * ql2)
+    np.testing.assert_allclose(rd[:, 0], [ql2 / 8, 0.0, 0.0, ql2 / 10, ql2 / 10,
+                                          -ql2 / 16, -ql2 / 40], rtol=1e-12, atol=1e-12 * ql2)
+    assert np.all(rd[:, 1] == 0.0)
+    # nothing zeroed away from the cut: every other support and read point carries moment
+    assert np.all(np.abs(sup_M[[1, 4, 5], 0]) > 0.09 * ql2)

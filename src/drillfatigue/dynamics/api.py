@@ -322,6 +322,8 @@ class Runner:
         self.buckling = self._buckling_tracker()
         self.hash = config_hash(config)
         self.wall_before = 0.0
+        self.span_cut_samples = 0
+        self.span_cut_spans = 0
         self.span_unsolved = 0
         self.folder: OutputFolder | None = None
         self.recorder = Recorder(m.segments.joint_s_from_bit_m, self.sel, m.n, None)
@@ -462,7 +464,9 @@ class Runner:
                 rec = rec0._replace(every_l=ev[0], every_c=ev[1], every_k=ev[2])
                 rec.counts[:] = 0
                 st = advance(k, s, params, wk, rec)
-                self.span_unsolved += int(rec.counts[3])
+                self.span_cut_samples += int(rec.counts[3])
+                self.span_cut_spans += int(rec.counts[4])
+                self.span_unsolved += int(rec.counts[5])
                 bl = rec.buf_l[: rec.counts[0]]
                 bc = rec.buf_c[: rec.counts[1]]
                 bk = rec.buf_k[: rec.counts[2]]
@@ -532,8 +536,12 @@ class Runner:
             "trip_out_stopped_at_minimum": bool(sc[L.C_GUARD] == 1.0),
         }
         if m.cpar[L.P_SPAN] != 0.0:
-            # loads samples (since this process started the run) whose span correction
-            # had no solution (a span buckled in compression): recorded as zero
+            # loads samples (since this process started the run) with spans in compression
+            # beyond their Euler load, and the number of such spans over those samples:
+            # those spans got no correction, the chain was cut there (span_record)
+            summary["span_bending_buckled_samples"] = self.span_cut_samples
+            summary["span_bending_buckled_spans"] = self.span_cut_spans
+            # samples with no span solved at all (recorded as zero at every joint)
             summary["span_bending_unsolved_samples"] = self.span_unsolved
         if error is not None:
             summary["message"] = str(error)

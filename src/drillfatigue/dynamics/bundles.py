@@ -82,8 +82,9 @@ Params = namedtuple("Params", ("dt", "seg", "jp", "bp", "topp", "anchor", "tab_t
 RigWork = namedtuple("RigWork", ("cc", "cc1", "bpar"))
 Work = namedtuple("Work", ("R", "wW", "loads", "ch", "vec", "mat", "rig"))
 
-#: ``counts``: rows written to buf_l, buf_c, buf_k, and the loads samples whose span
-#: correction had no solution (a buckled span: recorded as zero)
+#: ``counts``: rows written to buf_l, buf_c, buf_k, the loads samples with spans whose
+#: span correction was handled locally (a buckled span: none in it, the chain cut
+#: there), the number of such spans, and the samples with no span solved (all zero)
 Records = namedtuple("Records", ("sel", "every_l", "buf_l", "every_c", "buf_c", "every_k",
                                  "buf_k", "counts", "info"))
 #: length of Records.info: [step, segment, value] of a failure
@@ -110,5 +111,5 @@ def new_records(sel: np.ndarray, every: tuple[int, int, int], rows: tuple[int, i
     return Records(sel=sel, every_l=int(every[0]), buf_l=np.zeros((rows[0], width)),
                    every_c=int(every[1]), buf_c=np.zeros((rows[1], 4 + n_ch)),
                    every_k=int(every[2]), buf_k=np.zeros((rows[2], 1 + 8 * n)),
-                   counts=np.zeros(4, dtype=np.int64), info=np.zeros(N_INFO))
+                   counts=np.zeros(6, dtype=np.int64), info=np.zeros(N_INFO))
 

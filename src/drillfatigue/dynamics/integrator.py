@@ -124,8 +124,14 @@ def record(step, t1, n, s, p, wk, rec):
         if p.cpar.shape[0] > P_SPAN and p.cpar[P_SPAN] != 0.0:
             # span-bending correction after the loads of all joints (span_record)
             span = np.zeros((sel.size, 2))
-            if span_sample(n, s, p, wk, sel, span) != 0:
+            n_cut = span_sample(n, s, p, wk, sel, span)
+            if n_cut > 0:
+                # a sample with spans handled locally (buckled: no correction in them)
                 counts[3] += 1
+                counts[4] += n_cut
+            elif n_cut < 0:
+                # no span solved: the sample's corrections are zero
+                counts[5] += 1
             base = 1 + 6 * sel.size
             for a in range(sel.size):
                 buf_l[r, base + 2 * a] = span[a, 0]

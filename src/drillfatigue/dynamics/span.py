@@ -152,9 +152,13 @@ def pipe_frame_moments(M_hole_Nm: np.ndarray, angle_rad: np.ndarray) -> np.ndarr
 def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
                        ei_Nm2: np.ndarray, axial_N: np.ndarray, q_N_per_m: np.ndarray,
                        read_s_m: np.ndarray, ends: tuple[str, str] = ("pinned", "pinned")
-                       ) -> tuple[np.ndarray, np.ndarray]:
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Span-bending moments of a segment chain at read points (see the kernel
     :func:`drillfatigue.dynamics.span_bending.chain_span_moments`).
+
+    A span in compression at or beyond its Euler load is handled locally: the
+    chain is cut there (pinned over the cut span's supports), the cut span gets
+    no correction and the other spans are solved as the chain without it.
 
     Parameters
     ----------
@@ -173,6 +177,10 @@ def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
     -------
     support_Nm : ndarray, shape (n_sup, 2)
     read_Nm : ndarray, shape (n_read, 2)
+    span_cut : ndarray of int64, shape (n_sup - 1,)
+        0 (``drillfatigue.status.OK``) for a solved span, else the status code
+        of why it got no correction (``SPAN_BUCKLED``, ``BAD_SPAN``,
+        ``SINGULAR``).
     """
     sup = _vec("support_s_m", support_s_m)
     bounds = _vec("segment_bounds_m", segment_bounds_m)
@@ -189,13 +197,11 @@ def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
     m = max(sup.size - 1, 0)
     sup_M = np.empty((sup.size, 2))
     read_M = np.empty((rd.size, 2))
+    cut = np.zeros(m, dtype=np.int64)
     st = K.chain_span_moments(sup, bounds, ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], rd,
                               np.empty(m), np.empty(m), np.empty(m), np.empty((m, 2)),
-                              np.empty((sup.size, 6)), sup_M, read_M)
-    if st == K.STATUS_SPAN_BUCKLED:
-        raise InputError("axial_N", "a span in compression is at or beyond its Euler load",
-                         "compression below 0.998 pi^2 EI/L^2 per span")
+                              np.empty((sup.size, 6)), sup_M, read_M, cut)
     if st != K.STATUS_OK:
         raise InputError("support_s_m", f"chain span solve failed (status {st})",
                          "increasing supports inside the segments, EI > 0")
-    return sup_M, read_M
+    return sup_M, read_M, cut

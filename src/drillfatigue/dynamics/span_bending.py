@@ -71,7 +71,10 @@ resolves the moments in the pipe-fixed frame, where they alternate once per
 revolution.
 
 Kernels take float64 arrays in SI, write into ``out`` arrays and return a
-status code (``STATUS_OK`` = 0).
+status code of the package's one enumeration, :mod:`drillfatigue.status`
+(``STATUS_OK`` = ``OK`` = 0, ``STATUS_BAD_SPAN`` = ``BAD_SPAN``,
+``STATUS_SPAN_BUCKLED`` = ``SPAN_BUCKLED``, ``STATUS_SINGULAR`` = ``SINGULAR``;
+the local names are kept for the callers of this module).
 
 References
 ----------
@@ -87,10 +90,10 @@ import math
 
 from numba import njit
 
-STATUS_OK = 0
-STATUS_BAD_SPAN = 1
-STATUS_SPAN_BUCKLED = 2
-STATUS_SINGULAR = 3
+from drillfatigue.status import BAD_SPAN as STATUS_BAD_SPAN
+from drillfatigue.status import OK as STATUS_OK
+from drillfatigue.status import SINGULAR as STATUS_SINGULAR
+from drillfatigue.status import SPAN_BUCKLED as STATUS_SPAN_BUCKLED
 
 END_PINNED = 0
 END_CLAMPED = 1
@@ -395,8 +398,21 @@ def transverse_load(weight_per_m_N, axis, gravity_dir, inertia_per_m_N, drag_per
 
 
 @njit(cache=True)
+def _span_code(L, EI, T):
+    """``STATUS_OK`` for a span the beam-column solution holds on, else why not
+    (``STATUS_BAD_SPAN``: L or EI <= 0 or not finite, or T not finite;
+    ``STATUS_SPAN_BUCKLED``: compression at or beyond ``BUCKLED_V``)."""
+    if not (L > 0.0 and EI > 0.0 and math.isfinite(L) and math.isfinite(EI)
+            and math.isfinite(T)):
+        return STATUS_BAD_SPAN
+    if T < 0.0 and math.sqrt(-T * L * L / EI) >= BUCKLED_V:
+        return STATUS_SPAN_BUCKLED
+    return STATUS_OK
+
+
+@njit(cache=True)
 def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_right, read_s,
-                       span_L, span_ei, span_T, span_q, work, sup_M, read_M):
+                       span_L, span_ei, span_T, span_q, work, sup_M, read_M, span_cut):
     """Span-bending moments at read points of a segment chain with given supports.
 
     The glue for the dynamics: supports (contact points in contact, tool
@@ -407,6 +423,20 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
     as length-weighted means), then :func:`support_moments` and
     :func:`moments_at`. Read points outside [sup_s[0], sup_s[-1]] get zero
     (the chain ends are supports).
+
+    A span the beam-column solution does not hold on (in compression at or
+    beyond its Euler load, or with bad properties) is handled locally: the
+    chain is cut there and every run of good spans between cuts is solved as
+    its own continuous beam, pinned at the cut (its own end condition at a
+    chain end). The cut span gets no correction: beyond the Euler load the
+    straight span between its supports does not exist (it bows onto the wall
+    and gains supports the rigid chain does not see), and the linear solution
+    over it says nothing about the rotational restraint it gives its
+    neighbours, so they are given none (a pin: zero moment over the cut
+    span's supports). The spans away from the cut are thus exactly the
+    solution of the chain without that span. A run of good spans whose
+    system is singular is zeroed alone. ``span_cut`` says which spans were
+    cut and why.
 
     Parameters
     ----------
@@ -430,24 +460,31 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
     sup_M : ndarray, shape (n_sup, 2)
     read_M : ndarray, shape (n_read, 2)
         Outputs: moments over the supports and at the read points, N m.
+    span_cut : ndarray of int64, shape (n_sup - 1,)
+        Output: ``STATUS_OK`` for a solved span, else the reason it got no
+        correction (``STATUS_SPAN_BUCKLED``, ``STATUS_BAD_SPAN``, or
+        ``STATUS_SINGULAR`` for the spans of an unsolvable run).
 
     Returns
     -------
     int
-        A status of :func:`support_moments` (``STATUS_BAD_SPAN`` also for
-        unsorted supports or a span outside the segments).
+        ``STATUS_OK`` (spans cut locally included: see ``span_cut``), or
+        ``STATUS_BAD_SPAN`` for unsorted supports or a span outside the
+        segments (then every output is zero).
     """
     n_sup = sup_s.shape[0]
     n_seg = seg_ei.shape[0]
     read_M[:, :] = 0.0
+    sup_M[:, :] = 0.0
+    span_cut[:] = STATUS_OK
     if n_sup < 2:
-        sup_M[:, :] = 0.0
         return STATUS_OK
     j = 0
     for k in range(n_sup - 1):
         a = sup_s[k]
         b = sup_s[k + 1]
         if not (b > a) or a < seg_top_s[0] - 1e-9 or b > seg_top_s[n_seg] + 1e-9:
+            span_cut[:] = STATUS_BAD_SPAN
             return STATUS_BAD_SPAN
         while j < n_seg - 1 and seg_top_s[j + 1] <= a:
             j += 1
@@ -472,9 +509,26 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
         span_T[k] = t / L
         span_q[k, 0] = q0 / L
         span_q[k, 1] = q1 / L
-    st = support_moments(span_L, span_ei, span_T, span_q, end_left, end_right, work, sup_M)
-    if st != STATUS_OK:
-        return st
+        span_cut[k] = _span_code(L, span_ei[k], span_T[k])
+    # each run [a, b) of good spans between cuts: its own continuous beam
+    n_span = n_sup - 1
+    a = 0
+    while a < n_span:
+        if span_cut[a] != STATUS_OK:
+            a += 1
+            continue
+        b = a
+        while b < n_span and span_cut[b] == STATUS_OK:
+            b += 1
+        el = end_left if a == 0 else END_PINNED
+        er = end_right if b == n_span else END_PINNED
+        st = support_moments(span_L[a:b], span_ei[a:b], span_T[a:b], span_q[a:b], el, er,
+                             work[a:b + 1], sup_M[a:b + 1])
+        if st != STATUS_OK:
+            sup_M[a:b + 1, :] = 0.0
+            for k in range(a, b):
+                span_cut[k] = STATUS_SINGULAR
+        a = b
     for r in range(read_s.shape[0]):
         x = read_s[r]
         if x < sup_s[0] or x > sup_s[n_sup - 1]:
@@ -487,6 +541,8 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
                 lo = mid
             else:
                 hi = mid
+        if span_cut[lo] != STATUS_OK:
+            continue
         L = span_L[lo]
         ga, gb, h = _span_shape(span_T[lo] * L * L / span_ei[lo], L, min(x - sup_s[lo], L))
         read_M[r, 0] = ga * sup_M[lo, 0] + gb * sup_M[lo + 1, 0] + h * span_q[lo, 1]

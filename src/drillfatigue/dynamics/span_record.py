@@ -18,8 +18,23 @@ without feeding anything back into the integrator:
    concentrated wall and joint forces hold, smeared uniformly over the
    segment. At rest on its supports this is the weight. (The inertia of the
    segment's tilting, a load varying linearly along it, is not included.)
-   A segment with three or more points, all in the wall, is in line contact:
-   the wall carries its load along its length and it gets none.
+   A segment in line contact gets none (the wall carries its load along its
+   length) and all its points are supports:
+
+   * three or more points, all in the wall (any hole);
+   * in a curved hole (curvature kappa above ``STRAIGHT_KAPPA`` at any of its
+     points), a segment without raised points (tool joints, blades, upsets:
+     every point at the body radius) whose chord bulge h^2 kappa / 2 (L^2
+     kappa / 8, L = 2h) is below its clearance, with every point no further
+     from the wall than the chord's offset from the arc there: (h^2 - u^2)
+     kappa / 2 resting on the outer wall (ends in it), or u^2 kappa / 2 on
+     the inner wall (middle in it), u the point's offset from the segment's
+     centre, plus ``CHORD_TOL`` x the bulge. The real pipe there is bent to
+     the hole's curvature and lies along the wall: the moment E I kappa of
+     that bending is what the rigid chain's joint moments hold, and its
+     weight goes to the wall where it lies, not to a span between the rigid
+     segment's ends. Without this the span moment of collars lying in a
+     build scaled with L^2 (halving the segments took 75 % off it).
 3. Axial force of a segment: the mean effective tension of its two joints
    (the bit end of the first segment takes its one joint's value).
 4. :func:`drillfatigue.dynamics.span_bending.chain_span_moments` with both
@@ -43,15 +58,21 @@ without feeding anything back into the integrator:
 
 Validity (see :mod:`drillfatigue.dynamics.span_bending`): small deflections,
 supports that do not move relative to each other under the load. A span
-still buckled after the last round gives a status other than OK: the
-sample's corrections are then zero and the status is returned (the caller
-counts such samples).
+still at or beyond its Euler load after the last round (or one the solution
+cannot handle) is handled locally by
+:func:`drillfatigue.dynamics.span_bending.chain_span_moments`: the chain is
+cut there, pinned over that span's supports, the span gets no correction
+and every other span is solved as in the chain without it; the number of
+such spans is returned (the caller counts them and the samples that had
+any), so a buckled span far away never zeroes a joint's correction.
 Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
 p.ei, p.topp``, ``wk.loads``; scratch allocated per call (a sample is taken
 every few hundred steps).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
@@ -67,6 +88,15 @@ from drillfatigue.dynamics.span_bending import (
 
 #: supports closer than this along the string are one support, m
 MERGE_M = 0.01
+#: tolerance of the line-contact test in a curved hole, as a share of the segment's
+#: chord bulge L^2 kappa / 8: the middle of a segment resting on the outer wall of the
+#: polygonal hole measured up to 1.01 bulge off it; a segment leaving the wall is off
+#: by more at its ends (near the bit, below the held top: several bulges)
+CHORD_TOL = 0.1
+#: hole curvature below which the hole counts as straight, 1/m (0.017 deg/30 m: the
+#: bulge of a 10 m segment is 0.13 mm, below the contact penetration at rest; it keeps
+#: the round-off of a straight cylinder chain's axes from changing anything)
+STRAIGHT_KAPPA = 1e-5
 
 
 @njit(cache=True)
@@ -96,49 +126,54 @@ STATUS_SPLIT = -1
 @njit(cache=True)
 def _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s, rxy, rz,
                     may_split):
-    """Solve the chain on ``sup_c``; where a span's mid-span deflection exceeds the
-    room its body has to the wall, or it is at its Euler load in compression, the
-    elastic pipe lies on the wall there: with ``may_split`` add a support at that
-    span's middle and return ``(STATUS_SPLIT, new supports)``; else the solve's status."""
+    """Solve the chain on ``sup_c`` (spans the solution cannot hold are cut,
+    :func:`~drillfatigue.dynamics.span_bending.chain_span_moments`). With ``may_split``,
+    where a span is at its Euler load in compression or its mid-span deflection exceeds
+    the room its body has to the wall, the elastic pipe lies on the wall there: add a
+    support at that span's middle and return ``(STATUS_SPLIT, new supports, cut)``;
+    else ``(status, supports, cut)`` with the per-span cut codes."""
     m = sup_c.shape[0]
     span_L = np.zeros(m - 1)
     span_ei = np.zeros(m - 1)
     span_T = np.zeros(m - 1)
     span_q = np.zeros((m - 1, 2))
+    span_qz = np.zeros((m - 1, 2))
     work = np.zeros((m, 6))
     sup_M = np.zeros((m, 2))
     sup_Mz = np.zeros((m, 2))
-    span_qz = np.zeros((m - 1, 2))
+    cut = np.zeros(m - 1, dtype=np.int64)
     st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_q, END_PINNED, END_PINNED, read_s,
-                            span_L, span_ei, span_T, span_q, work, sup_M, rxy)
-    if st == STATUS_OK:
-        st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED,
-                                read_s, span_L, span_ei, span_T, span_qz, work, sup_Mz, rz)
-    if st != STATUS_OK and st != STATUS_SPAN_BUCKLED:
-        return st, sup_c
-    if not may_split:
-        return st, sup_c
+                            span_L, span_ei, span_T, span_q, work, sup_M, rxy, cut)
+    if st != STATUS_OK:
+        return st, sup_c, cut
+    # same spans, axial forces and stiffness: the same spans are cut
+    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED,
+                            read_s, span_L, span_ei, span_T, span_qz, work, sup_Mz, rz, cut)
+    if st != STATUS_OK or not may_split:
+        return st, sup_c, cut
     split = np.zeros(m - 1, dtype=np.bool_)
     nsplit = 0
-    d_xy = np.zeros(m - 1)
-    d_z = np.zeros(m - 1)
-    ok_xy = STATUS_SPAN_BUCKLED
-    ok_z = STATUS_SPAN_BUCKLED
-    if st == STATUS_OK:
-        ok_xy = midspan_deflection(span_L, span_ei, span_T, span_q, sup_M, d_xy)
-        ok_z = midspan_deflection(span_L, span_ei, span_T, span_qz, sup_Mz, d_z)
+    any_cut = False
     for k in range(m - 1):
-        L = span_L[k]
-        v2 = -span_T[k] * L * L / span_ei[k]
-        buckled = v2 >= BUCKLED_V * BUCKLED_V
-        room = _span_gap(sup_c[k], sup_c[k + 1], top_s, seg_gap)
-        touches = (ok_xy == STATUS_OK and ok_z == STATUS_OK
-                   and d_xy[k] * d_xy[k] + d_z[k] * d_z[k] > room * room)
-        if (buckled or touches) and L > 2.0 * MERGE_M:
+        if cut[k] == STATUS_SPAN_BUCKLED and span_L[k] > 2.0 * MERGE_M:
             split[k] = True
             nsplit += 1
+        if cut[k] != STATUS_OK:
+            any_cut = True
+    if not any_cut:
+        d_xy = np.zeros(m - 1)
+        d_z = np.zeros(m - 1)
+        if (midspan_deflection(span_L, span_ei, span_T, span_q, sup_M, d_xy) == STATUS_OK
+                and midspan_deflection(span_L, span_ei, span_T, span_qz, sup_Mz, d_z)
+                == STATUS_OK):
+            for k in range(m - 1):
+                room = _span_gap(sup_c[k], sup_c[k + 1], top_s, seg_gap)
+                if (d_xy[k] * d_xy[k] + d_z[k] * d_z[k] > room * room
+                        and span_L[k] > 2.0 * MERGE_M):
+                    split[k] = True
+                    nsplit += 1
     if nsplit == 0:
-        return st, sup_c
+        return st, sup_c, cut
     out = np.zeros(m + nsplit)
     j = 0
     for k in range(m):
@@ -147,7 +182,7 @@ def _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s,
         if k < m - 1 and split[k]:
             out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
             j += 1
-    return STATUS_SPLIT, out
+    return STATUS_SPLIT, out, cut
 
 
 @njit(cache=True)
@@ -161,14 +196,37 @@ def _span_gap(a, b, top_s, seg_gap):
 
 
 @njit(cache=True)
+def _hole_curvature(axc, lnc, ic):
+    """Curvature of the hole at cylinder ``ic`` of the chain, 1/m: the larger turning
+    rate of its axis towards its two neighbours (angle between the axes over the
+    distance between the cylinders' middles); zero in a straight hole."""
+    kap = 0.0
+    for j in (ic - 1, ic + 1):
+        if j < 0 or j >= lnc.shape[0]:
+            continue
+        c = axc[ic, 0] * axc[j, 0] + axc[ic, 1] * axc[j, 1] + axc[ic, 2] * axc[j, 2]
+        s0 = axc[ic, 1] * axc[j, 2] - axc[ic, 2] * axc[j, 1]
+        s1 = axc[ic, 2] * axc[j, 0] - axc[ic, 0] * axc[j, 2]
+        s2 = axc[ic, 0] * axc[j, 1] - axc[ic, 1] * axc[j, 0]
+        # atan2 keeps small angles exact (acos of a cosine near 1 does not)
+        ang = math.atan2(math.sqrt(s0 * s0 + s1 * s1 + s2 * s2), c)
+        kap = max(kap, ang / (0.5 * (lnc[ic] + lnc[j])))
+    return kap
+
+
+@njit(cache=True)
 def span_sample(n, s, p, wk, sel, out):
     """Span-bending moments at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
-    ``sel[a]``'s frame, N m (module docstring). Returns a span-bending status."""
+    ``sel[a]``'s frame, N m (module docstring).
+
+    Returns the number of spans handled locally (no correction in them, the chain
+    cut there), or minus a status code when no span could be solved (every
+    ``out`` zero)."""
     for a in range(sel.size):
         out[a, 0] = 0.0
         out[a, 1] = 0.0
     if n < 2:
-        return STATUS_OK
+        return 0
     seg = p.seg
     cpar = p.cpar
     x = s.x
@@ -221,11 +279,16 @@ def span_sample(n, s, p, wk, sel, out):
     nsup = 1
     X = np.zeros(3)
     info = np.zeros(OUT_SIZE)
+    pt_u = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
+    pt_gap = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
     for i in range(n):
         own = table and i < n - 1
         npi = int(p.cp_n[i]) if own else npts
         h = seg[i, S_H]
         ncon = 0
+        kap = 0.0
+        clr = np.inf
+        raised = False
         for pt in range(npi):
             if own:
                 off = p.cp[i, pt, 0]
@@ -238,17 +301,47 @@ def span_sample(n, s, p, wk, sel, out):
                 hi = hint[MAX_CONTACT_POINTS * i + pt]
             for k in range(3):
                 X[k] = x[i, k] + off * R[i, k, 2]
-            find_contact(X, rc, p0, axc, lnc, rad, hi, info)
+            ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
+            if ic >= 0:
+                kap = max(kap, _hole_curvature(axc, lnc, ic))
+                clr = min(clr, rad[ic] - rc)
+            pt_u[pt] = off
+            pt_gap[pt] = -info[OUT_DELTA]
             if info[OUT_DELTA] > 0.0:
                 sup[nsup] = top_s[i] + h - off
                 nsup += 1
                 ncon += 1
-        if npi >= 3 and ncon == npi:
+            if rc != seg[i, S_RB]:
+                raised = True
+        line = npi >= 3 and ncon == npi
+        if kap > STRAIGHT_KAPPA and not raised and not line and 0.5 * h * h * kap < clr:
+            # along the wall of a curved hole: every point no further from the wall than
+            # the chord's offset from the arc there, (h^2 - u^2) kappa / 2 resting on the
+            # outer wall (ends in it) or u^2 kappa / 2 on the inner wall (middle in it).
+            # A segment whose bulge exceeds the clearance cannot lie along one wall (it
+            # touches both; the hole-fit rule cuts segments so that it does not)
+            tol = CHORD_TOL * 0.5 * h * h * kap
+            outer = True
+            inner = True
+            for pt in range(npi):
+                u2 = pt_u[pt] * pt_u[pt]
+                if pt_gap[pt] > 0.5 * (h * h - u2) * kap + tol:
+                    outer = False
+                if pt_gap[pt] > 0.5 * u2 * kap + tol:
+                    inner = False
+            if outer or inner:
+                line = True
+                for pt in range(npi):
+                    if pt_gap[pt] >= 0.0:
+                        sup[nsup] = top_s[i] + h - pt_u[pt]
+                        nsup += 1
+        if line:
             # line contact: the wall carries the segment's weight along its length
             seg_q[i, 0] = 0.0
             seg_q[i, 1] = 0.0
             seg_qz[i, 0] = 0.0
-    sup_s = np.sort(sup[:nsup])
+    # clipped to the chain before merging, so that the kept supports stay strictly increasing
+    sup_s = np.sort(np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n]))
     keep = np.zeros(nsup, dtype=np.bool_)
     last = -1.0
     m = 0
@@ -258,12 +351,12 @@ def span_sample(n, s, p, wk, sel, out):
             last = sup_s[k]
             m += 1
     if m < 2:
-        return STATUS_OK
+        return 0
     sup_c = np.zeros(m)
     j = 0
     for k in range(nsup):
         if keep[k]:
-            sup_c[j] = min(max(sup_s[k], 0.0), top_s[n])
+            sup_c[j] = sup_s[k]
             j += 1
     nr = sel.size
     read_s = np.zeros(nr)
@@ -278,14 +371,19 @@ def span_sample(n, s, p, wk, sel, out):
         seg_gap[i] = max(r_hole - seg[i, S_RB], 0.0)
     rxy = np.zeros((nr, 2))
     rz = np.zeros((nr, 2))
+    cut = np.zeros(m - 1, dtype=np.int64)
     st = STATUS_OK
     for _round in range(MAX_SPLIT_ROUNDS + 1):
-        st, sup_c = _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
-                                    read_s, rxy, rz, _round < MAX_SPLIT_ROUNDS)
+        st, sup_c, cut = _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
+                                         read_s, rxy, rz, _round < MAX_SPLIT_ROUNDS)
         if st != STATUS_SPLIT:
             break
     if st != STATUS_OK:
-        return st
+        return -st
+    n_cut = 0
+    for k in range(cut.shape[0]):
+        if cut[k] != STATUS_OK:
+            n_cut += 1
     qr = np.zeros(4)
     qh = np.zeros(4)
     qm = np.zeros(4)
@@ -308,4 +406,4 @@ def span_sample(n, s, p, wk, sel, out):
         mw2 = msx * t1 - msy * t0
         out[a, 0] = Rm[0, 0] * mw0 + Rm[1, 0] * mw1 + Rm[2, 0] * mw2
         out[a, 1] = Rm[0, 1] * mw0 + Rm[1, 1] * mw1 + Rm[2, 1] * mw2
-    return STATUS_OK
+    return n_cut
