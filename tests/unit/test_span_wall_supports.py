@@ -6,8 +6,8 @@ reaches the Euler load of the pinned span (pi^2 EI / L^2), lies on the wall in b
 so the touching point is a support. Checked: (1) a chain that sags less than its room is
 solved exactly as before (same bits); (2) drill pipe in compression past the Euler load of
 its 9.144 m spans (which the chain alone can only cut) gets a support at each span's
-middle and then the same moments as the chain solved directly on the halved spans; (3) after the splits no span's deflection
-exceeds its room.
+middle and then the same moments as the chain solved directly on the halved spans;
+(3) after the splits no span's deflection exceeds its room.
 """
 
 from __future__ import annotations
