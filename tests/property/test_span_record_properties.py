@@ -6,7 +6,9 @@
   by +psi). Checked to 1e-9 relative (round-off of the quaternion products).
 * Linearity: the load is the segments' weight (at rest, no forces other than
   the weight's reactions are distributed), so scaling the weight scales the
-  moments (1e-9 relative).
+  moments (1e-9 relative) while no span reaches the wall: up to the weight
+  itself here (at 5x the weight the end span's sag, ~90 mm, passes the 44 mm
+  clearance and the recorder adds a support there, which is not linear).
 """
 
 from __future__ import annotations
@@ -89,7 +91,7 @@ def test_spinning_every_segment_turns_the_components(psi: float) -> None:
 
 
 @settings(max_examples=10, deadline=None)
-@given(st.floats(0.2, 5.0))
+@given(st.floats(0.2, 1.0))
 def test_moments_scale_with_the_weight(k: float) -> None:
     saved = MODEL.seg[:, L.S_W].copy()
     try:
@@ -100,15 +102,15 @@ def test_moments_scale_with_the_weight(k: float) -> None:
     assert np.allclose(got, k * BASE, rtol=0, atol=1e-9 * k * np.abs(BASE).max())
 
 
-def test_a_buckled_segment_only_cuts_its_own_span() -> None:
+def test_a_buckled_segment_gets_a_support_at_its_middle() -> None:
     """Joints 2 and 3 at 1.5 times segment 3's Euler load in compression (segment 3
-    at 1.5 P_E, its neighbours at 0.75 P_E): the recorder cuts the chain at
-    segment 3 only. Every other joint keeps a correction equal to the continuous
-    beam of the chain without that span (the spans are the segments, supported at
-    their tool joints; load the weight per length; axial forces as recorded),
-    the two joints of the cut span get none. Tolerance 1e-6 relative: the
-    recorder's supports are the tool-joint points found in the wall, 0.1 mm
-    penetration away from the segment ends."""
+    at 1.5 P_E, its neighbours at 0.75 P_E): a straight segment 3 cannot exist, the
+    pipe bows onto the wall, so the recorder adds a support at its middle (and cuts
+    nothing). Every joint's correction equals the continuous beam on the tool joints
+    plus that mid-span support (load the weight per length; axial forces as
+    recorded; segment 3's halves at 1.5/4 of their Euler load). Tolerance 1e-6
+    relative: the recorder's supports are the tool-joint points found in the wall,
+    0.1 mm penetration away from the segment ends."""
     s = STATE.copy()
     evaluate_forces(MODEL, s)
     s.Fw[:] = 0.0
@@ -124,17 +126,17 @@ def test_a_buckled_segment_only_cuts_its_own_span() -> None:
         loads[:, 0] = 0.0
         loads[2, 0] = loads[3, 0] = -1.5 * p_e
         out = np.zeros((SEL.size, 2))
-        assert span_sample(n, s, MODEL.params, MODEL.work, SEL, out) == 1
+        assert span_sample(n, s, MODEL.params, MODEL.work, SEL, out) == 0  # nothing cut
     finally:
         loads[:] = saved
     T = np.zeros(n)
     T[2] = T[4] = -0.75 * p_e
-    q = np.stack([np.zeros(n), -w], axis=1)
-    left = continuous_beam_moments(length[:3], ei[:3], q[:3], T[:3])
-    right = continuous_beam_moments(length[4:], ei[4:], q[4:], T[4:])
-    want = np.concatenate([left.support_Nm[1:, 0], right.support_Nm[:-1, 0]])
+    T[3] = -1.5 * p_e
+    split = [0, 1, 2, 3, 3, 4, 5, 6]  # segment of each span, segment 3 in two halves
+    spans = np.array([length[k] * (0.5 if k == 3 else 1.0) for k in split])
+    q = np.stack([np.zeros(len(split)), -w[split]], axis=1)
+    full = continuous_beam_moments(spans, ei[split], q, T[split])
+    want = full.support_Nm[[1, 2, 3, 5, 6, 7], 0]  # the joints (support 4: mid-segment 3)
     mag = np.hypot(out[:, 0], out[:, 1])
-    assert want[2] == 0.0 and want[3] == 0.0
     np.testing.assert_allclose(mag, np.abs(want), rtol=1e-6, atol=1e-9 * np.abs(want).max())
-    # nothing zeroed away from the cut (the last joint, next to the 5 m pup, carries least)
-    assert np.all(mag[[0, 1, 4, 5]] > 0.03 * w[0] * JOINT_M ** 2)
+    assert np.all(mag > 0.03 * w[0] * JOINT_M ** 2)  # nothing zeroed

@@ -72,12 +72,15 @@ def test_case2_target_joint_and_samples():
     assert case["string"]["components"][1]["length_m"] == pytest.approx(starts[0] - 180.0)
     assert case["recording"]["joints"] == [1] and case["well"]["profile"] == "profile_2"
     assert "rig" not in case and case["operation"]["rop_m_per_s"] == cfg.rop_m_per_s
-    # rig_rop: the same window with the rig's block lowering at the ROP set-point
+    # rig_rop: the same window drilled as the sweep drills, the autodriller at the ROP
+    # target (its ROP limit) with the WOB limit (its set-point)
     rr = case2.case_dict(cfg.model_copy(update={"boundaries": "rig_rop"}), "profile_2",
                          float(starts[0]), 1)
     full = case_from_dict(rr)
-    assert full.rig is not None and full.rig.block_mode == "rop"
-    assert full.rig.rop_set_m_per_s == cfg.rop_m_per_s and full.operation.rop_m_per_s == 0.0
+    assert full.rig is not None and full.rig.block_mode == "autodriller"
+    ad = full.rig.effective_autodriller
+    assert ad.rop_limit_m_per_s == cfg.rop_m_per_s and ad.wob_set_N == cfg.wob_set_N
+    assert full.operation.rop_m_per_s == 0.0
     assert full.bit.model == "yigit_christoforou" and full.operation.bit_on_bottom
     assert full.rig.rock.lobe_amplitude_m == cfg.lobe_amplitude_m
 
@@ -218,11 +221,11 @@ def test_candidate_rows_carry_the_profile():
         assert (r.loc[r["s_from_bit_m"] < 179.0, "component_type"] == "collar").all()
         assert np.allclose(r["md_m"], r["bit_position_md_m"] - r["s_from_bit_m"])
         assert set(r["operation.bit_md_m"]) == set(np.linspace(480.0, 880.0, 3))
-        # the window drills with the rig's block lowering at the ROP set-point (block_mode
-        # rop, the sweep's mode); the set-point is the feature operation.rop_m_per_s
-        assert set(r["rig.block_mode"]) == {"rop"}
+        # the window drills as the sweep does (the autodriller at the ROP target with its
+        # WOB limit); the target is the feature operation.rop_m_per_s
+        assert set(r["rig.block_mode"]) == {"autodriller"}
         assert set(r["operation.rop_m_per_s"]) == {w.rop_m_per_s}
-        assert set(r["rig.rop_set_m_per_s"]) == {w.rop_m_per_s}
+        assert set(r["rig.autodriller.rop_limit_m_per_s"]) == {w.rop_m_per_s}
         assert set(r["bit.model"]) == {"yigit_christoforou"}
     # within the builds the local DLS is each profile's solved build rate (5.7, 8.6 deg/30 m)
     assert rows["p1"]["local_dls_deg_per_30m"].max() == pytest.approx(5.73, abs=0.01)

@@ -148,10 +148,17 @@ def _flat_inputs(case: dict[str, Any]) -> dict[str, Any]:
             if isinstance(value, bool | int | float | str):
                 row[f"{section}.{key}"] = value
     rig = full.get("rig") or {}
+    # the sweep varies the ROP target under the name operation.rop_m_per_s (the rig
+    # section refuses that operation field, so the case carries it in the rig):
+    # the rop block's set-point or the autodriller's ROP limit
     if rig.get("block_mode") == "rop":
-        # the sweep varies the block's ROP set-point under the name operation.rop_m_per_s
-        # (the rig section refuses that operation field, so the case carries it in the rig)
         row["operation.rop_m_per_s"] = rig["rop_set_m_per_s"]
+    elif rig.get("block_mode") == "autodriller" and rig.get("autodriller"):
+        ad = rig["autodriller"]
+        row["operation.rop_m_per_s"] = ad["rop_limit_m_per_s"]
+        for key, value in ad.items():
+            if isinstance(value, bool | int | float | str):
+                row[f"rig.autodriller.{key}"] = value
     return row
 
 
