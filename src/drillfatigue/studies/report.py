@@ -288,8 +288,8 @@ def _case3_section(d: Path, out: OutputFolder) -> list[str]:
             f"{_fmt(dr.get('mean_surface_torque_Nm', 0) / 1e3)} kN·m, bit bounces "
             f"{_fmt(dr.get('bit_bounce_count'))}.\n")
     if s.get("span_bending_unsolved_samples"):
-        lines.append(f"Span correction not solved (a buckled span somewhere in the chain: "
-                     f"recorded as zero) in {s['span_bending_unsolved_samples']} load samples.\n")
+        lines.append(f"Span correction not solved anywhere in the chain (recorded as zero) "
+                     f"in {s['span_bending_unsolved_samples']} load samples.\n")
     lines.append(f"Lowest life at {s['lowest_life_s_from_bit_m']:g} m behind the bit (paper: "
                  f"80 m, nearest the build). Wall time {s['wall_s']:.1f} s for "
                  f"{s['simulated_s']:.0f} s simulated (paper: about 2 h for the 60 s window).\n")
