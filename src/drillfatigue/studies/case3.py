@@ -333,7 +333,7 @@ def _drilling(run_dir: Path, summary: dict[str, Any], cfg: Case3Config) -> dict[
     ch = pd.read_parquet(run_dir / "channels.parquet")
     t = ch["time_s"].to_numpy()
     skip = max(cfg.trip_s + cfg.ramp_s - float(t[0]), 0.0)
-    out = drilling_window_metrics(
+    out: dict[str, Any] = drilling_window_metrics(
         t, ch["wob_N"].to_numpy(), ch["rop_m_per_s"].to_numpy(),
         ch["surface_torque_Nm"].to_numpy(), ch["block_travel_m"].to_numpy(),
         float(summary["rig"]["effective_inputs"]["block"]["travel_m"]), cfg.wob_set_N,

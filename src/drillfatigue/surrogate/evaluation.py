@@ -320,7 +320,8 @@ def _governing_per_component(pred: pd.DataFrame, m: str, c: float) -> dict[str, 
         ctype = str(key[1]) if len(keys) > 1 else "all"
         by_type.setdefault(ctype, []).append(e[-1])
         same.append(all(pred[col].iloc[i_sim] == pred[col].iloc[i_pred] for col in where))
-    res = {"n_groups": n, "n_both_beyond_horizon": both_beyond, **_errs(np.asarray(e)),
+    res: dict[str, Any] = {"n_groups": n, "n_both_beyond_horizon": both_beyond,
+                           **_errs(np.asarray(e)),
            "same_location_fraction": float(np.mean(same)) if same else float("nan")}
     res["by_component_type"] = {k: _errs(np.asarray(v)) for k, v in sorted(by_type.items())}
     return res
