@@ -158,3 +158,9 @@ def test_served_gbm_behind_the_same_interface(fitted, tmp_path) -> None:
     # monotone in the local dogleg by construction
     assert monotone_check(lambda f: sur.predict(f, refuse=False)["log10_damage_rate_per_h"]
                           .to_numpy(), rows, sur.domain)["fraction_rows_violating"] == 0.0
+    # evaluate scores the ensemble's own answers even when gradient boosting is served
+    _, pred = evaluate(data, sur, cfg, baselines=False)
+    ens = Surrogate(sur.module, sur.preprocessor, sur.domain, sur.metadata, None)
+    test = data[data["case_id"].isin(sur.metadata["split"]["test_cases"])]
+    want = ens.predict(test, refuse=False)["log10_damage_rate_per_h"].to_numpy()
+    np.testing.assert_allclose(np.sort(pred["ensemble"].to_numpy()), np.sort(want), rtol=1e-6)
