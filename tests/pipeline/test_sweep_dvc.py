@@ -1,9 +1,9 @@
 """The pipeline under DVC: ``dvc repro`` in a temporary git+DVC repo, then a no-op rerun.
 
 Uses the stages ``wells`` → ``design`` → ``simulate`` → ``fatigue`` →
-``dataset`` → ``replicates`` → ``train`` → ``evaluate`` of the project's ``dvc.yaml`` with the
-repository's pipeline scripts, the installed package and a tiny params file
-(6 cases, 16 segments, 0.3 s window, a 5-epoch ensemble).
+``dataset`` → ``replicates`` → ``heldout`` → ``train`` → ``evaluate`` of the
+project's ``dvc.yaml`` with the repository's pipeline scripts, the installed package and a tiny params file
+(6 cases and 2 held-out ones, 16 segments, 0.3 s window, a 5-epoch ensemble).
 """
 
 from __future__ import annotations
@@ -38,8 +38,10 @@ TINY = {
                                "local_dls_deg_per_30m"],
                   "criterion": "uniaxial",
                   "hidden_layers": [16], "max_epochs": 5, "patience": 5, "n_threads": 1,
-                  "gp_max_rows": 60, "hgb_max_iter": 20},
+                  "gp_max_rows": 60, "hgb_max_iter": 20,
+                  "heldout_path": "data/heldout/dataset/damage.parquet"},
     "replicates": {"n_cases": 2, "n_replicates": 2},
+    "heldout": {"n_cases": 2, "seed": 6},
     "sweep": {"method": "lhs", "n_cases": 6, "seed": 5, "scheduler": "serial",
               "fatigue_criteria": ["uniaxial"],
               "variables": {"operation.rpm": {"low": 40.0, "high": 120.0},
@@ -47,7 +49,8 @@ TINY = {
 }
 
 
-STAGES = ("wells", "design", "simulate", "fatigue", "dataset", "replicates", "train", "evaluate")
+STAGES = ("wells", "design", "simulate", "fatigue", "dataset", "replicates", "heldout", "train",
+          "evaluate")
 
 
 def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess:

@@ -134,7 +134,9 @@ def test_a_free_top_under_a_huge_torque_is_stopped_by_the_speed_bound() -> None:
 
 def test_sigint_prints_one_line_and_leaves_no_final_histories(tmp_path: Path) -> None:
     case = tmp_path / "case.yaml"
-    case.write_text(yaml.safe_dump(_case(duration_s=60.0)))
+    # 600 s of this short string take several seconds of wall time: the signal arrives
+    # while it runs (60 s could finish within the 0.2 s poll below)
+    case.write_text(yaml.safe_dump(_case(duration_s=600.0)))
     run = tmp_path / "run"
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     proc = subprocess.Popen([sys.executable, "-m", "drillfatigue", "simulate", str(case),

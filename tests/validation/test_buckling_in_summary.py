@@ -89,7 +89,10 @@ def test_summary_lists_the_buckled_sections_of_a_slacked_off_string(ratio: float
     assert sec["mode"] == "sinusoidal"
     assert buck["buckled_helical_m"] == 0.0
     assert buck["buckled_sinusoidal_m"] >= 80.0  # the windows cover the 100 m string
-    assert 0.0 < sec["onset_time_s"] <= 1.0
+    # onset within the first 60 % of the 2 s window: the lateral inertia with the mud inside
+    # and the added mass (string.lateral_mud_mass, ~2.6x the steel's) slows the growth of
+    # the buckling mode by ~sqrt(2.6) against the steel alone (0.8 s there, 1.1 s here)
+    assert 0.0 < sec["onset_time_s"] <= 0.6 * T_END
     assert 0.75 * wave < sec["wavelength_m"] < 1.25 * wave
     assert 0.5 * r_c <= sec["max_lateral_offset_m"] <= r_c + 1e-3
     assert sec["max_contacts_per_m"] > 0.0
