@@ -144,7 +144,10 @@ def test_sigint_prints_one_line_and_leaves_no_final_histories(tmp_path: Path) ->
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     proc = subprocess.Popen([sys.executable, "-m", "drillfatigue", "simulate", str(case),
                              "--out", str(run), "--no-progress"], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            # a shell's Ctrl-C: the default disposition, whatever an earlier
+                            # test left in this process (an ignored SIGINT is inherited)
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 240.0
     while not (run / rundir.CHECKPOINT).exists():  # running, one checkpoint written
         assert proc.poll() is None and time.monotonic() < deadline
