@@ -56,6 +56,21 @@ without feeding anything back into the integrator:
    on the low side) touches earlier than this test says: there the moment is
    an upper estimate.
 
+6. The span from the bit: the bit is held near the hole's axis and the string
+   above it reaches the wall at a tangency point, where it meets the wall with
+   the wall's slope and the wall's curvature (the moment of that curvature,
+   E I kappa, is in the rigid chain's joint moments): beyond it the pipe lies
+   on the wall and holds no span moment. When the first support above the
+   bit opens a segment in line contact (step 2), the span from the bit ends
+   at the tangency length L_t (:func:`tangency_length_m`, the pendulum of
+   Lubinski and Woods (1953) generalised to a curved hole, with r the bit end's
+   distance from the wall: infinite when the bit lies on it) clipped to that first
+   support, and is solved alone, pinned at both ends (zero span moment at
+   the tangency); the rest of the chain is solved from that support on,
+   pinned there. Solved as one continuous beam with the unloaded line-contact
+   spans beyond it, the span would take a moment over that support set by
+   those spans' lengths, i.e. by the contact-point spacing (docs/bending.md).
+
 Validity (see :mod:`drillfatigue.dynamics.span_bending`): small deflections,
 supports that do not move relative to each other under the load. A span
 still at or beyond its Euler load after the last round (or one the solution
@@ -215,6 +230,73 @@ def _hole_curvature(axc, lnc, ic):
 
 
 @njit(cache=True)
+def tangency_length_m(ei_Nm2, clearance_m, q_N_per_m, kappa_out_rad_per_m):
+    """Length from a pinned end on the hole's axis to where a pipe under a uniform
+    lateral load q meets the wall tangentially, m (infinite without load).
+
+    Beam EI y^(4) = q (y towards the wall the load presses the pipe on), pinned
+    at the bit on the axis: y(0) = 0, M(0) = 0. At the tangency x = L the pipe
+    joins the wall: its offset, slope and curvature are the wall's. The wall
+    is at y_w(x) = r - kappa_out x^2 / 2 (r the radial clearance, kappa_out
+    the hole's curvature, > 0 where the load points away from the centre of
+    curvature, i.e. onto the outer wall, < 0 onto the inner wall), so
+    y(L) = y_w(L), y'(L) = -kappa_out L, y''(L) = -kappa_out. Integrating,
+    y = c1 x + c3 x^3 + q x^4 / (24 EI) with c3 = -(kappa_out + q L^2/(2 EI))/(6 L),
+    c1 = -kappa_out L / 2 + q L^3 / (12 EI), and the offset condition reads
+
+        q L^4 / (24 EI) - kappa_out L^2 / 6 = r,
+
+    a quadratic in L^2. In a straight hole L = (24 EI r / q)^(1/4), the
+    pendulum BHA's tangency length with no weight on bit (Lubinski & Woods,
+    "Factors affecting the angle of inclination and dog-legging in rotary bore
+    holes", API Drilling and Production Practice 1953): the span's moment is
+    then the simply supported q x (L - x) / 2, zero at both ends, largest
+    q L^2 / 8 at mid span. Axial force is neglected (valid for |T| L^2 / EI
+    << 1: 0.015 for the collars near the bit of the build test)."""
+    if not (q_N_per_m > 0.0 and ei_Nm2 > 0.0 and clearance_m > 0.0):
+        return np.inf
+    a = kappa_out_rad_per_m / 6.0
+    b = q_N_per_m * clearance_m / (6.0 * ei_Nm2)
+    root = math.sqrt(a * a + b)
+    # a + root without cancellation when a < 0
+    u = a + root if a >= 0.0 else b / (root - a)
+    return math.sqrt(12.0 * ei_Nm2 / q_N_per_m * u)
+
+
+@njit(cache=True)
+def _hole_curvature_vector(axc, lnc, ic, out):
+    """Curvature vector of the hole at cylinder ``ic`` (towards the centre of
+    curvature, 1/m): the change of the cylinders' axes between its neighbours
+    over the distance between their middles (one-sided at the chain's ends)."""
+    lo = max(ic - 1, 0)
+    hi = min(ic + 1, lnc.shape[0] - 1)
+    for k in range(3):
+        out[k] = 0.0
+    if hi == lo:
+        return
+    ds = 0.5 * lnc[lo] + 0.5 * lnc[hi]
+    for j in range(lo + 1, hi):
+        ds += lnc[j]
+    for k in range(3):
+        out[k] = (axc[hi, k] - axc[lo, k]) / ds
+
+
+@njit(cache=True)
+def _solve_chain(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s, rxy, rz):
+    """The chain on supports ``sup_c`` pinned at both ends, with mid-span supports added
+    where a span reaches the wall or buckles (module docstring, step 5): ``(status, cut)``
+    with the read moments in ``rxy``, ``rz``."""
+    st = STATUS_OK
+    cut = np.zeros(sup_c.shape[0] - 1, dtype=np.int64)
+    for _round in range(MAX_SPLIT_ROUNDS + 1):
+        st, sup_c, cut = _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
+                                         read_s, rxy, rz, _round < MAX_SPLIT_ROUNDS)
+        if st != STATUS_SPLIT:
+            break
+    return st, cut
+
+
+@njit(cache=True)
 def span_sample(n, s, p, wk, sel, out):
     """Span-bending moments at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
     ``sel[a]``'s frame, N m (module docstring).
@@ -281,6 +363,9 @@ def span_sample(n, s, p, wk, sel, out):
     info = np.zeros(OUT_SIZE)
     pt_u = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
     pt_gap = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
+    seg_line = np.zeros(n, dtype=np.bool_)
+    # the bit end's distance from the wall (the pendulum's offset r), m
+    bit_gap = 0.0
     for i in range(n):
         own = table and i < n - 1
         npi = int(p.cp_n[i]) if own else npts
@@ -307,6 +392,8 @@ def span_sample(n, s, p, wk, sel, out):
                 clr = min(clr, rad[ic] - rc)
             pt_u[pt] = off
             pt_gap[pt] = -info[OUT_DELTA]
+            if i == 0 and off >= h - MERGE_M:
+                bit_gap = -info[OUT_DELTA]
             if info[OUT_DELTA] > 0.0:
                 sup[nsup] = top_s[i] + h - off
                 nsup += 1
@@ -335,6 +422,7 @@ def span_sample(n, s, p, wk, sel, out):
                     if pt_gap[pt] >= 0.0:
                         sup[nsup] = top_s[i] + h - pt_u[pt]
                         nsup += 1
+        seg_line[i] = line
         if line:
             # line contact: the wall carries the segment's weight along its length
             seg_q[i, 0] = 0.0
@@ -371,19 +459,55 @@ def span_sample(n, s, p, wk, sel, out):
         seg_gap[i] = max(r_hole - seg[i, S_RB], 0.0)
     rxy = np.zeros((nr, 2))
     rz = np.zeros((nr, 2))
-    cut = np.zeros(m - 1, dtype=np.int64)
-    st = STATUS_OK
-    for _round in range(MAX_SPLIT_ROUNDS + 1):
-        st, sup_c, cut = _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
-                                         read_s, rxy, rz, _round < MAX_SPLIT_ROUNDS)
-        if st != STATUS_SPLIT:
-            break
-    if st != STATUS_OK:
-        return -st
+    # the span from the bit ends at the tangency where the string reaches a wall it
+    # then lies along (module docstring, step 6)
+    s_hi = sup_c[1]
+    i_hi = 0
+    while i_hi < n - 1 and top_s[i_hi + 1] <= s_hi + MERGE_M:
+        i_hi += 1
     n_cut = 0
-    for k in range(cut.shape[0]):
-        if cut[k] != STATUS_OK:
-            n_cut += 1
+    if sup_c[0] == 0.0 and seg_line[i_hi] and not seg_line[0]:
+        q0 = math.sqrt(seg_q[0, 0] ** 2 + seg_q[0, 1] ** 2 + seg_qz[0, 0] ** 2)
+        h0 = hint[MAX_CONTACT_POINTS * 0]
+        kap_out = 0.0
+        if 0 <= h0 < rad.shape[0] and q0 > 0.0:
+            kv = np.zeros(3)
+            _hole_curvature_vector(axc, lnc, h0, kv)
+            # the load's share pointing away from the centre of curvature
+            kap_out = -(kv[0] * seg_q[0, 0] + kv[1] * seg_q[0, 1] + kv[2] * seg_qz[0, 0]) / q0
+        l_t = tangency_length_m(seg_ei[0], bit_gap, q0, kap_out)
+        bit_span = np.zeros(2)
+        bit_span[1] = min(l_t, s_hi)
+        st, cut = _solve_chain(bit_span, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
+                               read_s, rxy, rz)
+        if st != STATUS_OK:
+            return -st
+        for k in range(cut.shape[0]):
+            if cut[k] != STATUS_OK:
+                n_cut += 1
+        if m > 2:
+            rxy2 = np.zeros((nr, 2))
+            rz2 = np.zeros((nr, 2))
+            st, cut = _solve_chain(sup_c[1:].copy(), top_s, seg_ei, seg_T, seg_q, seg_qz,
+                                   seg_gap, read_s, rxy2, rz2)
+            if st != STATUS_OK:
+                return -st
+            # read points outside a chain's supports get zero from it
+            for a in range(nr):
+                for k in range(2):
+                    rxy[a, k] += rxy2[a, k]
+                    rz[a, k] += rz2[a, k]
+            for k in range(cut.shape[0]):
+                if cut[k] != STATUS_OK:
+                    n_cut += 1
+    else:
+        st, cut = _solve_chain(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s,
+                               rxy, rz)
+        if st != STATUS_OK:
+            return -st
+        for k in range(cut.shape[0]):
+            if cut[k] != STATUS_OK:
+                n_cut += 1
     qr = np.zeros(4)
     qh = np.zeros(4)
     qm = np.zeros(4)
