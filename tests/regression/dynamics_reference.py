@@ -40,10 +40,10 @@ VOLATILE = ("wall_time_s", "real_time_factor", "versions")
 
 #: options whose library default changed after the references were recorded: the
 #: references keep the values they were recorded with (rigid segments as listed, ends-only
-#: contact points, no span-bending record, steel-only lateral inertia)
+#: contact points, no span-bending record, no deepest point, steel-only lateral inertia)
 RECORDED_WITH: dict[str, Any] = {
     "string": {"segment_fit_fraction": None, "lateral_mud_mass": False},
-    "contact": {"points": "ends", "span_bending": False},
+    "contact": {"points": "ends", "span_bending": False, "deepest_point": False},
 }
 
 

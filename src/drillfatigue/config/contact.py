@@ -57,6 +57,14 @@ class ContactConfig(StrictModel):
         the fatigue chain adds it to the joint moment. Default on
         (docs/bending.md); its supports are the contact points, so it is
         meant with ``points: string`` (tool joints and stabilizers).
+    deepest_point : bool
+        Each segment with three or more contact points also tests, every
+        step, the point of its axis furthest out towards the wall between
+        them (the vertex of the parabola through the outermost tested point
+        and its neighbours, :func:`drillfatigue.dynamics.contact.deepest_point`),
+        so that the wall holds a chord in a bend everywhere, not only at the
+        points; the span recorder takes it as a support where it touches.
+        Default on (docs/bending.md).
 
     The hole's cylinder chain and its resampling are set in the ``well``
     section (``drillfatigue.well.build_wellbore``), not here.
@@ -70,3 +78,4 @@ class ContactConfig(StrictModel):
     tool_joints: bool = True
     chord_fraction: float = Field(0.25, gt=0.0, le=1.0)
     span_bending: bool = True
+    deepest_point: bool = True

@@ -68,10 +68,10 @@ from drillfatigue.dynamics.events import record_contact, track_whirl
 from drillfatigue.dynamics.friction import KARNOPP, friction_force_split
 from drillfatigue.dynamics.layout import (
     B_TWIN, C_MDROCK, H_FCMAX, H_NCON, H_NSEG, H_PDISS, H_PE, MAX_CONTACT_POINTS,
-    MAX_TABLE_POINTS, P_CPTAB, P_FMODEL, P_FP,
+    MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_FMODEL, P_FP,
     P_KC, P_NPTS, P_ON, S_CC, S_H, S_IA, S_IT, S_M, S_RB, S_RC, WALL_INFO_SIZE, WI_CYL, WI_DELTA,
     WI_DIST, WI_FO, WI_N, WI_NX, WI_SLIP, WI_VS, V_W_ALIN, V_W_ALPHA, V_W_AX, V_W_F, V_W_FO,
-    V_W_INFO, V_W_M, V_W_WHIRL, V_W_X,
+    V_W_G, V_W_INFO, V_W_M, V_W_OFF, V_W_WHIRL, V_W_X,
 )
 from drillfatigue.dynamics.status import OK
 
@@ -398,6 +398,83 @@ def contact_point(seg, i, p):
 
 
 @njit(cache=True)
+def deepest_point(off, g, npt):
+    """The deepest point of a straight segment between its tested points in a bend.
+
+    ``off[:npt]`` are the points' offsets along the segment's axis (m) and
+    ``g[:npt]`` the offsets of the axis there from the wall (distance from the
+    hole's centre line minus the hole radius, m; the point's penetration is
+    g + its contact radius). The offset of a straight line from a circular arc
+    is quadratic in the distance along it to high accuracy (its square is a
+    polynomial in u; the root of it is a parabola to O((u^2 kappa)^2 / c) with the
+    line within the clearance c of the arc), so the parabola through the point of
+    largest g and its two neighbours along the axis (the two next ones on one
+    side when it is an end point) locates the largest g between the points: its
+    vertex u*, g*. Returns ``(k, u*, g*)`` with k the point of largest g, or
+    k = -1 when there is no vertex to test: fewer than three points, a parabola
+    that is not concave (a straight hole: a line's offset from a straight
+    cylinder is convex, largest at an end), a vertex outside the intervals next
+    to point k, or g* not above g[k]."""
+    if npt < 3:
+        return -1, 0.0, 0.0
+    k = 0
+    for j in range(1, npt):
+        if g[j] > g[k]:
+            k = j
+    # neighbours along the axis: the nearest point below and above point k
+    lo = -1
+    hi = -1
+    for j in range(npt):
+        if off[j] < off[k] and (lo < 0 or off[j] > off[lo]):
+            lo = j
+        if off[j] > off[k] and (hi < 0 or off[j] < off[hi]):
+            hi = j
+    if lo >= 0 and hi >= 0:
+        a, b, c = lo, k, hi
+        u_lo = off[lo]
+        u_hi = off[hi]
+    elif hi >= 0:
+        nxt = -1
+        for j in range(npt):
+            if off[j] > off[hi] and (nxt < 0 or off[j] < off[nxt]):
+                nxt = j
+        if nxt < 0:
+            return -1, 0.0, 0.0
+        a, b, c = k, hi, nxt
+        u_lo = off[k]
+        u_hi = off[hi]
+    elif lo >= 0:
+        nxt = -1
+        for j in range(npt):
+            if off[j] < off[lo] and (nxt < 0 or off[j] > off[nxt]):
+                nxt = j
+        if nxt < 0:
+            return -1, 0.0, 0.0
+        a, b, c = nxt, lo, k
+        u_lo = off[lo]
+        u_hi = off[k]
+    else:
+        return -1, 0.0, 0.0
+    x0 = off[a]
+    x1 = off[b]
+    x2 = off[c]
+    if x1 - x0 < 1e-9 or x2 - x1 < 1e-9:
+        return -1, 0.0, 0.0
+    d1 = (g[b] - g[a]) / (x1 - x0)
+    d2 = (g[c] - g[b]) / (x2 - x1)
+    cc = (d2 - d1) / (x2 - x0)
+    if not cc < 0.0:
+        return -1, 0.0, 0.0
+    u = 0.5 * (x0 + x1) - 0.5 * d1 / cc
+    if not (u_lo < u < u_hi):
+        return -1, 0.0, 0.0
+    gv = g[a] + d1 * (u - x0) + cc * (u - x0) * (u - x1)
+    if not gv > g[k]:
+        return -1, 0.0, 0.0
+    return k, u, gv
+
+
+@njit(cache=True)
 def wall_contact(t, n, s, p, wk):
     """Wall contact and friction on every active segment, with contact and whirl statistics.
 
@@ -482,10 +559,16 @@ def wall_contact(t, n, s, p, wk):
         cp_n = p.cp_n
         cp = p.cp
         tbase = MAX_CONTACT_POINTS * x.shape[0]
+        deep = cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0
+        offs = vec[V_W_OFF]
+        gs = vec[V_W_G]
         for i in range(n):
             m = seg[i, S_M]
             own = table and i < n - 1
             npi = int(cp_n[i]) if own else npts
+            # the segment's deepest point between its tested points, after them
+            n_test = npi + 1 if deep and npi >= 3 else npi
+            dpen = 0.0
             for k in range(3):
                 tax[k] = R[i, k, 2]
                 fo[k] = 0.0
@@ -505,8 +588,21 @@ def wall_contact(t, n, s, p, wk):
             nsum = 0.0
             dmax = 0.0
             m_cap = m / (3.0 * npi)
-            for pt in range(npi):
-                if own:
+            for pt in range(n_test):
+                if pt == npi:
+                    # the deepest point (deepest_point), tested with the body radius less
+                    # the tested points' largest penetration: its force grows from zero
+                    # as the vertex leaves a tested point, and is the whole penalty
+                    # force where no tested point touches
+                    kd, off, gd = deepest_point(offs, gs, npi)
+                    if kd < 0 or gd + seg[i, S_RB] <= dpen:
+                        continue
+                    rc = seg[i, S_RB] - dpen
+                    if own:
+                        ih = tbase + MAX_TABLE_POINTS * i + kd
+                    else:
+                        ih = MAX_CONTACT_POINTS * i + kd
+                elif own:
                     off = cp[i, pt, 0]
                     rc = cp[i, pt, 1]
                     ih = tbase + MAX_TABLE_POINTS * i + pt
@@ -527,11 +623,16 @@ def wall_contact(t, n, s, p, wk):
                 if st != OK:
                     return st
                 ic = int(info[WI_CYL])
-                if ic >= 0:
+                if ic >= 0 and pt < npi:
                     hint[ih] = ic
                     if own and pt == 0:
                         # the lower end: the hint whirl tracking and growth read
                         hint[MAX_CONTACT_POINTS * i] = ic
+                if pt < npi and n_test > npi:
+                    offs[pt] = off
+                    gs[pt] = info[WI_DELTA] - rc
+                    if info[WI_DELTA] > dpen:
+                        dpen = info[WI_DELTA]
                 d = info[WI_DIST]
                 if d > dmax:
                     dmax = d

@@ -41,7 +41,8 @@ P_BP = 16        # 16..25: bit parameters (bitrock.N_PARAMS = 10)
 P_CPTAB = 26     # 1: segments below the top use their own contact points (Params.cp_n / cp)
 P_SPAN = 27      # 1: record the span-bending correction at the recorded joints (span_record)
 P_LATMASS = 28   # 1: lateral mass m * Params.mlat[i] across the axis (mud inside, added mass)
-N_CPAR = 29
+P_DEEP = 29      # 1: each segment with >= 3 points also tests its deepest point (contact.deepest_point)
+N_CPAR = 30
 N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;
@@ -193,7 +194,7 @@ H_CONPH = 18    # connection phase
 N_CH_RIG = 19
 
 # work.vec[r, :] -- scratch vectors of the kernels, one row per use (row width N_VECW;
-# a use reads the first 2, 3, 4 or 15 entries)
+# a use reads the first 2, 3, 4, 15 or MAX_TABLE_POINTS entries)
 V_ROT_QA = 0       # rigid.free_rotation: two quaternions
 V_ROT_QB = 1
 V_J_QR = 2         # joints.joint_force: relative, half and mid quaternions
@@ -236,8 +237,10 @@ V_G_Q2 = 38
 V_G_TH = 39        # rotation vector of the joint below the top (rad)
 V_G_LOW = 40       # growth.merge_top: lower end of the lower segment (m)
 V_G_TOP = 41       # upper end of the top segment (m)
-N_VEC = 42
-N_VECW = 16
+V_W_OFF = 42       # contact.wall_contact: offsets of a segment's points (MAX_TABLE_POINTS, m)
+V_W_G = 43         # their axis offsets from the wall, distance from the centre line - R (m)
+N_VEC = 44
+N_VECW = 32
 
 # work.mat[r, :, :] -- scratch 3 x 3 matrices
 M_J_RM = 0         # joint frame (joints.joint_force)

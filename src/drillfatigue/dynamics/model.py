@@ -1032,6 +1032,7 @@ def pack_contact(config: CaseConfig) -> np.ndarray:
     cpar[L.P_NPTS] = 3.0 if c.points == "ends_and_middle" else 2.0
     cpar[L.P_CPTAB] = 1.0 if c.points == "string" else 0.0
     cpar[L.P_SPAN] = 1.0 if c.span_bending and c.enabled else 0.0
+    cpar[L.P_DEEP] = 1.0 if c.deepest_point else 0.0
     b = config.bit
     if b.model == "given_tob":
         cpar[L.P_BITLAW] = 0.0

@@ -9,7 +9,11 @@ without feeding anything back into the integrator:
 1. Supports: the bit (s = 0) and every contact point of every active segment
    that penetrates the wall now (:func:`drillfatigue.dynamics.contact.find_contact`
    from the point's hint, which it does not update), by distance from the bit;
-   points closer than ``MERGE_M`` count once.
+   points closer than ``MERGE_M`` count once. With ``contact.deepest_point``
+   a segment's deepest point between its tested points
+   (:func:`drillfatigue.dynamics.contact.deepest_point`) is a support where the
+   contact kernel pushes on it (body penetration there above the tested
+   points' largest).
 2. Load per length, across the segment's axis, in the world frame: buoyed
    weight + lateral mud drag + the segment's lateral inertia -m_lat a / L.
    As the integrator moves the segment by a = F / m_lat (F all forces on
@@ -56,8 +60,8 @@ without feeding anything back into the integrator:
    on the low side) touches earlier than this test says: there the moment is
    an upper estimate.
 
-6. The span from the bit: the bit is held near the hole's axis and the string
-   above it reaches the wall at a tangency point, where it meets the wall with
+6. The span from the bit: from the bit end (guided on the hole's axis on
+   bottom, free off bottom) the string reaches the wall at a tangency point, where it meets the wall with
    the wall's slope and the wall's curvature (the moment of that curvature,
    E I kappa, is in the rigid chain's joint moments): beyond it the pipe lies
    on the wall and holds no span moment. When the first support above the
@@ -92,9 +96,11 @@ import math
 import numpy as np
 from numba import njit
 
-from drillfatigue.dynamics.contact import OUT_DELTA, OUT_SIZE, contact_point, find_contact
+from drillfatigue.dynamics.contact import (
+    OUT_DELTA, OUT_SIZE, contact_point, deepest_point, find_contact,
+)
 from drillfatigue.dynamics.layout import (
-    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_NPTS, S_CL, S_H, S_RB, S_W,
+    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS, S_CL, S_H, S_RB, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
@@ -356,13 +362,16 @@ def span_sample(n, s, p, wk, sel, out):
         seg_T[i] = 0.5 * (lo + up)
         seg_ei[i] = p.ei[i]
     # supports: the bit and the contact points in the wall now
-    cap = 1 + n * MAX_TABLE_POINTS
+    cap = 1 + n * (MAX_TABLE_POINTS + 1)
     sup = np.zeros(cap)
     nsup = 1
     X = np.zeros(3)
     info = np.zeros(OUT_SIZE)
     pt_u = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
     pt_gap = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
+    pt_g = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
+    pt_hint = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS, dtype=np.int64)
+    deep = cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0
     seg_line = np.zeros(n, dtype=np.bool_)
     # the bit end's distance from the wall (the pendulum's offset r), m
     bit_gap = 0.0
@@ -374,6 +383,7 @@ def span_sample(n, s, p, wk, sel, out):
         kap = 0.0
         clr = np.inf
         raised = False
+        dpen = 0.0
         for pt in range(npi):
             if own:
                 off = p.cp[i, pt, 0]
@@ -398,8 +408,24 @@ def span_sample(n, s, p, wk, sel, out):
                 sup[nsup] = top_s[i] + h - off
                 nsup += 1
                 ncon += 1
+            pt_g[pt] = info[OUT_DELTA] - rc
+            pt_hint[pt] = hi
+            if info[OUT_DELTA] > dpen:
+                dpen = info[OUT_DELTA]
             if rc != seg[i, S_RB]:
                 raised = True
+        if deep and npi >= 3:
+            # the deepest point between the tested points, a support where the contact
+            # kernel pushes on it (contact.wall_contact: beyond the tested points'
+            # largest penetration)
+            kd, ud, gd = deepest_point(pt_u, pt_g, npi)
+            if kd >= 0 and gd + seg[i, S_RB] > dpen:
+                for k in range(3):
+                    X[k] = x[i, k] + ud * R[i, k, 2]
+                find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
+                if info[OUT_DELTA] > dpen:
+                    sup[nsup] = top_s[i] + h - ud
+                    nsup += 1
         line = npi >= 3 and ncon == npi
         if kap > STRAIGHT_KAPPA and not raised and not line and 0.5 * h * h * kap < clr:
             # along the wall of a curved hole: every point no further from the wall than
