@@ -31,7 +31,8 @@ then compares the located cylinder with its two neighbours.
 
 The wall loop (:func:`wall_contact`) runs over the active segments and their
 contact points (:func:`contact_point`: the ends, with the tool-joint or
-stabilizer radius, and optionally the middle), calls :func:`wall_force` (normal
+stabilizer radius, and optionally the middle; or the string's own points, plus
+each segment's deepest point between them, :func:`deepest_point`), calls :func:`wall_force` (normal
 force plus the friction law of :mod:`friction`) at each, estimates Karnopp's
 "other" force first, caps the smooth laws' friction so one step cannot reverse
 a slip, and records contact statistics and whirl angles (:mod:`events`).
@@ -497,6 +498,16 @@ def wall_contact(t, n, s, p, wk):
     about the centre; friction acts at that point's radius. A point not yet
     located (hint -1, e.g. on a piece just split off the top) starts its search
     from the segment's first hint.
+
+    Deepest point (``cpar[P_DEEP]``, ``contact.deepest_point``). A segment with
+    three or more points then also tests, after them, the vertex of
+    :func:`deepest_point` (the point of its axis furthest out towards the wall
+    between its points, in a bend) with the body radius less the tested points'
+    largest penetration delta_max >= 0: the force there is the whole penalty
+    force where no tested point touches and grows from zero as the vertex
+    leaves a tested point that touches. It has the friction, damping and
+    Karnopp share of any point and the hint of the outermost point (which it
+    does not update).
 
     Karnopp pre-pass. Karnopp needs the "other" tangential force at a contact
     point. In this explicit scheme it is estimated first: the acceleration the
