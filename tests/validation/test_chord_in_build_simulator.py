@@ -29,15 +29,15 @@ References
 * Convergence (issue 20): quartering f halves the point spacing. Collars on the
   low side at 30 rpm: where they lie on the wall they are in line contact (no
   span load) with either spacing. The span from the bit ends at the tangency
-  point where the collars reach the wall they then lie along (its length
-  (24 EI r / q)^(1/4) in a straight hole, generalised to the build's
-  curvature, clipped to the first support: 8.7 m here) and is pinned there
-  (zero span moment at a tangency, docs/bending.md). Measured: 10.93 kN m at
-  4.35 m with both spacings (change < 0.01 %), 0 at 8.7 m and 13 m and above
-  (before the tangency rule the span was continuous with the line-contact
-  spans beyond it, whose lengths the spacing sets: +4.4 %, -6.3 % and
-  645 -> 184 N m at 4.4, 8.7 and 13 m); with the 9.09 m segments it changed
-  by -72 to -81 % (the middle points on the other wall became supports).
+  point where the collars reach the wall they then lie along, pinned there
+  (zero span moment at a tangency, docs/bending.md); its length is the
+  tangency length clipped to the first support, here the first support
+  itself (8.7 m: off bottom the free bit lies on the wall, r <= 0). Measured:
+  10.929 kN m at 4.35 m with both spacings (-0.005 %), 0 at 8.7 m, 13 m and above
+  (a span continuous with the line-contact spans beyond it, whose lengths the
+  spacing sets: +4.4 %, -6.3 % and 645 -> 184 N m at 4.4, 8.7 and 13 m); with
+  the 9.09 m segments the span moment changes by -72 to -81 % (the middle
+  points on the other wall become supports).
 * Pendulum (Lubinski & Woods, API Drill. Prod. Pract. 1953): collars in a straight
   70 deg hole, bit guided on the axis, 4 m segments with ends-and-middle
   points: the span from the bit ends at the tangency length
@@ -162,14 +162,13 @@ def test_halving_the_point_spacing_leaves_the_span_moment() -> None:
     a, cp_a = _span_moments(0.25, 0.5)
     b, cp_b = _span_moments(0.0625, 0.5)  # spacing ~ sqrt(f): halved
     assert int((cp_b[:10] > cp_a[:10]).sum()) == 10  # the finer spacing did add points
-    # the span from the bit (kN m at joint 0, 4.35 m) ends at the tangency, clipped to
-    # the first support (8.7 m, joint 1), where the collars reach the wall they then
-    # lie along; measured change < 0.01 %
+    # the span from the bit (kN m at joint 0, 4.35 m) ends at the first support (8.7 m,
+    # joint 1), where the collars reach the wall they then lie along; measured -0.005 %
     assert a[0] > 5e3 and b[0] > 5e3
     assert abs(b[0] / a[0] - 1.0) < 0.05
     # joints 1 and 2 (8.7 m, the span's pinned end, and 13 m, the first joint lying on
-    # the wall): within 5 % of that span's moment; measured 0 N m in both runs (before
-    # the tangency rule 13 m went 645 N m -> 184 N m)
+    # the wall): within 5 % of that span's moment; measured 0 N m in both runs (a span
+    # continuous with the line-contact spans above it: 645 N m -> 184 N m at 13 m)
     assert np.all(np.abs(b[1:3] - a[1:3]) < 0.05 * a[0])
     # collars lying on the wall from joint 3 (17.4 m) up (line contact, no span load):
     # within 5 % of the 1.6 kN m they recorded as rigid spans (80 N m)
@@ -191,12 +190,12 @@ def test_halving_the_segment_length_leaves_the_span_moment_where_collars_lie_on_
     3 and up (17.4 m from the bit to the held top), where the collars lie on the wall;
     excluded: joints 0-2 (4.4-13 m), the span from the bit to the tangency where the
     collars reach the wall; its end is clipped to the first support, which the
-    segment length quantises (both runs end it at 8.7 m here; measured at 4.35 m
-    -5.5 % after 0.6 s: the segments' loads differ). Before the
+    segment length quantises (measured at 4.35 m -5.5 % after 0.6 s, -13.7 % after
+    1 s). Before the
     line-contact rule the span moment at the compared joints was 1.6 kN m with 4.35 m
     segments and 0.4 kN m with 2.17 m (-75 %, the rigid segment's own span). Asked: a
-    change below 5 % of that 1.6 kN m (80 N m); measured <= 2.5 N m (both runs record
-    45 N m at 17.4 m, the tail of the near-bit span, and below 0.5 N m from 26 m on)."""
+    change below 5 % of that 1.6 kN m (80 N m); measured 0 (line contact, and the span
+    from the bit pinned where the collars reach the wall: < 1e-12 N m in both)."""
     a, _ = _span_moments(0.25, 0.5, 0.6, 20)
     b, _ = _span_moments(0.25, 0.125, 0.6, 20)
     n = a.size - 1  # the last recorded joint is the held top's
