@@ -504,13 +504,15 @@ def span_sample(n, s, p, wk, sel, out):
         l_t = tangency_length_m(seg_ei[0], bit_gap, q0, kap_out)
         bit_span = np.zeros(2)
         bit_span[1] = min(l_t, s_hi)
-        st, cut = _solve_chain(bit_span, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
-                               read_s, rxy, rz)
-        if st != STATUS_OK:
-            return -st
-        for k in range(cut.shape[0]):
-            if cut[k] != STATUS_OK:
-                n_cut += 1
+        # a tangency within MERGE_M of the bit leaves no span there (zero moments)
+        if bit_span[1] > MERGE_M:
+            st, cut = _solve_chain(bit_span, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
+                                   read_s, rxy, rz)
+            if st != STATUS_OK:
+                return -st
+            for k in range(cut.shape[0]):
+                if cut[k] != STATUS_OK:
+                    n_cut += 1
         if m > 2:
             rxy2 = np.zeros((nr, 2))
             rz2 = np.zeros((nr, 2))
