@@ -390,7 +390,8 @@ def _timings_section(timings: dict[str, Any] | None, c2: dict[str, Any] | None,
         lines.append(f"| case 3, this (reduced) run, simulation | {c3['wall_s']:.0f} s | "
                      "2 h (60 s window) |")
     for row in (timings or {}).get("rows", []):
-        lines.append(f"| {row['run']} | {row['ours']} | {row['paper']} |")
+        before = f" (before: {row['before']})" if row.get("before") else ""
+        lines.append(f"| {row['run']} | {row['ours']}{before} | {row['paper']} |")
     lines.append("")
     if timings is not None:
         lines.append(timings.get("note", "") + "\n")
