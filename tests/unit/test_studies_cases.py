@@ -21,7 +21,7 @@ from drillfatigue.config.studies import (
     StringSpec,
 )
 from drillfatigue.errors import InputError
-from drillfatigue.studies import case1, case2, case3, plan, report
+from drillfatigue.studies import case1, case2, case3, plan, report, stages
 
 
 def test_sections_default_constructible():
@@ -289,3 +289,36 @@ def test_report_shows_the_drilling_metrics_of_each_profile():
     assert cells[0][8:11] == ["chaotic", "bounce", "none, oscillation"]
     assert cells[1][5] == "20" and cells[1][9] == "none"
     assert report._case2_drilling_lines({"drilling": []}) == []
+
+
+def test_report_shows_the_rop_and_torque_references_and_the_rig_checks():
+    row = {"profile": "profile_1", "sample": 0, "wob_set_N": 1e5, "metrics_from_s": 10.0,
+           "on_bottom_fraction": 0.7, "mean_wob_N": 98e3, "wob_error_rel": -0.02,
+           "mean_rop_m_per_h": 17.0, "rop_bit_law_m_per_s": 20.0 / 3600.0,
+           "mean_surface_torque_Nm": 4e3, "surface_torque_tnd_Nm": 3.5e3, "block_min_m": 5.0,
+           "block_max_m": 9.0, "block_within_travel": True, "string_top_below_rotary": False,
+           "stick_slip_severity": 2.0, "whirl_class": "chaotic", "bounce_class": "bounce",
+           "stick_slip_class": "stick_slip"}
+    lines = report._case2_drilling_lines({"boundaries": "rig", "drilling": [row]})
+    head = lines[1].splitlines()[0]
+    assert "bit law's ROP" in head and "soft-string torque" in head
+    cells = [c.strip() for c in lines[1].splitlines()[2].strip("|").split("|")]
+    # on bottom, WOB, set-point, error, ROP, law's ROP, torque, T&D torque, range, checks
+    assert cells[5:8] == ["17", "20", "4"] and cells[8] == "3.5"
+    assert cells[10:12] == ["yes", "no"]
+
+
+def test_timings_row_shows_the_earlier_measurement_and_metrics_carry_the_references():
+    row = {"run": "case 2, profile_1 x 800 s (measured)", "ours": "30.0 min",
+           "paper": "38 h / 3 = 12.7 h", "before": "17.8 min (prescribed ROP)"}
+    text = "\n".join(report._timings_section({"rows": [row], "note": ""}, None, None))
+    assert "| 30.0 min (before: 17.8 min (prescribed ROP)) | 38 h / 3 = 12.7 h |" in text
+    drill = {"profile": "profile_1", "sample": 0, "on_bottom_fraction": 0.7,
+             "wob_error_rel": -0.01, "mean_rop_m_per_h": 17.0, "mean_surface_torque_Nm": 4e3,
+             "block_within_travel": True, "string_top_below_rotary": True,
+             "stick_slip_class": "stick_slip", "whirl_class": "chaotic", "bounce_class": "bounce",
+             "rop_over_bit_law": 0.9, "surface_torque_over_tnd": 1.1}
+    summ = {"rows": [], "order_agrees": True, "drilling": [drill]}
+    m = stages._metrics("case2", summ, 1.0)
+    assert m["rop_over_bit_law_profile_1"] == 0.9
+    assert m["surface_torque_over_tnd_profile_1"] == 1.1

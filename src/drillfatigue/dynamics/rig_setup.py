@@ -262,3 +262,41 @@ def top_drive_params(rig: RigConfig, case: CaseConfig) -> tuple[int, np.ndarray,
     p[R.TP_KI] = ki
     info.update(kp_Nm_s_per_rad=kp, ki_Nm_per_rad=ki)
     return R.TOP_DRIVE_PI, p, info
+
+
+def rod_input_impedance(omega_rad_s: float, sections: list[tuple[float, float, float]]) -> complex:
+    """Axial driving-point impedance (N s/m) at the bottom of a stack of uniform rods.
+
+    ``sections``: ``(length_m, EA_N, mass_per_length_kg_per_m)`` from the bit up;
+    the last one continues upward without end (no reflection from the top: the
+    string above is long and damped). Each section of impedance ``Z_s =
+    sqrt(EA m')`` and wave number ``k = omega sqrt(m'/EA)`` carries the impedance
+    ``Z`` at its top to ``Z_s (Z + i Z_s tan kL) / (Z_s + i Z tan kL)`` at its
+    bottom (the transmission-line rule for longitudinal waves in a rod).
+    """
+    ea, m = sections[-1][1], sections[-1][2]
+    z: complex = complex(math.sqrt(ea * m))
+    for length, ea, m in reversed(sections[:-1]):
+        zs = math.sqrt(ea * m)
+        t = math.tan(omega_rad_s * math.sqrt(m / ea) * length)
+        z = zs * (z + 1j * zs * t) / (zs + 1j * z * t)
+    return z
+
+
+def lobe_force_amplitude_N(rpm: float, lobe_count: int, amplitude_m: float,
+                           contact_stiffness_N_per_m: float,
+                           sections: list[tuple[float, float, float]]) -> float:
+    """Amplitude of the contact force a fixed lobed face drives into a string (linear, undamped).
+
+    The face moves the bit face as ``A sin(n Omega t)``; the rock spring ``k``
+    in series with the string's driving-point impedance ``Z``
+    (:func:`rod_input_impedance`) carries ``|F| = A / |1/k + 1/(i w Z)|`` at
+    ``w = n Omega``. The bit stays on a face it is pressed on with a mean WOB
+    above ``|F|`` and leaves it below (bit bounce). Undamped: near a resonance
+    of the string it overestimates, away from one it is the linear answer.
+    """
+    w = lobe_count * abs(rpm) * 2.0 * math.pi / 60.0
+    if w == 0.0 or amplitude_m == 0.0:
+        return 0.0
+    z = rod_input_impedance(w, sections)
+    return float(amplitude_m / abs(1.0 / contact_stiffness_N_per_m + 1.0 / (1j * w * z)))

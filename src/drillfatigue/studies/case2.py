@@ -39,9 +39,11 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue import rundir
-from drillfatigue.config import FatigueConfig
+from drillfatigue.config import CaseConfig, FatigueConfig
 from drillfatigue.config.studies import Case2Config
 from drillfatigue.dynamics.rig import drilling_window_metrics
+from drillfatigue.dynamics.rockface import rop_tob_from_wob
+from drillfatigue.dynamics.torque_drag import torque_drag_for_case
 from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 from drillfatigue.plotting import subplots
@@ -141,7 +143,7 @@ OSCILLATION_SEVERITY = 0.5
 
 
 def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, profile: str,
-                     sample: int) -> dict[str, Any]:
+                     sample: int, case: CaseConfig | None = None) -> dict[str, Any]:
     """What one rig-driven window did at the rig and the bit (case-2 metrics).
 
     From the run's channels after ``metrics_skip_s``
@@ -152,6 +154,13 @@ def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, p
     bounce (lift-offs counted, ``bounce`` when any) and stick-slip (``stick_slip``
     when the bit speed falls below ``STUCK_FRACTION`` of its mean, ``oscillation``
     when the severity exceeds ``OSCILLATION_SEVERITY``, else ``none``).
+
+    With the run's ``case`` the references beside them: the bit law's ROP and
+    TOB at the mean WOB and mean bit speed (``rop_bit_law_m_per_s``,
+    ``rop_over_bit_law``, ``tob_bit_law_Nm``), and the soft-string drilling
+    torque at the surface for that WOB and TOB (Coulomb wall friction with the
+    case's ``mu_dynamic``, no mud drag; ``surface_torque_tnd_Nm``,
+    ``surface_torque_over_tnd``).
     """
     ch = pd.read_parquet(run_dir / "channels.parquet")
     t = ch["time_s"].to_numpy()
@@ -179,6 +188,17 @@ def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, p
     out["whirl_class"] = summary.get("whirl_class")
     out["bit_bounce_count"] = summary.get("bit_bounce_count")
     out["bounce_class"] = "bounce" if (summary.get("bit_bounce_count") or 0) > 0 else "none"
+    out["mean_tob_Nm"] = float(ch["tob_Nm"].to_numpy()[sel].mean())
+    if case is not None:
+        rop_law, tob_law = rop_tob_from_wob(case.bit, out["mean_wob_N"], mean)
+        out["rop_bit_law_m_per_s"] = float(rop_law)
+        out["rop_over_bit_law"] = (out["mean_rop_m_per_s"] / float(rop_law)
+                                   if rop_law > 0 else math.nan)
+        out["tob_bit_law_Nm"] = float(tob_law)
+        tnd = torque_drag_for_case(case, wob_N=out["mean_wob_N"], tob_Nm=float(tob_law))
+        out["surface_torque_tnd_Nm"] = float(tnd.torque_drilling_Nm[0])
+        out["surface_torque_over_tnd"] = (out["mean_surface_torque_Nm"]
+                                          / out["surface_torque_tnd_Nm"])
     out["drilled_m"] = float(ch["bit_md_m"].iloc[-1] - ch["bit_md_m"].iloc[0])
     out["simulated_s"] = float(summary["duration_s"])
     out["wall_s"] = float(summary["wall_time_s"])
@@ -225,7 +245,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
             rate_h = float(rp.loc[rp["joint"] == joint, "damage_rate_per_h"].iloc[0])
             d_rp7g += rate_h * share / 3600.0
             if cfg.boundaries == "rig":
-                drilling.append(drilling_metrics(run_dir, summary, cfg, profile, k))
+                drilling.append(drilling_metrics(run_dir, summary, cfg, profile, k, cc))
             loads = loads.assign(sample=k, t_window_s=loads["time_s"] + k * share)
             histories[profile].append(loads)
             survey = build_survey(cc.well)

@@ -209,7 +209,13 @@ def _case2_drilling_lines(s: dict[str, Any]) -> list[str]:
         dr["block_travel_range_m"] = dr["block_max_m"] - dr["block_min_m"]
     num = ["on_bottom_fraction", "mean_wob_N", "wob_set_N", "wob_error_rel", "mean_rop_m_per_h",
            "mean_surface_torque_Nm", "block_travel_range_m", "stick_slip_severity"]
-    agg = dr.groupby("profile")[num].mean().reset_index()
+    # the references beside the measured ROP and torque (runs written before they existed
+    # have none)
+    refs = [c for c in ("rop_bit_law_m_per_s", "surface_torque_tnd_Nm") if c in dr]
+    agg = dr.groupby("profile")[num + refs].mean().reset_index()
+    for col in ("block_within_travel", "string_top_below_rotary"):
+        if col in dr:
+            agg[col] = dr.groupby("profile")[col].agg(lambda v: bool(all(v))).to_numpy()
     for col in ("whirl_class", "bounce_class", "stick_slip_class"):
         agg[col] = dr.groupby("profile")[col].agg(
             lambda v: ", ".join(sorted({str(x) for x in v}))).to_numpy()
@@ -217,6 +223,10 @@ def _case2_drilling_lines(s: dict[str, Any]) -> list[str]:
     agg["mean_wob_kN"] = agg["mean_wob_N"] / 1e3
     agg["wob_set_kN"] = agg["wob_set_N"] / 1e3
     agg["torque_kNm"] = agg["mean_surface_torque_Nm"] / 1e3
+    if "rop_bit_law_m_per_s" in agg:
+        agg["rop_law_m_per_h"] = agg["rop_bit_law_m_per_s"] * 3600.0
+    if "surface_torque_tnd_Nm" in agg:
+        agg["tnd_kNm"] = agg["surface_torque_tnd_Nm"] / 1e3
     skip = float(dr["metrics_from_s"].min())
     lines = [f"Drilling at the rig (`boundaries: {s.get('boundaries', 'rig')}`: the autodriller "
              "holds the WOB set-point, the bit law gives the ROP; docs/rig.md), per profile "
@@ -225,8 +235,13 @@ def _case2_drilling_lines(s: dict[str, Any]) -> list[str]:
         "profile": "profile", "on_bottom_fraction": "on bottom, fraction of time",
         "mean_wob_kN": "mean WOB, kN", "wob_set_kN": "WOB set-point, kN",
         "wob_error_pct": "WOB error, %", "mean_rop_m_per_h": "mean ROP, m/h",
+        "rop_law_m_per_h": "bit law's ROP at the mean WOB and bit speed, m/h",
         "torque_kNm": "mean surface torque, kN·m",
-        "block_travel_range_m": "block travel range, m", "whirl_class": "whirl",
+        "tnd_kNm": "soft-string torque (wall friction + bit law), kN·m",
+        "block_travel_range_m": "block travel range, m",
+        "block_within_travel": "block within travel",
+        "string_top_below_rotary": "string top below rotary",
+        "whirl_class": "whirl",
         "bounce_class": "bit bounce", "stick_slip_class": "stick-slip",
         "stick_slip_severity": "stick-slip severity"}))
     lines.append("")
@@ -375,7 +390,8 @@ def _timings_section(timings: dict[str, Any] | None, c2: dict[str, Any] | None,
         lines.append(f"| case 3, this (reduced) run, simulation | {c3['wall_s']:.0f} s | "
                      "2 h (60 s window) |")
     for row in (timings or {}).get("rows", []):
-        lines.append(f"| {row['run']} | {row['ours']} | {row['paper']} |")
+        before = f" (before: {row['before']})" if row.get("before") else ""
+        lines.append(f"| {row['run']} | {row['ours']}{before} | {row['paper']} |")
     lines.append("")
     if timings is not None:
         lines.append(timings.get("note", "") + "\n")

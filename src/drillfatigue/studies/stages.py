@@ -104,6 +104,9 @@ def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
                         "string_top_below_rotary", "stick_slip_class", "whirl_class",
                         "bounce_class"):
                 m[f"{key}_{tag}"] = r[key]
+            for key in ("rop_over_bit_law", "surface_torque_over_tnd"):
+                if key in r:
+                    m[f"{key}_{tag}"] = r[key]
     elif name == "case3":
         for r in s["rows"]:
             m[f"life_h_{r['s_from_bit_m']:g}m"] = r["life_h"]
