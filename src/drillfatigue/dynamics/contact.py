@@ -490,7 +490,10 @@ def deepest_point(off, g, npt):
     return k, u, gv
 
 
-@njit(cache=True)
+# without numba's reference counting: the rows handed to the inlined point kernels are
+# views, each an atomic increment and decrement with it; the loop allocates nothing
+# (:func:`drillfatigue.dynamics.joints.joint_forces`)
+@njit(cache=True, _nrt=False)
 def wall_contact(t, n, s, p, wk):
     """Wall contact and friction on every active segment, with contact and whirl statistics.
 
