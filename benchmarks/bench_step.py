@@ -53,11 +53,16 @@ CHANNELS = ("surface_torque_Nm", "wob_N", "bit_rpm", "hook_load_N")
 TOLERANCE = 0.01
 
 
+#: the case-2 study's boundaries (``--boundaries``): ``rig`` (its default) or
+#: ``prescribed_rop`` (the paper's: the string grows at the ROP, 0.5 m/s, a split every 6 s)
+BOUNDARIES = "rig"
+
+
 def case(duration_s: float, safety: float, paper_string: bool, dt_s: float | None = None):
     """The case-2 study's drilling case (profile 1, 480 m) for ``duration_s`` s."""
     spec = {"dc_segments": 20, "dp_segments": 100} if paper_string else {}
     cfg = Case2Config(sample_s=duration_s, settle_s=0.0, safety_factor=safety,
-                      string=spec)
+                      string=spec, boundaries=BOUNDARIES)
     data = case_dict(cfg, "profile_1", cfg.bit_md_start_m, None)
     data["solver"]["checkpoint_every_s"] = 0.0
     if dt_s is not None:
@@ -150,8 +155,11 @@ def main() -> None:
     ap.add_argument("--factors", default="0.5,0.7,0.85")
     ap.add_argument("--paper-string", action="store_true",
                     help="20 collar + 100 drill-pipe segments (the paper's) instead of 9 + 20")
+    ap.add_argument("--boundaries", choices=("rig", "prescribed_rop"), default="rig")
     ap.add_argument("--out", type=Path, default=RESULTS)
     args = ap.parse_args()
+    global BOUNDARIES
+    BOUNDARIES = args.boundaries
     dur = 5.0 if args.quick else args.duration
     factors = [float(f) for f in args.factors.split(",")]
     scan = growth_scan(dur, args.paper_string)
@@ -185,7 +193,7 @@ def main() -> None:
                 runs[f"{f:g}"]["vs_0_5"] = compare(res, ref, args.window)
                 runs[f"{f:g}"]["speedup_vs_0_5"] = runs["0.5"]["cpu_s"] / runs[f"{f:g}"]["cpu_s"]
                 print(f, runs[f"{f:g}"]["vs_0_5"], flush=True)
-    out = {"benchmark": "step", "case": "case2 study, profile 1, rig (autodriller on WOB), "
+    out = {"benchmark": "step", "case": f"case2 study, profile 1, {BOUNDARIES}, "
            + ("20 + 100 segments" if args.paper_string else "9 + 20 segments"),
            "duration_s": dur, "window_s": args.window, "tolerance": TOLERANCE,
            "growth_scan": scan, "runs": runs,
