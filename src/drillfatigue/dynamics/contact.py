@@ -32,7 +32,9 @@ then compares the located cylinder with its two neighbours.
 The wall loop (:func:`wall_contact`) runs over the active segments and their
 contact points (:func:`contact_point`: the ends, with the tool-joint or
 stabilizer radius, and optionally the middle; or the string's own points, plus
-each segment's deepest point between them, :func:`deepest_point`), calls :func:`wall_force` (normal
+each segment's deepest point between them, :func:`deepest_point`), locates each point
+(:func:`find_contact`) and, where it penetrates, computes :func:`wall_force`'s force
+(:func:`located_wall_force`: normal
 force plus the friction law of :mod:`friction`) at each, estimates Karnopp's
 "other" force first, caps the smooth laws' friction so one step cannot reverse
 a slip, and records contact statistics and whirl angles (:mod:`events`).
@@ -499,7 +501,9 @@ def wall_contact(t, n, s, p, wk):
 
     For each segment and each of its ``cpar[P_NPTS]`` contact points
     (:func:`contact_point`) the penalty normal force and the friction of the
-    chosen law (:func:`wall_force`) are added to ``s.Fw`` / ``s.Mw``; the
+    chosen law (:func:`wall_force`; the search first, the force kernel
+    :func:`located_wall_force` only for a point that penetrates) are added to
+    ``s.Fw`` / ``s.Mw``; the
     penalty energy and the dissipated power go to ``wk.ch[H_PE]`` /
     ``wk.ch[H_PDISS]``; ``s.cst`` gets the segment's contact statistics and,
     after ``bp[B_TWIN]``, its whirl angles (:mod:`events`); ``wk.ch`` the count
