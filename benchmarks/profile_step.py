@@ -54,10 +54,11 @@ from drillfatigue.dynamics.bundles import new_records  # noqa: E402
 from drillfatigue.dynamics.contact import wall_contact  # noqa: E402
 from drillfatigue.dynamics.forces import body_forces, rotations  # noqa: E402
 from drillfatigue.dynamics.growth import grow_top, growth_rate  # noqa: E402
-from drillfatigue.dynamics.integrator import advance, record, speed_excess  # noqa: E402
+from drillfatigue.dynamics.integrator import (  # noqa: E402
+    advance, drift, half_kicks, half_kicks_checked, record,
+)
 from drillfatigue.dynamics.joints import joint_forces  # noqa: E402
 from drillfatigue.dynamics.model import stable_step  # noqa: E402
-from drillfatigue.dynamics.rigid import free_rotation, kick  # noqa: E402
 from drillfatigue.dynamics.span_record import span_sample  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -101,24 +102,14 @@ def loop_contact(k, s, p, wk):
 @njit(cache=True)
 def loop_integrator(k, s, p, wk):
     n = int(s.sc[L.C_NACT])
-    seg = p.seg
     dt = p.dt
     hdt = 0.5 * dt
-    qa = wk.vec[L.V_ROT_QA]
-    qb = wk.vec[L.V_ROT_QB]
+    latm = p.cpar.shape[0] > L.P_LATMASS and p.cpar[L.P_LATMASS] != 0.0
     worst = 0.0
     for _ in range(k):
-        for i in range(n):
-            kick(s.v[i], s.w[i], s.Fw[i], s.Mb[i], seg[i, L.S_M], seg[i, L.S_IT], seg[i, L.S_IA],
-                 hdt)
-        for i in range(n):
-            for c in range(3):
-                s.x[i, c] += dt * s.v[i, c]
-            free_rotation(s.q[i], s.w[i], seg[i, L.S_IT], seg[i, L.S_IA], dt, qa, qb)
-        for i in range(n):
-            kick(s.v[i], s.w[i], s.Fw[i], s.Mb[i], seg[i, L.S_M], seg[i, L.S_IT], seg[i, L.S_IA],
-                 -hdt)
-            worst = max(worst, speed_excess(s.v[i], s.w[i]))
+        half_kicks(n, s, p, wk, hdt, latm)
+        drift(n, s, p, wk, dt, latm)
+        worst = max(worst, half_kicks_checked(n, s, p, wk, -hdt, latm)[0])
     return worst
 
 

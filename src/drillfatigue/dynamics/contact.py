@@ -32,7 +32,9 @@ then compares the located cylinder with its two neighbours.
 The wall loop (:func:`wall_contact`) runs over the active segments and their
 contact points (:func:`contact_point`: the ends, with the tool-joint or
 stabilizer radius, and optionally the middle; or the string's own points, plus
-each segment's deepest point between them, :func:`deepest_point`), calls :func:`wall_force` (normal
+each segment's deepest point between them, :func:`deepest_point`), locates each point
+(:func:`find_contact`) and, where it penetrates, computes :func:`wall_force`'s force
+(:func:`located_wall_force`: normal
 force plus the friction law of :mod:`friction`) at each, estimates Karnopp's
 "other" force first, caps the smooth laws' friction so one step cannot reverse
 a slip, and records contact statistics and whirl angles (:mod:`events`).
@@ -332,7 +334,22 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
         A status code (:mod:`drillfatigue.dynamics.status`): ``OK`` or
         ``UNKNOWN_FRICTION``.
     """
-    ic = find_contact(X, r_contact, p0, axis, length, radius, hint, info[:6])
+    ic = find_contact(X, r_contact, p0, axis, length, radius, hint, info)
+    return located_wall_force(X, xc, vc, omega, t_axis, r_contact, ic, k_c, c_c, fmodel, fp,
+                              f_other, dt, info, force, moment)
+
+
+@njit(cache=True, inline="always")
+def located_wall_force(X, xc, vc, omega, t_axis, r_contact, ic, k_c, c_c, fmodel, fp, f_other,
+                       dt, info, force, moment):
+    """:func:`wall_force` after the search: ``info[:6]`` holds what :func:`find_contact`
+    wrote for this point and ``ic`` is the cylinder it returned.
+
+    Fills the rest of ``info`` and ``force``/``moment`` exactly as :func:`wall_force`
+    does (it is that function's second half). The wall loop locates every point first and
+    calls this only for the points that penetrate (``info[WI_DELTA] > 0``): for the others
+    the result is zero force, and the search alone is a third of the work.
+    """
     for k in range(3):
         force[k] = 0.0
         moment[k] = 0.0
@@ -475,13 +492,18 @@ def deepest_point(off, g, npt):
     return k, u, gv
 
 
-@njit(cache=True)
+# without numba's reference counting: the rows handed to the inlined point kernels are
+# views, each an atomic increment and decrement with it; the loop allocates nothing
+# (:func:`drillfatigue.dynamics.joints.joint_forces`)
+@njit(cache=True, _nrt=False)
 def wall_contact(t, n, s, p, wk):
     """Wall contact and friction on every active segment, with contact and whirl statistics.
 
     For each segment and each of its ``cpar[P_NPTS]`` contact points
     (:func:`contact_point`) the penalty normal force and the friction of the
-    chosen law (:func:`wall_force`) are added to ``s.Fw`` / ``s.Mw``; the
+    chosen law (:func:`wall_force`; the search first, the force kernel
+    :func:`located_wall_force` only for a point that penetrates) are added to
+    ``s.Fw`` / ``s.Mw``; the
     penalty energy and the dissipated power go to ``wk.ch[H_PE]`` /
     ``wk.ch[H_PDISS]``; ``s.cst`` gets the segment's contact statistics and,
     after ``bp[B_TWIN]``, its whirl angles (:mod:`events`); ``wk.ch`` the count
@@ -629,11 +651,15 @@ def wall_contact(t, n, s, p, wk):
                     fo[0] = share * (alin[0] + alpha[1] * off * tax[2] - alpha[2] * off * tax[1])
                     fo[1] = share * (alin[1] + alpha[2] * off * tax[0] - alpha[0] * off * tax[2])
                     fo[2] = share * (alin[2] + alpha[0] * off * tax[1] - alpha[1] * off * tax[0])
-                st = wall_force(X, x[i], v[i], wW[i], tax, rc, p0, axc, lnc, rad, hint[ih],
-                                kc, seg[i, S_CC], fmodel, fp, fo, dt, info, force, moment)
-                if st != OK:
-                    return st
-                ic = int(info[WI_CYL])
+                # locate the point; the force kernel only where it penetrates (a point
+                # off the wall has zero force, and its search result is all the loop
+                # reads: the cylinder, the penetration and the distance)
+                ic = find_contact(X, rc, p0, axc, lnc, rad, hint[ih], info)
+                if info[WI_DELTA] > 0.0:
+                    st = located_wall_force(X, x[i], v[i], wW[i], tax, rc, ic, kc, seg[i, S_CC],
+                                            fmodel, fp, fo, dt, info, force, moment)
+                    if st != OK:
+                        return st
                 if ic >= 0 and pt < npi:
                     hint[ih] = ic
                     if own and pt == 0:

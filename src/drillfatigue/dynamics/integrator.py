@@ -169,6 +169,74 @@ def record(step, t1, n, s, p, wk, rec):
         counts[2] = r + 1
 
 
+# The kicks and the drift are calls of their own compiled without numba's reference
+# counting (``_nrt=False``): the rows they hand to the per-segment kernels (``v[i]``,
+# ``q[i]``, ...) are views, each an atomic increment and decrement with it; they allocate
+# nothing. The step itself allocates (the span record's sample), so it keeps it.
+@njit(cache=True, _nrt=False)
+def half_kicks(n, s, p, wk, hdt, latm):
+    """Half kick of every active segment by ``hdt`` (s) from its forces ``s.Fw, s.Mb``;
+    ``latm``: with the lateral mud mass ``p.mlat``."""
+    v = s.v
+    w = s.w
+    Fw = s.Fw
+    Mb = s.Mb
+    seg = p.seg
+    mlat = p.mlat
+    R = wk.R
+    for i in range(n):
+        if latm:
+            kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
+                         seg[i, S_IA], R[i, :, 2], hdt)
+        else:
+            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+
+
+@njit(cache=True, _nrt=False)
+def half_kicks_checked(n, s, p, wk, hdt, latm):
+    """:func:`half_kicks` and the speed check after each segment's kick: returns the largest
+    :func:`speed_excess` above 1 and its segment, or (1.0, -1) when none exceeds."""
+    v = s.v
+    w = s.w
+    Fw = s.Fw
+    Mb = s.Mb
+    seg = p.seg
+    mlat = p.mlat
+    R = wk.R
+    worst = 1.0
+    iworst = -1
+    for i in range(n):
+        if latm:
+            kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
+                         seg[i, S_IA], R[i, :, 2], hdt)
+        else:
+            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+        r = speed_excess(v[i], w[i])
+        if r > worst:
+            worst = r
+            iworst = i
+    return worst, iworst
+
+
+@njit(cache=True, _nrt=False)
+def drift(n, s, p, wk, dt, latm):
+    """Drift of every active segment over ``dt`` (s): positions by the velocities, rotations
+    by the exact free rotor (tilt inertia with the lateral mud mass when ``latm``)."""
+    x = s.x
+    v = s.v
+    q = s.q
+    w = s.w
+    seg = p.seg
+    mlat = p.mlat
+    qa = wk.vec[V_ROT_QA]
+    qb = wk.vec[V_ROT_QB]
+    for i in range(n):
+        for k in range(3):
+            x[i, k] += dt * v[i, k]
+        it = seg[i, S_IT] * mlat[i] if latm else seg[i, S_IT]
+        free_rotation(q[i], w[i], it, seg[i, S_IA], dt, qa, qb)
+
+
 @njit(cache=True)
 def advance(n_steps, s, p, wk, rec):
     """Advance the state ``s`` by ``n_steps`` velocity-Verlet steps, recording on the way.
@@ -201,7 +269,6 @@ def advance(n_steps, s, p, wk, rec):
     """
     x = s.x
     v = s.v
-    q = s.q
     w = s.w
     sc = s.sc
     seg = p.seg
@@ -209,28 +276,13 @@ def advance(n_steps, s, p, wk, rec):
     info = rec.info
     n = int(sc[C_NACT])
     hdt = 0.5 * dt
-    qa = wk.vec[V_ROT_QA]
-    qb = wk.vec[V_ROT_QB]
-    Fw = s.Fw
-    Mb = s.Mb
     ch = wk.ch
     tab_t = p.tab_t
     tab_w = p.tab_w
     latm = p.cpar.shape[0] > P_LATMASS and p.cpar[P_LATMASS] != 0.0
-    mlat = p.mlat
-    R = wk.R
     for _s in range(n_steps):
-        for i in range(n):
-            if latm:
-                kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
-                             seg[i, S_IA], R[i, :, 2], hdt)
-            else:
-                kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
-        for i in range(n):
-            for k in range(3):
-                x[i, k] += dt * v[i, k]
-            it = seg[i, S_IT] * mlat[i] if latm else seg[i, S_IT]
-            free_rotation(q[i], w[i], it, seg[i, S_IA], dt, qa, qb)
+        half_kicks(n, s, p, wk, hdt, latm)
+        drift(n, s, p, wk, dt, latm)
         sc[C_PHIB] += dt * w[0, 2]
         t0 = sc[C_STEP] * dt
         sc[C_STEP] += 1.0
@@ -253,18 +305,7 @@ def advance(n_steps, s, p, wk, rec):
             return fst
         sc[C_WIN] += dt * ch[H_PIN]
         sc[C_DISS] += dt * ch[H_PDISS]
-        worst = 1.0
-        iworst = -1
-        for i in range(n):
-            if latm:
-                kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
-                             seg[i, S_IA], R[i, :, 2], hdt)
-            else:
-                kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
-            r = speed_excess(v[i], w[i])
-            if r > worst:
-                worst = r
-                iworst = i
+        worst, iworst = half_kicks_checked(n, s, p, wk, hdt, latm)
         step = int(sc[C_STEP])
         if iworst >= 0:
             info[0] = step

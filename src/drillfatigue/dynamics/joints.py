@@ -168,7 +168,12 @@ def joint_force(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_
 _joint_force_inline = njit(inline="always")(joint_force.py_func)
 
 
-@njit(cache=True, inline="always")
+# Compiled without numba's reference counting (``_nrt=False``), as a call of its own: each
+# row passed to the joint kernel (``x[j]``, ``R[j]``, ``loads[j]``, ...) is a view, and with
+# reference counting every view costs an atomic increment and decrement; the loop
+# allocates nothing, so it needs none. Same arithmetic in the same order (bit-identical),
+# about 3x faster.
+@njit(cache=True, _nrt=False)
 def joint_forces(n, growth, s, p, wk):
     """Loads of the n - 1 joints between the active segments, added to the segments.
 
