@@ -3,6 +3,7 @@ the case table gains rounds, the cases run into the cache folder, a rerun simula
 
 from __future__ import annotations
 
+import importlib.util
 import json
 from pathlib import Path
 
@@ -11,8 +12,10 @@ import yaml
 
 from drillfatigue.config import load_params
 from drillfatigue.files import MARKER
-from drillfatigue.sweep.stages import design_stage, simulate_stage
+from drillfatigue.sweep.stages import design_stage, heldout_params, simulate_stage
 from testkit.synthetic_sweep import synthetic_case, synthetic_fatigue
+
+ROOT = Path(__file__).parents[2]
 
 TINY = {
     "operation": {"duration_s": 0.3, "bit_md_m": 500.0, "rop_m_per_s": 0.005, "rpm": 60.0},
@@ -70,3 +73,20 @@ def test_sobol_design_claims_an_empty_cache_folder(tmp_path):
     assert len(frame) == 4 and "round" not in frame.columns
     cache = tmp_path / "design" / "adaptive"
     assert [p.name for p in cache.iterdir()] == [MARKER]
+
+
+def test_held_out_design_of_an_adaptive_training_design_is_sobol(tmp_path):
+    params = load_params(_params(tmp_path))
+    assert heldout_params(params).sweep.method == "sobol"
+
+
+def test_bad_adaptive_block_one_line_error_nothing_written(tmp_path, capsys):
+    path = _params(tmp_path, adaptive={"n_initial": 16, "cache_dir": str(tmp_path / "c")})
+    spec = importlib.util.spec_from_file_location("pipeline_design", ROOT / "pipeline" / "design.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.main(["--params", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0
+    assert err.startswith("error: sweep.adaptive.n_initial: 16 initial cases exceed n_cases = 7")
+    assert not (tmp_path / "design").exists() and not (tmp_path / "c").exists()
