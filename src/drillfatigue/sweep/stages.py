@@ -87,10 +87,11 @@ def adaptive_targets(params: Params, *, progress: bool = False, case_fn: CaseFn 
                      fatigue_fn: CaseFn = fatigue_case) -> TargetFn:
     """The adaptive design's target function: simulate and evaluate with the stages' code.
 
-    The cases given go through :func:`simulate_stage` and :func:`fatigue_stage`
-    into ``<sweep.adaptive.cache_dir>/sweep`` and ``/fatigue`` (resumable:
-    a finished case is skipped, so an interrupted design continues where it
-    stopped), then their dataset rows give the governing log10 damage rate per
+    The cases designed so far go through :func:`simulate_stage` and
+    :func:`fatigue_stage` into ``<sweep.adaptive.cache_dir>/sweep`` and
+    ``/fatigue`` (resumable: a finished case is skipped, so an interrupted
+    design continues where it stopped; ``sweep.failure_threshold`` applies to
+    all of them), then the dataset rows of the cases given give the governing log10 damage rate per
     component type (:func:`drillfatigue.sweep.adaptive.case_targets`, the
     surrogate's target column and floor).
     """
@@ -100,8 +101,13 @@ def adaptive_targets(params: Params, *, progress: bool = False, case_fn: CaseFn 
     pending = folder.file("pending.parquet")
     sur = params.surrogate
 
+    designed: list[pd.DataFrame] = []
+
     def target(cases: pd.DataFrame) -> pd.DataFrame:
-        write_cases(cases, pending)
+        # every case designed so far goes to the stages (the finished ones are skipped), so
+        # sweep.failure_threshold applies to the design, not to one small batch
+        designed.append(cases)
+        write_cases(pd.concat(designed, ignore_index=True).drop_duplicates("case_id"), pending)
         simulate_stage(params, cases_path=pending, sweep_dir=sweep_dir, progress=progress,
                        case_fn=case_fn)
         fatigue_stage(params, cases_path=pending, sweep_dir=sweep_dir, fatigue_dir=fatigue_dir,
