@@ -33,12 +33,14 @@ sizes), over ``--n-max``; ``null`` when the adaptive curve never reaches it.
 
 Usage: ``python benchmarks/learning_curve.py [--repeats 1] [--n-max 48] [--n-initial 16]
 [--batch 8] [--heldout 24] [--window-s 8] [--cache DIR]`` ->
-``benchmarks/results/learning_curve.json`` (rewritten after each repeat).
+``benchmarks/results/learning_curve.json`` (rewritten after each repeat; ``--keep``
+keeps the repeats already there and runs the rest).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import platform
 import sys
@@ -197,17 +199,25 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--window-s", type=float, default=8.0)
     ap.add_argument("--cache", default=None, help="simulation cache (default: a temporary folder)")
     ap.add_argument("--out", default=str(RESULT))
+    ap.add_argument("--keep", action="store_true",
+                    help="keep the repeats already in --out (same settings) and run the rest")
     args = ap.parse_args(argv)
     cache = Path(args.cache) if args.cache else Path(tempfile.mkdtemp(prefix="learning_curve_"))
     result: dict[str, Any] = {
         "benchmark": "learning_curve", "python": platform.python_version(),
         "machine": platform.machine(), "settings": {
-            k: v for k, v in vars(args).items() if k not in ("cache", "out")},
+            k: v for k, v in vars(args).items() if k not in ("cache", "out", "keep")},
         "served_model": "gbm (fit_gbm on every row of the first n cases)",
         "metric": "held-out rows predicted within surrogate.horizon_h (deciding_metrics rows)",
         "repeats": []}
     t0 = time.perf_counter()
-    for k in range(args.repeats):
+    if args.keep and Path(args.out).is_file():
+        old = json.loads(Path(args.out).read_text(encoding="utf-8"))
+        if old.get("settings") != result["settings"] | {"repeats": old["settings"]["repeats"]}:
+            ap.error(f"--keep: {args.out} was run with other settings")
+        result["repeats"] = old["repeats"][:args.repeats]
+        t0 -= old.get("wall_s", 0.0)
+    for k in range(len(result["repeats"]), args.repeats):
         result["repeats"].append(run_repeat(args, k, cache))
         result["summary"] = summarise(result["repeats"], args.n_max)
         result["wall_s"] = round(time.perf_counter() - t0, 1)
