@@ -67,8 +67,9 @@ def test_adaptive_design_stage_caches_cases_and_reruns_without_simulating(tmp_pa
     assert simulate_stage(params, case_fn=synthetic_case).n_done == 7
 
 
-def test_sobol_design_claims_an_empty_cache_folder(tmp_path):
-    params = load_params(_params(tmp_path, method="sobol", n_cases=4))
+def test_sobol_design_claims_an_empty_cache_folder_beside_the_table(tmp_path):
+    # no adaptive.cache_dir: the folder is adaptive/ beside the case table
+    params = load_params(_params(tmp_path, method="sobol", n_cases=4, adaptive={}))
     frame = design_stage(params)
     assert len(frame) == 4 and "round" not in frame.columns
     cache = tmp_path / "design" / "adaptive"

@@ -160,10 +160,11 @@ class AdaptiveConfig(StrictModel):
     pool_factor : float
         Diversity rule: the batch is chosen among the ``pool_factor *
         batch_size`` most disputed candidates, 1 ... 64.
-    cache_dir : str
+    cache_dir : str, optional
         Run and fatigue folders of the designed cases (``sweep/``,
         ``fatigue/``), keyed by case id: an interrupted design resumes from
-        the cases already done.
+        the cases already done. None: ``adaptive/`` beside the case table
+        (``sweep.cases_path``).
     """
 
     n_initial: int = Field(16, ge=2, le=1_000_000)
@@ -172,7 +173,7 @@ class AdaptiveConfig(StrictModel):
     seed: int = Field(20240602, ge=0, le=2**63 - 1)
     n_members: int = Field(8, ge=2, le=64)
     pool_factor: float = Field(4.0, ge=1.0, le=64.0)
-    cache_dir: str = Field("data/design/adaptive", min_length=1)
+    cache_dir: str | None = Field(None, min_length=1)
 
     @model_validator(mode="after")
     def _check(self) -> AdaptiveConfig:

@@ -32,8 +32,8 @@ from drillfatigue.sweep.design import base_case_from_params, design_cases, read_
 from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
 from drillfatigue.sweep.window import run_case_converged, window_inputs
 
-__all__ = ["adaptive_targets", "dataset_stage", "design_stage", "fatigue_stage",
-           "heldout_params", "heldout_stage", "simulate_stage", "write_report"]
+__all__ = ["adaptive_cache_dir", "adaptive_targets", "dataset_stage", "design_stage",
+           "fatigue_stage", "heldout_params", "heldout_stage", "simulate_stage", "write_report"]
 
 
 def _write_json(path: Path, data: Any) -> None:
@@ -51,23 +51,25 @@ def design_stage(params: Params, cases_path: str | Path | None = None, *,
     """Sample the design; write the case table, ``coverage.csv`` and ``design.json`` beside it.
 
     ``method: adaptive`` simulates and evaluates the cases it chooses
-    (:func:`adaptive_targets`, cached in ``sweep.adaptive.cache_dir``; the
+    (:func:`adaptive_targets`, cached in :func:`adaptive_cache_dir`; the
     table gains ``round`` and ``acquisition_score``); the other methods claim
     that folder empty (a DVC output of the stage whatever the method).
     ``case_fn``/``fatigue_fn`` replace the simulator and fatigue there.
     """
     cfg = params.sweep
+    cases_path = Path(cases_path or cfg.cases_path)
     if cfg.method == "adaptive":
         censor = (-math.log10(params.surrogate.horizon_h)
                   if params.surrogate.censoring == "likelihood" else None)
         frame = adaptive_design(cfg, base_case_from_params(params),
                                 adaptive_targets(params, progress=progress, case_fn=case_fn,
-                                                 fatigue_fn=fatigue_fn),
+                                                 fatigue_fn=fatigue_fn, cases_path=cases_path),
                                 censor_log10=censor)
     else:
-        OutputFolder(cfg.adaptive.cache_dir, ADAPTIVE_KIND, "sweep.adaptive.cache_dir")
         frame = design_cases(cfg, base_case_from_params(params))
-    path = write_cases(frame, cases_path or cfg.cases_path)
+        OutputFolder(adaptive_cache_dir(params, cases_path), ADAPTIVE_KIND,
+                     "sweep.adaptive.cache_dir")
+    path = write_cases(frame, cases_path)
     numeric = [c for c in frame.columns if c not in ("case_id", "design_index", "case_json")
                and pd.api.types.is_numeric_dtype(frame[c])]
     with atomic_output(path.with_name("coverage.csv")) as tmp:
@@ -83,20 +85,30 @@ def design_stage(params: Params, cases_path: str | Path | None = None, *,
     return frame
 
 
+def adaptive_cache_dir(params: Params, cases_path: str | Path | None = None) -> Path:
+    """``sweep.adaptive.cache_dir``, or ``adaptive/`` beside the case table when unset."""
+    cfg = params.sweep
+    if cfg.adaptive.cache_dir is not None:
+        return Path(cfg.adaptive.cache_dir)
+    return Path(cases_path or cfg.cases_path).parent / "adaptive"
+
+
 def adaptive_targets(params: Params, *, progress: bool = False, case_fn: CaseFn = run_case,
-                     fatigue_fn: CaseFn = fatigue_case) -> TargetFn:
+                     fatigue_fn: CaseFn = fatigue_case,
+                     cases_path: str | Path | None = None) -> TargetFn:
     """The adaptive design's target function: simulate and evaluate with the stages' code.
 
     The cases designed so far go through :func:`simulate_stage` and
-    :func:`fatigue_stage` into ``<sweep.adaptive.cache_dir>/sweep`` and
-    ``/fatigue`` (resumable: a finished case is skipped, so an interrupted
-    design continues where it stopped; ``sweep.failure_threshold`` applies to
-    all of them), then the dataset rows of the cases given give the governing log10 damage rate per
-    component type (:func:`drillfatigue.sweep.adaptive.case_targets`, the
-    surrogate's target column and floor).
+    :func:`fatigue_stage` into ``<cache>/sweep`` and ``<cache>/fatigue``
+    (``<cache>``: :func:`adaptive_cache_dir`). Resumable: a finished case is
+    skipped, so an interrupted design continues where it stopped;
+    ``sweep.failure_threshold`` applies to all of them. The dataset rows of
+    the cases given then give the governing log10 damage rate per component
+    type (:func:`drillfatigue.sweep.adaptive.case_targets`, the surrogate's
+    target column and floor).
     """
-    cfg = params.sweep
-    folder = OutputFolder(cfg.adaptive.cache_dir, ADAPTIVE_KIND, "sweep.adaptive.cache_dir")
+    folder = OutputFolder(adaptive_cache_dir(params, cases_path), ADAPTIVE_KIND,
+                          "sweep.adaptive.cache_dir")
     sweep_dir, fatigue_dir = folder.path / "sweep", folder.path / "fatigue"
     pending = folder.file("pending.parquet")
     sur = params.surrogate
