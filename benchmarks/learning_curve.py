@@ -26,8 +26,10 @@ Per repeat ``k`` (``--repeats``):
   decades of the damage rate, and the precision of the "beyond the horizon"
   answers.
 
-The ratio reported: the number of simulations the adaptive design needs to
-reach the Sobol design's accuracy at ``--n-max`` (first size where its curve,
+The ratio reported, per metric (also the factor-2 fraction and RMSE of the
+governing rate per case and component type, the acquisition's target): the
+number of simulations the adaptive design needs to reach the Sobol design's
+accuracy at ``--n-max`` (first size where its curve,
 averaged over the repeats, is at least as good; linear interpolation between
 sizes), over ``--n-max``; ``null`` when the adaptive curve never reaches it.
 
@@ -66,7 +68,10 @@ from drillfatigue.sweep.stages import adaptive_targets
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULT = Path(__file__).parent / "results" / "learning_curve.json"
-METRICS = (("factor2_fraction", +1), ("rmse", -1))
+#: (metric, +1 if higher is better): on the deciding rows, then on the governing rate per
+#: case and component type (the acquisition's target)
+METRICS = (("factor2_fraction", +1), ("rmse", -1), ("governing_factor2_fraction", +1),
+           ("governing_rmse", -1))
 
 
 def _params(args: argparse.Namespace, k: int, cache: Path) -> Any:
