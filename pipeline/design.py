@@ -6,7 +6,14 @@ design variable, full case JSON), ``data/design/coverage.csv`` (DVC plot of
 the design) and ``data/design/design.json`` (metrics). Bad variables or
 bounds fail here, before any simulation, with a one-line error.
 
-Usage: ``python pipeline/design.py [--params params.yaml] [--out data/design/cases.parquet]``
+With ``sweep.method: adaptive`` the stage also simulates and evaluates the
+cases it chooses (the simulate and fatigue stages' code, fatigue and window
+settings), into ``sweep.adaptive.cache_dir`` (``data/design/adaptive``):
+resumable, a rerun reads finished cases back. Exit code 1 when more than
+``sweep.failure_threshold`` of a round's cases fail.
+
+Usage: ``python pipeline/design.py [--params params.yaml] [--out data/design/cases.parquet]
+[--progress]``
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ import sys
 from drillfatigue.config import load_params
 from drillfatigue.errors import InputError
 from drillfatigue.numba_cache import scope_numba_cache
+from drillfatigue.sweep.runner import SweepFailedError
 from drillfatigue.sweep.stages import design_stage
 
 
@@ -25,12 +33,17 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--out", default=None, help="case table (default: sweep.cases_path)")
+    parser.add_argument("--progress", action="store_true",
+                        help="progress bars of the adaptive design's simulations")
     args = parser.parse_args(argv)
     try:
-        frame = design_stage(load_params(args.params), args.out)
+        frame = design_stage(load_params(args.params), args.out, progress=args.progress)
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2
+    except SweepFailedError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
     print(f"design: {len(frame)} cases")
     return 0
 

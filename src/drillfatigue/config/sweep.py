@@ -129,16 +129,75 @@ class WindowConfig(StrictModel):
     max_s: float = Field(36.0, gt=0.0, le=1.0e5)
 
 
+class AdaptiveConfig(StrictModel):
+    """Adaptive design (``sweep.method: adaptive``, block ``sweep.adaptive``; ``docs/pipeline.md``).
+
+    ``n_initial`` scrambled Sobol cases (seed ``sweep.seed``) are simulated
+    and evaluated first; then, round after round, an ensemble of
+    ``n_members`` gradient-boosting models fitted on bootstrap resamples of
+    the finished cases scores a seeded Sobol pool of ``candidates`` cases by
+    its disagreement on the governing damage rate per component type, and
+    ``batch_size`` cases are added: the most disputed candidate, then greedily
+    the one farthest (in the unit design space) from every case already
+    chosen, among the ``pool_factor * batch_size`` most disputed. Rounds run
+    until ``sweep.n_cases`` cases.
+
+    Attributes
+    ----------
+    n_initial : int
+        Space-filling cases before the first round (a power of two: rounded up
+        with a warning), 2 ... n_cases.
+    batch_size : int
+        Cases added per round, 1 ... candidates.
+    candidates : int
+        Size of the Sobol candidate pool of each round (power of two: rounded
+        up), >= batch_size.
+    seed : int
+        Seed of the candidate pools (round ``r`` draws with ``seed + r``) and
+        of the bootstrap.
+    n_members : int
+        Bootstrap members of the acquisition ensemble, 2 ... 64.
+    pool_factor : float
+        Diversity rule: the batch is chosen among the ``pool_factor *
+        batch_size`` most disputed candidates, 1 ... 64.
+    cache_dir : str, optional
+        Run and fatigue folders of the designed cases (``sweep/``,
+        ``fatigue/``), keyed by case id: an interrupted design resumes from
+        the cases already done. None: ``adaptive/`` beside the case table
+        (``sweep.cases_path``).
+    """
+
+    n_initial: int = Field(16, ge=2, le=1_000_000)
+    batch_size: int = Field(8, ge=1, le=100_000)
+    candidates: int = Field(1024, ge=1, le=1_000_000)
+    seed: int = Field(20240602, ge=0, le=2**63 - 1)
+    n_members: int = Field(8, ge=2, le=64)
+    pool_factor: float = Field(4.0, ge=1.0, le=64.0)
+    cache_dir: str | None = Field(None, min_length=1)
+
+    @model_validator(mode="after")
+    def _check(self) -> AdaptiveConfig:
+        if self.candidates < self.batch_size:
+            raise ValueError(f"candidates: {self.candidates} candidates cannot fill a batch of "
+                             f"{self.batch_size} (allowed: candidates >= batch_size)")
+        return self
+
+
 class SweepConfig(StrictModel):
     """Settings of the ``sweep`` section (case design and the sweep engine).
 
     Attributes
     ----------
-    method : {'sobol', 'lhs'}
+    method : {'sobol', 'lhs', 'adaptive'}
         Scrambled Sobol sequence (default; ``n_cases`` is rounded UP to the
         next power of two, with a warning, because Sobol balance holds only
         for 2^m points) or Latin hypercube (exactly ``n_cases``), both from
-        ``scipy.stats.qmc`` and seeded.
+        ``scipy.stats.qmc`` and seeded; or ``adaptive`` (exactly ``n_cases``):
+        a Sobol start, then batches where an ensemble disagrees most
+        (:class:`AdaptiveConfig`, block :attr:`adaptive`; the design stage
+        simulates and evaluates the cases it chooses).
+    adaptive : AdaptiveConfig
+        Settings of ``method: adaptive`` (ignored by the other methods).
     n_cases : int
         Requested number of cases, 1 ... 1,000,000.
     seed : int
@@ -196,7 +255,8 @@ class SweepConfig(StrictModel):
         each case.
     """
 
-    method: Literal["sobol", "lhs"] = "sobol"
+    method: Literal["sobol", "lhs", "adaptive"] = "sobol"
+    adaptive: AdaptiveConfig = Field(default_factory=AdaptiveConfig)
     n_cases: int = Field(default=32, ge=1, le=1_000_000)
     seed: int = Field(default=20240601, ge=0, le=2**63 - 1)
     variables: dict[str, VariableSpec] = Field(default_factory=dict)
@@ -217,6 +277,13 @@ class SweepConfig(StrictModel):
     dataset_dir: str = "data/dataset"
     boundaries: Literal["operation", "rig"] = "operation"
     rig: dict[str, Any] = Field(default_factory=lambda: {"block_mode": "rop"})
+
+    @model_validator(mode="after")
+    def _check_adaptive(self) -> SweepConfig:
+        if self.method == "adaptive" and self.adaptive.n_initial > self.n_cases:
+            raise ValueError(f"adaptive.n_initial: {self.adaptive.n_initial} initial cases exceed "
+                             f"n_cases = {self.n_cases} (allowed: 2 <= n_initial <= n_cases)")
+        return self
 
     @model_validator(mode="after")
     def _check_window(self) -> SweepConfig:

@@ -37,7 +37,7 @@ from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
-from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
+from drillfatigue.surrogate.gbm import FlatForest, design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
@@ -87,6 +87,7 @@ class Surrogate:
         self.module = module.eval()
         # served gradient boosting (None: the ensemble answers)
         self.gbm = gbm
+        self._forest: FlatForest | None = None
         self._scripted: torch.jit.ScriptModule | None = None
         self.preprocessor = preprocessor
         self.domain = domain
@@ -291,8 +292,15 @@ class Surrogate:
 
     def _predict_gbm(self, x_num: np.ndarray, x_cat: np.ndarray, ood: bool,
                      knn: bool) -> dict[str, np.ndarray]:
-        """:meth:`predict_array` of the served gradient boosting (constant-width interval)."""
-        mu = self.gbm.predict(design_matrix(self.preprocessor, x_num, x_cat))
+        """:meth:`predict_array` of the served gradient boosting (constant-width interval).
+
+        The trees are evaluated by :class:`~drillfatigue.surrogate.gbm.FlatForest`
+        (built on first use; the same numbers as ``self.gbm.predict`` on the
+        design matrix).
+        """
+        if self._forest is None:
+            self._forest = FlatForest(self.gbm, self.preprocessor)
+        mu = self._forest.predict(x_num, x_cat)
         g = self.metadata["gbm"]
         half = float(g["conformal_quantile"])
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),

@@ -47,12 +47,15 @@ __all__ = [
     "base_case_from_params",
     "canonical_json",
     "case_id_of",
+    "DesignSpace",
     "design_cases",
+    "design_space",
     "inputs_sha256",
     "RIG_PATHS",
     "read_cases",
     "rig_case",
     "simulation_inputs",
+    "sobol_unit",
     "write_cases",
 ]
 
@@ -229,14 +232,21 @@ def _extremes(spec: VariableSpec) -> list[Any]:
     return [float(spec.low), float(spec.high)]  # type: ignore[arg-type]
 
 
+def sobol_unit(n: int, d: int, seed: int, field: str = "sweep.n_cases") -> np.ndarray:
+    """Scrambled Sobol sample of ``n`` points rounded up to a power of two (warning), (2^m, d)."""
+    m = max(0, math.ceil(math.log2(n)))
+    if 2**m != n:
+        warnings.warn(f"{field}={n} rounded up to {2**m}: a Sobol design "
+                      "is balanced only for a power of two", UserWarning, stacklevel=4)
+    return qmc.Sobol(d=d, scramble=True, seed=seed).random_base2(m)
+
+
 def _unit_sample(cfg: SweepConfig, d: int) -> np.ndarray:
     """Unit-hypercube sample, shape (n, d); see :class:`SweepConfig` for the rules."""
     if cfg.method == "sobol":
-        m = max(0, math.ceil(math.log2(cfg.n_cases)))
-        if 2**m != cfg.n_cases:
-            warnings.warn(f"sweep.n_cases={cfg.n_cases} rounded up to {2**m}: a Sobol design "
-                          "is balanced only for a power of two", UserWarning, stacklevel=3)
-        return qmc.Sobol(d=d, scramble=True, seed=cfg.seed).random_base2(m)
+        return sobol_unit(cfg.n_cases, d, cfg.seed)
+    if cfg.method == "adaptive":
+        return sobol_unit(cfg.adaptive.n_initial, d, cfg.seed, "sweep.adaptive.n_initial")
     return qmc.LatinHypercube(d=d, seed=cfg.seed).random(cfg.n_cases)
 
 
@@ -248,36 +258,64 @@ def _column_frame_value(values: list[Any]) -> list[Any]:
     return [canonical_json(v) for v in values]
 
 
-def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
-                 model: type[BaseModel] = CaseConfig) -> pd.DataFrame:
-    """Sample the design and return the case table.
+class DesignSpace:
+    """The checked design variables of a sweep and the map from the unit hypercube to cases.
 
-    Parameters
-    ----------
-    cfg : SweepConfig
-        Design method, size, seed and variables.
-    base_case : mapping
-        The base case (case sections as a JSON-ready dict, see
-        :func:`base_case_from_params`).
-    model : pydantic model class
-        Model every case must satisfy (default :class:`CaseConfig`; tests
-        pass a small stand-in).
+    Built by :func:`design_space` (which validates every variable at its
+    extremes first); :meth:`cases` turns unit-cube points into the case table.
+    """
 
-    Returns
-    -------
-    DataFrame
-        One row per distinct case: ``case_id`` (str), ``design_index`` (row of
-        the unit sample), one column per variable named by its dotted path
-        (the field name carries the unit), and ``case_json`` (the full,
-        validated case as canonical JSON, without the ``fatigue`` section,
-        which the fatigue stage applies to every case).
+    def __init__(self, cfg: SweepConfig, names: list[str], base: dict[str, Any],
+                 finish: Any, model: type[BaseModel]) -> None:
+        self.cfg = cfg
+        self.names = names
+        self.base = base
+        self.finish = finish
+        self.model = model
+
+    @property
+    def dim(self) -> int:
+        """Number of design variables (columns of a unit sample)."""
+        return len(self.names)
+
+    def cases(self, unit: np.ndarray, first_index: int = 0,
+              skip: set[str] | frozenset[str] = frozenset()) -> pd.DataFrame:
+        """Case table of the unit-cube points ``unit`` (shape (n, dim)).
+
+        Row ``i`` gets ``design_index = first_index + i``; a point whose case
+        id is in ``skip`` or repeats an earlier point is left out (the rows
+        kept are the first of each case). Columns as :func:`design_cases`.
+        """
+        names = self.names
+        columns = {p: _column_values(self.cfg.variables[p], unit[:, j])
+                   for j, p in enumerate(names)}
+        rows: list[dict[str, Any]] = []
+        seen = set(skip)
+        for i in range(unit.shape[0]):
+            overrides = {p: columns[p][i] for p in names}
+            case = _validate_case(self.finish(apply_overrides(self.base, overrides)),
+                                  "sweep.variables", self.model)
+            cid = case_id_of(case)
+            if cid in seen:
+                continue
+            seen.add(cid)
+            rows.append({"case_id": cid, "design_index": first_index + i, **overrides,
+                         "case_json": canonical_json(simulation_inputs(case))})
+        frame = pd.DataFrame(rows, columns=["case_id", "design_index", *names, "case_json"])
+        for p in names:
+            frame[p] = _column_frame_value(list(frame[p]))
+        return frame
+
+
+def design_space(cfg: SweepConfig, base_case: Mapping[str, Any], *,
+                 model: type[BaseModel] = CaseConfig) -> DesignSpace:
+    """Check the fixed overrides and every variable at its extremes; return the space.
 
     Raises
     ------
     InputError
-        Before any sampling result is used: ``sweep.variables.<path>`` for an
-        unknown path or a bound the case models reject, ``sweep.fixed.<path>``
-        / ``sweep.window_path`` likewise.
+        ``sweep.variables.<path>`` for an unknown path or a bound the case
+        models reject, ``sweep.fixed.<path>`` / ``sweep.window_path`` likewise.
     """
     fixed = dict(cfg.fixed)
     if cfg.window_s is not None:
@@ -307,30 +345,50 @@ def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
         for value in _extremes(cfg.variables[path]):
             trial = apply_overrides(probe, {path: value})
             _validate_case(finish(trial), f"sweep.variables.{path}", model)
+    return DesignSpace(cfg, names, base, finish, model)
 
-    if not names:
-        unit = np.zeros((1, 0))
-    else:
-        unit = _unit_sample(cfg, len(names))
-    columns = {p: _column_values(cfg.variables[p], unit[:, j]) for j, p in enumerate(names)}
 
-    rows: list[dict[str, Any]] = []
-    seen: dict[str, int] = {}
-    for i in range(unit.shape[0]):
-        overrides = {p: columns[p][i] for p in names}
-        case = _validate_case(finish(apply_overrides(base, overrides)), "sweep.variables", model)
-        cid = case_id_of(case)
-        if cid in seen:
-            continue
-        seen[cid] = i
-        rows.append({"case_id": cid, "design_index": i, **overrides,
-                     "case_json": canonical_json(simulation_inputs(case))})
-    if len(rows) < unit.shape[0]:
-        warnings.warn(f"{unit.shape[0] - len(rows)} design rows repeat an earlier case and "
-                      f"were merged; {len(rows)} distinct cases", UserWarning, stacklevel=2)
-    frame = pd.DataFrame(rows, columns=["case_id", "design_index", *names, "case_json"])
-    for p in names:
-        frame[p] = _column_frame_value(list(frame[p]))
+def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,
+                 model: type[BaseModel] = CaseConfig) -> pd.DataFrame:
+    """Sample the design and return the case table.
+
+    With ``method: adaptive`` this is the initial space-filling design of
+    ``sweep.adaptive.n_initial`` Sobol cases (the rounds that follow need
+    simulations: :func:`drillfatigue.sweep.adaptive.adaptive_design`).
+
+    Parameters
+    ----------
+    cfg : SweepConfig
+        Design method, size, seed and variables.
+    base_case : mapping
+        The base case (case sections as a JSON-ready dict, see
+        :func:`base_case_from_params`).
+    model : pydantic model class
+        Model every case must satisfy (default :class:`CaseConfig`; tests
+        pass a small stand-in).
+
+    Returns
+    -------
+    DataFrame
+        One row per distinct case: ``case_id`` (str), ``design_index`` (row of
+        the unit sample), one column per variable named by its dotted path
+        (the field name carries the unit), and ``case_json`` (the full,
+        validated case as canonical JSON, without the ``fatigue`` section,
+        which the fatigue stage applies to every case).
+
+    Raises
+    ------
+    InputError
+        Before any sampling result is used: ``sweep.variables.<path>`` for an
+        unknown path or a bound the case models reject, ``sweep.fixed.<path>``
+        / ``sweep.window_path`` likewise.
+    """
+    space = design_space(cfg, base_case, model=model)
+    unit = np.zeros((1, 0)) if not space.names else _unit_sample(cfg, space.dim)
+    frame = space.cases(unit)
+    if len(frame) < unit.shape[0]:
+        warnings.warn(f"{unit.shape[0] - len(frame)} design rows repeat an earlier case and "
+                      f"were merged; {len(frame)} distinct cases", UserWarning, stacklevel=2)
     frame.attrs["design"] = {"method": cfg.method, "seed": cfg.seed, "boundaries": cfg.boundaries,
                              "n_requested": cfg.n_cases, "n_sampled": int(unit.shape[0])}
     return frame

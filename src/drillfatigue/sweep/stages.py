@@ -14,6 +14,7 @@ benchmarks pass the synthetic ones).
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -23,15 +24,16 @@ import pyarrow.parquet as pq
 
 from drillfatigue.config import Params
 from drillfatigue.errors import InputError
-from drillfatigue.files import atomic_output, atomic_write_text
+from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
+from drillfatigue.sweep.adaptive import ADAPTIVE_KIND, TargetFn, adaptive_design, case_targets
 from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks, run_case
-from drillfatigue.sweep.dataset import write_dataset
+from drillfatigue.sweep.dataset import build_dataset, write_dataset
 from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
 from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
 from drillfatigue.sweep.window import run_case_converged, window_inputs
 
-__all__ = ["dataset_stage", "design_stage", "fatigue_stage", "heldout_params", "heldout_stage",
-           "simulate_stage", "write_report"]
+__all__ = ["adaptive_cache_dir", "adaptive_targets", "dataset_stage", "design_stage",
+           "fatigue_stage", "heldout_params", "heldout_stage", "simulate_stage", "write_report"]
 
 
 def _write_json(path: Path, data: Any) -> None:
@@ -43,19 +45,93 @@ def write_report(report: SweepReport, path: str | Path) -> None:
     _write_json(Path(path), report.to_dict())
 
 
-def design_stage(params: Params, cases_path: str | Path | None = None) -> pd.DataFrame:
-    """Sample the design; write the case table, ``coverage.csv`` and ``design.json`` beside it."""
+def design_stage(params: Params, cases_path: str | Path | None = None, *,
+                 progress: bool = False, case_fn: CaseFn = run_case,
+                 fatigue_fn: CaseFn = fatigue_case) -> pd.DataFrame:
+    """Sample the design; write the case table, ``coverage.csv`` and ``design.json`` beside it.
+
+    ``method: adaptive`` simulates and evaluates the cases it chooses
+    (:func:`adaptive_targets`, cached in :func:`adaptive_cache_dir`; the
+    table gains ``round`` and ``acquisition_score``); the other methods claim
+    that folder empty (a DVC output of the stage whatever the method).
+    ``case_fn``/``fatigue_fn`` replace the simulator and fatigue there.
+    """
     cfg = params.sweep
-    frame = design_cases(cfg, base_case_from_params(params))
-    path = write_cases(frame, cases_path or cfg.cases_path)
+    cases_path = Path(cases_path or cfg.cases_path)
+    if cfg.method == "adaptive":
+        censor = (-math.log10(params.surrogate.horizon_h)
+                  if params.surrogate.censoring == "likelihood" else None)
+        frame = adaptive_design(cfg, base_case_from_params(params),
+                                adaptive_targets(params, progress=progress, case_fn=case_fn,
+                                                 fatigue_fn=fatigue_fn, cases_path=cases_path),
+                                censor_log10=censor)
+    else:
+        frame = design_cases(cfg, base_case_from_params(params))
+        OutputFolder(adaptive_cache_dir(params, cases_path), ADAPTIVE_KIND,
+                     "sweep.adaptive.cache_dir")
+    path = write_cases(frame, cases_path)
     numeric = [c for c in frame.columns if c not in ("case_id", "design_index", "case_json")
                and pd.api.types.is_numeric_dtype(frame[c])]
     with atomic_output(path.with_name("coverage.csv")) as tmp:
         frame[["case_id", *numeric]].to_csv(tmp, index=False)
-    _write_json(path.with_name("design.json"), {
-        "method": cfg.method, "seed": cfg.seed, "n_cases_requested": cfg.n_cases,
-        "n_cases": len(frame), "variables": list(cfg.variables)})
+    info = {"method": cfg.method, "seed": cfg.seed, "n_cases_requested": cfg.n_cases,
+            "n_cases": len(frame), "variables": list(cfg.variables)}
+    if cfg.method == "adaptive":
+        info["adaptive"] = {**cfg.adaptive.model_dump(mode="json"),
+                            "n_rounds": int(frame["round"].max()),
+                            "cases_per_round": [int(n) for n in
+                                                frame["round"].value_counts().sort_index()]}
+    _write_json(path.with_name("design.json"), info)
     return frame
+
+
+def adaptive_cache_dir(params: Params, cases_path: str | Path | None = None) -> Path:
+    """``sweep.adaptive.cache_dir``, or ``adaptive/`` beside the case table when unset."""
+    cfg = params.sweep
+    if cfg.adaptive.cache_dir is not None:
+        return Path(cfg.adaptive.cache_dir)
+    return Path(cases_path or cfg.cases_path).parent / "adaptive"
+
+
+def adaptive_targets(params: Params, *, progress: bool = False, case_fn: CaseFn = run_case,
+                     fatigue_fn: CaseFn = fatigue_case,
+                     cases_path: str | Path | None = None) -> TargetFn:
+    """The adaptive design's target function: simulate and evaluate with the stages' code.
+
+    The cases designed so far go through :func:`simulate_stage` and
+    :func:`fatigue_stage` into ``<cache>/sweep`` and ``<cache>/fatigue``
+    (``<cache>``: :func:`adaptive_cache_dir`). Resumable: a finished case is
+    skipped, so an interrupted design continues where it stopped;
+    ``sweep.failure_threshold`` applies to all of them. The dataset rows of
+    the cases given then give the governing log10 damage rate per component
+    type (:func:`drillfatigue.sweep.adaptive.case_targets`, the surrogate's
+    target column and floor).
+    """
+    folder = OutputFolder(adaptive_cache_dir(params, cases_path), ADAPTIVE_KIND,
+                          "sweep.adaptive.cache_dir")
+    sweep_dir, fatigue_dir = folder.path / "sweep", folder.path / "fatigue"
+    pending = folder.file("pending.parquet")
+    sur = params.surrogate
+
+    designed: list[pd.DataFrame] = []
+
+    def target(cases: pd.DataFrame) -> pd.DataFrame:
+        # every case designed so far goes to the stages (the finished ones are skipped), so
+        # sweep.failure_threshold applies to the design, not to one small batch
+        designed.append(cases)
+        write_cases(pd.concat(designed, ignore_index=True).drop_duplicates("case_id"), pending)
+        simulate_stage(params, cases_path=pending, sweep_dir=sweep_dir, progress=progress,
+                       case_fn=case_fn)
+        fatigue_stage(params, cases_path=pending, sweep_dir=sweep_dir, fatigue_dir=fatigue_dir,
+                      progress=progress, fatigue_fn=fatigue_fn)
+        ids = pd.Index(cases["case_id"], name="case_id")
+        rows = build_dataset(cases, sweep_dir, fatigue_dir)
+        if not len(rows):
+            return pd.DataFrame(index=ids)
+        return case_targets(rows, sur.target_column, sur.rate_floor_per_h,
+                            sur.group_column).reindex(ids)
+
+    return target
 
 
 def _runner_kwargs(params: Params, scheduler: str | None, n_workers: int | None,
@@ -131,11 +207,14 @@ def dataset_stage(params: Params, *, cases_path: str | Path | None = None,
 
 def heldout_params(params: Params) -> Params:
     """``params`` with the ``sweep`` section turned into the held-out design's: the
-    ``heldout`` section's size, seed and folders, everything else (ranges, base case,
+    ``heldout`` section's size, seed and folders (Sobol for an adaptive training
+    design), everything else (ranges, base case,
     boundaries, window rule, criteria, scheduler) the training sweep's."""
     h = params.heldout
+    # an adaptive training design is tested on a space-filling one (Sobol of the held-out seed)
+    method = "sobol" if params.sweep.method == "adaptive" else params.sweep.method
     sweep = params.sweep.model_copy(update={
-        "n_cases": h.n_cases, "seed": h.seed, "cases_path": h.cases_path,
+        "method": method, "n_cases": h.n_cases, "seed": h.seed, "cases_path": h.cases_path,
         "sweep_dir": h.sweep_dir, "fatigue_dir": h.fatigue_dir, "dataset_dir": h.dataset_dir})
     return params.model_copy(update={"sweep": sweep})
 

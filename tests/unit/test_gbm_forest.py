@@ -1,0 +1,91 @@
+"""The compiled tree evaluator of the served gradient boosting against scikit-learn's predict.
+
+Reference: ``HistGradientBoostingRegressor.predict`` on the design matrix.
+Tolerance: none (``array_equal``): the evaluator does the same float64
+operations in the same order (standardise, one-hot, threshold ``<=``, leaf
+values added to the baseline tree by tree), so any difference is a bug.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from sklearn.ensemble import HistGradientBoostingRegressor
+
+from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.errors import InputError
+from drillfatigue.surrogate import make_synthetic_dataset
+from drillfatigue.surrogate.data import log10_target
+from drillfatigue.surrogate.gbm import FlatForest, design_matrix, fit_gbm, monotone_constraints
+from drillfatigue.surrogate.model import Preprocessor
+
+CFG = SurrogateConfig(hgb_max_iter=40)
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    data = make_synthetic_dataset(16, seed=4)
+    pre = Preprocessor(CFG.features, CFG.categorical).fit(data)
+    x = design_matrix(pre, pre.numeric_array(data), pre.category_codes(data))
+    y = log10_target(data[CFG.target_column].to_numpy(), CFG.rate_floor_per_h)
+    model, _ = fit_gbm(x, y, data[CFG.group_column].astype(str).to_numpy(), CFG,
+                       monotone_constraints(pre))
+    return model, pre, data, FlatForest(model, pre)
+
+
+def test_equals_sklearn_on_the_data_and_far_outside_it(fitted):
+    model, pre, data, forest = fitted
+    assert forest.n_trees == model.n_iter_
+    x_num, x_cat = pre.numeric_array(data), pre.category_codes(data)
+    ref = model.predict(design_matrix(pre, x_num, x_cat))
+    # one thread (small batch) and chunked over threads (large batch)
+    assert np.array_equal(forest.predict(x_num[:100], x_cat[:100]), ref[:100])
+    big_num = np.tile(x_num, (max(1, 20_000 // len(x_num) + 1), 1))
+    big_cat = np.tile(x_cat, (max(1, 20_000 // len(x_num) + 1), 1))
+    assert big_num.shape[0] > 16_384
+    assert np.array_equal(forest.predict(big_num, big_cat),
+                          model.predict(design_matrix(pre, big_num, big_cat)))
+    # far outside the training ranges (every split falls one way)
+    far = x_num * 10.0 - 5.0
+    assert np.array_equal(forest.predict(far, x_cat), model.predict(design_matrix(pre, far, x_cat)))
+
+
+def test_missing_values_follow_the_trained_side():
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(400, 3))
+    x[rng.random((400, 3)) < 0.2] = np.nan
+    y = np.nan_to_num(x[:, 0], nan=2.0) + 0.1 * rng.normal(size=400)
+    model = HistGradientBoostingRegressor(max_iter=30, random_state=0).fit(x, y)
+    pre = Preprocessor(["a", "b", "c"])
+    pre.mean_, pre.scale_, pre.categories_ = np.zeros(3), np.ones(3), {}
+    forest = FlatForest(model, pre)
+    assert np.array_equal(forest.predict(x, np.zeros((400, 0), dtype=np.int64)), model.predict(x))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.floats(-1e6, 1e6, allow_nan=False), min_size=13, max_size=13),
+       st.lists(st.integers(0, 100), min_size=3, max_size=3))
+def test_property_any_query_equals_sklearn(fitted, values, codes):
+    model, pre, _, forest = fitted
+    x_num = np.asarray([values[:len(pre.numeric)]], dtype=np.float64)
+    levels = [len(pre.categories_[c]) for c in pre.categorical]
+    x_cat = np.asarray([[c % k for c, k in zip(codes[:len(levels)], levels, strict=True)]],
+                       dtype=np.int64)
+    assert np.array_equal(forest.predict(x_num, x_cat),
+                          model.predict(design_matrix(pre, x_num, x_cat)))
+
+
+def test_refuses_a_model_it_cannot_evaluate(fitted):
+    model, pre, _, _ = fitted
+    with pytest.raises(InputError) as err:
+        FlatForest(model, Preprocessor(pre.numeric[:3]).fit(make_synthetic_dataset(3, seed=1)))
+    assert err.value.field == "gbm"
+    rng = np.random.default_rng(1)
+    other = HistGradientBoostingRegressor(max_iter=5, loss="absolute_error").fit(
+        rng.random((50, 3)), rng.random(50))
+    pre3 = Preprocessor(["a", "b", "c"])
+    pre3.mean_, pre3.scale_, pre3.categories_ = np.zeros(3), np.ones(3), {}
+    with pytest.raises(InputError):
+        FlatForest(other, pre3)
