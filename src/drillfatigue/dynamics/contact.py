@@ -495,7 +495,7 @@ def deepest_point(off, g, npt):
 # without numba's reference counting: the rows handed to the inlined point kernels are
 # views, each an atomic increment and decrement with it; the loop allocates nothing
 # (:func:`drillfatigue.dynamics.joints.joint_forces`)
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def wall_contact(t, n, s, p, wk):
     """Wall contact and friction on every active segment, with contact and whirl statistics.
 

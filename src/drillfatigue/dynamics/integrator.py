@@ -173,7 +173,7 @@ def record(step, t1, n, s, p, wk, rec):
 # counting (``_nrt=False``): the rows they hand to the per-segment kernels (``v[i]``,
 # ``q[i]``, ...) are views, each an atomic increment and decrement with it; they allocate
 # nothing. The step itself allocates (the span record's sample), so it keeps it.
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def half_kicks(n, s, p, wk, hdt, latm):
     """Half kick of every active segment by ``hdt`` (s) from its forces ``s.Fw, s.Mb``;
     ``latm``: with the lateral mud mass ``p.mlat``."""
@@ -192,7 +192,7 @@ def half_kicks(n, s, p, wk, hdt, latm):
             kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def half_kicks_checked(n, s, p, wk, hdt, latm):
     """:func:`half_kicks` and the speed check after each segment's kick: returns the largest
     :func:`speed_excess` above 1 and its segment, or (1.0, -1) when none exceeds."""
@@ -218,7 +218,7 @@ def half_kicks_checked(n, s, p, wk, hdt, latm):
     return worst, iworst
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def drift(n, s, p, wk, dt, latm):
     """Drift of every active segment over ``dt`` (s): positions by the velocities, rotations
     by the exact free rotor (tilt inertia with the lateral mud mass when ``latm``)."""

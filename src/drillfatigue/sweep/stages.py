@@ -74,8 +74,9 @@ def design_stage(params: Params, cases_path: str | Path | None = None, *,
                and pd.api.types.is_numeric_dtype(frame[c])]
     with atomic_output(path.with_name("coverage.csv")) as tmp:
         frame[["case_id", *numeric]].to_csv(tmp, index=False)
-    info = {"method": cfg.method, "seed": cfg.seed, "n_cases_requested": cfg.n_cases,
-            "n_cases": len(frame), "variables": list(cfg.variables)}
+    info: dict[str, Any] = {"method": cfg.method, "seed": cfg.seed,
+                            "n_cases_requested": cfg.n_cases,
+                            "n_cases": len(frame), "variables": list(cfg.variables)}
     if cfg.method == "adaptive":
         info["adaptive"] = {**cfg.adaptive.model_dump(mode="json"),
                             "n_rounds": int(frame["round"].max()),
