@@ -12,11 +12,16 @@ from __future__ import annotations
 import sys
 
 from drillfatigue.numba_cache import scope_numba_cache
-from drillfatigue.studies.stages import stage_main
+
+# Before any kernel module is imported: numba binds a kernel's cache folder
+# when the kernel is decorated, so a later call would leave the kernels
+# imported above it in the unscoped in-tree cache (stale across modules).
+scope_numba_cache()
+
+from drillfatigue.studies.stages import stage_main  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
-    scope_numba_cache()  # before any kernel module is imported
     return stage_main("case3", argv)
 
 

@@ -18,15 +18,20 @@ from __future__ import annotations
 import argparse
 import sys
 
-from drillfatigue.config import load_params
-from drillfatigue.errors import InputError
 from drillfatigue.numba_cache import scope_numba_cache
-from drillfatigue.sweep.runner import SweepFailedError
-from drillfatigue.sweep.stages import fatigue_stage, write_report
+
+# Before any kernel module is imported: numba binds a kernel's cache folder
+# when the kernel is decorated, so a later call would leave the kernels
+# imported above it in the unscoped in-tree cache (stale across modules).
+scope_numba_cache()
+
+from drillfatigue.config import load_params  # noqa: E402
+from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.sweep.runner import SweepFailedError  # noqa: E402
+from drillfatigue.sweep.stages import fatigue_stage, write_report  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
-    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--cases", default=None, help="default: sweep.cases_path")

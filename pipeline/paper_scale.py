@@ -36,10 +36,16 @@ from pathlib import Path
 
 import yaml
 
-from drillfatigue.config import case_from_dict
-from drillfatigue.config.studies import Case1Config, Case2Config, Case3Config, StringSpec
 from drillfatigue.numba_cache import scope_numba_cache
-from drillfatigue.studies.common import run_simulation, warm_up, write_json
+
+# Before any kernel module is imported: numba binds a kernel's cache folder
+# when the kernel is decorated, so a later call would leave the kernels
+# imported above it in the unscoped in-tree cache (stale across modules).
+scope_numba_cache()
+
+from drillfatigue.config import case_from_dict  # noqa: E402
+from drillfatigue.config.studies import Case1Config, Case2Config, Case3Config, StringSpec  # noqa: E402
+from drillfatigue.studies.common import run_simulation, warm_up, write_json  # noqa: E402
 
 
 def _h(seconds: float) -> str:
@@ -186,7 +192,6 @@ def update_case2_full(out: Path, full_dir: Path) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    scope_numba_cache()  # before any kernel module is imported
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--case1-s", type=float, default=20.0)
     ap.add_argument("--case2-prefix-s", type=float, default=20.0)

@@ -13,14 +13,19 @@ import argparse
 import sys
 from pathlib import Path
 
-from drillfatigue.errors import InputError
 from drillfatigue.numba_cache import scope_numba_cache
-from drillfatigue.studies.report import write_report
-from drillfatigue.studies.stages import load_section
+
+# Before any kernel module is imported: numba binds a kernel's cache folder
+# when the kernel is decorated, so a later call would leave the kernels
+# imported above it in the unscoped in-tree cache (stale across modules).
+scope_numba_cache()
+
+from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.studies.report import write_report  # noqa: E402
+from drillfatigue.studies.stages import load_section  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
-    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--case1", default="data/case1")

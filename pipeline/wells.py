@@ -15,15 +15,20 @@ import json
 import sys
 from pathlib import Path
 
-from drillfatigue.config import load_params
-from drillfatigue.errors import InputError
 from drillfatigue.numba_cache import scope_numba_cache
-from drillfatigue.well.outputs import write_well_outputs
-from drillfatigue.well.survey import atomic_output
+
+# Before any kernel module is imported: numba binds a kernel's cache folder
+# when the kernel is decorated, so a later call would leave the kernels
+# imported above it in the unscoped in-tree cache (stale across modules).
+scope_numba_cache()
+
+from drillfatigue.config import load_params  # noqa: E402
+from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.well.outputs import write_well_outputs  # noqa: E402
+from drillfatigue.well.survey import atomic_output  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
-    scope_numba_cache()  # before any kernel module is imported
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--params", default="params.yaml")
     parser.add_argument("--out", default="data/wells")

@@ -128,3 +128,41 @@ def test_the_listed_constant_modules_exist() -> None:
     # a renamed or moved module would silently fall out of the key
     root = Path(drillfatigue.__file__).parent
     assert all((root / name).is_file() for name in KERNEL_CONSTANT_MODULES)
+
+
+_BOUND_OUTSIDE_SCOPE = """
+import os, runpy, sys
+runpy.run_path(sys.argv[1], run_name="imported")  # the stage's imports, not its main()
+from numba.core.caching import FunctionCache
+from numba.core.registry import CPUDispatcher
+scoped = sys.argv[2]
+n, outside = 0, []
+for name, mod in list(sys.modules.items()):
+    if name.startswith("drillfatigue"):
+        for obj in vars(mod).values():
+            if isinstance(obj, CPUDispatcher) and isinstance(obj._cache, FunctionCache):
+                n += 1
+                if not obj._cache._cache_path.startswith(scoped):
+                    outside.append(f"{name}.{obj.__name__}: {obj._cache._cache_path}")
+print(n, outside)
+"""
+
+
+def test_every_stage_script_binds_its_kernels_to_the_scoped_cache(tmp_path: Path) -> None:
+    """A stage script that imports kernel modules before it scopes the cache leaves those
+    kernels in numba's in-tree cache (``__pycache__``), which does not notice an edited
+    kernel they call in another module: a long-lived checkout then runs stale physics.
+    Every script under pipeline/ that loads kernels must bind all of them under the
+    scoped folder (measured before the fix: 153-154 kernels outside it per script)."""
+    repo = Path(__file__).resolve().parents[2]
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["NUMBA_CACHE_DIR"] = str(tmp_path / "base")
+    scoped = str(tmp_path / "base" / kernel_digest(Path(drillfatigue.__file__).parent))
+    loaded = 0
+    for script in sorted((repo / "pipeline").glob("*.py")):
+        out = subprocess.run([sys.executable, "-c", _BOUND_OUTSIDE_SCOPE, str(script), scoped],
+                             capture_output=True, text=True, env=env, cwd=repo, check=True)
+        n, outside = out.stdout.strip().split(" ", 1)
+        assert outside == "[]", f"{script.name}: {outside}"
+        loaded += int(n) > 0
+    assert loaded >= 10  # the simulation, fatigue and study stages load kernels
