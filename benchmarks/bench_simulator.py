@@ -58,6 +58,7 @@ os.environ.setdefault("MKL_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
 
+from drillfatigue.files import atomic_write_json  # noqa: E402
 from drillfatigue.config import case_from_dict  # noqa: E402
 from drillfatigue.dynamics import layout as L  # noqa: E402
 from drillfatigue.dynamics.model import build_model, evaluate_forces, straight_path  # noqa: E402
@@ -597,9 +598,7 @@ def main() -> None:
         "note": "single thread; the machine may be shared with other jobs",
     }
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    tmp = RESULTS.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(result, indent=2) + "\n")
-    os.replace(tmp, RESULTS)
+    atomic_write_json(RESULTS, result)
     print(f"wrote {RESULTS}")
 
 

@@ -35,6 +35,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from drillfatigue.files import atomic_write_json  # noqa: E402
 from drillfatigue.numba_cache import scope_numba_cache  # noqa: E402
 
 scope_numba_cache()
@@ -199,9 +200,7 @@ def main() -> None:
            "growth_scan": scan, "runs": runs,
            "note": "CPU time of the process per run (build included); the machine may be shared"}
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(out, indent=2) + "\n")
-    os.replace(tmp, args.out)
+    atomic_write_json(args.out, out)
     print(f"wrote {args.out}")
 
 

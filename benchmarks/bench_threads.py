@@ -35,6 +35,7 @@ import numba
 import numpy as np
 from numba import njit, prange
 
+from drillfatigue.files import atomic_write_json
 from drillfatigue.numba_cache import scope_numba_cache
 
 scope_numba_cache()
@@ -193,9 +194,7 @@ def main() -> None:
                    "machine may be shared: see the load average"}
     print(json.dumps(out, indent=1))
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(out, indent=2) + "\n")
-    os.replace(tmp, args.out)
+    atomic_write_json(args.out, out)
     print(f"wrote {args.out}")
 
 

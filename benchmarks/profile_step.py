@@ -32,7 +32,6 @@ ends) and ``contact.points: string`` with ``contact.span_bending: true``.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 import time
@@ -43,6 +42,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
 
+from drillfatigue.files import atomic_write_json  # noqa: E402
 from drillfatigue.numba_cache import scope_numba_cache  # noqa: E402
 
 scope_numba_cache()
@@ -295,9 +295,7 @@ def main() -> None:
               f"({st['contact_step_ratio']:.2f}x)")
     print(f"reference kernel: {ref_us:.4f} µs per segment-step")
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(out, indent=2) + "\n")
-    os.replace(tmp, args.out)
+    atomic_write_json(args.out, out)
     print(f"wrote {args.out}")
 
 
