@@ -149,3 +149,17 @@ def synthetic_fatigue(task: dict[str, Any], case_dir: Path) -> pd.DataFrame:
     summary = json.dumps({"n_rows": len(frame)})
     (Path(case_dir) / "summary.json").write_text(summary, encoding="utf-8")
     return frame
+
+
+#: A small string and short run for the sweep-stage tests (params.yaml sections).
+TINY_PARAMS = {
+    "operation": {"duration_s": 0.3, "bit_md_m": 500.0, "rop_m_per_s": 0.005, "rpm": 60.0},
+    "string": {"components": [
+        {"type": "collar", "name": "DC", "od_m": 0.17145, "id_m": 0.0714, "length_m": 60.0,
+         "n_segments": 6},
+        {"type": "drill_pipe", "name": "DP", "od_m": 0.127, "id_m": 0.1086, "length_m": 440.0,
+         "tool_joint_od_m": 0.1683, "tool_joint_id_m": 0.0826,
+         "tool_joint_length_fraction": 0.05, "n_segments": 10}]},
+    "recording": {"joints": [2, 8], "loads_rate_hz": 100.0},
+    "fatigue": {"plots": False},
+}
