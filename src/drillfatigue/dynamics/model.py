@@ -416,6 +416,7 @@ def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
     bp[L.B_ZJ] = sv.joint_damping_ratio
     bp[L.B_MD0] = op.bit_md_m
     bp[L.B_GROWTRAP] = 1.0 if sv.growth_work_trapezoid or config.rig is not None else 0.0
+    bp[L.B_IMPBIT] = 1.0 if sv.implicit_bit_torque else 0.0
     topp = np.zeros(L.N_TOPP)
     t_ = n - 1
     topp[L.T_MPL] = segs.mass_per_length_kg_per_m[t_]
