@@ -74,6 +74,9 @@ TOLERANCE = 0.01
 #: the case-2 study's boundaries (``--boundaries``): ``rig`` (its default) or
 #: ``prescribed_rop`` (the paper's: the string grows at the ROP, 0.5 m/s, a split every 6 s)
 BOUNDARIES = "rig"
+#: the rpm ramp of the drilling case (``--rpm-ramp-s``): the study's default (1 s), or the
+#: paper-scale command's 5 s
+RPM_RAMP_S: float | None = None
 
 
 def case(duration_s: float, safety: float, paper_string: bool, dt_s: float | None = None,
@@ -82,7 +85,8 @@ def case(duration_s: float, safety: float, paper_string: bool, dt_s: float | Non
     spec = {"dc_segments": 20, "dp_segments": 100} if paper_string else {}
     cfg = Case2Config(sample_s=duration_s, settle_s=0.0, safety_factor=safety,
                       string=spec, boundaries=BOUNDARIES)
-    cfg = cfg.model_copy(update={"wob_set_N": cfg.wob_set_N + wob_offset_N})
+    cfg = cfg.model_copy(update={"wob_set_N": cfg.wob_set_N + wob_offset_N,
+                                 "rpm_ramp_s": cfg.rpm_ramp_s if RPM_RAMP_S is None else RPM_RAMP_S})
     data = case_dict(cfg, "profile_1", cfg.bit_md_start_m, None)
     data["solver"]["checkpoint_every_s"] = 0.0
     data["solver"]["implicit_bit_torque"] = implicit
@@ -330,10 +334,13 @@ def main() -> None:
     ap.add_argument("--paper-string", action="store_true",
                     help="20 collar + 100 drill-pipe segments (the paper's) instead of 9 + 20")
     ap.add_argument("--boundaries", choices=("rig", "prescribed_rop"), default="rig")
+    ap.add_argument("--rpm-ramp-s", type=float, default=None,
+                    help="rpm ramp of the case (default: the case-2 study's; paper scale: 5)")
     ap.add_argument("--out", type=Path, default=RESULTS)
     args = ap.parse_args()
-    global BOUNDARIES
+    global BOUNDARIES, RPM_RAMP_S
     BOUNDARIES = args.boundaries
+    RPM_RAMP_S = args.rpm_ramp_s
     dur = 5.0 if args.quick else args.duration
     factors = [float(f) for f in args.factors.split(",")]
     implicit = [float(f) for f in args.implicit_factors.split(",") if f]
@@ -377,6 +384,7 @@ def main() -> None:
     out = {"benchmark": "step", "case": f"case2 study, profile 1, {BOUNDARIES}, "
            + ("20 + 100 segments" if args.paper_string else "9 + 20 segments"),
            "duration_s": dur, "window_s": args.window, "tolerance": TOLERANCE,
+           "rpm_ramp_s": args.rpm_ramp_s,
            "growth_scan": scan, "runs": runs,
            "note": "CPU time of the process per run (build included); the machine may be shared"}
     if args.ensemble > 0 and ref is not None:
