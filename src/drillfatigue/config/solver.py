@@ -40,3 +40,8 @@ class SolverConfig(StrictModel):
                           "integrator's kicks see it (docs/rig.md#in-the-simulator); false: the "
                           "force at the end of the step only, an O(dt) error in the energy "
                           "balance (always on with a rig section)")
+    implicit_bit_torque: bool = Field(
+        False, description="take the bit law's own damping of the bit's spin (its slope "
+                           "dTOB/domega near zero speed) linearly implicit, so the step is not "
+                           "limited by 2 I_bit / (dTOB/domega), which the stable-step estimate "
+                           "does not count (docs/performance.md#the-bit-torque-and-the-step)")

@@ -200,6 +200,61 @@ def bit_response(model, p, wob_N, omega_bit_rad_s, out):
     return OK
 
 
+@njit(cache=True)
+def _fade_in_slope(x, th, band):
+    """Derivative of :func:`_fade_in` with respect to ``x`` (0 outside the band)."""
+    if x < th or x <= 0.0:
+        return 0.0
+    w = band * th
+    if w <= 0.0 or x >= th + w:
+        return 0.0
+    t = (x - th) / w
+    return 6.0 * t * (1.0 - t) / w
+
+
+@njit(cache=True)
+def bit_torque_slope(model, p, wob_N, omega_bit_rad_s):
+    """Derivative of the torque on bit with respect to the bit speed at fixed WOB,
+    ``d TOB / d Omega`` (N m s/rad), of :func:`bit_response`'s law.
+
+    Positive where the law acts as a damper on the bit's spin (near zero speed: the
+    regularised stick, the fade-in of the cutting term above the speed threshold),
+    negative where it weakens with speed. 0 off bottom and for an unknown model.
+    Used by the linearly implicit bit torque
+    (:func:`drillfatigue.dynamics.boundaries.implicit_bit_damping`).
+    """
+    if wob_N <= 0.0:
+        return 0.0
+    om = omega_bit_rad_s
+    if model == DETOURNAY:
+        wreg = p[I_DWREG]
+        if wreg <= 0.0 or om == 0.0:
+            return 0.0
+        # the law's torque does not change with the speed at fixed WOB; the regularisation
+        # tanh(om / wreg) does
+        wf = min(wob_N, p[I_DSIGMA] * p[I_DA] * p[I_DL])
+        tf = 0.5 * p[I_DMUGAMMA] * p[I_DA] * wf
+        if om > 0.0:
+            tq = 0.5 * p[I_DEPS] * p[I_DA] * p[I_DA] * (wob_N - wf) / (p[I_DZETA] * p[I_DEPS] * p[I_DA]) + tf
+        else:
+            tq = tf
+        th = math.tanh(om / wreg)
+        return tq * (1.0 - th * th) / wreg
+    if model != YIGIT_CHRISTOFOROU and model != PRESCRIBED_ROP:
+        return 0.0
+    b1 = p[I_B1]
+    b2 = p[I_B2]
+    b3 = p[I_B3]
+    fw = _fade_in(wob_N, p[I_WOB_TH], p[I_BAND])
+    fo = _fade_in(om, p[I_OMEGA_TH], p[I_BAND])
+    dfo = _fade_in_slope(om, p[I_OMEGA_TH], p[I_BAND])
+    th = math.tanh(b1 * om)
+    den = 1.0 + b3 * om * om
+    rat = b2 * om / den
+    drat = b2 * (1.0 - b3 * om * om) / (den * den)
+    return wob_N * p[I_B0] * (b1 * (1.0 - th * th) + fw * (fo * drat + dfo * rat))
+
+
 def pack_bit_params(cfg: BitConfig, rop_m_per_s: float = 0.0) -> tuple[int, np.ndarray]:
     """Model id and parameter vector from a validated ``BitConfig``.
 

@@ -14,7 +14,10 @@
 6. :func:`drillfatigue.dynamics.contact.wall_contact`: wall contact and
    friction, with contact and whirl statistics (it runs last among the
    forces: Karnopp's pre-pass needs all the others);
-7. :func:`moments_to_body`: world moments added to the body-frame moments.
+7. :func:`moments_to_body`: world moments added to the body-frame moments;
+8. with ``solver.implicit_bit_torque``,
+   :func:`drillfatigue.dynamics.boundaries.implicit_bit_damping`: the bit torque's own
+   damping taken linearly implicit on segment 0's spin (it needs the whole moment).
 
 The order is part of the results (floating-point sums): a new force kind is
 added as its own kernel and called here. Each kernel adds to ``s.Fw`` (world
@@ -35,12 +38,12 @@ from __future__ import annotations
 
 from numba import njit
 
-from drillfatigue.dynamics.boundaries import bit_guide, top_boundary
+from drillfatigue.dynamics.boundaries import bit_guide, implicit_bit_damping, top_boundary
 from drillfatigue.dynamics.contact import wall_contact
 from drillfatigue.dynamics.growth import growth_rate
 from drillfatigue.dynamics.joints import joint_forces
 from drillfatigue.dynamics.layout import (
-    C_NACT, C_STEP, H_PDISS, H_PE, H_PG, H_PIN, S_CA, S_CL, S_CRA, S_CRL, S_W,
+    B_IMPBIT, C_NACT, C_STEP, H_PDISS, H_PE, H_PG, H_PIN, S_CA, S_CL, S_CRA, S_CRL, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_to_rot
 from drillfatigue.dynamics.status import OK
@@ -130,4 +133,6 @@ def compute_forces(s, p, wk):
     if st != OK:
         return st
     moments_to_body(n, wk.R, s.Mw, s.Mb)
+    if p.bp[B_IMPBIT] == 1.0:
+        implicit_bit_damping(s, p, wk)
     return OK

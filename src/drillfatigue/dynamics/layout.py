@@ -99,7 +99,8 @@ B_CONSTAND = 55  # stand length (m)
 B_KROCK = 56     # rock contact stiffness (N/m)
 B_CROCK = 57     # rock contact damping (N s/m)
 B_GROWTRAP = 58  # 1: growth work booked with the force trapezoid (solver.growth_work_trapezoid)
-N_BP = 59
+B_IMPBIT = 59    # 1: the bit torque's own damping taken linearly implicit (solver.implicit_bit_torque)
+N_BP = 60
 
 # topp -- per-length properties of the extensible top segment (index n-1) and
 # section of segment n-2, to rebuild the top rows as the top grows
@@ -239,7 +240,8 @@ V_G_LOW = 40       # growth.merge_top: lower end of the lower segment (m)
 V_G_TOP = 41       # upper end of the top segment (m)
 V_W_OFF = 42       # contact.wall_contact: offsets of a segment's points (MAX_TABLE_POINTS, m)
 V_W_G = 43         # their axis offsets from the wall, distance from the centre line - R (m)
-N_VEC = 44
+V_B_IMP = 44       # boundaries.bit_guide: [dTOB/domega (N m s/rad), >= 0] for implicit_bit_damping
+N_VEC = 45
 N_VECW = 32
 
 # work.mat[r, :, :] -- scratch 3 x 3 matrices

@@ -187,6 +187,13 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
     the slip (:func:`drillfatigue.dynamics.contact.wall_contact`). ``cp_n``
     (n,): contact points of each segment when they come from the string
     (``cpar[P_CPTAB]``), else every segment has ``cpar[P_NPTS]``.
+
+    Not counted: the bit law's own damping of the bit segment's spin, ``c =
+    dTOB/dOmega`` (it depends on the WOB of the moment; 2.4e4 N m s/rad just above
+    the Yigit-Christoforou speed threshold at 100 kN), whose explicit limit ``2 I_a /
+    c`` can lie below this bound (2.8e-4 s against 3.65e-4 s on the paper string);
+    ``solver.implicit_bit_torque`` takes it implicitly
+    (:func:`drillfatigue.dynamics.boundaries.implicit_bit_damping`).
     """
     n = seg.shape[0]
     m = seg[:, L.S_M]
@@ -416,6 +423,7 @@ def pack_boundaries(config: CaseConfig, segs: Segments, seg: np.ndarray,
     bp[L.B_ZJ] = sv.joint_damping_ratio
     bp[L.B_MD0] = op.bit_md_m
     bp[L.B_GROWTRAP] = 1.0 if sv.growth_work_trapezoid or config.rig is not None else 0.0
+    bp[L.B_IMPBIT] = 1.0 if sv.implicit_bit_torque else 0.0
     topp = np.zeros(L.N_TOPP)
     t_ = n - 1
     topp[L.T_MPL] = segs.mass_per_length_kg_per_m[t_]

@@ -131,7 +131,8 @@ def case_dict(cfg: Case2Config, profile: str, bit_md_m: float, joint: int | None
         "recording": {"loads_rate_hz": cfg.loads_rate_hz, "channels_rate_hz": cfg.loads_rate_hz,
                       "kinematics_rate_hz": 10.0, "joints": None if joint is None else [joint],
                       "start_s": cfg.settle_s},
-        "solver": {"relax_s": cfg.relax_s, "safety_factor": cfg.safety_factor},
+        "solver": {"relax_s": cfg.relax_s, "safety_factor": cfg.safety_factor,
+                   "implicit_bit_torque": cfg.implicit_bit_torque},
     }
 
 
