@@ -19,7 +19,7 @@ from sklearn.model_selection import GroupShuffleSplit
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.kernels import forest_sum
+from drillfatigue.surrogate.kernels import forest_sum, forest_sum_ranked
 from drillfatigue.surrogate.model import Preprocessor
 from drillfatigue.surrogate.parallel import map_chunks
 
@@ -176,15 +176,71 @@ class FlatForest:
         self.col_level = np.asarray(col_level, dtype=np.int64)
         self.mean = np.asarray(pre.mean_, dtype=np.float64)
         self.scale = np.asarray(pre.scale_, dtype=np.float64)
+        self._rank_form()
+
+    def _rank_form(self) -> None:
+        """The trees for :func:`~drillfatigue.surrogate.kernels.forest_sum_ranked`.
+
+        Per input column the sorted distinct thresholds of its splits
+        (``cuts``, column ``j`` at ``cut_start[j]:cut_start[j + 1]``); per
+        node one int64 ``left << 32 | column << 16 | (m + 1)`` (``m``: the
+        index of its threshold among its column's), nodes renumbered tree by
+        tree in breadth-first order with the two children of a split side
+        by side (right = left + 1); a leaf points to itself with rank
+        threshold ``0xFFFF``.
+        """
+        n_cols = self.col_cat.size
+        leaf = self.child[:, 0] == np.arange(self.child.shape[0])
+        split = ~leaf
+        cuts, starts = [], [0]
+        for j in range(n_cols):
+            c = np.unique(self.threshold[split & (self.feature == j)])
+            cuts.append(c)
+            starts.append(starts[-1] + c.size)
+        if max(c.size for c in cuts) >= 0xFFFF or n_cols > 0xFFFF:
+            raise InputError("gbm", "more than 65534 thresholds on one input or 65535 inputs",
+                             "a histogram gradient boosting (at most 255 bins per input)")
+        self.cuts = np.concatenate(cuts).astype(np.float64)
+        self.cut_start = np.asarray(starts, dtype=np.int64)
+        packed = np.empty(self.child.shape[0], dtype=np.int64)
+        value = np.empty(self.child.shape[0], dtype=np.float64)
+        roots = np.empty_like(self.roots)
+        new = 0
+        for t, root in enumerate(self.roots):
+            roots[t] = new
+            queue, place = [int(root)], {int(root): new}
+            new += 1
+            while queue:
+                old = queue.pop(0)
+                me = place[old]
+                value[me] = self.value[old]
+                if leaf[old]:
+                    packed[me] = (me << 32) | 0xFFFF
+                    continue
+                j = int(self.feature[old])
+                m = int(np.searchsorted(cuts[j], self.threshold[old]))
+                left, right = int(self.child[old, 0]), int(self.child[old, 1])
+                place[left], place[right] = new, new + 1
+                packed[me] = (new << 32) | (j << 16) | (m + 1)
+                new += 2
+                queue += [left, right]
+        self.packed = packed[:new]
+        self.leaf_value = value[:new]
+        self.ranked_roots = roots
 
     @property
     def n_trees(self) -> int:
         return int(self.roots.size)
 
     def _run(self, x_num: np.ndarray, x_cat: np.ndarray, out: np.ndarray) -> None:
-        forest_sum(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
-                   self.col_level, self.feature, self.threshold, self.child, self.nan_right,
-                   self.value, self.roots, self.depth, self.baseline, out)
+        if np.isnan(x_num).any():  # NaN has no rank: the float walk, which knows its side
+            forest_sum(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
+                       self.col_level, self.feature, self.threshold, self.child,
+                       self.nan_right, self.value, self.roots, self.depth, self.baseline, out)
+            return
+        forest_sum_ranked(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
+                          self.col_level, self.cuts, self.cut_start, self.packed,
+                          self.leaf_value, self.ranked_roots, self.depth, self.baseline, out)
 
     def predict(self, x_num: np.ndarray, x_cat: np.ndarray) -> np.ndarray:
         """Prediction (n,) from raw numeric features (n, n_numeric) and level codes."""
