@@ -19,8 +19,12 @@ A flagged query is refused by the public answers (:meth:`Surrogate.predict`,
 ``drillfatigue query``, the service): :meth:`DomainChecker.refusal` gives the
 one-line error naming the first variable outside its range and that range.
 The reference set is a seeded subsample of the training rows (at most
-``reference_rows``) to bound memory and query cost. Distances are computed in
-chunks as one matrix product each (exact brute force).
+``reference_rows``) to bound memory and query cost. The distance is exact
+(float64 differences): a compiled search (:class:`KnnIndex`,
+:func:`~drillfatigue.surrogate.kernels.knn_mean_distance`) over the distinct
+reference rows grouped by case-level columns, which skips a group, or a row,
+once a partial sum reaches the current k-th best; batches run in chunks on
+the thread pool (the kernels release the GIL).
 """
 
 from __future__ import annotations
@@ -91,31 +95,24 @@ class KnnIndex:
         uniq, count = np.unique(ref, axis=0, return_counts=True)
         key = key_columns(uniq)
         rest = [c for c in range(d) if c not in key]
-        if key:
-            group = _partition_labels(uniq[:, key[0]])
-            # walk order: groups by the key column that spreads them most, rows of a
-            # group by the other column that spreads them most (the first term of each
-            # distance sum, which ends a walk)
-            key.sort(key=lambda c: -float(np.var(uniq[:, c])))
-        else:
-            group = np.zeros(uniq.shape[0], dtype=np.int64)
+        group = (_partition_labels(uniq[:, key[0]]) if key
+                 else np.zeros(uniq.shape[0], dtype=np.int64))
+        n_groups = int(group.max()) + 1
         if rest:
-            means = np.stack([np.bincount(group, weights=uniq[:, c]) / np.bincount(group)
+            # rows of a group sorted by the column that spreads them most within the
+            # groups: the nearest group is walked outward along it
+            size = np.bincount(group, minlength=n_groups)
+            means = np.stack([np.bincount(group, weights=uniq[:, c], minlength=n_groups) / size
                               for c in rest], axis=1)
             within = ((uniq[:, rest] - means[group]) ** 2).sum(axis=0)
             rest.insert(0, rest.pop(int(np.argmax(within))))
         self.perm = np.asarray(key + rest, dtype=np.int64)
         self.n_key = len(key)
-        n_groups = int(group.max()) + 1 if group.size else 1
-        first = np.zeros((n_groups, len(key)))
-        first[group] = uniq[:, key]
-        g_order = np.lexsort(first.T[::-1]) if key else np.zeros(1, dtype=np.int64)
-        g_rank = np.empty(n_groups, dtype=np.int64)
-        g_rank[g_order] = np.arange(n_groups)
-        group = g_rank[group]
+        keys = np.zeros((n_groups, len(key)))
+        keys[group] = uniq[:, key]
         col0 = uniq[:, rest[0]] if rest else np.zeros(uniq.shape[0])
         order = np.lexsort((col0, group))
-        self.keys_t = np.ascontiguousarray(first[g_order].T, dtype=np.float64)
+        self.keys_t = np.ascontiguousarray(keys.T)
         self.rest = np.ascontiguousarray(uniq[order][:, rest], dtype=np.float64)
         self.rest_t = np.ascontiguousarray(self.rest.T)
         self.count = np.ascontiguousarray(count[order], dtype=np.int64)
