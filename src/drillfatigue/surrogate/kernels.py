@@ -220,8 +220,8 @@ def _scan_group(z: np.ndarray, n_key: int, base: float, rest: np.ndarray, count:
 @njit(cache=True, nogil=True)
 def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: np.ndarray,
                       n_key: int, keys_t: np.ndarray, group_start: np.ndarray,
-                      rest: np.ndarray, rest_t: np.ndarray, count: np.ndarray, k: int,
-                      out: np.ndarray) -> None:
+                      rest: np.ndarray, rest_t: np.ndarray, box_lo: np.ndarray,
+                      box_hi: np.ndarray, count: np.ndarray, k: int, out: np.ndarray) -> None:
     """Mean Euclidean distance of each row to its ``k`` nearest reference rows, into ``out``.
 
     Exact k-nearest-neighbour search in standardised space over a reference
@@ -231,27 +231,31 @@ def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: 
     shared by every row of group ``g``), the others are each distinct
     reference row's ``rest[r]`` (``rest_t`` is its transpose; rows
     ``group_start[g]`` to ``group_start[g + 1]`` belong to group ``g``,
-    sorted by ``rest[:, 0]``), and ``count[r]`` is how many reference rows
-    equal row ``r``.
+    sorted by ``rest[:, 0]``), ``box_lo[:, g]``/``box_hi[:, g]`` bound the
+    rest columns of group ``g``'s rows, and ``count[r]`` is how many
+    reference rows equal row ``r``.
 
     A squared distance is summed key columns first, then the rest in column
-    order. The group nearest by key is scanned first, row by row outward
-    from the query's place in rest column 0 (a tight k-th best early, after
-    a few rows for a query near the reference); then every other group
-    whose key part alone is below the k-th best is scanned whole, one
-    column at a time over its rows (vectorised). Adding squares never
-    decreases a float sum, so a partial sum that reaches the k-th best rules
-    a row, or a group, out. The ``k`` best squared distances are kept sorted
-    by insertion (a row counted ``count[r]`` times enters up to that many
-    times), no sort of all distances. The result is the brute-force mean of
-    the ``k`` smallest distances, summed in another column order (equal to
-    rounding).
+    order. Each group's lower bound is its key part plus the squared gaps
+    between the query and the group's bounding box. The group with the least
+    bound is scanned first, row by row outward from the query's place in
+    rest column 0 (a tight k-th best after a few rows for a query near the
+    reference); then every other group whose bound is below the k-th best
+    is scanned whole, one column at a time over its rows (vectorised).
+    Rounding is monotone, so neither a bound nor a partial sum exceeds the
+    float sum it bounds: a group or row ruled out by reaching the k-th best
+    could not have entered. The ``k`` best squared distances are kept
+    sorted by insertion (a row counted ``count[r]`` times enters up to that
+    many times), no sort of all distances. The result is the brute-force
+    mean of the ``k`` smallest distances, summed in another column order
+    (equal to rounding).
     """
     n = x.shape[0]
     d = perm.shape[0]
     n_groups = keys_t.shape[1]
     z = np.empty(d)
     kd = np.empty(n_groups)
+    lb = np.empty(n_groups)
     acc = np.empty(rest.shape[0])
     best = np.empty(k)
     for i in range(n):
@@ -265,17 +269,28 @@ def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: 
             for g in range(n_groups):
                 e = zj - keys_t[j, g]
                 kd[g] += e * e
+        # lower bound per group: its key part plus the gaps to its bounding box
+        for g in range(n_groups):
+            lb[g] = kd[g]
+        for j in range(n_key, d):
+            zj = z[j]
+            for g in range(n_groups):
+                e = box_lo[j - n_key, g] - zj
+                if e <= 0.0:
+                    e = zj - box_hi[j - n_key, g]
+                if e > 0.0:
+                    lb[g] += e * e
         g0 = 0
         for g in range(1, n_groups):
-            if kd[g] < kd[g0]:
+            if lb[g] < lb[g0]:
                 g0 = g
         for q in range(k):
             best[q] = np.inf
         _scan_group(z, n_key, kd[g0], rest, count, group_start[g0], group_start[g0 + 1], best)
         for g in range(n_groups):
-            base = kd[g]
-            if g == g0 or base >= best[k - 1]:
+            if g == g0 or lb[g] >= best[k - 1]:
                 continue
+            base = kd[g]
             a = group_start[g]
             m = group_start[g + 1] - a
             for r in range(m):

@@ -115,6 +115,10 @@ class KnnIndex:
         self.keys_t = np.ascontiguousarray(keys.T)
         self.rest = np.ascontiguousarray(uniq[order][:, rest], dtype=np.float64)
         self.rest_t = np.ascontiguousarray(self.rest.T)
+        self.box_lo = np.full((len(rest), n_groups), np.inf)
+        self.box_hi = np.full((len(rest), n_groups), -np.inf)
+        np.minimum.at(self.box_lo.T, group, uniq[:, rest])
+        np.maximum.at(self.box_hi.T, group, uniq[:, rest])
         self.count = np.ascontiguousarray(count[order], dtype=np.int64)
         self.group_start = np.concatenate(
             [[0], np.cumsum(np.bincount(group, minlength=n_groups))]).astype(np.int64)
@@ -123,7 +127,8 @@ class KnnIndex:
                       out: np.ndarray) -> None:
         """Mean distance of rows ``(x - mean) / scale`` to their ``k`` nearest reference rows."""
         knn_mean_distance(x, mean, scale, self.perm, self.n_key, self.keys_t, self.group_start,
-                          self.rest, self.rest_t, self.count, min(int(k), self.n_rows), out)
+                          self.rest, self.rest_t, self.box_lo, self.box_hi, self.count,
+                          min(int(k), self.n_rows), out)
 
 
 def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
