@@ -118,3 +118,25 @@ def test_rank_form_is_one_word_per_node(fitted):
     col = (forest.packed >> 16) & 0xFFFF
     width = np.diff(forest.cut_start)
     assert np.all((rank_threshold[~leaf] >= 1) & (rank_threshold[~leaf] <= width[col[~leaf]]))
+
+
+def test_trees_of_more_than_64_leaves_take_the_rank_walk():
+    # leaf masks are 64-bit: a bigger tree is walked on ranks, with the same numbers
+    rng = np.random.default_rng(5)
+    x = rng.normal(size=(3000, 4))
+    y = np.sin(3 * x[:, 0]) + x[:, 1] * x[:, 2] + 0.1 * rng.normal(size=3000)
+    pre = Preprocessor(["a", "b", "c", "d"])
+    pre.mean_, pre.scale_, pre.categories_ = np.zeros(4), np.ones(4), {}
+    none = np.zeros((3000, 0), dtype=np.int64)
+    big = HistGradientBoostingRegressor(max_iter=5, max_leaf_nodes=100, min_samples_leaf=5,
+                                        random_state=0).fit(x, y)
+    forest = FlatForest(big, pre)
+    assert max(t.nodes["is_leaf"].sum() for (t,) in big._predictors) > 64
+    assert forest.masks is None
+    assert np.array_equal(forest.predict(x, none), big.predict(x))
+    small = HistGradientBoostingRegressor(max_iter=5, max_leaf_nodes=64, min_samples_leaf=5,
+                                          random_state=0).fit(x, y)
+    forest = FlatForest(small, pre)
+    assert max(t.nodes["is_leaf"].sum() for (t,) in small._predictors) == 64
+    assert forest.masks is not None  # 64 leaves: the last bit of the mask in use
+    assert np.array_equal(forest.predict(x, none), small.predict(x))
