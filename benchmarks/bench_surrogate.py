@@ -160,6 +160,15 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
     assert np.array_equal(_previous_trees(forest, x_num, x_cat),
                           model.predict_array(x_num, x_cat, ood=False)["log10"])
 
+    # the served answer against the previous one on this batch: same flags, same
+    # distances to the float32 rounding of the previous expansion
+    flag_now, dist_now = dom.check(x_num)
+    dist_before = _previous_knn((x_num - dom.mean_) / dom.scale_, dom.reference_, dom.k)
+    flag_before = dom.check(x_num, knn=False)[0] | (dist_before > dom.threshold_)
+    agreement = {"rows": n, "flagged": int(flag_now.sum()),
+                 "flags_differing_from_previous": int((flag_now != flag_before).sum()),
+                 "max_abs_distance_difference": float(np.max(np.abs(dist_now - dist_before)))}
+
     def previous_full() -> None:
         _previous_trees(forest, x_num, x_cat)
         flag, _ = dom.check(x_num, knn=False)
@@ -212,7 +221,8 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
             "ood_index": {"distinct_rows": int(dom.index.rest.shape[0]),
                           "groups": int(dom.index.keys_t.shape[1]),
                           "key_columns": [dom.names[c] for c in dom.index.perm[:dom.index.n_key]]},
-            "batched": batched, "ratio_vs_previous": ratios, "single_query": single,
+            "batched": batched, "ratio_vs_previous": ratios,
+            "domain_check_vs_previous": agreement, "single_query": single,
             "goals": _goals(batched, single, ("trees_only", "with_range_ood",
                                               "with_range_and_knn_ood"))}
 
@@ -428,6 +438,7 @@ def main(argv: list[str] | None = None) -> int:
         if key in res:
             summary[key] = {"n_trees": res[key]["n_trees"],
                             "ratio_vs_previous": res[key]["ratio_vs_previous"],
+                            "domain_check_vs_previous": res[key]["domain_check_vs_previous"],
                             "batched_predictions_per_s": {
                                 k: round(v["predictions_per_s"])
                                 for k, v in res[key]["batched"].items()},

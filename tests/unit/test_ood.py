@@ -38,7 +38,7 @@ def _brute(z: np.ndarray, ref: np.ndarray, k: int) -> np.ndarray:
 
 
 def _gemm_float32(z: np.ndarray, ref: np.ndarray, k: int) -> np.ndarray:
-    """The former distance: float32 |z|^2 - 2 z.r + |r|^2, k smallest, clamped at 0."""
+    """A matrix-product k-NN: float32 |z|^2 - 2 z.r + |r|^2, k smallest, clamped at 0."""
     z = np.asarray(z, dtype=np.float32)
     ref = np.asarray(ref, dtype=np.float32)
     d2 = (z * z).sum(axis=1)[:, None] - 2.0 * z @ ref.T + (ref * ref).sum(axis=1)[None]
@@ -82,7 +82,7 @@ def test_index_groups_the_case_columns() -> None:
     assert key_columns(rng.normal(size=(50, 3))) == []  # no shared columns: one group
 
 
-def test_flags_equal_the_former_float32_distance() -> None:
+def test_flags_equal_the_float32_gemm_distance() -> None:
     # a reference and calibration of whole synthetic cases, as the train stage builds
     # it; queries: the benchmark's kind of batch (rows of other synthetic cases) and a
     # designed out-of-domain set (uniform in the per-feature box: empty corners of a
@@ -103,7 +103,7 @@ def test_flags_equal_the_former_float32_distance() -> None:
         flag, dist = dc.check(x)
         z = (x - dc.mean_) / dc.scale_
         old = _gemm_float32(z, dc.reference_, 5)
-        # the former float32 expansion loses ~eps32 * |z|^2 to cancellation: up to
+        # the float32 expansion loses ~eps32 * |z|^2 to cancellation: up to
         # sqrt(1e-5) = 3e-3 on a distance near 0, ~1e-6 relative near the threshold
         np.testing.assert_allclose(dist, old, rtol=1e-4, atol=5e-3)
         range_flag, _ = dc.check(x, knn=False)

@@ -118,7 +118,7 @@ class FlatForest:
     tree (scikit-learn's default is 31), no tree is walked:
     :func:`~drillfatigue.surrogate.kernels.forest_sum_leafmask` ANDs one
     precomputed leaf mask per input and tree and takes the leftmost leaf
-    left (2.3x the rank walk, measured); else
+    left (docs/surrogate.md, "Speed of the served model"); else
     :func:`~drillfatigue.surrogate.kernels.forest_sum_ranked` walks the
     trees on the ranks, and a chunk with a NaN input takes the float walk
     :func:`~drillfatigue.surrogate.kernels.forest_sum` (NaN has no rank).
