@@ -343,12 +343,9 @@ def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: 
             lb[g] = kd[g]
         for j in range(n_key, d):
             zj = z[j]
-            for g in range(n_groups):
-                e = box_lo[j - n_key, g] - zj
-                if e <= 0.0:
-                    e = zj - box_hi[j - n_key, g]
-                if e > 0.0:
-                    lb[g] += e * e
+            for g in range(n_groups):  # gap below, above, or 0 inside (no branch)
+                e = max(max(box_lo[j - n_key, g] - zj, zj - box_hi[j - n_key, g]), 0.0)
+                lb[g] += e * e
         g0 = 0
         for g in range(1, n_groups):
             if lb[g] < lb[g0]:
