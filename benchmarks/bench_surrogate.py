@@ -42,8 +42,13 @@ not simulated data: the same run on the simulated dataset is the ``evaluate``
 stage. ``--no-speed`` skips the speed part and updates only the accuracy
 section of an existing result file.
 
+``--knn-scaling`` measures only the k-NN distance's CPU time per row against
+the reference size (synthetic fits of 60, 300 and 1 024 cases, 2 000 reference
+rows at most), the compiled search against the float32 GEMM distance in the
+same run, and keeps the rest of an existing result file.
+
 Usage: ``python benchmarks/bench_surrogate.py [--quick] [--threads 2] [--sim-seconds S]
-[--accuracy-cases N] [--no-speed] [--served-model DIR --served-data PARQUET]``
+[--accuracy-cases N] [--no-speed] [--knn-scaling] [--served-model DIR --served-data PARQUET]``
 -> ``benchmarks/results/surrogate.json``.
 """
 
@@ -67,6 +72,7 @@ from drillfatigue.surrogate.export import export_torchscript, load_torchscript
 from drillfatigue.surrogate.gbm import FlatForest, design_matrix
 from drillfatigue.surrogate.io import write_json
 from drillfatigue.surrogate.kernels import forest_sum
+from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
 
 RESULT = Path(__file__).parent / "results" / "surrogate.json"
@@ -227,6 +233,48 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
                                               "with_range_and_knn_ood"))}
 
 
+def knn_scaling(case_counts: tuple[int, ...] = (60, 300, 1024), n_rows: int = 20_000
+                ) -> list[dict[str, object]]:
+    """CPU time per row of the k-NN distance against the reference size, one thread.
+
+    A domain check fitted as the train stage fits it (2 000 reference rows at most)
+    on ``make_synthetic_dataset(n, seed=0)`` per ``n`` of ``case_counts``; queries:
+    ``n_rows`` rows of unseen cases (seed 1) and ``n_rows`` training rows; the
+    compiled search against the float32 GEMM distance in the same run.
+    """
+    cfg = SurrogateConfig()
+    feats = list(cfg.features)
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    out = []
+    try:
+        for n_cases in case_counts:
+            tr = make_synthetic_dataset(n_cases, seed=0)[feats].to_numpy()
+            cal = make_synthetic_dataset(max(20, n_cases // 5), seed=5)[feats].to_numpy()
+            unseen = make_synthetic_dataset(n_rows // 16 + 1, seed=1)[feats].to_numpy()[:n_rows]
+            seen = tr[np.random.default_rng(0).integers(0, len(tr), n_rows)]
+            dom = DomainChecker(feats, reference_rows=2000).fit(tr, cal, tr.mean(axis=0),
+                                                                tr.std(axis=0))
+            row: dict[str, object] = {"cases": n_cases,
+                                      "distinct_reference_rows": int(dom.index.rest.shape[0]),
+                                      "groups": int(dom.index.keys_t.shape[1])}
+            for name, x in (("unseen_cases", unseen), ("training_rows", seen)):
+                dist = np.empty(len(x))
+                dom.index.mean_distance(x, dom.mean_, dom.scale_, dom.k, dist)
+                c0 = time.process_time()
+                dom.index.mean_distance(x, dom.mean_, dom.scale_, dom.k, dist)
+                c1 = time.process_time()
+                _previous_knn((x - dom.mean_) / dom.scale_, dom.reference_, dom.k)
+                c2 = time.process_time()
+                row[name] = {"us_per_row": (c1 - c0) / len(x) * 1e6,
+                             "previous_us_per_row": (c2 - c1) / len(x) * 1e6,
+                             "ratio": (c2 - c1) / (c1 - c0)}
+            out.append(row)
+    finally:
+        torch.set_num_threads(threads)
+    return out
+
+
 def _goals(batched: dict, single: dict, served: tuple[str, ...]) -> dict[str, bool]:
     """The issue's speed goals: >= 1e6 predictions/s batched (best served path and with the
     full domain check), single query p50 < 2 ms through the public API."""
@@ -315,12 +363,21 @@ def main(argv: list[str] | None = None) -> int:
                     help="also fit on this many synthetic cases and score vs the baselines")
     ap.add_argument("--no-speed", action="store_true", help="accuracy only (keeps the "
                     "speed section of an existing result file)")
+    ap.add_argument("--knn-scaling", action="store_true", help="only the k-NN distance's "
+                    "cost against the reference size (kept with the rest of an existing "
+                    "result file)")
     ap.add_argument("--served-model", default=None,
                     help="also measure this saved gbm model folder (with --served-data)")
     ap.add_argument("--served-data", default=None,
                     help="dataset parquet the --served-model was trained on (query rows)")
     args = ap.parse_args(argv)
     repeats, n_single = (3, 200) if args.quick else (10, 2000)
+    if args.knn_scaling:
+        res = json.loads(Path(args.out).read_text()) if Path(args.out).is_file() else {}
+        res["knn_scaling"] = knn_scaling()
+        write_json(res, args.out)
+        print(json.dumps(res["knn_scaling"], indent=2))
+        return 0
     if args.no_speed:
         if args.accuracy_cases <= 0:
             ap.error("--no-speed needs --accuracy-cases N")
@@ -429,6 +486,10 @@ def main(argv: list[str] | None = None) -> int:
         old = json.loads(Path(args.out).read_text())
         if "accuracy_synthetic" in old:
             res["accuracy_synthetic"] = old["accuracy_synthetic"]
+    if Path(args.out).is_file():  # and an earlier k-NN scaling section
+        old = json.loads(Path(args.out).read_text())
+        if "knn_scaling" in old:
+            res["knn_scaling"] = old["knn_scaling"]
     write_json(res, args.out)
     summary = {"batched_predictions_per_s": {k: round(v["predictions_per_s"])
                                              for k, v in batched.items()},
