@@ -18,9 +18,11 @@ only: speed does not depend on how well it is trained. Measured on this CPU,
   table (its trees grown with the default early stopping on whole cases),
   batched 10^5 rows through ``predict_array`` (the compiled tree walker
   :class:`drillfatigue.surrogate.gbm.FlatForest`) without the domain check,
-  with the range check and with range + k-NN check, scikit-learn's own
-  ``predict`` on the design matrix for reference, and the single-query
-  latency; ``--served-model DIR --served-data PARQUET`` also measures a saved
+  with the range check and with range + k-NN check (also on one thread),
+  the domain check alone, the previous evaluators (float tree walk, float32
+  GEMM k-NN distance) for a before/after ratio under the same load,
+  scikit-learn's own ``predict`` on the design matrix for reference, and the
+  single-query latency; ``--served-model DIR --served-data PARQUET`` also measures a saved
   model (e.g. the train stage's ``data/surrogate/model``) on 10^5 rows drawn
   from its dataset. Goals are stated per served model (``goals``);
 - the ratio against one simulator run of the same condition: ``--sim-seconds``
@@ -40,8 +42,13 @@ not simulated data: the same run on the simulated dataset is the ``evaluate``
 stage. ``--no-speed`` skips the speed part and updates only the accuracy
 section of an existing result file.
 
+``--knn-scaling`` measures only the k-NN distance's CPU time per row against
+the reference size (synthetic fits of 60, 300 and 1 024 cases, 2 000 reference
+rows at most), the compiled search against the float32 GEMM distance in the
+same run, and keeps the rest of an existing result file.
+
 Usage: ``python benchmarks/bench_surrogate.py [--quick] [--threads 2] [--sim-seconds S]
-[--accuracy-cases N] [--no-speed] [--served-model DIR --served-data PARQUET]``
+[--accuracy-cases N] [--no-speed] [--knn-scaling] [--served-model DIR --served-data PARQUET]``
 -> ``benchmarks/results/surrogate.json``.
 """
 
@@ -62,8 +69,11 @@ import torch
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
 from drillfatigue.surrogate.export import export_torchscript, load_torchscript
-from drillfatigue.surrogate.gbm import design_matrix
+from drillfatigue.surrogate.gbm import FlatForest, design_matrix
 from drillfatigue.surrogate.io import write_json
+from drillfatigue.surrogate.kernels import forest_sum
+from drillfatigue.surrogate.ood import DomainChecker
+from drillfatigue.surrogate.parallel import map_chunks
 
 RESULT = Path(__file__).parent / "results" / "surrogate.json"
 PARAMS = Path(__file__).resolve().parents[1] / "params.yaml"
@@ -101,22 +111,109 @@ def _latency(fn, repeats: int) -> dict[str, float]:
             "min_ms": float(t.min() * 1e3)}
 
 
+def _previous_knn(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
+    """The domain distance as served before the compiled search, for the ratio in one run:
+    float32 |z|^2 - 2 z.r + |r|^2 as one torch GEMM per 1024-row chunk, top-k per row,
+    chunks on the thread pool."""
+    ref = torch.from_numpy(np.asarray(reference, dtype=np.float32))
+    r2 = (ref * ref).sum(dim=1)
+    zt = torch.from_numpy(np.asarray(z, dtype=np.float32))
+    out = np.empty(z.shape[0])
+    kk = min(int(k), ref.shape[0])
+
+    def run(a: int) -> None:
+        with torch.inference_mode():
+            zc = zt[a:a + 1024]
+            d2 = torch.addmm(r2.unsqueeze(0), zc, ref.t(), alpha=-2.0)
+            d2 += (zc * zc).sum(dim=1, keepdim=True)
+            small = torch.topk(d2, kk, dim=1, largest=False).values
+            out[a:a + 1024] = small.clamp_min(0.0).sqrt().mean(dim=1).numpy()
+
+    map_chunks(run, range(0, z.shape[0], 1024))
+    return out
+
+
+def _previous_trees(forest: FlatForest, x_num: np.ndarray, x_cat: np.ndarray) -> np.ndarray:
+    """The tree walk on float64 inputs (five arrays per node) as served before the rank walk,
+    in the same 8192-row chunks on the pool."""
+    out = np.empty(x_num.shape[0])
+
+    def run(a: int) -> None:
+        b = a + 8192
+        forest_sum(x_num[a:b], x_cat[a:b], forest.mean, forest.scale, forest.col_cat,
+                   forest.col_index, forest.col_level, forest.feature, forest.threshold,
+                   forest.child, forest.nan_right, forest.value, forest.roots, forest.depth,
+                   forest.baseline, out[a:b])
+
+    map_chunks(run, range(0, x_num.shape[0], 8192))
+    return out
+
+
 def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, object]:
-    """Batched and single-query speed of a surrogate whose served model is gradient boosting."""
+    """Batched and single-query speed of a surrogate whose served model is gradient boosting.
+
+    Also, in the same run: the previous evaluators (float tree walk, float32 GEMM
+    k-NN distance) with the same range check, so ``ratio_vs_previous`` is a ratio of
+    two figures measured under the same load; and the served path with the full
+    domain check on one thread, against the ``--threads`` of the run.
+    """
     n = len(big)
     x_num, x_cat = model.encode(big)
+    model.predict_array(x_num[:10], x_cat[:10])  # build the flat forest and the k-NN index
+    forest = model._forest
+    dom = model.domain
+    assert forest is not None
+    assert np.array_equal(_previous_trees(forest, x_num, x_cat),
+                          model.predict_array(x_num, x_cat, ood=False)["log10"])
+
+    # the served answer against the previous one on this batch: same flags, same
+    # distances to the float32 rounding of the previous expansion
+    flag_now, dist_now = dom.check(x_num)
+    dist_before = _previous_knn((x_num - dom.mean_) / dom.scale_, dom.reference_, dom.k)
+    flag_before = dom.check(x_num, knn=False)[0] | (dist_before > dom.threshold_)
+    agreement = {"rows": n, "flagged": int(flag_now.sum()),
+                 "flags_differing_from_previous": int((flag_now != flag_before).sum()),
+                 "max_abs_distance_difference": float(np.max(np.abs(dist_now - dist_before)))}
+
+    def previous_full() -> None:
+        _previous_trees(forest, x_num, x_cat)
+        flag, _ = dom.check(x_num, knn=False)
+        flag |= _previous_knn((x_num - dom.mean_) / dom.scale_, dom.reference_,
+                              dom.k) > dom.threshold_
+
     batched = {
         "trees_only": _median_rate(lambda: model.predict_array(x_num, x_cat, ood=False), n,
                                    repeats),
         "with_range_ood": _median_rate(lambda: model.predict_array(x_num, x_cat, knn=False), n,
                                        repeats),
         "with_range_and_knn_ood": _median_rate(lambda: model.predict_array(x_num, x_cat), n,
-                                               max(1, repeats // 2)),
+                                               repeats),
+        "domain_check_only": _median_rate(lambda: dom.check(x_num), n, repeats),
+        "previous_trees_only": _median_rate(lambda: _previous_trees(forest, x_num, x_cat), n,
+                                            repeats),
+        "previous_knn_only": _median_rate(
+            lambda: _previous_knn((x_num - dom.mean_) / dom.scale_, dom.reference_, dom.k), n,
+            max(1, repeats // 2)),
+        "previous_with_range_and_knn_ood": _median_rate(previous_full, n, max(1, repeats // 2)),
         "predict_dataframe": _median_rate(lambda: model.predict(big), n, max(1, repeats // 2)),
         "sklearn_predict_reference": _median_rate(
             lambda: model.gbm.predict(design_matrix(model.preprocessor, x_num, x_cat)), n,
             max(1, repeats // 2)),
     }
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        batched["with_range_and_knn_ood_1_thread"] = _median_rate(
+            lambda: model.predict_array(x_num, x_cat), n, repeats)
+    finally:
+        torch.set_num_threads(threads)
+    r = {k: v["predictions_per_s"] for k, v in batched.items()}
+    ratios = {"trees_only": r["trees_only"] / r["previous_trees_only"],
+              "knn_only": r["domain_check_only"] / r["previous_knn_only"],
+              "with_range_and_knn_ood": (r["with_range_and_knn_ood"]
+                                         / r["previous_with_range_and_knn_ood"]),
+              f"{threads}_threads_vs_1": (r["with_range_and_knn_ood"]
+                                          / r["with_range_and_knn_ood_1_thread"])}
     one = big.iloc[[123]]
     xn1, xc1 = model.encode(one)
     single = {
@@ -126,10 +223,56 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
                                          n_single),
     }
     return {"n_trees": int(model.gbm.n_iter_),
-            "ood_reference_rows": int(model.domain.reference_.shape[0]),
-            "batched": batched, "single_query": single,
+            "ood_reference_rows": int(dom.reference_.shape[0]),
+            "ood_index": {"distinct_rows": int(dom.index.rest.shape[0]),
+                          "groups": int(dom.index.keys_t.shape[1]),
+                          "key_columns": [dom.names[c] for c in dom.index.perm[:dom.index.n_key]]},
+            "batched": batched, "ratio_vs_previous": ratios,
+            "domain_check_vs_previous": agreement, "single_query": single,
             "goals": _goals(batched, single, ("trees_only", "with_range_ood",
                                               "with_range_and_knn_ood"))}
+
+
+def knn_scaling(case_counts: tuple[int, ...] = (60, 300, 1024), n_rows: int = 20_000
+                ) -> list[dict[str, object]]:
+    """CPU time per row of the k-NN distance against the reference size, one thread.
+
+    A domain check fitted as the train stage fits it (2 000 reference rows at most)
+    on ``make_synthetic_dataset(n, seed=0)`` per ``n`` of ``case_counts``; queries:
+    ``n_rows`` rows of unseen cases (seed 1) and ``n_rows`` training rows; the
+    compiled search against the float32 GEMM distance in the same run.
+    """
+    cfg = SurrogateConfig()
+    feats = list(cfg.features)
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    out = []
+    try:
+        for n_cases in case_counts:
+            tr = make_synthetic_dataset(n_cases, seed=0)[feats].to_numpy()
+            cal = make_synthetic_dataset(max(20, n_cases // 5), seed=5)[feats].to_numpy()
+            unseen = make_synthetic_dataset(n_rows // 16 + 1, seed=1)[feats].to_numpy()[:n_rows]
+            seen = tr[np.random.default_rng(0).integers(0, len(tr), n_rows)]
+            dom = DomainChecker(feats, reference_rows=2000).fit(tr, cal, tr.mean(axis=0),
+                                                                tr.std(axis=0))
+            row: dict[str, object] = {"cases": n_cases,
+                                      "distinct_reference_rows": int(dom.index.rest.shape[0]),
+                                      "groups": int(dom.index.keys_t.shape[1])}
+            for name, x in (("unseen_cases", unseen), ("training_rows", seen)):
+                dist = np.empty(len(x))
+                dom.index.mean_distance(x, dom.mean_, dom.scale_, dom.k, dist)
+                c0 = time.process_time()
+                dom.index.mean_distance(x, dom.mean_, dom.scale_, dom.k, dist)
+                c1 = time.process_time()
+                _previous_knn((x - dom.mean_) / dom.scale_, dom.reference_, dom.k)
+                c2 = time.process_time()
+                row[name] = {"us_per_row": (c1 - c0) / len(x) * 1e6,
+                             "previous_us_per_row": (c2 - c1) / len(x) * 1e6,
+                             "ratio": (c2 - c1) / (c1 - c0)}
+            out.append(row)
+    finally:
+        torch.set_num_threads(threads)
+    return out
 
 
 def _goals(batched: dict, single: dict, served: tuple[str, ...]) -> dict[str, bool]:
@@ -220,12 +363,21 @@ def main(argv: list[str] | None = None) -> int:
                     help="also fit on this many synthetic cases and score vs the baselines")
     ap.add_argument("--no-speed", action="store_true", help="accuracy only (keeps the "
                     "speed section of an existing result file)")
+    ap.add_argument("--knn-scaling", action="store_true", help="only the k-NN distance's "
+                    "cost against the reference size (kept with the rest of an existing "
+                    "result file)")
     ap.add_argument("--served-model", default=None,
                     help="also measure this saved gbm model folder (with --served-data)")
     ap.add_argument("--served-data", default=None,
                     help="dataset parquet the --served-model was trained on (query rows)")
     args = ap.parse_args(argv)
     repeats, n_single = (3, 200) if args.quick else (10, 2000)
+    if args.knn_scaling:
+        res = json.loads(Path(args.out).read_text()) if Path(args.out).is_file() else {}
+        res["knn_scaling"] = knn_scaling()
+        write_json(res, args.out)
+        print(json.dumps(res["knn_scaling"], indent=2))
+        return 0
     if args.no_speed:
         if args.accuracy_cases <= 0:
             ap.error("--no-speed needs --accuracy-cases N")
@@ -334,6 +486,10 @@ def main(argv: list[str] | None = None) -> int:
         old = json.loads(Path(args.out).read_text())
         if "accuracy_synthetic" in old:
             res["accuracy_synthetic"] = old["accuracy_synthetic"]
+    if Path(args.out).is_file():  # and an earlier k-NN scaling section
+        old = json.loads(Path(args.out).read_text())
+        if "knn_scaling" in old:
+            res["knn_scaling"] = old["knn_scaling"]
     write_json(res, args.out)
     summary = {"batched_predictions_per_s": {k: round(v["predictions_per_s"])
                                              for k, v in batched.items()},
@@ -342,6 +498,8 @@ def main(argv: list[str] | None = None) -> int:
     for key in ("gbm", "gbm_saved_model"):
         if key in res:
             summary[key] = {"n_trees": res[key]["n_trees"],
+                            "ratio_vs_previous": res[key]["ratio_vs_previous"],
+                            "domain_check_vs_previous": res[key]["domain_check_vs_previous"],
                             "batched_predictions_per_s": {
                                 k: round(v["predictions_per_s"])
                                 for k, v in res[key]["batched"].items()},

@@ -89,3 +89,54 @@ def test_refuses_a_model_it_cannot_evaluate(fitted):
     pre3.mean_, pre3.scale_, pre3.categories_ = np.zeros(3), np.ones(3), {}
     with pytest.raises(InputError):
         FlatForest(other, pre3)
+
+
+def test_a_batch_with_a_missing_value_equals_sklearn(fitted):
+    # rows go through the rank walk, except a chunk holding a NaN (NaN has no rank):
+    # that chunk takes the float walk; either way scikit-learn's numbers
+    model, pre, data, forest = fitted
+    reps = 17_000 // len(data) + 1  # more than two chunks of 8192 rows
+    x_num = np.tile(pre.numeric_array(data), (reps, 1))
+    x_cat = np.tile(pre.category_codes(data), (reps, 1))
+    x_num[7, 3] = np.nan
+    x_num[-1, 0] = 1e300
+    assert np.array_equal(forest.predict(x_num, x_cat),
+                          model.predict(design_matrix(pre, x_num, x_cat)))
+
+
+def test_rank_form_is_one_word_per_node(fitted):
+    model, _, _, forest = fitted
+    n_nodes = sum(tree.nodes.shape[0] for (tree,) in model._predictors)
+    assert forest.packed.shape == (n_nodes,) and forest.leaf_value.shape == (n_nodes,)
+    rank_threshold = forest.packed & 0xFFFF
+    leaf = rank_threshold == 0xFFFF
+    node = np.arange(n_nodes)
+    # a leaf is its own left child; a split's children are side by side after it
+    assert np.array_equal((forest.packed >> 32)[leaf], node[leaf])
+    assert np.all((forest.packed >> 32)[~leaf] > node[~leaf])
+    # a split's rank threshold names one of its column's distinct cuts
+    col = (forest.packed >> 16) & 0xFFFF
+    width = np.diff(forest.cut_start)
+    assert np.all((rank_threshold[~leaf] >= 1) & (rank_threshold[~leaf] <= width[col[~leaf]]))
+
+
+def test_trees_of_more_than_64_leaves_take_the_rank_walk():
+    # leaf masks are 64-bit: a bigger tree is walked on ranks, with the same numbers
+    rng = np.random.default_rng(5)
+    x = rng.normal(size=(3000, 4))
+    y = np.sin(3 * x[:, 0]) + x[:, 1] * x[:, 2] + 0.1 * rng.normal(size=3000)
+    pre = Preprocessor(["a", "b", "c", "d"])
+    pre.mean_, pre.scale_, pre.categories_ = np.zeros(4), np.ones(4), {}
+    none = np.zeros((3000, 0), dtype=np.int64)
+    big = HistGradientBoostingRegressor(max_iter=5, max_leaf_nodes=100, min_samples_leaf=5,
+                                        random_state=0).fit(x, y)
+    forest = FlatForest(big, pre)
+    assert max(t.nodes["is_leaf"].sum() for (t,) in big._predictors) > 64
+    assert forest.masks is None
+    assert np.array_equal(forest.predict(x, none), big.predict(x))
+    small = HistGradientBoostingRegressor(max_iter=5, max_leaf_nodes=64, min_samples_leaf=5,
+                                          random_state=0).fit(x, y)
+    forest = FlatForest(small, pre)
+    assert max(t.nodes["is_leaf"].sum() for (t,) in small._predictors) == 64
+    assert forest.masks is not None  # 64 leaves: the last bit of the mask in use
+    assert np.array_equal(forest.predict(x, none), small.predict(x))

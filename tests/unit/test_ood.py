@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 import numpy as np
+import torch
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.ood import DomainChecker, knn_distance
+from drillfatigue.surrogate import make_synthetic_dataset
+from drillfatigue.surrogate.ood import DomainChecker, KnnIndex, key_columns, knn_distance
 
 
 def _fit() -> tuple[DomainChecker, np.ndarray]:
@@ -26,23 +31,100 @@ def test_knn_distance_exact() -> None:
     np.testing.assert_allclose(d, [0.5], rtol=1e-6)  # mean of 0 and 1
 
 
-def test_batched_knn_distance_equals_brute_force() -> None:
-    import torch
+def _brute(z: np.ndarray, ref: np.ndarray, k: int) -> np.ndarray:
+    """Reference: every squared distance in float64, sorted, the k smallest."""
+    d2 = ((z[:, None, :] - np.asarray(ref, dtype=np.float64)[None]) ** 2).sum(axis=2)
+    return np.sqrt(np.sort(d2, axis=1)[:, :min(k, ref.shape[0])]).mean(axis=1)
 
-    rng = np.random.default_rng(3)
-    ref = rng.normal(size=(300, 4)).astype(np.float32)
-    z = rng.normal(size=(2500, 4))  # > 2 chunks: the pooled path
+
+def _gemm_float32(z: np.ndarray, ref: np.ndarray, k: int) -> np.ndarray:
+    """A matrix-product k-NN: float32 |z|^2 - 2 z.r + |r|^2, k smallest, clamped at 0."""
+    z = np.asarray(z, dtype=np.float32)
+    ref = np.asarray(ref, dtype=np.float32)
+    d2 = (z * z).sum(axis=1)[:, None] - 2.0 * z @ ref.T + (ref * ref).sum(axis=1)[None]
+    part = np.partition(d2, k - 1, axis=1)[:, :k]
+    return np.sqrt(np.maximum(part, 0.0)).mean(axis=1)
+
+
+def _cases(rng: np.random.Generator, n_cases: int, rows: int, d_case: int, d_loc: int,
+           ) -> np.ndarray:
+    """Rows of simulated cases: ``d_case`` columns shared by a case's rows, then location ones."""
+    case = np.repeat(rng.normal(size=(n_cases, d_case)), rows, axis=0)
+    return np.hstack([case, rng.normal(size=(n_cases * rows, d_loc))])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 8), st.integers(1, 60), st.integers(1, 5),
+       st.integers(0, 4), st.booleans())
+def test_property_knn_equals_brute_force(seed: int, k: int, n_cases: int, d_case: int,
+                                         d_loc: int, duplicates: bool) -> None:
+    # case-structured references (grouped by the index), plain ones (d_loc = 0 or
+    # one row per case: no key) and repeated rows (counted with multiplicity)
+    rng = np.random.default_rng(seed)
+    rows = int(rng.integers(1, 6))
+    ref = _cases(rng, n_cases, rows, d_case, d_loc)
+    if duplicates:
+        ref = np.vstack([ref, ref[rng.integers(0, ref.shape[0], ref.shape[0])]])
+    z = np.vstack([rng.normal(scale=2.0, size=(40, ref.shape[1])),  # anywhere
+                   ref[rng.integers(0, ref.shape[0], 10)],  # on a reference row
+                   ref[rng.integers(0, ref.shape[0], 10)] + 1e-3])  # next to one
+    # the same squares summed in another column order: float64 rounding only
+    np.testing.assert_allclose(knn_distance(z, ref, k), _brute(z, ref, k), rtol=1e-12,
+                               atol=1e-12)
+
+
+def test_index_groups_the_case_columns() -> None:
+    rng = np.random.default_rng(2)
+    ref = _cases(rng, 30, 8, 4, 3)[:, [4, 0, 5, 1, 2, 6, 3]]  # case columns shuffled in
+    idx = KnnIndex(ref)
+    assert idx.n_key == 4 and sorted(idx.perm[:4].tolist()) == [1, 3, 4, 6]
+    assert idx.keys_t.shape == (4, 30) and idx.rest.shape == (240, 3)
+    assert key_columns(rng.normal(size=(50, 3))) == []  # no shared columns: one group
+
+
+def test_flags_equal_the_float32_gemm_distance() -> None:
+    # a reference and calibration of whole synthetic cases, as the train stage builds
+    # it; queries: the benchmark's kind of batch (rows of other synthetic cases) and a
+    # designed out-of-domain set (uniform in the per-feature box: empty corners of a
+    # 13-dimensional design, plus points past the ranges)
+    cfg = SurrogateConfig()
+    train = make_synthetic_dataset(60, seed=0)
+    feats = list(cfg.features)
+    x_tr = train[feats].to_numpy()
+    mean, scale = x_tr.mean(axis=0), x_tr.std(axis=0)
+    x_cal = make_synthetic_dataset(20, seed=5)[feats].to_numpy()
+    dc = DomainChecker(feats, k=5, reference_rows=2000).fit(x_tr, x_cal, mean, scale)
+    assert dc.index.n_key > 0  # the operating conditions group the reference
+    rng = np.random.default_rng(7)
+    batch = make_synthetic_dataset(400, seed=1)[feats].to_numpy()
+    lo, hi = x_tr.min(axis=0), x_tr.max(axis=0)
+    designed = rng.uniform(lo - 0.1 * (hi - lo), hi + 0.1 * (hi - lo), (3000, len(feats)))
+    for x in (batch, designed):
+        flag, dist = dc.check(x)
+        z = (x - dc.mean_) / dc.scale_
+        old = _gemm_float32(z, dc.reference_, 5)
+        # the float32 expansion loses ~eps32 * |z|^2 to cancellation: up to
+        # sqrt(1e-5) = 3e-3 on a distance near 0, ~1e-6 relative near the threshold
+        np.testing.assert_allclose(dist, old, rtol=1e-4, atol=5e-3)
+        range_flag, _ = dc.check(x, knn=False)
+        np.testing.assert_array_equal(flag, range_flag | (old > dc.threshold_))
+    assert 0.0 < dc.check(batch)[0].mean() < 0.5
+    assert dc.check(designed)[0].mean() > 0.9
+
+
+def test_pooled_check_equals_row_by_row() -> None:
+    dc, x = _fit()
+    x = np.vstack([x, x[::-1]])
+    assert x.shape[0] > 4096  # more than one chunk of 4096 rows, on two threads
     before = torch.get_num_threads()
     try:
         torch.set_num_threads(2)
-        d = knn_distance(z, ref, 5)
-        assert torch.get_num_threads() == 2
+        flag, dist = dc.check(x)
     finally:
         torch.set_num_threads(before)
-    d2 = ((z[:, None, :] - ref.astype(np.float64)[None]) ** 2).sum(axis=2)
-    brute = np.sqrt(np.sort(d2, axis=1)[:, :5]).mean(axis=1)
-    # float32 GEMM expansion |z|^2 - 2 z.r + |r|^2: ~1e-6 relative on O(1) distances
-    np.testing.assert_allclose(d, brute, rtol=1e-4, atol=1e-4)
+    one = [dc.check(x[i:i + 1]) for i in range(0, x.shape[0], 97)]
+    np.testing.assert_array_equal(flag[::97], [f[0] for f, _ in one])
+    np.testing.assert_array_equal(dist[::97], [d[0] for _, d in one])
 
 
 def test_inside_points_not_flagged() -> None:

@@ -19,7 +19,7 @@ from sklearn.model_selection import GroupShuffleSplit
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.kernels import forest_sum
+from drillfatigue.surrogate.kernels import forest_sum, forest_sum_leafmask, forest_sum_ranked
 from drillfatigue.surrogate.model import Preprocessor
 from drillfatigue.surrogate.parallel import map_chunks
 
@@ -111,12 +111,21 @@ class FlatForest:
     scikit-learn's ``predict`` builds the design matrix (:func:`design_matrix`)
     and walks each tree with OpenMP threads; on a loaded machine the thread
     barriers dominate (measured: ~8e3 rows/s and 80 ms per single query at
-    load 7 on 2 cores). Here the design matrix is never built: the kernel
-    :func:`drillfatigue.surrogate.kernels.forest_sum` standardises and one-hot
-    encodes each row on the fly and walks the trees level by level over
-    blocks of rows, on one thread per chunk of rows (numba releases the GIL). The result equals scikit-learn's
-    prediction bit for bit (same float64 operations in the same order;
-    tested).
+    load 7 on 2 cores). Here the design matrix is never built: a compiled
+    kernel standardises and one-hot encodes each row on the fly and replaces
+    each input by its rank among the thresholds the trees use on it, which
+    decides every split as the float value does. With at most 64 leaves per
+    tree (scikit-learn's default is 31), no tree is walked:
+    :func:`~drillfatigue.surrogate.kernels.forest_sum_leafmask` ANDs one
+    precomputed leaf mask per input and tree and takes the leftmost leaf
+    left (docs/surrogate.md, "Speed of the served model"); else
+    :func:`~drillfatigue.surrogate.kernels.forest_sum_ranked` walks the
+    trees on the ranks, and a chunk with a NaN input takes the float walk
+    :func:`~drillfatigue.surrogate.kernels.forest_sum` (NaN has no rank).
+    Chunks of rows run on the thread pool (numba releases the GIL); up to
+    2048 rows on the calling thread. The result equals scikit-learn's
+    prediction bit for bit (the same leaf values added in the same order to
+    the same baseline; tested).
 
     Parameters
     ----------
@@ -176,15 +185,129 @@ class FlatForest:
         self.col_level = np.asarray(col_level, dtype=np.int64)
         self.mean = np.asarray(pre.mean_, dtype=np.float64)
         self.scale = np.asarray(pre.scale_, dtype=np.float64)
+        self._rank_form()
+        self._leafmask_form()
+
+    def _rank_form(self) -> None:
+        """The trees for :func:`~drillfatigue.surrogate.kernels.forest_sum_ranked`.
+
+        Per input column the sorted distinct thresholds of its splits
+        (``cuts``, column ``j`` at ``cut_start[j]:cut_start[j + 1]``); per
+        node one int64 ``left << 32 | column << 16 | (m + 1)`` (``m``: the
+        index of its threshold among its column's), nodes renumbered tree by
+        tree in breadth-first order with the two children of a split side
+        by side (right = left + 1); a leaf points to itself with rank
+        threshold ``0xFFFF``.
+        """
+        n_cols = self.col_cat.size
+        leaf = self.child[:, 0] == np.arange(self.child.shape[0])
+        split = ~leaf
+        cuts, starts = [], [0]
+        for j in range(n_cols):
+            c = np.unique(self.threshold[split & (self.feature == j)])
+            cuts.append(c)
+            starts.append(starts[-1] + c.size)
+        if max(c.size for c in cuts) >= 0xFFFF or n_cols > 0xFFFF:
+            raise InputError("gbm", "more than 65534 thresholds on one input or 65535 inputs",
+                             "a histogram gradient boosting (at most 255 bins per input)")
+        self.cuts = np.concatenate(cuts).astype(np.float64)
+        self.cut_start = np.asarray(starts, dtype=np.int64)
+        packed = np.empty(self.child.shape[0], dtype=np.int64)
+        value = np.empty(self.child.shape[0], dtype=np.float64)
+        roots = np.empty_like(self.roots)
+        new = 0
+        for t, root in enumerate(self.roots):
+            roots[t] = new
+            queue, place = [int(root)], {int(root): new}
+            new += 1
+            while queue:
+                old = queue.pop(0)
+                me = place[old]
+                value[me] = self.value[old]
+                if leaf[old]:
+                    packed[me] = (me << 32) | 0xFFFF
+                    continue
+                j = int(self.feature[old])
+                m = int(np.searchsorted(cuts[j], self.threshold[old]))
+                left, right = int(self.child[old, 0]), int(self.child[old, 1])
+                place[left], place[right] = new, new + 1
+                packed[me] = (new << 32) | (j << 16) | (m + 1)
+                new += 2
+                queue += [left, right]
+        self.packed = packed[:new]
+        self.leaf_value = value[:new]
+        self.ranked_roots = roots
+
+    def _leafmask_form(self) -> None:
+        """The trees for :func:`~drillfatigue.surrogate.kernels.forest_sum_leafmask`.
+
+        Leaves numbered left to right per tree; for each column ``j`` and rank
+        ``r`` (0 to the column's number of thresholds) the row
+        ``masks[mask_start[j] + r]`` holds per tree the AND of the leaf masks
+        (all bits but the left subtree's leaves) of its splits on ``j`` whose
+        threshold index is below ``r``. None (``masks`` is None) when a tree
+        has more than 64 leaves: the rank walk evaluates it.
+        """
+        leaf = self.child[:, 0] == np.arange(self.child.shape[0])
+        widths = np.diff(self.cut_start)
+        self.mask_start = np.concatenate([[0], np.cumsum(widths + 1)]).astype(np.int64)
+        masks = np.full((int(self.mask_start[-1]), self.n_trees), np.uint64(2**64 - 1),
+                        dtype=np.uint64)
+        leaf_value = np.zeros((self.n_trees, 64))
+        for t, root in enumerate(self.roots):
+            # in-order walk: the leaves of a subtree are a run [first, end) of numbers
+            first: dict[int, int] = {}
+            end: dict[int, int] = {}
+            stack, count = [(int(root), False)], 0
+            while stack:
+                k, done = stack.pop()
+                if leaf[k]:
+                    if count == 64:
+                        self.masks = None
+                        return
+                    first[k], end[k] = count, count + 1
+                    leaf_value[t, count] = self.value[k]
+                    count += 1
+                elif done:
+                    first[k] = first[int(self.child[k, 0])]
+                    end[k] = end[int(self.child[k, 1])]
+                else:
+                    stack += [(k, True), (int(self.child[k, 1]), False),
+                              (int(self.child[k, 0]), False)]
+            for k in first:
+                if leaf[k]:
+                    continue
+                left = int(self.child[k, 0])
+                bits = ((1 << (end[left] - first[left])) - 1) << first[left]
+                j = int(self.feature[k])
+                m = int(np.searchsorted(self.cuts[self.cut_start[j]:self.cut_start[j + 1]],
+                                        self.threshold[k]))
+                masks[self.mask_start[j] + m + 1, t] &= np.uint64(~bits & (2**64 - 1))
+        for j in range(widths.size):
+            a, b = self.mask_start[j], self.mask_start[j + 1]
+            masks[a:b] = np.bitwise_and.accumulate(masks[a:b], axis=0)
+        self.masks = masks
+        self.leaf_mask_value = leaf_value
 
     @property
     def n_trees(self) -> int:
         return int(self.roots.size)
 
     def _run(self, x_num: np.ndarray, x_cat: np.ndarray, out: np.ndarray) -> None:
-        forest_sum(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
-                   self.col_level, self.feature, self.threshold, self.child, self.nan_right,
-                   self.value, self.roots, self.depth, self.baseline, out)
+        if np.isnan(x_num).any():  # NaN has no rank: the float walk, which knows its side
+            forest_sum(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
+                       self.col_level, self.feature, self.threshold, self.child,
+                       self.nan_right, self.value, self.roots, self.depth, self.baseline, out)
+            return
+        if self.masks is not None:
+            forest_sum_leafmask(x_num, x_cat, self.mean, self.scale, self.col_cat,
+                                self.col_index, self.col_level, self.cuts, self.cut_start,
+                                self.mask_start, self.masks, self.leaf_mask_value,
+                                self.baseline, out)
+            return
+        forest_sum_ranked(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
+                          self.col_level, self.cuts, self.cut_start, self.packed,
+                          self.leaf_value, self.ranked_roots, self.depth, self.baseline, out)
 
     def predict(self, x_num: np.ndarray, x_cat: np.ndarray) -> np.ndarray:
         """Prediction (n,) from raw numeric features (n, n_numeric) and level codes."""

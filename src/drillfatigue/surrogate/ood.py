@@ -19,8 +19,12 @@ A flagged query is refused by the public answers (:meth:`Surrogate.predict`,
 ``drillfatigue query``, the service): :meth:`DomainChecker.refusal` gives the
 one-line error naming the first variable outside its range and that range.
 The reference set is a seeded subsample of the training rows (at most
-``reference_rows``) to bound memory and query cost. Distances are computed in
-chunks as one matrix product each (exact brute force).
+``reference_rows``) to bound memory and query cost. The distance is exact
+(float64 differences): a compiled search (:class:`KnnIndex`,
+:func:`~drillfatigue.surrogate.kernels.knn_mean_distance`) over the distinct
+reference rows grouped by case-level columns, which skips a group, or a row,
+once a partial sum reaches the current k-th best; batches run in chunks on
+the thread pool (the kernels release the GIL).
 """
 
 from __future__ import annotations
@@ -28,18 +32,110 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
-import torch
 
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.kernels import outside_ranges
+from drillfatigue.surrogate.kernels import knn_mean_distance, outside_ranges
 from drillfatigue.surrogate.parallel import map_chunks
 
-_CHUNK = 1024
-_SMALL = 16
+_CHUNK = 4096  # rows per worker call of the domain check
+_ONE_THREAD_ROWS = 2048  # up to this many rows, check on the calling thread
+
+
+def _partition_labels(col: np.ndarray) -> np.ndarray:
+    """Labels of the equal values of ``col``, numbered by first occurrence (canonical)."""
+    _, first, inverse = np.unique(col, return_index=True, return_inverse=True)
+    rank = np.empty(first.size, dtype=np.int64)
+    rank[np.argsort(first, kind="stable")] = np.arange(first.size)
+    return rank[inverse.ravel()]
+
+
+def key_columns(unique_rows: np.ndarray) -> list[int]:
+    """Columns of the k-NN index's group key: the largest set that partitions the rows alike.
+
+    Rows of one simulated case share every operating condition (rpm, ROP,
+    mud, friction, ...) and differ only in the location features, so those
+    columns split the reference into the same groups, one per case. Among
+    the sets of columns with the same partition of ``unique_rows`` into
+    groups of equal values, the one with the most columns (then the fewest
+    groups) is the key, if its groups hold two rows on average or more; else
+    none (one group: a plain scan). Only the speed of
+    :func:`~drillfatigue.surrogate.kernels.knn_mean_distance` depends on it,
+    never its result.
+    """
+    n, d = unique_rows.shape
+    classes: dict[bytes, list[int]] = {}
+    groups: dict[bytes, int] = {}
+    for c in range(d):
+        lab = _partition_labels(unique_rows[:, c])
+        key = lab.tobytes()
+        classes.setdefault(key, []).append(c)
+        groups[key] = int(lab.max()) + 1 if n else 0
+    best: list[int] = []
+    best_groups = n
+    for key, cols in classes.items():
+        if 2 * groups[key] > n:
+            continue
+        if len(cols) > len(best) or (len(cols) == len(best) and groups[key] < best_groups):
+            best, best_groups = cols, groups[key]
+    return best
+
+
+class KnnIndex:
+    """Reference rows of the k-NN distance, de-duplicated and grouped by key columns.
+
+    Parameters
+    ----------
+    reference : ndarray, shape (n_ref, d)
+        Standardised reference rows (any float dtype; searched in float64).
+    """
+
+    def __init__(self, reference: np.ndarray) -> None:
+        ref = np.asarray(reference, dtype=np.float64)
+        self.n_rows, d = ref.shape
+        uniq, count = np.unique(ref, axis=0, return_counts=True)
+        key = key_columns(uniq)
+        rest = [c for c in range(d) if c not in key]
+        group = (_partition_labels(uniq[:, key[0]]) if key
+                 else np.zeros(uniq.shape[0], dtype=np.int64))
+        n_groups = int(group.max()) + 1
+        if rest:
+            # rows of a group sorted by the column that spreads them most within the
+            # groups: the nearest group is walked outward along it
+            size = np.bincount(group, minlength=n_groups)
+            means = np.stack([np.bincount(group, weights=uniq[:, c], minlength=n_groups) / size
+                              for c in rest], axis=1)
+            within = ((uniq[:, rest] - means[group]) ** 2).sum(axis=0)
+            rest.insert(0, rest.pop(int(np.argmax(within))))
+        self.perm = np.asarray(key + rest, dtype=np.int64)
+        self.n_key = len(key)
+        keys = np.zeros((n_groups, len(key)))
+        keys[group] = uniq[:, key]
+        col0 = uniq[:, rest[0]] if rest else np.zeros(uniq.shape[0])
+        order = np.lexsort((col0, group))
+        self.keys_t = np.ascontiguousarray(keys.T)
+        self.rest = np.ascontiguousarray(uniq[order][:, rest], dtype=np.float64)
+        self.rest_t = np.ascontiguousarray(self.rest.T)
+        self.box_lo = np.full((len(rest), n_groups), np.inf)
+        self.box_hi = np.full((len(rest), n_groups), -np.inf)
+        np.minimum.at(self.box_lo.T, group, uniq[:, rest])
+        np.maximum.at(self.box_hi.T, group, uniq[:, rest])
+        self.count = np.ascontiguousarray(count[order], dtype=np.int64)
+        self.group_start = np.concatenate(
+            [[0], np.cumsum(np.bincount(group, minlength=n_groups))]).astype(np.int64)
+
+    def mean_distance(self, x: np.ndarray, mean: np.ndarray, scale: np.ndarray, k: int,
+                      out: np.ndarray) -> None:
+        """Mean distance of rows ``(x - mean) / scale`` to their ``k`` nearest reference rows."""
+        knn_mean_distance(x, mean, scale, self.perm, self.n_key, self.keys_t, self.group_start,
+                          self.rest, self.rest_t, self.box_lo, self.box_hi, self.count,
+                          min(int(k), self.n_rows), out)
 
 
 def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
     """Mean distance of each row of ``z`` to its ``k`` nearest rows of ``reference``.
+
+    Exact (float64 differences, no expansion of the square); see
+    :class:`KnnIndex` and :func:`~drillfatigue.surrogate.kernels.knn_mean_distance`.
 
     Parameters
     ----------
@@ -52,28 +148,10 @@ def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
     -------
     ndarray, shape (n,)
     """
-    ref = np.asarray(reference, dtype=np.float32)
-    kk = min(int(k), ref.shape[0])
-    z = np.asarray(z, dtype=np.float32)
+    z = np.ascontiguousarray(z, dtype=np.float64)
+    d = z.shape[1]
     out = np.empty(z.shape[0])
-    if z.shape[0] <= _SMALL:  # single queries: plain numpy, no torch dispatch
-        d2 = ((ref[None, :, :] - z[:, None, :]) ** 2).sum(axis=2)
-        part = np.partition(d2, kk - 1, axis=1)[:, :kk]
-        return np.sqrt(np.maximum(part, 0.0)).mean(axis=1).astype(np.float64)
-    # batches: |z|^2 - 2 z.r + |r|^2 as one GEMM per chunk (torch.cdist is far slower here)
-    rt = torch.from_numpy(ref)
-    r2 = (rt * rt).sum(dim=1)
-    zt = torch.from_numpy(z)
-
-    def run(a: int) -> None:
-        with torch.inference_mode():
-            zc = zt[a:a + _CHUNK]
-            d2 = torch.addmm(r2.unsqueeze(0), zc, rt.t(), alpha=-2.0)
-            d2 += (zc * zc).sum(dim=1, keepdim=True)
-            small = torch.topk(d2, kk, dim=1, largest=False).values
-            out[a:a + _CHUNK] = small.clamp_min(0.0).sqrt().mean(dim=1).numpy()
-
-    map_chunks(run, range(0, z.shape[0], _CHUNK))
+    KnnIndex(reference).mean_distance(z, np.zeros(d), np.ones(d), k, out)
     return out
 
 
@@ -126,9 +204,19 @@ class DomainChecker:
         if z.shape[0] > self.reference_rows:
             z = z[np.sort(rng.choice(z.shape[0], self.reference_rows, replace=False))]
         self.reference_ = z.astype(np.float32)
-        d_cal = knn_distance((x_cal - self.mean_) / self.scale_, self.reference_, self.k)
+        d_cal = np.empty(x_cal.shape[0])
+        self.index.mean_distance(np.ascontiguousarray(x_cal, dtype=np.float64), self.mean_,
+                                 self.scale_, self.k, d_cal)
         self.threshold_ = float(np.quantile(d_cal, self.quantile))
         return self
+
+    @property
+    def index(self) -> KnnIndex:
+        """The k-NN index of :attr:`reference_` (built on first use, rebuilt if replaced)."""
+        if getattr(self, "_index_of", None) is not self.reference_:
+            self._index = KnnIndex(self.reference_)
+            self._index_of = self.reference_
+        return self._index
 
     def check(self, x: np.ndarray, knn: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Flag rows of ``x`` (raw SI, shape (n, d)).
@@ -139,17 +227,29 @@ class DomainChecker:
         distance : ndarray, shape (n,)
             k-NN distance (NaN when ``knn`` is False).
         """
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        n = x.shape[0]
         span = self.max_ - self.min_
         tol = 1e-9 * np.where(span > 0, span, np.abs(self.max_) + 1.0)
-        out_range = outside_ranges(np.ascontiguousarray(x, dtype=np.float64),
-                                   np.asarray(self.min_ - tol, dtype=np.float64),
-                                   np.asarray(self.max_ + tol, dtype=np.float64))
-        if knn:
-            dist = knn_distance((x - self.mean_) / self.scale_, self.reference_, self.k)
-            flag = out_range | (dist > self.threshold_)
-        else:
-            dist = np.full(x.shape[0], np.nan)
-            flag = out_range
+        lo = np.asarray(self.min_ - tol, dtype=np.float64)
+        hi = np.asarray(self.max_ + tol, dtype=np.float64)
+        flag = np.empty(n, dtype=bool)
+        dist = np.full(n, np.nan)
+        index = self.index if knn else None
+        mean = np.ascontiguousarray(self.mean_, dtype=np.float64)
+        scale = np.ascontiguousarray(self.scale_, dtype=np.float64)
+
+        def run(a: int, b: int) -> None:
+            f = outside_ranges(x[a:b], lo, hi)
+            if index is not None:
+                index.mean_distance(x[a:b], mean, scale, self.k, dist[a:b])
+                f |= dist[a:b] > self.threshold_
+            flag[a:b] = f
+
+        if n <= _ONE_THREAD_ROWS:  # few rows: no pool to wake
+            run(0, n)
+        else:  # both kernels release the GIL: chunks on the pool's threads
+            map_chunks(lambda a: run(a, min(a + _CHUNK, n)), range(0, n, _CHUNK))
         return flag, dist
 
     def reasons(self, x: np.ndarray, dist: np.ndarray, flag: np.ndarray) -> np.ndarray:
