@@ -172,8 +172,9 @@ _joint_force_inline = njit(inline="always")(joint_force.py_func)
 # row passed to the joint kernel (``x[j]``, ``R[j]``, ``loads[j]``, ...) is a view, and with
 # reference counting every view costs an atomic increment and decrement; the loop
 # allocates nothing, so it needs none. Same arithmetic in the same order (bit-identical),
-# about 3x faster.
-@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+# about 3x faster. numpy's error model: divisions without the zero-divisor test
+# (integrator.half_kicks).
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def joint_forces(n, growth, s, p, wk):
     """Loads of the n - 1 joints between the active segments, added to the segments.
 
