@@ -60,7 +60,7 @@ def _pair(gap_z: float = 0.0, twist: float = 0.0):
     f, ml, mu, loads, ed = np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(6), np.zeros(2)
     joint_force(x_lo, z, r_lo, q_lo, z, h, x_up, z, r_up, q_up, z, h,
                 100.0, 10.0, 5.0, 2.0, 0.0, 0.0, 0.0, 0.0,
-                np.zeros(4), np.zeros(4), np.zeros(4), np.zeros((3, 3)), f, ml, mu, loads, ed)
+                f, ml, mu, loads, ed)
     return f, ml, loads, ed
 
 

@@ -197,9 +197,7 @@ N_CH_RIG = 19
 # a use reads the first 2, 3, 4, 15 or MAX_TABLE_POINTS entries)
 V_ROT_QA = 0       # rigid.free_rotation: two quaternions
 V_ROT_QB = 1
-V_J_QR = 2         # joints.joint_force: relative, half and mid quaternions
-V_J_QH = 3
-V_J_QM = 4
+# rows 2-4: free
 V_J_F = 5          # joint force on the lower body (N, world)
 V_J_MLO = 6        # joint moment on the lower body (N m, world)
 V_J_MUP = 7        # joint moment on the upper body (N m, world)
@@ -243,7 +241,7 @@ N_VEC = 44
 N_VECW = 32
 
 # work.mat[r, :, :] -- scratch 3 x 3 matrices
-M_J_RM = 0         # joint frame (joints.joint_force)
+# row 0: free
 M_D_R = 1          # drive rotation (boundaries.top_joint)
 N_MAT = 2
 
