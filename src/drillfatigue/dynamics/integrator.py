@@ -77,7 +77,7 @@ from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
     B_ESCALE, B_RIG, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_LATMASS,
     P_SPAN, S_IA, S_IT,
-    S_M, V_ROT_QA, V_ROT_QB,
+    S_M,
 )
 from drillfatigue.dynamics.rigid import free_rotation, kick, kick_lateral
 from drillfatigue.dynamics.span_record import span_sample
@@ -232,13 +232,11 @@ def drift(n, s, p, wk, dt, latm):
     w = s.w
     seg = p.seg
     mlat = p.mlat
-    qa = wk.vec[V_ROT_QA]
-    qb = wk.vec[V_ROT_QB]
     for i in range(n):
         for k in range(3):
             x[i, k] += dt * v[i, k]
         it = seg[i, S_IT] * mlat[i] if latm else seg[i, S_IT]
-        free_rotation(q[i], w[i], it, seg[i, S_IA], dt, qa, qb)
+        free_rotation(q[i], w[i], it, seg[i, S_IA], dt)
 
 
 # One step without the recorder, compiled without numba's reference counting: everything
