@@ -51,10 +51,10 @@ R_TJ = 0.0841
 
 
 @njit(cache=True, inline="always")
-def _joint(j, x, v, R, q, w, h, kp, scr, rm, out, loads, ed):
+def _joint(j, x, v, R, q, w, h, kp, out, loads, ed):
     joint_force(x[j], v[j], R[j], q[j], w[j], h[j], x[j + 1], v[j + 1], R[j + 1], q[j + 1],
                 w[j + 1], h[j + 1], kp[0], kp[1], kp[2], kp[3], kp[4], kp[5], kp[6], kp[7],
-                scr[j, 0], scr[j, 1], scr[j, 2], rm[j], out[j, 0], out[j, 1], out[j, 2],
+                out[j, 0], out[j, 1], out[j, 2],
                 loads[j], ed[j])
 
 
@@ -86,24 +86,24 @@ def _gather(n, out, F, M):
 
 # like the simulator's loops, without numba's reference counting on the row views
 @njit(cache=True, _nrt=False)
-def steps_serial(k, x, v, R, q, w, h, kp, scr, rm, out, loads, ed, p0, ax, ln, rad, hint, info,
+def steps_serial(k, x, v, R, q, w, h, kp, out, loads, ed, p0, ax, ln, rad, hint, info,
                  F, M):
     n = x.shape[0]
     for _ in range(k):
         for j in range(n - 1):
-            _joint(j, x, v, R, q, w, h, kp, scr, rm, out, loads, ed)
+            _joint(j, x, v, R, q, w, h, kp, out, loads, ed)
         for i in range(n):
             _search(i, x, R, h, p0, ax, ln, rad, hint, info)
         _gather(n, out, F, M)
 
 
 @njit(cache=True, parallel=True)
-def steps_parallel(k, x, v, R, q, w, h, kp, scr, rm, out, loads, ed, p0, ax, ln, rad, hint, info,
+def steps_parallel(k, x, v, R, q, w, h, kp, out, loads, ed, p0, ax, ln, rad, hint, info,
                    F, M):
     n = x.shape[0]
     for _ in range(k):
         for j in prange(n - 1):
-            _joint(j, x, v, R, q, w, h, kp, scr, rm, out, loads, ed)
+            _joint(j, x, v, R, q, w, h, kp, out, loads, ed)
         for i in prange(n):
             _search(i, x, R, h, p0, ax, ln, rad, hint, info)
         _gather(n, out, F, M)
@@ -130,8 +130,6 @@ def build(n: int, seed: int = 0) -> tuple:
     ea, ei, gj = 2.07e11 * 3.4e-3, 2.07e11 * 5.9e-6, 7.9e10 * 1.18e-5
     kp = np.array([ea / SEG_M, 12.0 * ei / SEG_M ** 3 * 100.0, ei / SEG_M, gj / SEG_M,
                    2e4, 2e3, 1e3, 1e2])
-    scr = np.zeros((n, 3, 4))
-    rm = np.zeros((n, 3, 3))
     out = np.zeros((n, 3, 3))
     loads = np.zeros((n, 6))
     ed = np.zeros((n, 2))
@@ -144,7 +142,7 @@ def build(n: int, seed: int = 0) -> tuple:
     info = np.zeros((n, 2, 9))
     F = np.zeros((n, 3))
     M = np.zeros((n, 3))
-    return (x, v, R, q, w, h, kp, scr, rm, out, loads, ed, p0, ax, ln, rad, hint, info, F, M)
+    return (x, v, R, q, w, h, kp, out, loads, ed, p0, ax, ln, rad, hint, info, F, M)
 
 
 def best_wall(fn, k: int, args: tuple, reps: int) -> float:

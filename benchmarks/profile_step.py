@@ -7,7 +7,9 @@ The deviated drilling case of ``bench_simulator.py`` (``data/cases/case2_profile
 120 segments on profile_1, wall contact, tanh-exponential friction, ROP 0.5 m/s) is
 built and run for a short while so the string lies on the wall, then the state is
 frozen and the kernels of each room run alone on it in a loop (each wrapper below is a
-plain numba loop around the room's kernel, as :func:`integrator.advance` calls it):
+plain numba loop around the room's kernel, as :func:`integrator.step` calls it, and like
+it compiled without numba's reference counting; the recorder's loops keep it, as
+:func:`integrator.advance` does):
 
 * ``rotations + body``: quaternion -> rotation matrices, world angular velocities,
   gravity and mud damping (:mod:`forces`);
@@ -67,7 +69,7 @@ from bench_simulator import OPTION_SETS, deviated_case, reference_us_per_segment
 RESULTS = Path(__file__).resolve().parent / "results" / "profile_step.json"
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def loop_body(k, s, p, wk):
     n = int(s.sc[L.C_NACT])
     for _ in range(k):
@@ -75,14 +77,14 @@ def loop_body(k, s, p, wk):
         body_forces(n, s, p, wk)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def loop_joints(k, s, p, wk):
     n = int(s.sc[L.C_NACT])
     for _ in range(k):
         joint_forces(n, growth_rate(p.bp, s.sc), s, p, wk)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def loop_boundaries(k, s, p, wk):
     n = int(s.sc[L.C_NACT])
     t = s.sc[L.C_STEP] * p.dt
@@ -91,7 +93,7 @@ def loop_boundaries(k, s, p, wk):
         bit_guide(s, p, wk)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def loop_contact(k, s, p, wk):
     n = int(s.sc[L.C_NACT])
     t = s.sc[L.C_STEP] * p.dt
@@ -99,7 +101,7 @@ def loop_contact(k, s, p, wk):
         wall_contact(t, n, s, p, wk)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def loop_integrator(k, s, p, wk):
     n = int(s.sc[L.C_NACT])
     dt = p.dt
@@ -113,7 +115,7 @@ def loop_integrator(k, s, p, wk):
     return worst
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def loop_growth(k, s, p, wk):
     n = int(s.sc[L.C_NACT])
     for j in range(k):

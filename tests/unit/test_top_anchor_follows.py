@@ -35,10 +35,10 @@ def _top_loads(top_axial: str, axial_offset_m: float, tilt_rad: float) -> tuple[
     model, state = build_model(cfg, straight_path(40.0))
     top = model.n - 1
     x, q = state.x.copy(), state.q.copy()
-    tmp, out = np.empty(4), np.empty(4)
+    out = np.empty(4)
     quat_to_rot(q[top], R := np.empty((3, 3)))
     x[top] -= axial_offset_m * R[:, 2]  # the whole top segment moved up the hole
-    quat_exp_mul(q[top], tilt_rad, 0.0, 0.0, tmp, out)  # small tilt about the body x axis
+    quat_exp_mul(q[top], tilt_rad, 0.0, 0.0, out)  # small tilt about the body x axis
     q[top] = out
     Rs = np.zeros((model.n, 3, 3))
     for i in range(model.n):

@@ -25,7 +25,7 @@ p.tab_t, p.tab_w, p.cpar`` and the path nodes, ``wk.R, wk.wW``; writes
 ``wk.ch`` (surface torque, hook load, rpms, WOB, TOB, ROP, bit MD; adds the
 boundary terms of the energy and power channels) and the scalar state
 (``sc[C_HINT]``, ``sc[C_ROPNOW]``, bit bounce); scratch rows ``V_D_*``,
-``V_B_*``, ``V_J_*`` of ``wk.vec`` and ``M_D_R``, ``M_J_RM`` of ``wk.mat``.
+``V_B_*``, ``V_J_*`` of ``wk.vec`` and ``M_D_R`` of ``wk.mat``.
 """
 
 from __future__ import annotations
@@ -47,9 +47,8 @@ from drillfatigue.dynamics.layout import (
     C_NSTAND, C_PHIB, C_PHID, C_ROPNOW, C_SHIFTED, C_TD, C_TSET, C_VGROW, H_BITMD, H_BITRPM,
     H_BLOCK, H_BLOCKV, H_CONPH, H_HOOK, H_PDISS, H_PE, H_PIN, H_ROP, H_TOB, H_TOPRPM, H_TOPSTR,
     H_TSURF, H_WOB, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, P_BITLAW, P_BITMODEL, P_BP,
-    S_H, S_IA, C_NACT, M_D_R, M_J_RM, V_B_DV, V_B_DX, V_B_F, V_B_IMP, V_B_OUT, V_B_P2, V_B_POS, V_B_T2,
-    V_B_TAN, V_D_P, V_D_Q, V_D_QZ, V_D_V, V_D_W, V_J_ED, V_J_F, V_J_MLO, V_J_MUP, V_J_QH,
-    V_J_QM, V_J_QR,
+    S_H, S_IA, C_NACT, M_D_R, V_B_DV, V_B_DX, V_B_F, V_B_IMP, V_B_OUT, V_B_P2, V_B_POS, V_B_T2,
+    V_B_TAN, V_D_P, V_D_Q, V_D_QZ, V_D_V, V_D_W, V_J_ED, V_J_F, V_J_MLO, V_J_MUP,
 )
 from drillfatigue.dynamics.rig import (
     BLOCK_AT_FLOOR, BLOCK_BAD_MODE, BLOCK_NONFINITE, BLOCK_VELOCITY, BP_VSET, BS_V, BS_X,
@@ -234,7 +233,7 @@ def top_joint(t, top, s, p, wk, loads_row):
                 pa, va, Ra, qa, wa, 0.0,
                 jp[top, J_KA], jp[top, J_KS], jp[top, J_KB], jp[top, J_KT],
                 jp[top, J_CA], jp[top, J_CS], jp[top, J_CB], jp[top, J_CT],
-                vec[V_J_QR], vec[V_J_QH], vec[V_J_QM], wk.mat[M_J_RM], vec[V_J_F], vec[V_J_MLO],
+                vec[V_J_F], vec[V_J_MLO],
                 vec[V_J_MUP], loads_row, vec[V_J_ED])
     return omega_d
 

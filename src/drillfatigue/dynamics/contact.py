@@ -33,7 +33,7 @@ The wall loop (:func:`wall_contact`) runs over the active segments and their
 contact points (:func:`contact_point`: the ends, with the tool-joint or
 stabilizer radius, and optionally the middle; or the string's own points, plus
 each segment's deepest point between them, :func:`deepest_point`), locates each point
-(:func:`find_contact`) and, where it penetrates, computes :func:`wall_force`'s force
+(:func:`locate`) and, where it penetrates, computes :func:`wall_force`'s force
 (:func:`located_wall_force`: normal
 force plus the friction law of :mod:`friction`) at each, estimates Karnopp's
 "other" force first, caps the smooth laws' friction so one step cannot reverse
@@ -95,11 +95,12 @@ OUTSIDE_CHAIN = -1
 
 
 @njit(cache=True, inline="always")
-def _clamped_q(x, p0, axis, length, i):
-    """Squared clamped distance of x from the centre-line segment i, and s."""
-    vx = x[0] - p0[i, 0]
-    vy = x[1] - p0[i, 1]
-    vz = x[2] - p0[i, 2]
+def _clamped_q(x0, x1, x2, p0, axis, length, i):
+    """Squared clamped distance of the point (x0, x1, x2) from the centre-line segment i,
+    and s."""
+    vx = x0 - p0[i, 0]
+    vy = x1 - p0[i, 1]
+    vz = x2 - p0[i, 2]
     s = vx * axis[i, 0] + vy * axis[i, 1] + vz * axis[i, 2]
     vv = vx * vx + vy * vy + vz * vz
     if s < 0.0:
@@ -112,6 +113,90 @@ def _clamped_q(x, p0, axis, length, i):
     if q < 0.0:  # round-off for a point on the axis
         q = 0.0
     return q, s
+
+
+@njit(cache=True, inline="always")
+def locate(x0, x1, x2, r_contact, p0, axis, length, radius, hint):
+    """:func:`find_contact` of the point (x0, x1, x2) as locals: returns (cylinder or
+    ``OUTSIDE_CHAIN``, penetration delta (m), the perpendicular w from the hole centre
+    line to the point (3, m; the normal is w / |w|), s along the cylinder (m), the
+    distance |w| from the centre line (m)). The wall loop keeps these in registers and
+    takes the normal only for a point that penetrates."""
+    n = length.shape[0]
+    i = hint
+    if i < 0:
+        i = 0
+    if i > n - 1:
+        i = n - 1
+    # --- walk along the chain until s is inside [0, l] or we hit a wedge
+    q, s = _clamped_q(x0, x1, x2, p0, axis, length, i)
+    direction = 0
+    status = i
+    for _ in range(n + 1):
+        if s < 0.0:
+            if i == 0:
+                status = OUTSIDE_CHAIN
+                break
+            if direction == 1:  # came from below: wedge between i-1 and i
+                break
+            direction = -1
+            i -= 1
+        elif s > length[i]:
+            if i == n - 1:
+                status = OUTSIDE_CHAIN
+                break
+            if direction == -1:  # came from above: wedge between i and i+1
+                break
+            direction = 1
+            i += 1
+        else:
+            break
+        q, s = _clamped_q(x0, x1, x2, p0, axis, length, i)
+
+    best = i
+    best_q = q
+    best_s = s
+    if status == OUTSIDE_CHAIN:
+        # prolong the end cylinder: perpendicular distance, unclamped
+        vx = x0 - p0[i, 0]
+        vy = x1 - p0[i, 1]
+        vz = x2 - p0[i, 2]
+        best_q = vx * vx + vy * vy + vz * vz - s * s
+        if best_q < 0.0:
+            best_q = 0.0
+    else:
+        status = i
+        clr = radius[i] - r_contact
+        best_margin = best_q - clr * clr  # sign says contact; compared when radii equal
+        for j in (i - 1, i + 1):
+            if j < 0 or j > n - 1:
+                continue
+            qj, sj = _clamped_q(x0, x1, x2, p0, axis, length, j)
+            clrj = radius[j] - r_contact
+            if radius[j] == radius[best]:
+                better = qj - clrj * clrj < best_margin
+            else:
+                better = math.sqrt(qj) - clrj < math.sqrt(best_q) - (radius[best] - r_contact)
+            if better:
+                best = j
+                best_q = qj
+                best_s = sj
+                best_margin = qj - clrj * clrj
+        status = best
+
+    # Reported distance and normal from the explicit perpendicular w = v - s a
+    # (no cancellation, unlike sqrt(v.v - s^2) near the axis).
+    sc = best_s
+    if status != OUTSIDE_CHAIN:
+        if sc < 0.0:
+            sc = 0.0
+        elif sc > length[best]:
+            sc = length[best]
+    wx = x0 - p0[best, 0] - sc * axis[best, 0]
+    wy = x1 - p0[best, 1] - sc * axis[best, 1]
+    wz = x2 - p0[best, 2] - sc * axis[best, 2]
+    d = math.sqrt(wx * wx + wy * wy + wz * wz)
+    return status, d - (radius[best] - r_contact), wx, wy, wz, best_s, d
 
 
 @njit(cache=True, inline="always")
@@ -161,83 +246,18 @@ def find_contact(x, r_contact, p0, axis, length, radius, hint, out):
     near the axis too), two more only if neighbouring cylinders have
     different radii. References: docs/model.md#contact; Liyanarachchi & Rideout (2024).
     """
-    n = length.shape[0]
-    i = hint
-    if i < 0:
-        i = 0
-    if i > n - 1:
-        i = n - 1
-    # --- walk along the chain until s is inside [0, l] or we hit a wedge
-    q, s = _clamped_q(x, p0, axis, length, i)
-    direction = 0
-    status = i
-    for _ in range(n + 1):
-        if s < 0.0:
-            if i == 0:
-                status = OUTSIDE_CHAIN
-                break
-            if direction == 1:  # came from below: wedge between i-1 and i
-                break
-            direction = -1
-            i -= 1
-        elif s > length[i]:
-            if i == n - 1:
-                status = OUTSIDE_CHAIN
-                break
-            if direction == -1:  # came from above: wedge between i and i+1
-                break
-            direction = 1
-            i += 1
-        else:
-            break
-        q, s = _clamped_q(x, p0, axis, length, i)
-
-    best = i
-    best_q = q
-    best_s = s
-    if status == OUTSIDE_CHAIN:
-        # prolong the end cylinder: perpendicular distance, unclamped
-        vx = x[0] - p0[i, 0]
-        vy = x[1] - p0[i, 1]
-        vz = x[2] - p0[i, 2]
-        best_q = vx * vx + vy * vy + vz * vz - s * s
-        if best_q < 0.0:
-            best_q = 0.0
-    else:
-        status = i
-        clr = radius[i] - r_contact
-        best_margin = best_q - clr * clr  # sign says contact; compared when radii equal
-        for j in (i - 1, i + 1):
-            if j < 0 or j > n - 1:
-                continue
-            qj, sj = _clamped_q(x, p0, axis, length, j)
-            clrj = radius[j] - r_contact
-            if radius[j] == radius[best]:
-                better = qj - clrj * clrj < best_margin
-            else:
-                better = math.sqrt(qj) - clrj < math.sqrt(best_q) - (radius[best] - r_contact)
-            if better:
-                best = j
-                best_q = qj
-                best_s = sj
-                best_margin = qj - clrj * clrj
-        status = best
-
-    # Reported distance and normal from the explicit perpendicular w = v - s a
-    # (no cancellation, unlike sqrt(v.v - s^2) near the axis).
-    sc = best_s
-    if status != OUTSIDE_CHAIN:
-        if sc < 0.0:
-            sc = 0.0
-        elif sc > length[best]:
-            sc = length[best]
-    wx = x[0] - p0[best, 0] - sc * axis[best, 0]
-    wy = x[1] - p0[best, 1] - sc * axis[best, 1]
-    wz = x[2] - p0[best, 2] - sc * axis[best, 2]
-    d = math.sqrt(wx * wx + wy * wy + wz * wz)
-    out[OUT_DELTA] = d - (radius[best] - r_contact)
-    out[OUT_S] = best_s
+    ic, delta, wx, wy, wz, s_along, d = locate(x[0], x[1], x[2], r_contact, p0, axis, length,
+                                               radius, hint)
+    out[OUT_DELTA] = delta
+    out[OUT_S] = s_along
     out[OUT_DIST] = d
+    unit_normal(wx, wy, wz, d, out)
+    return ic
+
+
+@njit(cache=True, inline="always")
+def unit_normal(wx, wy, wz, d, out):
+    """``out[OUT_NX:OUT_NZ + 1]`` = the unit normal w / d (zeros on the centre line, d = 0)."""
     if d > 0.0:
         inv = 1.0 / d
         out[OUT_NX] = wx * inv
@@ -247,7 +267,6 @@ def find_contact(x, r_contact, p0, axis, length, radius, hint, out):
         out[OUT_NX] = 0.0
         out[OUT_NY] = 0.0
         out[OUT_NZ] = 0.0
-    return status
 
 
 @njit(cache=True, inline="always")
@@ -494,15 +513,17 @@ def deepest_point(off, g, npt):
 
 # without numba's reference counting: the rows handed to the inlined point kernels are
 # views, each an atomic increment and decrement with it; the loop allocates nothing
-# (:func:`drillfatigue.dynamics.joints.joint_forces`)
-@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+# (:func:`drillfatigue.dynamics.joints.joint_forces`); divisions with numpy's error model,
+# without the zero-divisor test (:func:`drillfatigue.dynamics.integrator.half_kicks`)
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def wall_contact(t, n, s, p, wk):
     """Wall contact and friction on every active segment, with contact and whirl statistics.
 
     For each segment and each of its ``cpar[P_NPTS]`` contact points
     (:func:`contact_point`) the penalty normal force and the friction of the
-    chosen law (:func:`wall_force`; the search first, the force kernel
-    :func:`located_wall_force` only for a point that penetrates) are added to
+    chosen law (:func:`wall_force`; the search first, :func:`locate` with its results
+    in locals, the force kernel :func:`located_wall_force` only for a point that
+    penetrates) are added to
     ``s.Fw`` / ``s.Mw``; the
     penalty energy and the dissipated power go to ``wk.ch[H_PE]`` /
     ``wk.ch[H_PDISS]``; ``s.cst`` gets the segment's contact statistics and,
@@ -654,8 +675,14 @@ def wall_contact(t, n, s, p, wk):
                 # locate the point; the force kernel only where it penetrates (a point
                 # off the wall has zero force, and its search result is all the loop
                 # reads: the cylinder, the penetration and the distance)
-                ic = find_contact(X, rc, p0, axc, lnc, rad, hint[ih], info)
-                if info[WI_DELTA] > 0.0:
+                ic, delta, wx, wy, wz, s_along, d = locate(X[0], X[1], X[2], rc, p0, axc, lnc,
+                                                           rad, hint[ih])
+                if delta > 0.0:
+                    # find_contact's output, for the force kernel
+                    info[WI_DELTA] = delta
+                    info[OUT_S] = s_along
+                    info[WI_DIST] = d
+                    unit_normal(wx, wy, wz, d, info)
                     st = located_wall_force(X, x[i], v[i], wW[i], tax, rc, ic, kc, seg[i, S_CC],
                                             fmodel, fp, fo, dt, info, force, moment)
                     if st != OK:
@@ -667,13 +694,11 @@ def wall_contact(t, n, s, p, wk):
                         hint[MAX_CONTACT_POINTS * i] = ic
                 if pt < npi and n_test > npi:
                     offs[pt] = off
-                    gs[pt] = info[WI_DELTA] - rc
-                    if info[WI_DELTA] > dpen:
-                        dpen = info[WI_DELTA]
-                d = info[WI_DIST]
+                    gs[pt] = delta - rc
+                    if delta > dpen:
+                        dpen = delta
                 if d > dmax:
                     dmax = d
-                delta = info[WI_DELTA]
                 if delta > 0.0:
                     nrm = info[WI_N]
                     nsum += nrm

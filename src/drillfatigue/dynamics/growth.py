@@ -48,8 +48,8 @@ from drillfatigue.dynamics.layout import (
     C_WIN, CS_ONT, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, MAX_CONTACT_POINTS, S_CA, S_CC,
     S_CL, S_CRA, S_CRL, S_H, S_IA, S_IT, S_M, S_RB, S_RC, S_W, T_CAPL, T_CLPL, T_CRAPL, T_CRLPL,
     T_EA, T_EA2, T_EI, T_EI2, T_GJ, T_GJ2, T_KA_TOP, T_KGA, T_KGA2, T_KPAR_B, T_KPAR_S, T_KT_TOP,
-    T_MPL, T_R2, T_WPL, M_J_RM, V_G_LOW, V_G_Q, V_G_Q2, V_G_R, V_G_TH, V_G_TOP, V_G_VPIECE,
-    V_G_VTOP, V_G_W, V_G_XC, V_J_ED, V_J_F, V_J_MLO, V_J_MUP, V_J_QH, V_J_QM, V_J_QR,
+    T_MPL, T_R2, T_WPL, V_G_LOW, V_G_Q, V_G_R, V_G_TH, V_G_TOP, V_G_VPIECE,
+    V_G_VTOP, V_G_W, V_G_XC, V_J_ED, V_J_F, V_J_MLO, V_J_MUP,
     V_J_VUP,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_exp_mul, quat_log, quat_to_rot
@@ -179,7 +179,7 @@ def tail_energy(lo, t, s, p, wk):
                     x[j + 1], v[j + 1], R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
                     jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
                     jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
-                    vec[V_J_QR], vec[V_J_QH], vec[V_J_QM], wk.mat[M_J_RM], vec[V_J_F],
+                    vec[V_J_F],
                     vec[V_J_MLO], vec[V_J_MUP], loads[j], vec[V_J_ED])
         e += vec[V_J_ED, 0]
     top_joint(t, top, s, p, wk, loads[top])
@@ -209,7 +209,7 @@ def joint_below_top_axial(top, growth, s, p, wk):
                 x[top], vu, R[top], q[top], wW[top], seg[top, S_H],
                 jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
                 jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
-                vec[V_J_QR], vec[V_J_QH], vec[V_J_QM], wk.mat[M_J_RM], vec[V_J_F],
+                vec[V_J_F],
                 vec[V_J_MLO], vec[V_J_MUP], wk.loads[j], vec[V_J_ED])
     return wk.loads[j, 0]
 
@@ -272,7 +272,6 @@ def split_top(s, p, wk, growth):
     ka_old = 0.0
     kt_old = 0.0
     qt = vec[V_G_Q]
-    qt2 = vec[V_G_Q2]
     th = vec[V_G_TH]
     if lo >= 0:
         quat_to_rot(q[lo], R[lo])
@@ -348,12 +347,8 @@ def split_top(s, p, wk, growth):
         for k in range(3):
             x[top, k] += d1 * R[top, k, 2]
             x[new, k] += d2 * R[top, k, 2]
-        quat_exp_mul(q[top], 0.0, 0.0, a1, qt, qt2)
-        for k in range(4):
-            q[top, k] = qt2[k]
-        quat_exp_mul(q[new], 0.0, 0.0, a2, qt, qt2)
-        for k in range(4):
-            q[new, k] = qt2[k]
+        quat_exp_mul(q[top], 0.0, 0.0, a1, q[top])
+        quat_exp_mul(q[new], 0.0, 0.0, a2, q[new])
     return n + 1
 
 

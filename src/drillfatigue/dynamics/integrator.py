@@ -77,7 +77,7 @@ from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
     B_ESCALE, B_RIG, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_LATMASS,
     P_SPAN, S_IA, S_IT,
-    S_M, V_ROT_QA, V_ROT_QB,
+    S_M,
 )
 from drillfatigue.dynamics.rigid import free_rotation, kick, kick_lateral
 from drillfatigue.dynamics.span_record import span_sample
@@ -172,8 +172,12 @@ def record(step, t1, n, s, p, wk, rec):
 # The kicks and the drift are calls of their own compiled without numba's reference
 # counting (``_nrt=False``): the rows they hand to the per-segment kernels (``v[i]``,
 # ``q[i]``, ...) are views, each an atomic increment and decrement with it; they allocate
-# nothing. The step itself allocates (the span record's sample), so it keeps it.
-@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+# nothing. They, the step and the joint loop divide with numpy's error model
+# (``error_model="numpy"``): a float division is the bare IEEE division, without the test
+# of the divisor that raises ZeroDivisionError (the same quotients; a zero divisor gives
+# inf or nan, which the speed and finiteness checks of the step report); about 3 % off
+# the joint loop and the integrator.
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def half_kicks(n, s, p, wk, hdt, latm):
     """Half kick of every active segment by ``hdt`` (s) from its forces ``s.Fw, s.Mb``;
     ``latm``: with the lateral mud mass ``p.mlat``."""
@@ -192,7 +196,7 @@ def half_kicks(n, s, p, wk, hdt, latm):
             kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
 
 
-@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def half_kicks_checked(n, s, p, wk, hdt, latm):
     """:func:`half_kicks` and the speed check after each segment's kick: returns the largest
     :func:`speed_excess` above 1 and its segment, or (1.0, -1) when none exceeds."""
@@ -218,7 +222,7 @@ def half_kicks_checked(n, s, p, wk, hdt, latm):
     return worst, iworst
 
 
-@njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def drift(n, s, p, wk, dt, latm):
     """Drift of every active segment over ``dt`` (s): positions by the velocities, rotations
     by the exact free rotor (tilt inertia with the lateral mud mass when ``latm``)."""
@@ -228,13 +232,57 @@ def drift(n, s, p, wk, dt, latm):
     w = s.w
     seg = p.seg
     mlat = p.mlat
-    qa = wk.vec[V_ROT_QA]
-    qb = wk.vec[V_ROT_QB]
     for i in range(n):
         for k in range(3):
             x[i, k] += dt * v[i, k]
         it = seg[i, S_IT] * mlat[i] if latm else seg[i, S_IT]
-        free_rotation(q[i], w[i], it, seg[i, S_IA], dt, qa, qb)
+        free_rotation(q[i], w[i], it, seg[i, S_IA], dt)
+
+
+# One step without the recorder, compiled without numba's reference counting: everything
+# in it (kicks, drift, rig, growth, forces) allocates nothing, and the rows its inlined
+# kernels take (``q[i]``, ``R[top]``, ...) would otherwise each count references. Only the
+# recorder's span sample allocates, so it stays in :func:`advance`.
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+def step(n, s, p, wk, hdt, latm, info):
+    """One velocity-Verlet step of the ``n`` active segments (see :func:`advance`), without
+    recording; returns (status code, active segments after the step). On failure
+    ``info`` = [step, segment (-1: unknown), value]."""
+    sc = s.sc
+    w = s.w
+    ch = wk.ch
+    dt = p.dt
+    half_kicks(n, s, p, wk, hdt, latm)
+    drift(n, s, p, wk, dt, latm)
+    sc[C_PHIB] += dt * w[0, 2]
+    t0 = sc[C_STEP] * dt
+    sc[C_STEP] += 1.0
+    t1 = sc[C_STEP] * dt
+    if p.bp[B_RIG] == 1.0:
+        rst = rig_step(t0, s, p, wk)
+        if rst != OK:
+            info[0] = sc[C_STEP]
+            info[1] = -1.0
+            info[2] = 0.0
+            return rst, n
+    else:
+        sc[C_PHID] += 0.5 * dt * (drive_omega(t0, p.tab_t, p.tab_w) + drive_omega(t1, p.tab_t, p.tab_w))
+    n = grow_top(n, t1, s, p, wk)
+    fst = compute_forces(s, p, wk)
+    if fst != OK:
+        info[0] = sc[C_STEP]
+        info[1] = -1.0
+        info[2] = 0.0
+        return fst, n
+    sc[C_WIN] += dt * ch[H_PIN]
+    sc[C_DISS] += dt * ch[H_PDISS]
+    worst, iworst = half_kicks_checked(n, s, p, wk, hdt, latm)
+    if iworst >= 0:
+        info[0] = int(sc[C_STEP])
+        info[1] = iworst
+        info[2] = worst
+        return SPEED, n
+    return OK, n
 
 
 @njit(cache=True)
@@ -277,46 +325,18 @@ def advance(n_steps, s, p, wk, rec):
     n = int(sc[C_NACT])
     hdt = 0.5 * dt
     ch = wk.ch
-    tab_t = p.tab_t
-    tab_w = p.tab_w
     latm = p.cpar.shape[0] > P_LATMASS and p.cpar[P_LATMASS] != 0.0
     for _s in range(n_steps):
-        half_kicks(n, s, p, wk, hdt, latm)
-        drift(n, s, p, wk, dt, latm)
-        sc[C_PHIB] += dt * w[0, 2]
-        t0 = sc[C_STEP] * dt
-        sc[C_STEP] += 1.0
+        st, n = step(n, s, p, wk, hdt, latm, info)
+        if st != OK:
+            return st
+        step_i = int(sc[C_STEP])
         t1 = sc[C_STEP] * dt
-        if p.bp[B_RIG] == 1.0:
-            rst = rig_step(t0, s, p, wk)
-            if rst != OK:
-                info[0] = sc[C_STEP]
-                info[1] = -1.0
-                info[2] = 0.0
-                return rst
-        else:
-            sc[C_PHID] += 0.5 * dt * (drive_omega(t0, tab_t, tab_w) + drive_omega(t1, tab_t, tab_w))
-        n = grow_top(n, t1, s, p, wk)
-        fst = compute_forces(s, p, wk)
-        if fst != OK:
-            info[0] = sc[C_STEP]
-            info[1] = -1.0
-            info[2] = 0.0
-            return fst
-        sc[C_WIN] += dt * ch[H_PIN]
-        sc[C_DISS] += dt * ch[H_PDISS]
-        worst, iworst = half_kicks_checked(n, s, p, wk, hdt, latm)
-        step = int(sc[C_STEP])
-        if iworst >= 0:
-            info[0] = step
-            info[1] = iworst
-            info[2] = worst
-            return SPEED
-        record(step, t1, n, s, p, wk, rec)
-        if step % 32 == 0 or _s == n_steps - 1:
+        record(step_i, t1, n, s, p, wk, rec)
+        if step_i % 32 == 0 or _s == n_steps - 1:
             ke = kinetic_energy(v, w, seg)
             if not math.isfinite(ke) or not math.isfinite(ch[0] + ch[1] + ch[2]):
-                info[0] = step
+                info[0] = step_i
                 info[1] = -1.0
                 for i in range(n):
                     bad = False
@@ -330,7 +350,7 @@ def advance(n_steps, s, p, wk, rec):
                 info[2] = ke
                 return NONFINITE
             if ke > p.bp[B_ESCALE]:
-                info[0] = step
+                info[0] = step_i
                 # the segment with the largest kinetic energy
                 best = 0.0
                 for i in range(n):

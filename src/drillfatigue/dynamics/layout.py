@@ -196,11 +196,7 @@ N_CH_RIG = 19
 
 # work.vec[r, :] -- scratch vectors of the kernels, one row per use (row width N_VECW;
 # a use reads the first 2, 3, 4, 15 or MAX_TABLE_POINTS entries)
-V_ROT_QA = 0       # rigid.free_rotation: two quaternions
-V_ROT_QB = 1
-V_J_QR = 2         # joints.joint_force: relative, half and mid quaternions
-V_J_QH = 3
-V_J_QM = 4
+# rows 0-4: free
 V_J_F = 5          # joint force on the lower body (N, world)
 V_J_MLO = 6        # joint moment on the lower body (N m, world)
 V_J_MUP = 7        # joint moment on the upper body (N m, world)
@@ -233,8 +229,8 @@ V_G_R = 33         # lever arm (m)
 V_G_VPIECE = 34    # velocity of the split-off piece (m/s)
 V_G_XC = 35        # old centre (m)
 V_G_VTOP = 36      # velocity of the new top (m/s)
-V_G_Q = 37         # two quaternions
-V_G_Q2 = 38
+V_G_Q = 37         # relative rotation of the joint below the top (quaternion)
+# row 38: free
 V_G_TH = 39        # rotation vector of the joint below the top (rad)
 V_G_LOW = 40       # growth.merge_top: lower end of the lower segment (m)
 V_G_TOP = 41       # upper end of the top segment (m)
@@ -245,7 +241,7 @@ N_VEC = 45
 N_VECW = 32
 
 # work.mat[r, :, :] -- scratch 3 x 3 matrices
-M_J_RM = 0         # joint frame (joints.joint_force)
+# row 0: free
 M_D_R = 1          # drive rotation (boundaries.top_joint)
 N_MAT = 2
 

@@ -84,21 +84,36 @@ def quat_log(q, out):
 
 
 @njit(cache=True, inline="always")
-def quat_exp_mul(q, th0, th1, th2, tmp, out):
-    """out = q * exp(theta / 2), theta a body-frame rotation vector; renormalised."""
+def quat_exp_mul_terms(q0, q1, q2, q3, th0, th1, th2):
+    """q * exp(theta / 2), theta a body-frame rotation vector, renormalised: its four
+    components as a tuple (every intermediate a local, no scratch array)."""
     a = math.sqrt(th0 * th0 + th1 * th1 + th2 * th2)
-    tmp[0] = math.cos(0.5 * a)
+    e0 = math.cos(0.5 * a)
     if a < 1e-12:
         s = 0.5
     else:
         s = math.sin(0.5 * a) / a
-    tmp[1] = s * th0
-    tmp[2] = s * th1
-    tmp[3] = s * th2
-    quat_mul(q, tmp, out)
-    n = math.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2 + out[3] ** 2)
-    for k in range(4):
-        out[k] /= n
+    e1 = s * th0
+    e2 = s * th1
+    e3 = s * th2
+    # the Hamilton product q * e (quat_mul)
+    o0 = q0 * e0 - q1 * e1 - q2 * e2 - q3 * e3
+    o1 = q0 * e1 + q1 * e0 + q2 * e3 - q3 * e2
+    o2 = q0 * e2 - q1 * e3 + q2 * e0 + q3 * e1
+    o3 = q0 * e3 + q1 * e2 - q2 * e1 + q3 * e0
+    n = math.sqrt(o0 ** 2 + o1 ** 2 + o2 ** 2 + o3 ** 2)
+    return o0 / n, o1 / n, o2 / n, o3 / n
+
+
+@njit(cache=True, inline="always")
+def quat_exp_mul(q, th0, th1, th2, out):
+    """out = q * exp(theta / 2), theta a body-frame rotation vector; renormalised
+    (:func:`quat_exp_mul_terms`); ``out`` may be ``q``."""
+    o0, o1, o2, o3 = quat_exp_mul_terms(q[0], q[1], q[2], q[3], th0, th1, th2)
+    out[0] = o0
+    out[1] = o1
+    out[2] = o2
+    out[3] = o3
 
 
 @njit(cache=True, inline="always")
@@ -141,7 +156,7 @@ def kick_lateral(v, w, F, Mb, m, ratio, It, Ia, axis, h):
 
 
 @njit(cache=True, inline="always")
-def free_rotation(q, w, It, Ia, dt, tmp, tmp2):
+def free_rotation(q, w, It, Ia, dt):
     """Exact torque-free motion of an axisymmetric body over dt (in place).
 
     With I = diag(It, It, Ia) the body angular velocity splits into
@@ -150,6 +165,7 @@ def free_rotation(q, w, It, Ia, dt, tmp, tmp2):
     q <- q exp(dt L_b / It) exp(dt c e3) and (w_x, w_y) turn by -c dt about e3
     (the symmetric Euler top; Dullweber, Leimkuhler & McLachlan, J. Chem. Phys.
     107 (1997) 5840, used as the free-rotor flow of a symplectic splitting).
+    The intermediate quaternion stays in locals (:func:`quat_exp_mul_terms`).
 
     Parameters
     ----------
@@ -157,11 +173,11 @@ def free_rotation(q, w, It, Ia, dt, tmp, tmp2):
     w : ndarray, shape (3,)  body angular velocity (rad/s), updated
     It, Ia : float           transverse and axial inertia (kg m^2)
     dt : float               step (s)
-    tmp, tmp2 : ndarray, shape (4,)  scratch
     """
     c = w[2] * (1.0 - Ia / It)
-    quat_exp_mul(q, dt * w[0], dt * w[1], dt * w[2] * Ia / It, tmp, tmp2)
-    quat_exp_mul(tmp2, 0.0, 0.0, dt * c, tmp, q)
+    p0, p1, p2, p3 = quat_exp_mul_terms(q[0], q[1], q[2], q[3],
+                                        dt * w[0], dt * w[1], dt * w[2] * Ia / It)
+    q[0], q[1], q[2], q[3] = quat_exp_mul_terms(p0, p1, p2, p3, 0.0, 0.0, dt * c)
     a = -c * dt
     ca = math.cos(a)
     sa = math.sin(a)
