@@ -312,6 +312,7 @@ class Surrogate:
             self._forest = FlatForest(self.gbm, self.preprocessor)
         mu = self._forest.predict(x_num, x_cat)
         g = self.metadata["gbm"]
+        half: float | np.ndarray
         if "conformal_half_widths" in g:
             half = mondrian_half_width(mu, np.asarray(g["conformal_bins_log10"], dtype=np.float64),
                                        np.asarray(g["conformal_half_widths"], dtype=np.float64))
