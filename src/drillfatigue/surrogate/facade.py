@@ -89,6 +89,8 @@ class Surrogate:
         # served gradient boosting (None: the ensemble answers)
         self.gbm = gbm
         self._forest: FlatForest | None = None
+        # the served gbm's interval bins as arrays (edges, half-widths), built with the forest
+        self._bins: tuple[np.ndarray, np.ndarray] | None = None
         self._scripted: torch.jit.ScriptModule | None = None
         self.preprocessor = preprocessor
         self.domain = domain
@@ -182,6 +184,10 @@ class Surrogate:
             if cfg.gbm_interval == "per_decade":
                 edges, half = mondrian_bins(mu_g, y_c, cfg.coverage, cfg.conformal_bin_min_rows,
                                             censor_below=censor_level(cfg))
+                if not np.all(np.isfinite(half)):
+                    raise InputError("surrogate.calibration_fraction", "too few calibration "
+                                     "rows within the horizon for the coverage",
+                                     "a larger fraction")
                 gbm_meta |= {"conformal_bins_log10": edges.tolist(),
                              "conformal_half_widths": half.tolist()}
         hist = reg.history_
@@ -308,16 +314,15 @@ class Surrogate:
         model has bins, else the one global conformal quantile (models saved
         with ``gbm_interval: constant`` or before the bins existed).
         """
+        g = self.metadata["gbm"]
         if self._forest is None:
             self._forest = FlatForest(self.gbm, self.preprocessor)
+            if "conformal_half_widths" in g:
+                self._bins = (np.asarray(g["conformal_bins_log10"], dtype=np.float64),
+                              np.asarray(g["conformal_half_widths"], dtype=np.float64))
         mu = self._forest.predict(x_num, x_cat)
-        g = self.metadata["gbm"]
-        half: float | np.ndarray
-        if "conformal_half_widths" in g:
-            half = mondrian_half_width(mu, np.asarray(g["conformal_bins_log10"], dtype=np.float64),
-                                       np.asarray(g["conformal_half_widths"], dtype=np.float64))
-        else:
-            half = float(g["conformal_quantile"])
+        half = (mondrian_half_width(mu, *self._bins) if self._bins is not None
+                else float(g["conformal_quantile"]))
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
                "lower": mu - half, "upper": mu + half}
         return self._finish(res, x_num, ood, knn)
