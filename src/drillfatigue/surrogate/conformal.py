@@ -119,7 +119,8 @@ def mondrian_bins(mu: np.ndarray, y: np.ndarray, coverage: float,
     the rows of small residuals too much and those of large ones too little.
     With ``censor_below``, predictions below the level share one bin with
     the global width (all calibration rows' quantile) and the bins start at
-    the level.
+    the level; with fewer than ``min_rows`` predictions at or above the
+    level, all rows form one bin.
 
     Parameters
     ----------
@@ -170,9 +171,10 @@ def mondrian_bins(mu: np.ndarray, y: np.ndarray, coverage: float,
         # prediction already lies below the level), so a quantile of their own
         # would give a zero-width interval to an answer "longer than".
         binned = mu >= censor_below
-        if not binned.any():
-            binned[:] = True
-        elif not binned.all():
+        if binned.sum() < min_rows:
+            # too few predictions within the level for a bin of their own: one bin
+            return np.empty(0), np.array([conformal_quantile(scores, coverage)])
+        if not binned.all():
             below = [float(censor_below)]
     lo = math.floor(mu[binned].min() / bin_width)
     hi = math.floor(mu[binned].max() / bin_width)

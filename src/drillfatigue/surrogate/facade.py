@@ -184,10 +184,6 @@ class Surrogate:
             if cfg.gbm_interval == "per_decade":
                 edges, half = mondrian_bins(mu_g, y_c, cfg.coverage, cfg.conformal_bin_min_rows,
                                             censor_below=censor_level(cfg))
-                if not np.all(np.isfinite(half)):
-                    raise InputError("surrogate.calibration_fraction", "too few calibration "
-                                     "rows within the horizon for the coverage",
-                                     "a larger fraction")
                 gbm_meta |= {"conformal_bins_log10": edges.tolist(),
                              "conformal_half_widths": half.tolist()}
         hist = reg.history_
