@@ -6,9 +6,16 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.conformal import SplitConformal, conformal_quantile
+from drillfatigue.surrogate.conformal import (
+    SplitConformal,
+    conformal_quantile,
+    mondrian_bins,
+    mondrian_half_width,
+)
 
 
 def test_quantile_uses_finite_sample_rank() -> None:
@@ -84,3 +91,111 @@ def test_censored_coverage_holds_on_exchangeable_data() -> None:
     # binomial std of the coverage at n = 20000 is 0.002, the calibration
     # quantile's own spread (n = 2000) about 0.007: 0.02 is ~3 sigma
     assert abs(covered.mean() - 0.9) <= 0.02
+
+
+def _decades(n: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Predicted log10 rate over 8 decades, noise sd growing as the rate falls.
+
+    The prediction is unbiased; the residual sd is 0.05 decades at 1 per h and
+    1.25 decades at 1e-8 per h (long lives: the gbm's residuals on the
+    research-scale dataset grow the same way).
+    """
+    mu = rng.uniform(-8.0, 0.0, n)
+    return mu, mu + (0.05 - 0.15 * mu) * rng.standard_normal(n)
+
+
+def test_mondrian_covers_every_decade_where_one_width_does_not() -> None:
+    rng = np.random.default_rng(7)
+    c, n_cal, n_test = 0.90, 4000, 40000
+    mu_c, y_c = _decades(n_cal, rng)
+    edges, half = mondrian_bins(mu_c, y_c, c, min_rows=50)
+    np.testing.assert_array_equal(edges, np.arange(-7.0, 0.0))  # 500 rows a decade: no merge
+    q = conformal_quantile(np.abs(y_c - mu_c), c)
+    mu, y = _decades(n_test, rng)
+    w = mondrian_half_width(mu, edges, half)
+    b = np.searchsorted(edges, mu, side="right")
+    bc = np.searchsorted(edges, mu_c, side="right")
+    const_miss = 0
+    for k in range(edges.size + 1):
+        n_k, m_k = int(np.sum(bc == k)), int(np.sum(b == k))
+        # the bin's coverage given its calibration rows is Beta with sd
+        # sqrt(c(1-c)/n_k); the test rows add a binomial sd sqrt(c(1-c)/m_k):
+        # 3 combined sd = 0.042 for 500 + 5000 rows
+        tol = 3.0 * math.sqrt(c * (1 - c) * (1 / n_k + 1 / m_k))
+        sel = b == k
+        cov = np.mean(np.abs(y[sel] - mu[sel]) <= w[sel])
+        assert abs(cov - c) <= tol, (k, cov, tol)
+        const_miss += abs(np.mean(np.abs(y[sel] - mu[sel]) <= q) - c) > tol
+    # the one global width over-covers the precise decades and under-covers the noisy ones
+    assert const_miss >= 4
+    sel_low, sel_high = b == 0, b == edges.size
+    assert np.mean(np.abs(y[sel_low] - mu[sel_low]) <= q) < c - 0.15
+    assert np.mean(np.abs(y[sel_high] - mu[sel_high]) <= q) > c + 0.05
+
+
+def test_mondrian_bins_merge_until_min_rows() -> None:
+    # rows per decade -3..1: 5, 100, 3, 100, 20 (min 50). The smallest bin merges
+    # into its smaller neighbour (the lower on a tie): 3 -> [-2, 0), then 5 ->
+    # [-3, 0), then 20 -> [0, 2): two bins of 108 and 120 rows split at 0.
+    counts = {-3: 5, -2: 100, -1: 3, 0: 100, 1: 20}
+    mu = np.concatenate([d + (np.arange(n) + 0.5) / n for d, n in counts.items()])
+    y = mu + np.where(mu < 0.0, 0.5, 0.1) * np.cos(np.arange(mu.size))
+    edges, half = mondrian_bins(mu, y, 0.9, min_rows=50)
+    np.testing.assert_array_equal(edges, [0.0])
+    np.testing.assert_array_equal(np.bincount(np.searchsorted(edges, mu, side="right")),
+                                  [108, 120])
+    for k, sel in enumerate((mu < 0.0, mu >= 0.0)):
+        assert half[k] == conformal_quantile(np.abs(y - mu)[sel], 0.9)
+    # fewer rows than min_rows: one bin, the global quantile
+    e1, h1 = mondrian_bins(mu, y, 0.9, min_rows=500)
+    assert e1.size == 0 and h1[0] == conformal_quantile(np.abs(y - mu), 0.9)
+    # beyond the outer edges: the outer bins
+    np.testing.assert_array_equal(mondrian_half_width(np.array([-30.0, 30.0]), edges, half), half)
+    with pytest.raises(InputError, match="min_rows"):
+        mondrian_bins(mu, y, 0.9, min_rows=8)  # 8 rows: ceil(0.9 * 9) = 9 > 8
+
+
+def test_mondrian_censored_rows_and_the_bin_below_the_level() -> None:
+    rng = np.random.default_rng(3)
+    mu = rng.uniform(-8.0, 0.0, 2000)
+    y = mu + 0.3 * rng.standard_normal(2000)
+    level = -5.0
+    yc = np.where(y <= level, level, y)  # censored at the level
+    edges, half = mondrian_bins(mu, yc, 0.9, min_rows=50, censor_below=level)
+    np.testing.assert_array_equal(edges, [-5.0, -4.0, -3.0, -2.0, -1.0])
+    # scores as SplitConformal: a censored row is covered once the interval reaches the level
+    s = np.abs(yc - mu)
+    cens = yc <= level
+    s[cens] = np.maximum(mu[cens] - level, 0.0)
+    # below the level: the global width, not the (zero) quantile of mostly censored rows
+    assert half[0] == SplitConformal(0.9).fit(mu, np.ones_like(mu), yc, censor_below=level).quantile_
+    assert half[0] == conformal_quantile(s, 0.9) > 0.0
+    assert conformal_quantile(s[mu < level], 0.9) == 0.0
+    top = mu >= -1.0
+    assert half[-1] == conformal_quantile(s[top], 0.9)
+    # fewer than min_rows predictions at or above the level: one bin, the global width
+    few = (mu < level) | (np.arange(mu.size) < 40)
+    e1, h1 = mondrian_bins(mu[few], yc[few], 0.9, min_rows=50, censor_below=level)
+    assert e1.size == 0 and h1[0] == conformal_quantile(s[few], 0.9)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-12.0, 3.0, allow_nan=False), min_size=1, max_size=300),
+       st.integers(9, 80), st.sampled_from([None, -5.0]))
+def test_mondrian_bins_property(mus: list[float], min_rows: int, level: float | None) -> None:
+    mu = np.asarray(mus)
+    y = mu + np.sin(7.0 * mu)
+    try:
+        edges, half = mondrian_bins(mu, y, 0.9, min_rows=min_rows, censor_below=level)
+    except InputError:
+        # only a single bin of too few rows for a finite quantile is refused
+        assert mu.size < 9
+        return
+    assert half.shape == (edges.size + 1,) and np.all(np.diff(edges) > 0)
+    b = np.searchsorted(edges, mu, side="right")
+    counts = np.bincount(b, minlength=half.size)
+    binned = counts if level is None or edges.size == 0 or edges[0] != level else counts[1:]
+    if binned.size > 1:
+        assert binned.min() >= min_rows
+    assert np.all(np.isfinite(half)) or mu.size < 9
+    np.testing.assert_array_equal(mondrian_half_width(mu, edges, half), half[b])

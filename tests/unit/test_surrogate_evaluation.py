@@ -5,6 +5,7 @@ scoring on a held-out dataset."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -130,6 +131,9 @@ def test_evaluate_on_a_heldout_dataset(fitted) -> None:
         assert met["deciding"][m]["rows"]["n"] + met["deciding"][m]["beyond_horizon"][
             "n_predicted"] == len(held)
     assert met["monotone_dls"]["hgb"]["fraction_rows_violating"] == 0.0  # constrained
+    # the baseline has the served gradient boosting's interval (per decade by default)
+    assert met["hgb"]["interval"] == "per_decade"
+    assert len(met["hgb"]["conformal_half_widths"]) == len(met["hgb"]["conformal_bins_log10"]) + 1
     split, _ = evaluate(data, model, CFG, baselines=False)
     assert split["test_source"] == "split"
     assert split["n_test_cases"] == len(model.metadata["split"]["test_cases"])
@@ -140,21 +144,42 @@ def test_evaluate_on_a_heldout_dataset(fitted) -> None:
 
 def test_served_gbm_behind_the_same_interface(fitted, tmp_path) -> None:
     data, _ = fitted
-    cfg = CFG.model_copy(update={"served_model": "gbm"})
+    # 20 rows a bin: several bins on the small synthetic calibration set
+    cfg = CFG.model_copy(update={"served_model": "gbm", "conformal_bin_min_rows": 20})
     sur = fit_surrogate(data, cfg)
     rows = data.iloc[::11]
     p = sur.predict(rows, refuse=False)
-    # the numbers are the boosted trees' with the constant conformal half-width
+    # the numbers are the boosted trees' with the half-width of their decade's bin
     mu = sur.gbm.predict(design_matrix(sur.preprocessor, *sur.encode(rows)))
     np.testing.assert_array_equal(p["log10_damage_rate_per_h"].to_numpy(), mu)
-    half = sur.metadata["gbm"]["conformal_quantile"]
+    g = sur.metadata["gbm"]
+    edges, widths = np.asarray(g["conformal_bins_log10"]), np.asarray(g["conformal_half_widths"])
+    assert edges.size >= 1 and widths.size == edges.size + 1 and np.ptp(widths) > 0
+    half = widths[np.searchsorted(edges, mu, side="right")]
     np.testing.assert_allclose(p["log10_damage_rate_per_h_upper"] - mu, half, rtol=1e-12)
+    np.testing.assert_allclose(mu - p["log10_damage_rate_per_h_lower"], half, rtol=1e-12)
     assert sur.metadata["served_model"] == "gbm" and sur.gbm.n_iter_ <= CFG.hgb_max_iter
     sur.save(tmp_path / "m")
     names = {f.name for f in (tmp_path / "m").iterdir()}
     assert "gbm.pkl" in names and "model.ts" not in names  # the exports are the ensemble's
     again = Surrogate.load(tmp_path / "m")
+    assert again.metadata["gbm"]["conformal_bins_log10"] == g["conformal_bins_log10"]
+    assert again.metadata["gbm"]["conformal_half_widths"] == g["conformal_half_widths"]
     pd.testing.assert_frame_equal(again.predict(rows), sur.predict(rows))
+    # a model saved without bins (constant interval) answers the one global width
+    meta_path = tmp_path / "m" / "metadata.json"
+    meta = json.loads(meta_path.read_text(encoding="utf-8"))
+    del meta["gbm"]["conformal_bins_log10"], meta["gbm"]["conformal_half_widths"]
+    meta_path.write_text(json.dumps(meta), encoding="utf-8")
+    old = Surrogate.load(tmp_path / "m").predict(rows, refuse=False)
+    np.testing.assert_array_equal(old["log10_damage_rate_per_h"].to_numpy(), mu)
+    np.testing.assert_allclose(old["log10_damage_rate_per_h_upper"] - mu,
+                               g["conformal_quantile"], rtol=1e-12)
+    # gbm_interval: constant writes no bins
+    flat = fit_surrogate(data, cfg.model_copy(update={"gbm_interval": "constant"}))
+    assert "conformal_half_widths" not in flat.metadata["gbm"]
+    np.testing.assert_allclose(flat.predict(rows, refuse=False)["log10_damage_rate_per_h_upper"]
+                               - mu, flat.metadata["gbm"]["conformal_quantile"], rtol=1e-12)
     # monotone in the local dogleg by construction
     assert monotone_check(lambda f: sur.predict(f, refuse=False)["log10_damage_rate_per_h"]
                           .to_numpy(), rows, sur.domain)["fraction_rows_violating"] == 0.0

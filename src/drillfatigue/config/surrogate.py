@@ -7,6 +7,7 @@ model follows a renamed column by editing this section only.
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 from pydantic import Field, model_validator
@@ -85,6 +86,13 @@ class SurrogateConfig(StrictModel):
     # gradient boosting (stopped on whole cases, monotone in the dogleg inputs)
     # behind the same interface; docs/surrogate.md says which and why ---
     served_model: Literal["ensemble", "gbm"] = "ensemble"
+    # --- interval of the served gradient boosting: per_decade (Mondrian split
+    # conformal by decade of the predicted log10 rate, bins merged until each
+    # has conformal_bin_min_rows calibration rows: the residual spread depends
+    # on the rate) or constant (one width); 50 rows: see
+    # drillfatigue.surrogate.conformal.MONDRIAN_MIN_ROWS ---
+    gbm_interval: Literal["per_decade", "constant"] = "per_decade"
+    conformal_bin_min_rows: int = Field(50, ge=2, le=1_000_000)
     ood_k: int = Field(5, ge=1, le=100)
     ood_quantile: float = Field(0.99, gt=0.5, le=1.0)
     ood_reference_rows: int = Field(2000, ge=10, le=200_000)
@@ -107,6 +115,10 @@ class SurrogateConfig(StrictModel):
         if len(set(self.features)) != len(self.features) or \
                 len(set(self.categorical)) != len(self.categorical):
             raise ValueError("duplicate column names (allowed: each column once)")
+        need = math.ceil(self.coverage / (1.0 - self.coverage) - 1e-9)
+        if self.conformal_bin_min_rows < need:
+            raise ValueError(f"conformal_bin_min_rows {self.conformal_bin_min_rows} gives an "
+                             f"unbounded {self.coverage:g} interval (allowed: >= {need})")
         if self.test_fraction + self.calibration_fraction >= 0.8:
             raise ValueError("test_fraction + calibration_fraction too large "
                              "(allowed: sum < 0.8)")

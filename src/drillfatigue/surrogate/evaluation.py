@@ -14,7 +14,10 @@ calibration cases as the ensemble, scored on the same test cases:
   one-hot categorical inputs, non-decreasing in the dogleg inputs
   :data:`drillfatigue.surrogate.gbm.MONOTONE_FEATURES`), early stopping on
   whole cases (:func:`drillfatigue.surrogate.gbm.fit_gbm`): intervals from
-  split conformal prediction on absolute residuals (constant width).
+  split conformal prediction on absolute residuals, as the served gradient
+  boosting has them (``surrogate.gbm_interval``): per bin of the predicted
+  decade (Mondrian, :func:`drillfatigue.surrogate.conformal.mondrian_bins`)
+  or one constant width.
 
 All models see the same inputs: standardised numeric features and one-hot
 categorical levels (the ensemble's fitted :class:`Preprocessor`).
@@ -56,7 +59,7 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.metrics import decade_label, factor2_by_decade
 from drillfatigue.plotting import subplots
-from drillfatigue.surrogate.conformal import SplitConformal
+from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins, mondrian_half_width
 from drillfatigue.surrogate.data import Split, check_columns, log10_target
 from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
@@ -206,7 +209,7 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         out["gp"], out["gp_lower"], out["gp_upper"] = mu_t, lo_t, hi_t
 
         # gradient boosting, early stopping on whole cases, monotone in the dogleg
-        # inputs, conformalised absolute residuals (constant width)
+        # inputs, conformalised absolute residuals (the served model's interval)
         cst = monotone_constraints(model.preprocessor)
         groups_tr = frame.loc[sp.train, cfg.group_column].astype(str).to_numpy()
         hgb, info = fit_gbm(x_tr, y_tr, groups_tr, cfg, cst)
@@ -214,9 +217,17 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         ones = np.ones_like(mu_hc)
         q = SplitConformal(model.coverage).fit(mu_hc, ones, y_ca, censor_below=censor).quantile_
         mu_h = hgb.predict(x_te)
-        metrics["hgb"] = (score(y_te, mu_h, mu_h - q, mu_h + q)
+        half: float | np.ndarray = q
+        info = info | {"interval": cfg.gbm_interval}
+        if cfg.gbm_interval == "per_decade":
+            edges, widths = mondrian_bins(mu_hc, y_ca, model.coverage,
+                                          cfg.conformal_bin_min_rows, censor_below=censor)
+            half = mondrian_half_width(mu_h, edges, widths)
+            info |= {"conformal_bins_log10": edges.tolist(),
+                     "conformal_half_widths": widths.tolist()}
+        metrics["hgb"] = (score(y_te, mu_h, mu_h - half, mu_h + half)
                           | {"train_rows": int(x_tr.shape[0])} | info)
-        out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - q, mu_h + q
+        out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - half, mu_h + half
         monotone["hgb"] = monotone_check(lambda f: hgb.predict(_design(model, f)), test,
                                          model.domain)
         models = ("ensemble", "gp", "hgb")

@@ -4,7 +4,8 @@
 is a folder::
 
     metadata.json     feature lists, category levels, scaler, ranges, conformal
-                      quantile, OOD threshold, target, versions, training summary
+                      quantile (and the served gbm's bins and half-widths), OOD
+                      threshold, target, versions, training summary
     ensemble.pt       torch state dict of the EnsembleModule (weights only)
     gbm.pkl           the gradient-boosting model when it is the served one
                       (``surrogate.served_model: gbm``; pickled scikit-learn,
@@ -34,7 +35,7 @@ from drillfatigue import __version__
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output
-from drillfatigue.surrogate.conformal import SplitConformal
+from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins, mondrian_half_width
 from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
 from drillfatigue.surrogate.gbm import FlatForest, design_matrix, fit_gbm, monotone_constraints
@@ -88,6 +89,8 @@ class Surrogate:
         # served gradient boosting (None: the ensemble answers)
         self.gbm = gbm
         self._forest: FlatForest | None = None
+        # the served gbm's interval bins as arrays (edges, half-widths), built with the forest
+        self._bins: tuple[np.ndarray, np.ndarray] | None = None
         self._scripted: torch.jit.ScriptModule | None = None
         self.preprocessor = preprocessor
         self.domain = domain
@@ -178,6 +181,11 @@ class Surrogate:
                                  "too few calibration rows for the coverage", "a larger fraction")
             gbm_meta = info | {"conformal_quantile": float(q_g),
                                "sigma_log10": float(np.sqrt(np.mean((mu_g - y_c) ** 2)))}
+            if cfg.gbm_interval == "per_decade":
+                edges, half = mondrian_bins(mu_g, y_c, cfg.coverage, cfg.conformal_bin_min_rows,
+                                            censor_below=censor_level(cfg))
+                gbm_meta |= {"conformal_bins_log10": edges.tolist(),
+                             "conformal_half_widths": half.tolist()}
         hist = reg.history_
         meta = {
             "format_version": FORMAT_VERSION,
@@ -292,17 +300,25 @@ class Surrogate:
 
     def _predict_gbm(self, x_num: np.ndarray, x_cat: np.ndarray, ood: bool,
                      knn: bool) -> dict[str, np.ndarray]:
-        """:meth:`predict_array` of the served gradient boosting (constant-width interval).
+        """:meth:`predict_array` of the served gradient boosting.
 
         The trees are evaluated by :class:`~drillfatigue.surrogate.gbm.FlatForest`
         (built on first use; the same numbers as ``self.gbm.predict`` on the
-        design matrix).
+        design matrix). The interval's half-width is that of the prediction's
+        bin of log10 rate (Mondrian conformal,
+        :func:`~drillfatigue.surrogate.conformal.mondrian_bins`) when the
+        model has bins, else the one global conformal quantile (models saved
+        with ``gbm_interval: constant`` or before the bins existed).
         """
+        g = self.metadata["gbm"]
         if self._forest is None:
             self._forest = FlatForest(self.gbm, self.preprocessor)
+            if "conformal_half_widths" in g:
+                self._bins = (np.asarray(g["conformal_bins_log10"], dtype=np.float64),
+                              np.asarray(g["conformal_half_widths"], dtype=np.float64))
         mu = self._forest.predict(x_num, x_cat)
-        g = self.metadata["gbm"]
-        half = float(g["conformal_quantile"])
+        half = (mondrian_half_width(mu, *self._bins) if self._bins is not None
+                else float(g["conformal_quantile"]))
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
                "lower": mu - half, "upper": mu + half}
         return self._finish(res, x_num, ood, knn)
