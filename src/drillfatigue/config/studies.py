@@ -92,10 +92,10 @@ class Case2Config(StrictModel):
     safety_factor: float = Field(0.5, gt=0.0, le=0.95,
                                  description="solver.safety_factor (fraction of the stable step)")
     implicit_bit_torque: bool = Field(
-        False, description="solver.implicit_bit_torque: the bit law's damping of the bit's spin "
-                           "taken linearly implicit, so a safety factor of 0.85 keeps the "
-                           "bit's spin as accurate as 0.5 (docs/performance.md); on in "
-                           "params.yaml's case2 section and the paper-scale run")
+        True, description="solver.implicit_bit_torque: the bit law's damping of the bit's spin "
+                          "taken linearly implicit, so a safety factor of 0.85 keeps the "
+                          "bit's spin as accurate as 0.5 (docs/performance.md); the plan "
+                          "stage's confirmation windows keep the explicit bit torque")
     target_s_from_bit_m: float = Field(40.0, gt=0.0, le=5000.0,
                                        description="joint whose loads are reported")
     string: StringSpec = Field(default_factory=StringSpec)

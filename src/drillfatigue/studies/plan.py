@@ -82,7 +82,7 @@ class CandidateFile(StrictModel):
 
     family: FamilySpec = Field(default_factory=FamilySpec)
     window: Case2Config = Field(default_factory=lambda: Case2Config(
-        n_samples=4, sample_s=4.0, boundaries="rig_rop"))
+        n_samples=4, sample_s=4.0, boundaries="rig_rop", implicit_bit_torque=False))
     surrogate_bit_positions: int = Field(17, ge=2, le=1000)
     fatigue: FatigueConfig = Field(default_factory=lambda: FatigueConfig(plots=False),
                                    description="fatigue settings of the confirmation runs")
