@@ -178,22 +178,22 @@ def record(step, t1, n, s, p, wk, rec):
 # inf or nan, which the speed and finiteness checks of the step report); about 3 % off
 # the joint loop and the integrator.
 @njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
-def half_kicks(n, s, p, wk, hdt, latm):
-    """Half kick of every active segment by ``hdt`` (s) from its forces ``s.Fw, s.Mb``;
+def kick_segment(i, s, p, wk, hdt, latm):
+    """Half kick of segment ``i`` by ``hdt`` (s) from its forces ``s.Fw, s.Mb``;
     ``latm``: with the lateral mud mass ``p.mlat``."""
-    v = s.v
-    w = s.w
-    Fw = s.Fw
-    Mb = s.Mb
     seg = p.seg
-    mlat = p.mlat
-    R = wk.R
+    if latm:
+        kick_lateral(s.v[i], s.w[i], s.Fw[i], s.Mb[i], seg[i, S_M], p.mlat[i], seg[i, S_IT],
+                     seg[i, S_IA], wk.R[i, :, 2], hdt)
+    else:
+        kick(s.v[i], s.w[i], s.Fw[i], s.Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+
+
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+def half_kicks(n, s, p, wk, hdt, latm):
+    """:func:`kick_segment` of every active segment."""
     for i in range(n):
-        if latm:
-            kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
-                         seg[i, S_IA], R[i, :, 2], hdt)
-        else:
-            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+        kick_segment(i, s, p, wk, hdt, latm)
 
 
 @njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
@@ -202,19 +202,10 @@ def half_kicks_checked(n, s, p, wk, hdt, latm):
     :func:`speed_excess` above 1 and its segment, or (1.0, -1) when none exceeds."""
     v = s.v
     w = s.w
-    Fw = s.Fw
-    Mb = s.Mb
-    seg = p.seg
-    mlat = p.mlat
-    R = wk.R
     worst = 1.0
     iworst = -1
     for i in range(n):
-        if latm:
-            kick_lateral(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], mlat[i], seg[i, S_IT],
-                         seg[i, S_IA], R[i, :, 2], hdt)
-        else:
-            kick(v[i], w[i], Fw[i], Mb[i], seg[i, S_M], seg[i, S_IT], seg[i, S_IA], hdt)
+        kick_segment(i, s, p, wk, hdt, latm)
         r = speed_excess(v[i], w[i])
         if r > worst:
             worst = r

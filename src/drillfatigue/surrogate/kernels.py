@@ -34,6 +34,33 @@ _BLOCK = 128  # rows walked down a tree level by level together
 
 
 @njit(cache=True, nogil=True)
+def _design_value(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np.ndarray,
+                  col_cat: np.ndarray, col_index: np.ndarray, col_level: np.ndarray,
+                  r: int, j: int) -> float:
+    """Input column ``j`` of row ``r`` as the design matrix builds it: the standardised
+    numeric feature, or the one-hot level (1.0 or 0.0) of a categorical one."""
+    c = col_index[j]
+    if col_cat[j] == 0:
+        return (x_num[r, c] - mean[c]) / scale[c]
+    if x_cat[r, c] == col_level[j]:
+        return 1.0
+    return 0.0
+
+
+@njit(cache=True, nogil=True)
+def _rank(cuts: np.ndarray, lo: int, hi: int, v: float) -> int:
+    """Index of the first of the sorted thresholds ``cuts[lo:hi]`` that is >= ``v``
+    (``lo`` + the count of thresholds below ``v``)."""
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if cuts[mid] < v:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True, nogil=True)
 def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np.ndarray,
                col_cat: np.ndarray, col_index: np.ndarray, col_level: np.ndarray,
                feature: np.ndarray, threshold: np.ndarray, child: np.ndarray,
@@ -68,13 +95,8 @@ def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np
         m = min(_BLOCK, n - b)
         for i in range(m):
             for j in range(n_cols):
-                c = col_index[j]
-                if col_cat[j] == 0:
-                    z[i, j] = (x_num[b + i, c] - mean[c]) / scale[c]
-                elif x_cat[b + i, c] == col_level[j]:
-                    z[i, j] = 1.0
-                else:
-                    z[i, j] = 0.0
+                z[i, j] = _design_value(x_num, x_cat, mean, scale, col_cat, col_index,
+                                        col_level, b + i, j)
             acc[i] = baseline
         for t in range(n_trees):
             root = roots[t]
@@ -127,22 +149,9 @@ def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
         m = min(_BLOCK, n - b)
         for i in range(m):
             for j in range(n_cols):
-                c = col_index[j]
-                if col_cat[j] == 0:
-                    v = (x_num[b + i, c] - mean[c]) / scale[c]
-                elif x_cat[b + i, c] == col_level[j]:
-                    v = 1.0
-                else:
-                    v = 0.0
-                lo = cut_start[j]
-                hi = cut_start[j + 1]
-                while lo < hi:  # first threshold >= v: the count of thresholds below v
-                    mid = (lo + hi) >> 1
-                    if cuts[mid] < v:
-                        lo = mid + 1
-                    else:
-                        hi = mid
-                rank[i, j] = lo - cut_start[j]
+                v = _design_value(x_num, x_cat, mean, scale, col_cat, col_index, col_level,
+                                  b + i, j)
+                rank[i, j] = _rank(cuts, cut_start[j], cut_start[j + 1], v) - cut_start[j]
             acc[i] = baseline
         for t in range(n_trees):
             root = roots[t]
@@ -201,21 +210,8 @@ def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
             hi = cut_start[j + 1]
             if lo == hi:
                 continue
-            c = col_index[j]
-            if col_cat[j] == 0:
-                v = (x_num[i, c] - mean[c]) / scale[c]
-            elif x_cat[i, c] == col_level[j]:
-                v = 1.0
-            else:
-                v = 0.0
-            a = lo
-            while a < hi:
-                mid = (a + hi) >> 1
-                if cuts[mid] < v:
-                    a = mid + 1
-                else:
-                    hi = mid
-            row = mask_start[j] + a - lo
+            v = _design_value(x_num, x_cat, mean, scale, col_cat, col_index, col_level, i, j)
+            row = mask_start[j] + _rank(cuts, lo, hi, v) - lo
             for t in range(n_trees):
                 alive[t] &= masks[row, t]
         acc = baseline
