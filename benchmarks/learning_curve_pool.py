@@ -50,12 +50,21 @@ Usage::
         [--seeds 3] [--subsets 4] [--acquisitions governing rows mix space_filling]
 
 writes ``benchmarks/results/learning_curve_pool.json`` (rewritten after each
-curve).
+curve; ``--keep`` keeps the Sobol curve and the runs already there and runs
+only the acquisitions and seeds missing). The controls ``mix_sobol`` (half
+of each batch the next cases of the Sobol sequence, the rest as ``rows``),
+``random`` (seeded random cases) and ``oracle`` (the cases the served model
+of the round gets most wrong, summed squared error of their rows clipped at
+the horizon: known only in a replay, the most an acquisition aimed at the
+error could take) are benchmark-only. Per round each run records how well
+its score ranks the served model's actual error on the pool cases
+(Spearman) and the share of that error its batch takes.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import platform
 import sys
@@ -65,6 +74,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from scipy.stats import spearmanr
 
 from drillfatigue.config import load_params
 from drillfatigue.surrogate.data import log10_target
@@ -164,7 +174,17 @@ class Pool:
                **_scores(pred, cfg.horizon_h)}
         out["subsets"] = [_scores(pred[pred["case_id"].isin(s)], cfg.horizon_h)
                           for s in self.subsets]
+        out["_predict"] = lambda f: model.predict(x_of(f))
         return out
+
+    def case_error(self, predict: Any, cand: list[str]) -> np.ndarray:
+        """Squared error of ``predict`` summed over each candidate's rows, both sides clipped
+        at the horizon (an error beyond it changes no answer), in ``cand`` order."""
+        idx = np.concatenate([self.row_index[c] for c in cand])
+        c = self.censor if self.censor is not None else -np.inf
+        e = (np.maximum(predict(self.rows.iloc[idx]), c) - np.maximum(self.y_rows[idx], c))**2
+        g = self.rows["case_id"].to_numpy()[idx]
+        return pd.Series(e).groupby(g).sum().reindex(cand).to_numpy(dtype=np.float64)
 
     def scores(self, acquisition: str, taken: list[str], cand: list[str], seed: int,
                ad: Any) -> np.ndarray:
@@ -204,21 +224,54 @@ def run_adaptive(pool: Pool, acquisition: str, seed: int, args: argparse.Namespa
     taken = pool.order[:args.n_initial]
     curve = [pool.fit_score(taken)]
     t_acq = 0.0
+    rounds = []
     for rnd, n in enumerate(sizes[1:], start=1):
         cand = [c for c in pool.order if c not in set(taken)]
+        err = pool.case_error(curve[-1].pop("_predict"), cand)
         t0 = time.perf_counter()
-        score = pool.scores(acquisition, taken, cand, 1000 * seed + rnd, ad)
-        mode = "mix" if acquisition in ("mix", "space_filling") else acquisition
-        share = 1.0 if acquisition == "space_filling" else ad.space_filling_share
-        pick = choose_batch(mode, pool.x_unit[[pos[c] for c in cand]], score,
-                            pool.x_unit[[pos[c] for c in taken]], n - len(taken),
-                            math.ceil(ad.pool_factor * args.batch), share)
+        n_new = n - len(taken)
+        score = np.zeros(len(cand))
+        x_cand = pool.x_unit[[pos[c] for c in cand]]
+        if acquisition == "oracle":
+            # the cases the served model gets most wrong (known only in a replay): the most an
+            # acquisition aimed at the error could take
+            score = err.copy()
+            pick = np.argsort(-err, kind="stable")[:n_new]
+        elif acquisition == "random":
+            pick = np.random.default_rng(1000 * seed + rnd).choice(len(cand), n_new,
+                                                                   replace=False)
+        elif acquisition == "mix_sobol":
+            # the space-filling share: the next cases of the Sobol sequence (design order)
+            n_sobol = int(math.floor(ad.space_filling_share * n_new + 0.5))
+            first = np.arange(n_sobol)
+            taken_x = pool.x_unit[[pos[c] for c in taken + cand[:n_sobol]]]
+            rest = cand[n_sobol:]
+            s_rest = pool.scores("rows", taken + cand[:n_sobol], rest, 1000 * seed + rnd, ad)
+            score[n_sobol:] = s_rest
+            disputed = choose_batch("rows", x_cand[n_sobol:], s_rest, taken_x, n_new - n_sobol,
+                                    math.ceil(ad.pool_factor * args.batch))
+            pick = np.concatenate([first, n_sobol + disputed])
+        else:
+            score = pool.scores(acquisition, taken, cand, 1000 * seed + rnd, ad)
+            mode = "mix" if acquisition in ("mix", "space_filling") else acquisition
+            share = 1.0 if acquisition == "space_filling" else ad.space_filling_share
+            pick = choose_batch(mode, x_cand, score, pool.x_unit[[pos[c] for c in taken]],
+                                n_new, math.ceil(ad.pool_factor * args.batch), share)
         t_acq += time.perf_counter() - t0
+        # does the disagreement find the error? the served model's error on the pool cases
+        rounds.append({
+            "n_cases": len(taken),
+            "spearman_score_error": (float(spearmanr(score, err).statistic)
+                                     if np.ptp(score) > 0 else None),
+            "error_share_taken": float(err[pick].sum() / err.sum()),
+            "error_share_oracle": float(np.sort(err)[::-1][:n_new].sum() / err.sum()),
+            "case_share_taken": n_new / len(cand)})
         taken = taken + [cand[i] for i in pick]
         curve.append(pool.fit_score(taken))
+    curve[-1].pop("_predict")
     profiles = pool.rows.drop_duplicates("case_id").set_index("case_id")["well.profile"]
     return {"acquisition": acquisition, "seed": seed, "wall_s_acquisition": round(t_acq, 1),
-            "cases": taken,
+            "cases": taken, "rounds": rounds,
             "profiles": {str(k): int(v) for k, v in
                          profiles.reindex(taken).value_counts().sort_index().items()},
             "curve": curve}
@@ -243,8 +296,12 @@ def summarise(result: dict[str, Any], args: argparse.Namespace) -> dict[str, Any
                        for i in range(len(sizes))]
                 per_subset.append(reach_ratio(sizes, m_k, sobol[-1]["subsets"][k][metric],
                                               sign, args.n_max))
+            # simulations to reach Sobol's value at each size, over that size
+            by_ref = {str(n_ref): reach_ratio(sizes, mean, sobol[i][metric], sign, n_ref)
+                      for i, n_ref in enumerate(sizes) if i > 0}
             res[metric] = {
                 "sobol_curve": [c[metric] for c in sobol], "mean_curve": mean,
+                "ratio_by_sobol_size": by_ref,
                 "per_seed_curve": [[c[metric] for c in r["curve"]] for r in runs],
                 "sobol_final": target, "adaptive_final": mean[-1],
                 "ratio": reach_ratio(sizes, mean, target, sign, args.n_max),
@@ -270,9 +327,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--fit-seeds", type=int, default=4,
                     help="refits of the Sobol design at --n-max with other early-stopping splits")
     ap.add_argument("--acquisitions", nargs="+",
-                    default=["governing", "rows", "mix", "space_filling"],
-                    choices=["governing", "rows", "mix", "space_filling"])
+                    default=["governing", "rows", "mix", "space_filling", "mix_sobol",
+                             "random", "oracle"],
+                    choices=["governing", "rows", "mix", "space_filling", "mix_sobol",
+                             "random", "oracle"])
     ap.add_argument("--out", default=str(RESULT))
+    ap.add_argument("--keep", action="store_true",
+                    help="keep the Sobol curve and the runs already in --out (same settings "
+                         "but --acquisitions/--seeds) and run the rest")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     pool = Pool(args)
@@ -289,16 +351,33 @@ def main(argv: list[str] | None = None) -> int:
         "served_model": "gbm (fit_gbm on every row of the cases taken)",
         "metric": "held-out rows predicted within surrogate.horizon_h (deciding_metrics rows)",
         "sizes": sizes}
-    result["sobol"] = {"cases": pool.order[:args.n_max],
-                       "curve": [pool.fit_score(pool.order[:n]) for n in sizes]}
-    # the served fit's own noise: the Sobol design at --n-max with other early-stopping splits
-    result["sobol"]["split_seed_final"] = [
-        {k: v for k, v in pool.fit_score(pool.order[:args.n_max], s).items() if k != "subsets"}
-        | {"split_seed": s} for s in range(1, args.fit_seeds + 1)]
-    result["adaptive"] = []
+    kept: list[dict[str, Any]] = []
+    if args.keep and Path(args.out).is_file():
+        old = json.loads(Path(args.out).read_text(encoding="utf-8"))
+        same = ("acquisitions", "seeds", "keep")
+        if {k: v for k, v in old["settings"].items() if k not in same} != \
+                {k: v for k, v in result["settings"].items() if k not in same}:
+            ap.error(f"--keep: {args.out} was run with other settings")
+        result["sobol"], kept = old["sobol"], old["adaptive"]
+        result["wall_s_kept"] = old.get("wall_s", 0.0) + old.get("wall_s_kept", 0.0)
+    else:
+        result["sobol"] = {"cases": pool.order[:args.n_max], "curve": [
+            {k: v for k, v in pool.fit_score(pool.order[:n]).items() if k != "_predict"}
+            for n in sizes]}
+        # the served fit's own noise: the Sobol design at --n-max, other early-stopping splits
+        result["sobol"]["split_seed_final"] = [
+            {k: v for k, v in pool.fit_score(pool.order[:args.n_max], s).items()
+             if k not in ("subsets", "_predict")} | {"split_seed": s}
+            for s in range(1, args.fit_seeds + 1)]
+    result["adaptive"] = kept
     print(f"sobol done ({time.perf_counter() - t0:.0f} s)", flush=True)
+    done = {(r["acquisition"], r["seed"]) for r in kept}
+    args.acquisitions = list(dict.fromkeys(
+        [r["acquisition"] for r in kept] + list(args.acquisitions)))
     for acq in args.acquisitions:
-        for seed in range(1 if acq == "space_filling" else args.seeds):
+        for seed in range(1 if acq in ("space_filling", "oracle") else args.seeds):
+            if (acq, seed) in done:
+                continue
             result["adaptive"].append(run_adaptive(pool, acq, seed, args, sizes))
             result["summary"] = summarise(result, args)
             result["wall_s"] = round(time.perf_counter() - t0, 1)
