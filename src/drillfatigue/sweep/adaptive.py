@@ -206,7 +206,7 @@ def space_filling_batch(x_cand: np.ndarray, x_design: np.ndarray, n: int,
 
 def choose_batch(acquisition: str, x_cand: np.ndarray, score: np.ndarray, x_design: np.ndarray,
                  n: int, pool_size: int, space_filling_share: float = 0.5) -> np.ndarray:
-    """Indices of the ``n`` candidates a round adds (module doc, steps 4-5).
+    """Indices of the ``n`` candidates a round adds (module doc, step 4).
 
     ``governing`` and ``rows``: :func:`diverse_batch` on the disagreement
     ``score``. ``mix``: ``round(space_filling_share * n)`` candidates
