@@ -112,3 +112,17 @@ def test_row_level_acquisition_in_the_stage_builds_candidate_rows_and_resumes(tm
     pd.testing.assert_frame_equal(again, frame)
     report = json.loads((tmp_path / "design" / "adaptive" / "sweep" / "sweep.json").read_text())
     assert report["n_done"] == 0
+
+
+def test_unknown_acquisition_one_line_error_nothing_written(tmp_path, capsys):
+    path = _params(tmp_path, adaptive={"acquisition": "widest",
+                                       "cache_dir": str(tmp_path / "c")})
+    spec = importlib.util.spec_from_file_location("pipeline_design", ROOT / "pipeline" / "design.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.main(["--params", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0
+    assert err.startswith("error: sweep.adaptive.acquisition: ")
+    assert "(allowed: 'governing', 'rows' or 'mix')" in err
+    assert not (tmp_path / "design").exists() and not (tmp_path / "c").exists()
