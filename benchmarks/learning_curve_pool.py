@@ -83,13 +83,11 @@ from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constrai
 from drillfatigue.surrogate.io import write_json
 from drillfatigue.surrogate.model import Preprocessor
 from drillfatigue.sweep.adaptive import (
-    RowSource,
     acquisition_scores,
     case_targets,
     choose_batch,
     row_matrix,
     row_scores,
-    template_rows,
     unit_features,
 )
 from drillfatigue.sweep.design import base_case_from_params, design_space, sobol_unit
@@ -133,11 +131,10 @@ class Pool:
         self.y_rows = log10_target(self.rows[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
         self.test = pd.read_parquet(args.heldout)
         self.test_ids = sorted(self.test[cfg.group_column].astype(str).unique())
-        self.src = RowSource(finished=lambda c: c, candidates=template_rows,
-                             features=tuple(cfg.features), categorical=tuple(cfg.categorical),
-                             target_column=cfg.target_column, floor_per_h=cfg.rate_floor_per_h)
-        self.levels = self.src.levels(self.rows)
-        self.x_rows = row_matrix(self.rows, self.src.features, self.src.categorical, self.levels)
+        # the row-level members' inputs: the surrogate's features, as the design stage's
+        # row source encodes them (every row of the pool is known here)
+        levels = {c: sorted(self.rows[c].astype(str).unique()) for c in cfg.categorical}
+        self.x_rows = row_matrix(self.rows, cfg.features, cfg.categorical, levels)
         self.row_index = {cid: np.flatnonzero(self.rows["case_id"].to_numpy() == cid)
                           for cid in self.order}
         self.censor = (-math.log10(cfg.horizon_h) if cfg.censoring == "likelihood" else None)
