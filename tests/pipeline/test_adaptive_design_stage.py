@@ -12,7 +12,12 @@ import yaml
 
 from drillfatigue.config import load_params
 from drillfatigue.files import MARKER
-from drillfatigue.sweep.stages import design_stage, heldout_params, simulate_stage
+from drillfatigue.sweep.stages import (
+    adaptive_rows,
+    design_stage,
+    heldout_params,
+    simulate_stage,
+)
 from testkit.synthetic_sweep import TINY_PARAMS as TINY
 from testkit.synthetic_sweep import synthetic_case, synthetic_fatigue
 
@@ -79,4 +84,45 @@ def test_bad_adaptive_block_one_line_error_nothing_written(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0
     assert err.startswith("error: sweep.adaptive.n_initial: 16 initial cases exceed n_cases = 7")
+    assert not (tmp_path / "design").exists() and not (tmp_path / "c").exists()
+
+
+def test_row_level_acquisition_in_the_stage_builds_candidate_rows_and_resumes(tmp_path):
+    """``acquisition: mix`` (row-level disagreement, half the batch space-filling) runs in
+    the stage on the dataset rows of the cached cases and candidates' rows built from their
+    inputs; a rerun gives the same design without simulating."""
+    params = load_params(_params(tmp_path, n_cases=8, adaptive={
+        "n_initial": 4, "batch_size": 2, "candidates": 32, "seed": 5, "n_members": 3,
+        "acquisition": "mix", "space_filling_share": 0.5,
+        "cache_dir": str(tmp_path / "design" / "adaptive")}))
+    frame = design_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    assert frame["round"].tolist() == [0, 0, 0, 0, 1, 1, 2, 2]
+    # (the synthetic chain's rates do not depend on the inputs: nothing to dispute here;
+    # tests/unit/test_sweep_adaptive.py checks where the row-level batches go)
+    assert (frame["acquisition_score"].iloc[4:] >= 0.0).all()
+    # the candidates' rows: the locations of a finished case, moved to the candidate's bit
+    src = adaptive_rows(params)
+    done = src.finished(frame.iloc[:4])
+    cand = src.candidates(frame.iloc[4:], done)
+    assert set(cand["case_id"]) == set(frame["case_id"].iloc[4:])
+    one = cand[cand["case_id"] == frame["case_id"].iloc[4]]
+    assert len(one) == (done["case_id"] == done["case_id"].iloc[0]).sum()
+    assert (one["operation.rpm"] == frame["operation.rpm"].iloc[4]).all()
+    again = design_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    pd.testing.assert_frame_equal(again, frame)
+    report = json.loads((tmp_path / "design" / "adaptive" / "sweep" / "sweep.json").read_text())
+    assert report["n_done"] == 0
+
+
+def test_unknown_acquisition_one_line_error_nothing_written(tmp_path, capsys):
+    path = _params(tmp_path, adaptive={"acquisition": "widest",
+                                       "cache_dir": str(tmp_path / "c")})
+    spec = importlib.util.spec_from_file_location("pipeline_design", ROOT / "pipeline" / "design.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.main(["--params", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0
+    assert err.startswith("error: sweep.adaptive.acquisition: ")
+    assert "(allowed: 'governing', 'rows' or 'mix')" in err
     assert not (tmp_path / "design").exists() and not (tmp_path / "c").exists()

@@ -20,14 +20,22 @@ from pydantic import Field
 from drillfatigue.config import Params, SweepConfig, validate
 from drillfatigue.config.base import StrictModel
 from drillfatigue.errors import InputError
+from drillfatigue.config import load_params
 from drillfatigue.sweep.adaptive import (
+    RowSource,
     acquisition_scores,
     adaptive_design,
     case_targets,
+    choose_batch,
     diverse_batch,
+    row_matrix,
+    row_scores,
+    space_filling_batch,
+    template_rows,
     unit_features,
 )
-from drillfatigue.sweep.design import design_cases, design_space
+from drillfatigue.sweep.cases import position_columns
+from drillfatigue.sweep.design import base_case_from_params, design_cases, design_space
 
 
 class _Operation(StrictModel):
@@ -92,9 +100,39 @@ class _CachedTarget:
         return pd.DataFrame.from_dict(rows, orient="index").rename_axis("case_id")
 
 
+S_FROM_BIT_M = np.linspace(0.0, 90.0, 10)
+
+
+def _rows_of(cases: pd.DataFrame, target: bool = True) -> pd.DataFrame:
+    """Fake dataset rows: 10 locations per case, the collar's rate falling with the distance
+    from the bit from the case's governing rate, the pipe's flat (:func:`_truth`)."""
+    out = []
+    for cid, text in zip(cases["case_id"], cases["case_json"], strict=True):
+        case = json.loads(text)
+        truth = _truth(case)
+        for s in S_FROM_BIT_M:
+            collar = s < 30.0
+            y = (truth["log10_governing_rate_per_h_collar"] - 0.01 * s if collar
+                 else truth["log10_governing_rate_per_h_drill_pipe"])
+            row = {"case_id": cid, "operation.rpm": case["operation"]["rpm"],
+                   "friction.mu_dynamic": case["friction"]["mu_dynamic"],
+                   "well.profile": case["well"]["profile"], "s_from_bit_m": s,
+                   "component_type": "collar" if collar else "drill_pipe"}
+            if target:
+                row["rate_per_h"] = 10.0**y
+            out.append(row)
+    return pd.DataFrame(out)
+
+
+ROWS = RowSource(finished=_rows_of, candidates=lambda cases, done: _rows_of(cases, False),
+                 features=("operation.rpm", "friction.mu_dynamic", "s_from_bit_m"),
+                 categorical=("well.profile", "component_type"), target_column="rate_per_h",
+                 floor_per_h=1e-12)
+
+
 def _design(tmp_path: Path, cfg: SweepConfig, name: str = "cache", fail_after=None):
     target = _CachedTarget(tmp_path / name, fail_after)
-    frame = adaptive_design(cfg, BASE, target, censor_log10=CENSOR, model=_Case)
+    frame = adaptive_design(cfg, BASE, target, censor_log10=CENSOR, model=_Case, rows=ROWS)
     return frame, target
 
 
@@ -196,8 +234,161 @@ def test_case_targets_governing_per_component():
     ({"n_members": 1}, "sweep.adaptive.n_members"),
     ({"pool_factor": 0.5}, "sweep.adaptive.pool_factor"),
     ({"batches": 3}, "sweep.adaptive.batches"),
+    ({"acquisition": "widest"}, "sweep.adaptive.acquisition"),
+    ({"space_filling_share": 1.5}, "sweep.adaptive.space_filling_share"),
 ])
 def test_input_errors_name_the_field(block, field):
     with pytest.raises(InputError) as err:
         validate(Params, {"sweep": {"method": "adaptive", "n_cases": 16, "adaptive": block}})
     assert err.value.field == field
+
+
+def test_unknown_acquisition_names_the_allowed_ones():
+    with pytest.raises(InputError) as err:
+        validate(Params, {"sweep": {"method": "adaptive", "n_cases": 16,
+                                    "adaptive": {"acquisition": "widest"}}})
+    assert all(a in err.value.allowed for a in ("governing", "rows", "mix"))
+    with pytest.raises(InputError) as err:
+        choose_batch("widest", np.zeros((3, 1)), np.zeros(3), np.zeros((0, 1)), 1, 1)
+    assert err.value.field == "sweep.adaptive.acquisition"
+    assert err.value.allowed == "governing, rows, mix"
+
+
+def test_row_level_acquisition_needs_the_rows(tmp_path):
+    with pytest.raises(InputError) as err:
+        adaptive_design(_cfg(acquisition="rows"), BASE, _CachedTarget(tmp_path / "c"),
+                        censor_log10=CENSOR, model=_Case)
+    assert err.value.field == "sweep.adaptive.acquisition"
+
+
+# --- row-level and mixed acquisitions -------------------------------------------------------
+
+
+@pytest.mark.parametrize("acquisition", ["rows", "mix"])
+def test_row_level_designs_are_seeded_and_resume(tmp_path, acquisition):
+    whole, _ = _design(tmp_path, _cfg(acquisition=acquisition), "whole")
+    assert len(whole) == 20 and whole["case_id"].is_unique
+    again, _ = _design(tmp_path, _cfg(acquisition=acquisition), "again")
+    pd.testing.assert_frame_equal(again, whole)
+    with pytest.raises(KeyboardInterrupt):
+        _design(tmp_path, _cfg(acquisition=acquisition), "resumed", fail_after=14)
+    resumed, target = _design(tmp_path, _cfg(acquisition=acquisition), "resumed")
+    pd.testing.assert_frame_equal(resumed, whole)
+    assert target.evaluated == whole["case_id"].iloc[14:].tolist()
+    # round 0 is the Sobol start whatever the acquisition; the rounds differ from governing's
+    gov, _ = _design(tmp_path, _cfg(), "governing")
+    assert whole["case_id"].iloc[:8].tolist() == gov["case_id"].iloc[:8].tolist()
+    assert whole["case_id"].iloc[8:].tolist() != gov["case_id"].iloc[8:].tolist()
+
+
+def test_row_level_batches_go_where_the_rows_are_disputed(tmp_path):
+    """The collar rows' ridge (p3, rpm near 170) is where the members disagree: the rounds
+    put more cases into p3 than its share (1/3) and, there, nearer the ridge than a uniform
+    draw would (mean |rpm - 170| over rpm 60-180: (110^2 + 10^2) / 240 = 50.8). The members
+    (at least 20 rows, 2 cases, per leaf) see the 8-rpm-wide ridge smeared over tens of rpm,
+    so the bound is 3/4 of the uniform mean, not the governing target's sharper one."""
+    frame, _ = _design(tmp_path, _cfg(acquisition="rows"), "ridge")
+    added = frame[frame["round"] > 0]
+    p3 = added["well.profile"] == "p3"
+    assert p3.mean() > 1.0 / 3.0
+    assert np.mean(np.abs(added["operation.rpm"][p3] - 170.0)) < 0.75 * 50.8
+
+
+def test_row_scores_sum_the_rows_and_ignore_disputes_beyond_the_horizon():
+    cases = design_cases(validate(SweepConfig, {"n_cases": 16, "seed": 1,
+                                                "variables": VARIABLES}), BASE, model=_Case)
+    rows = _rows_of(cases)
+    levels = ROWS.levels(rows)
+    x = row_matrix(rows, ROWS.features, ROWS.categorical, levels)
+    assert x.shape == (160, 3 + 3 + 2)
+    y, g = ROWS.log10_rate(rows), rows["case_id"].to_numpy()
+    kw = {"n_members": 4, "seed": 2, "censor_log10": CENSOR}
+    train = np.isin(g, cases["case_id"].iloc[:12])
+    s = row_scores(x[train], y[train], g[train], x[~train], g[~train], **kw)
+    assert s.index.tolist() == cases["case_id"].iloc[12:].tolist()
+    assert np.all(s >= 0.0) and s.max() > 0.0
+    # seeded: the same members, the same scores
+    pd.testing.assert_series_equal(s, row_scores(x[train], y[train], g[train], x[~train],
+                                                 g[~train], **kw))
+    # the score of a case is the sum over its rows: a copy of a case's rows doubles it
+    c0 = g[~train] == cases["case_id"].iloc[12]
+    xd, gd = np.vstack([x[~train][c0], x[~train][c0]]), np.repeat("dup", 2 * c0.sum())
+    sd = row_scores(x[train], y[train], g[train], np.vstack([x[~train], xd]),
+                    np.concatenate([g[~train], gd]), **kw)
+    assert sd["dup"] == pytest.approx(2.0 * s.iloc[0], rel=1e-12)
+    # every rate beyond the horizon: the members may differ below it, the score is zero
+    low = np.full_like(y, CENSOR - 2.0) - 0.1 * x[:, 0] / 180.0
+    assert np.all(row_scores(x[train], low[train], g[train], x[~train], g[~train], **kw) == 0.0)
+
+
+def test_space_filling_batch_is_max_min():
+    # corners of the unit square and its centre; a design point at (0, 0)
+    x = np.array([[0.5, 0.5], [1.0, 1.0], [0.0, 1.0], [1.0, 0.0], [0.1, 0.1]])
+    pick = space_filling_batch(x, np.array([[0.0, 0.0]]), 3)
+    assert pick.tolist() == [1, 2, 3]  # (1, 1) farthest; then (0, 1) before (1, 0): ties low
+    assert space_filling_batch(x, np.array([[0.0, 0.0]]), 2, exclude=[1]).tolist() == [2, 3]
+    assert space_filling_batch(x, np.empty((0, 2)), 1).tolist() == [0]
+
+
+@pytest.mark.parametrize(("share", "n_space"), [(0.0, 0), (0.25, 2), (0.5, 4), (0.3, 2),
+                                                (0.45, 4), (1.0, 8)])
+def test_mix_takes_the_stated_share_space_filling(share, n_space):
+    rng = np.random.default_rng(3)
+    x_cand, x_design = rng.random((200, 3)), rng.random((10, 3))
+    score = rng.random(200)
+    pick = choose_batch("mix", x_cand, score, x_design, 8, 24, share)
+    assert len(pick) == 8 and len(set(pick.tolist())) == 8
+    disputed, spread = pick[:8 - n_space], pick[8 - n_space:]
+    # the disputed part is the diversity rule's batch of that size ...
+    if n_space < 8:
+        assert disputed.tolist() == diverse_batch(x_cand, score, x_design, 8 - n_space,
+                                                  24).tolist()
+    # ... the rest max-min from the design and the disputed picks, disagreement ignored
+    ref = np.vstack([x_design, x_cand[disputed]])
+    assert spread.tolist() == space_filling_batch(x_cand, ref, n_space, disputed).tolist()
+    if n_space:
+        # the space-filling picks need not be among the 24 most disputed candidates
+        top = set(np.argsort(-score)[:24].tolist())
+        assert not set(spread.tolist()) <= top or n_space <= 2
+    # governing and rows ignore the share: the diversity rule alone
+    for acq in ("governing", "rows"):
+        assert choose_batch(acq, x_cand, score, x_design, 8, 24, share).tolist() == \
+            diverse_batch(x_cand, score, x_design, 8, 24).tolist()
+
+
+def test_candidate_rows_take_the_hole_geometry_of_their_own_well():
+    """A candidate's rows: the locations of the finished case of its profile nearest in bit
+    MD, the MD moved by the bit difference, the geometry columns as the fatigue stage's
+    (:func:`position_columns`) at the moved positions: exactly equal (same function)."""
+    params = load_params(Path(__file__).parents[2] / "params.yaml")
+    cfg = params.sweep.model_copy(update={"n_cases": 8, "method": "sobol"})
+    cases = design_cases(cfg, base_case_from_params(params))
+    variables = tuple(cfg.variables)
+    s = np.array([1.0, 5.0, 40.0, 200.0])
+    done_cases = cases.iloc[:4]
+    parts = []
+    for _, c in done_cases.iterrows():
+        md = float(c["operation.bit_md_m"]) - s
+        geo = position_columns(json.loads(c["case_json"]), md, s)
+        parts.append(pd.DataFrame({"case_id": c["case_id"], "md_m": md, "s_from_bit_m": s,
+                                   "location": "body", **{v: c[v] for v in variables},
+                                   **geo}))
+    done = pd.concat(parts, ignore_index=True)
+    # a finished case as its own candidate: its rows come back unchanged
+    back = template_rows(done_cases.iloc[:1], done, variables)
+    pd.testing.assert_frame_equal(back[done.columns], done.iloc[:4], check_dtype=False)
+    cand = template_rows(cases.iloc[4:], done, variables)
+    for _, c in cases.iloc[4:].iterrows():
+        rows = cand[cand["case_id"] == c["case_id"]]
+        same = done_cases[done_cases["well.profile"] == c["well.profile"]]
+        if not len(same):
+            assert rows.empty  # no template of its profile: no rows, score zero
+            continue
+        # template MD (its bit - s) moved by (candidate's bit - template's bit)
+        np.testing.assert_allclose(rows["s_from_bit_m"], s)
+        np.testing.assert_allclose(rows["md_m"], float(c["operation.bit_md_m"]) - s,
+                                   rtol=0, atol=1e-9)
+        geo = position_columns(json.loads(c["case_json"]), rows["md_m"], rows["s_from_bit_m"])
+        for col, v in geo.items():
+            np.testing.assert_array_equal(rows[col].to_numpy(), np.asarray(v))
+        assert (rows["operation.rpm"] == c["operation.rpm"]).all()

@@ -165,6 +165,16 @@ class AdaptiveConfig(StrictModel):
         ``fatigue/``), keyed by case id: an interrupted design resumes from
         the cases already done. None: ``adaptive/`` beside the case table
         (``sweep.cases_path``).
+    acquisition : {'governing', 'rows', 'mix'}
+        What the ensemble disagrees on: ``governing`` the governing rate per
+        case and component type (inputs: the design point); ``rows`` every
+        row's rate (inputs: the surrogate's features; a candidate's rows built
+        from its inputs), summed over the case's rows; ``mix`` a share
+        ``space_filling_share`` of each batch by max-min distance alone, the
+        rest as ``rows``.
+    space_filling_share : float
+        Share of each batch taken space-filling with ``mix`` (rounded half
+        up to whole cases), 0 ... 1.
     """
 
     n_initial: int = Field(16, ge=2, le=1_000_000)
@@ -174,6 +184,8 @@ class AdaptiveConfig(StrictModel):
     n_members: int = Field(8, ge=2, le=64)
     pool_factor: float = Field(4.0, ge=1.0, le=64.0)
     cache_dir: str | None = Field(None, min_length=1)
+    acquisition: Literal["governing", "rows", "mix"] = "governing"
+    space_filling_share: float = Field(0.5, ge=0.0, le=1.0)
 
     @model_validator(mode="after")
     def _check(self) -> AdaptiveConfig:

@@ -25,15 +25,23 @@ import pyarrow.parquet as pq
 from drillfatigue.config import Params
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
-from drillfatigue.sweep.adaptive import ADAPTIVE_KIND, TargetFn, adaptive_design, case_targets
+from drillfatigue.sweep.adaptive import (
+    ADAPTIVE_KIND,
+    RowSource,
+    TargetFn,
+    adaptive_design,
+    case_targets,
+    template_rows,
+)
 from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks, run_case
 from drillfatigue.sweep.dataset import build_dataset, write_dataset
 from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
 from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
 from drillfatigue.sweep.window import run_case_converged, window_inputs
 
-__all__ = ["adaptive_cache_dir", "adaptive_targets", "dataset_stage", "design_stage",
-           "fatigue_stage", "heldout_params", "heldout_stage", "simulate_stage", "write_report"]
+__all__ = ["adaptive_cache_dir", "adaptive_rows", "adaptive_targets", "dataset_stage",
+           "design_stage", "fatigue_stage", "heldout_params", "heldout_stage", "simulate_stage",
+           "write_report"]
 
 
 def _write_json(path: Path, data: Any) -> None:
@@ -64,7 +72,7 @@ def design_stage(params: Params, cases_path: str | Path | None = None, *,
         frame = adaptive_design(cfg, base_case_from_params(params),
                                 adaptive_targets(params, progress=progress, case_fn=case_fn,
                                                  fatigue_fn=fatigue_fn, cases_path=cases_path),
-                                censor_log10=censor)
+                                censor_log10=censor, rows=adaptive_rows(params, cases_path))
     else:
         frame = design_cases(cfg, base_case_from_params(params))
         OutputFolder(adaptive_cache_dir(params, cases_path), ADAPTIVE_KIND,
@@ -133,6 +141,26 @@ def adaptive_targets(params: Params, *, progress: bool = False, case_fn: CaseFn 
                             sur.group_column).reindex(ids)
 
     return target
+
+
+def adaptive_rows(params: Params, cases_path: str | Path | None = None) -> RowSource:
+    """The row-level acquisitions' rows: the dataset rows of the cases finished in the
+    adaptive design's cache (:func:`adaptive_targets`) and candidates' rows built from their
+    inputs (:func:`drillfatigue.sweep.adaptive.template_rows`), on the surrogate's inputs."""
+    root = adaptive_cache_dir(params, cases_path)
+    sur = params.surrogate
+    variables = tuple(params.sweep.variables)
+
+    def finished(cases: pd.DataFrame) -> pd.DataFrame:
+        rows = build_dataset(cases, root / "sweep", root / "fatigue")
+        return rows.assign(case_id=rows[sur.group_column].astype(str)) if len(rows) else rows
+
+    def candidates(cases: pd.DataFrame, done: pd.DataFrame) -> pd.DataFrame:
+        return template_rows(cases, done, variables)
+
+    return RowSource(finished=finished, candidates=candidates, features=tuple(sur.features),
+                     categorical=tuple(sur.categorical), target_column=sur.target_column,
+                     floor_per_h=sur.rate_floor_per_h)
 
 
 def _runner_kwargs(params: Params, scheduler: str | None, n_workers: int | None,
