@@ -25,7 +25,11 @@ rows; on the deciding rows factor 2, RMSE, coverage and mean width; coverage,
 factor 2 and width per decade of the simulated and of the predicted rate;
 governing rate per case and component type (factor 2, RMSE, per type);
 "beyond the horizon" precision and recall; all held-out rows (R², RMSE,
-coverage, width).
+coverage, width). Coverages carry their standard error over the held-out
+cases (``coverage_se_cases``: rows of a case share its errors, so the case is
+the sampling unit) and ``coverage_censored`` (a row simulated beyond the
+horizon counts as covered once the interval reaches down to it, as the
+calibration scores it).
 
 Usage: ``python benchmarks/surrogate_calibration.py [--research /work/research]
 [--out benchmarks/results/surrogate_calibration.json] [--variants a,b]``
@@ -34,6 +38,7 @@ Usage: ``python benchmarks/surrogate_calibration.py [--research /work/research]
 from __future__ import annotations
 
 import argparse
+import math
 import platform
 import sys
 import time
@@ -46,6 +51,7 @@ import yaml
 
 from drillfatigue.config.base import validate
 from drillfatigue.config.surrogate import SurrogateConfig
+from drillfatigue.metrics import decade_label
 from drillfatigue.numba_cache import scope_numba_cache
 from drillfatigue.surrogate.conformal import mondrian_half_width
 from drillfatigue.surrogate.data import gbm_rows, log10_target, read_dataset, split_by_case
@@ -73,6 +79,40 @@ def _slim(d: dict[str, Any]) -> dict[str, Any]:
     return {k: {kk: v for kk, v in row.items() if kk != "mae"} for k, row in d.items()}
 
 
+def coverage_se_by_case(covered: np.ndarray, cases: np.ndarray) -> float:
+    """Standard error of a coverage fraction over cases (rows of a case are correlated).
+
+    The fraction is a ratio of per-case sums, sum_c k_c / sum_c n_c; its
+    linearised (cluster-robust) variance is C / (C - 1) sum_c (k_c - p n_c)^2
+    / (sum_c n_c)^2 over the C cases (Cochran, Sampling Techniques, 3rd ed.,
+    sec. 6.4, ratio estimator).
+    """
+    if covered.size == 0:
+        return float("nan")
+    frame = pd.DataFrame({"k": covered.astype(float), "c": cases})
+    per = frame.groupby("c")["k"].agg(["sum", "size"])
+    n_c = per.shape[0]
+    if n_c < 2:
+        return float("nan")
+    p = per["sum"].sum() / per["size"].sum()
+    var = n_c / (n_c - 1) * np.sum((per["sum"] - p * per["size"]) ** 2) / per["size"].sum() ** 2
+    return float(np.sqrt(var))
+
+
+def _add_case_se(d: dict[str, Any], pred: pd.DataFrame, key: str, c: float) -> None:
+    """Add ``coverage_se_cases`` and ``n_cases`` per decade of ``key`` (rows within horizon)."""
+    y, mu = pred["y_true"].to_numpy(), pred["hgb"].to_numpy()
+    cov = (y >= pred["hgb_lower"].to_numpy()) & (y <= pred["hgb_upper"].to_numpy())
+    within = mu >= c
+    ref = y if key == "by_decade" else mu
+    label = decade_label(ref)
+    cases = pred["case_id"].to_numpy()
+    for k, row in d[key].items():
+        sel = within & (label == k)
+        row["coverage_se_cases"] = coverage_se_by_case(cov[sel], cases[sel])
+        row["n_cases"] = int(np.unique(cases[sel]).size)
+
+
 def run_variant(cfg: SurrogateConfig, frame: pd.DataFrame, held: pd.DataFrame,
                 pre: Preprocessor) -> dict[str, Any]:
     """Fit, calibrate and score one variant on the held-out design."""
@@ -98,6 +138,13 @@ def run_variant(cfg: SurrogateConfig, frame: pd.DataFrame, held: pd.DataFrame,
         if col in held.columns:
             pred[col] = held[col].to_numpy()
     d = deciding_metrics(pred, ("hgb",), cfg.horizon_h)["hgb"]
+    level = -math.log10(cfg.horizon_h)
+    for key in ("by_decade", "by_predicted_decade"):
+        _add_case_se(d, pred, key, level)
+    within = mu >= level
+    cov = (y_h >= mu - half) & (y_h <= mu + half)
+    d["rows"]["coverage_se_cases"] = coverage_se_by_case(
+        cov[within], pred["case_id"].to_numpy()[within])
     gov = d["governing"]
     return {
         "fit_s": round(fit_s, 2), "n_iter": meta["n_iter"], "hgb_max_iter": cfg.hgb_max_iter,

@@ -257,8 +257,8 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
     return metrics, out
 
 
-def _errs(e: np.ndarray, covered: np.ndarray | None = None,
-          width: np.ndarray | None = None) -> dict[str, float]:
+def _errs(e: np.ndarray, covered: np.ndarray | None = None, width: np.ndarray | None = None,
+          covered_censored: np.ndarray | None = None) -> dict[str, float]:
     if e.size == 0:
         res = {"rmse": float("nan"), "mae": float("nan"), "factor2_fraction": float("nan"),
                "n": 0}
@@ -269,6 +269,9 @@ def _errs(e: np.ndarray, covered: np.ndarray | None = None,
         res["coverage"] = float(np.mean(covered)) if covered.size else float("nan")
     if width is not None:
         res["mean_width"] = float(np.mean(width)) if width.size else float("nan")
+    if covered_censored is not None:
+        res["coverage_censored"] = (float(np.mean(covered_censored)) if covered_censored.size
+                                    else float("nan"))
     return res
 
 
@@ -296,7 +299,10 @@ def deciding_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", 
     -------
     dict
         Per model: ``rows`` (RMSE, MAE, factor-2 fraction, interval coverage
-        and mean width on the rows predicted within the horizon), ``by_decade``
+        and mean width on the rows predicted within the horizon; also
+        ``coverage_censored``, where a row simulated beyond the horizon
+        counts as covered once the interval reaches down to the horizon, as
+        the calibration scores it), ``by_decade``
         (the same per decade of the simulated rate), ``by_predicted_decade``
         (per decade of the predicted rate: a user sees the prediction, and a
         Mondrian interval's coverage is guaranteed per bin of the prediction,
@@ -324,14 +330,19 @@ def deciding_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", 
         within = mu >= c
         cov = (y >= lo) & (y <= hi)
         wid = hi - lo
-        res: dict[str, Any] = {"rows": _errs(mu[within] - y[within], cov[within], wid[within])}
+        # a life simulated beyond the horizon is censored ("longer than"): covered when
+        # the interval reaches down to the horizon, as the conformal calibration scores it
+        cov_c = cov | ((y < c) & (lo <= c))
+        res: dict[str, Any] = {"rows": _errs(mu[within] - y[within], cov[within], wid[within],
+                                             cov_c[within])}
         # per decade of the simulated rate (where the truth lies) and of the predicted
         # one (what a user sees, and what Mondrian bins condition on)
         for key, dec in (("by_decade", decade_label(y)), ("by_predicted_decade",
                                                           decade_label(mu))):
-            res[key] = {str(k): _errs(mu[within & (dec == k)] - y[within & (dec == k)],
-                                      cov[within & (dec == k)], wid[within & (dec == k)])
-                        for k in sorted(set(dec[within]), key=float)}
+            res[key] = {}
+            for k in sorted(set(dec[within]), key=float):
+                sel = within & (dec == k)
+                res[key][str(k)] = _errs(mu[sel] - y[sel], cov[sel], wid[sel], cov_c[sel])
         for col, key in (("well.profile", "by_profile"), ("component_type", "by_component_type")):
             if col in pred:
                 g = pred[col].astype(str).to_numpy()
