@@ -20,6 +20,11 @@ whose predicted life is within the horizon):
 - ``cross_free_iter1000`` / ``cross_free_k10``: the same with the tree cap
   raised from 300 to 1000, or 10 folds.
 
+Then, for ``cross_free``, the half-width per bin of the prediction from
+the out-of-fold residuals of all cases and of each part of the split alone
+(``cross_quantile_by_split_part``: how much the width depends on which
+cases calibrate it).
+
 Reported per variant: fit time, trees kept, training / calibration cases and
 rows; on the deciding rows factor 2, RMSE, coverage and mean width; coverage,
 factor 2 and width per decade of the simulated and of the predicted rate;
@@ -53,13 +58,14 @@ from drillfatigue.config.base import validate
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.metrics import decade_label
 from drillfatigue.numba_cache import scope_numba_cache
-from drillfatigue.surrogate.conformal import mondrian_half_width
-from drillfatigue.surrogate.data import gbm_rows, log10_target, read_dataset, split_by_case
+from drillfatigue.surrogate.conformal import conformal_quantile, mondrian_half_width
+from drillfatigue.surrogate.data import (case_folds, gbm_rows, log10_target, read_dataset,
+                                         split_by_case)
 from drillfatigue.surrogate.evaluation import deciding_metrics, score
-from drillfatigue.surrogate.gbm import design_matrix, monotone_constraints
+from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.io import write_json
 from drillfatigue.surrogate.model import Preprocessor
-from drillfatigue.surrogate.served_gbm import fit_served_gbm
+from drillfatigue.surrogate.served_gbm import fit_served_gbm, out_of_fold_predictions
 
 RESULT = Path(__file__).parent / "results" / "surrogate_calibration.json"
 #: name -> overrides of the research run's surrogate section
@@ -165,11 +171,48 @@ def run_variant(cfg: SurrogateConfig, frame: pd.DataFrame, held: pd.DataFrame,
     }
 
 
+def quantile_by_split_part(cfg: SurrogateConfig, frame: pd.DataFrame,
+                           pre: Preprocessor) -> dict[str, Any]:
+    """The cross-conformal quantile per bin, from the out-of-fold residuals of each part.
+
+    The same out-of-fold predictions (``cross_free``: 5 folds over all
+    cases); per unit bin of the prediction from the horizon up, the
+    conformal quantile (``cfg.coverage``, censored rows scored as in the
+    calibration) of the residuals of all cases and of the split's train,
+    calibration and test cases alone: how much the half-width depends on
+    which cases calibrate it.
+    """
+    y = log10_target(frame[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
+    g = frame[cfg.group_column].astype(str).to_numpy()
+    split = split_by_case(g, cfg)
+    x = design_matrix(pre, pre.numeric_array(frame), pre.category_codes(frame))
+    model, _ = fit_gbm(x, y, g, cfg, monotone_constraints(pre))
+    mu = out_of_fold_predictions(model, x, y, case_folds(g, cfg.conformal_folds, cfg.split_seed))
+    level = -math.log10(cfg.horizon_h)
+    score_ = np.abs(y - mu)
+    cens = y <= level
+    score_[cens] = np.maximum(mu[cens] - level, 0.0)
+    parts = {"all": np.ones(y.size, bool), "train": split.train,
+             "calibration": split.calibration, "test": split.test}
+    out: dict[str, Any] = {}
+    for lo in range(math.floor(level), math.floor(mu.max()) + 1):
+        b = (mu >= lo) & (mu < lo + 1)
+        if b.sum() < cfg.conformal_bin_min_rows:
+            continue
+        out[decade_label(np.array([float(lo)]))[0]] = {
+            name: {"half_width": conformal_quantile(score_[b & m], cfg.coverage),
+                   "n_rows": int((b & m).sum()), "n_cases": int(np.unique(g[b & m]).size)}
+            for name, m in parts.items() if (b & m).sum() >= cfg.conformal_bin_min_rows}
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--research", default="/work/research")
     parser.add_argument("--out", default=str(RESULT))
     parser.add_argument("--variants", default=",".join(VARIANTS))
+    parser.add_argument("--no-parts", action="store_true",
+                        help="skip the half-widths by part of the split")
     args = parser.parse_args(argv)
     scope_numba_cache()
     root = Path(args.research)
@@ -197,6 +240,10 @@ def main(argv: list[str] | None = None) -> int:
               f"width {r['mean_width']:.3f}  governing f2 "
               f"{res['governing']['factor2_fraction']:.3f}  beyond precision "
               f"{res['beyond_horizon']['precision']:.3f}", flush=True)
+        write_json(result, args.out)
+    if not args.no_parts:
+        cfg = base.model_copy(update=VARIANTS["cross_free"])
+        result["cross_quantile_by_split_part"] = quantile_by_split_part(cfg, frame, pre)
         write_json(result, args.out)
     return 0
 

@@ -2,8 +2,7 @@
 
 The test cases are the model's test split, or every case of a held-out
 dataset of its own design when one is given (``surrogate.heldout_path``).
-Baselines, trained on the same training cases and calibrated on the same
-calibration cases as the ensemble, scored on the same test cases:
+Baselines, scored on the same test cases as the ensemble:
 
 - **Gaussian process** (scikit-learn ``GaussianProcessRegressor``, constant x
   anisotropic RBF + white noise, ``normalize_y``): exact GP cost grows as n^3,
@@ -13,11 +12,17 @@ calibration cases as the ensemble, scored on the same test cases:
 - **HistGradientBoosting** (``HistGradientBoostingRegressor``, squared error,
   one-hot categorical inputs, non-decreasing in the dogleg inputs
   :data:`drillfatigue.surrogate.gbm.MONOTONE_FEATURES`), early stopping on
-  whole cases (:func:`drillfatigue.surrogate.gbm.fit_gbm`): intervals from
-  split conformal prediction on absolute residuals, as the served gradient
-  boosting has them (``surrogate.gbm_interval``): per bin of the predicted
-  decade (Mondrian, :func:`drillfatigue.surrogate.conformal.mondrian_bins`)
-  or one constant width.
+  whole cases (:func:`drillfatigue.surrogate.gbm.fit_gbm`), trained and
+  calibrated by the served gradient boosting's own procedure
+  (:func:`drillfatigue.surrogate.served_gbm.fit_served_gbm` on the rows of
+  :func:`drillfatigue.surrogate.data.gbm_rows`): by default on every case
+  the evaluation does not score, its interval from the out-of-fold absolute
+  residuals (cross-conformal by case, ``surrogate.gbm_calibration``), per bin
+  of the predicted decade (Mondrian,
+  :func:`drillfatigue.surrogate.conformal.mondrian_bins`) or one constant
+  width (``surrogate.gbm_interval``). When the model's own test cases are
+  scored, they are left out of its training (``hgb.same_cases_as_served``
+  then says false when the served model trained on them).
 
 All models see the same inputs: standardised numeric features and one-hot
 categorical levels (the ensemble's fitted :class:`Preprocessor`).

@@ -4,8 +4,9 @@
 is a folder::
 
     metadata.json     feature lists, category levels, scaler, ranges, conformal
-                      quantile (and the served gbm's bins and half-widths), OOD
-                      threshold, target, versions, training summary
+                      quantile (and the served gbm's calibration, bins,
+                      half-widths and training cases), OOD threshold, target,
+                      versions, training summary
     ensemble.pt       torch state dict of the EnsembleModule (weights only)
     gbm.pkl           the gradient-boosting model when it is the served one
                       (``surrogate.served_model: gbm``; pickled scikit-learn,
