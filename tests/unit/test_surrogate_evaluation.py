@@ -48,6 +48,16 @@ def test_deciding_rows_are_chosen_by_the_predicted_life() -> None:
     assert r["coverage"] == pytest.approx(1 / 3)  # only row 0's interval holds its truth
     assert e["by_profile"]["p3"]["n"] == 1 and e["by_profile"]["p1"]["n"] == 2
     assert set(e["by_decade"]) == {"1e-02", "1e-04", "1e-06"}
+    assert r["mean_width"] == pytest.approx(1.0)
+    # row 3 is simulated beyond the horizon (-6 < -5) and its interval reaches down to
+    # -5: covered as the calibration scores a censored row
+    assert r["coverage_censored"] == pytest.approx(2 / 3)
+    # by decade of the prediction: rows 0 and 1 predicted at -2.1 and -3.0 (1e-03),
+    # row 3 at -4.5 (1e-05); by decade of the simulation they are 1e-02, 1e-04, 1e-06
+    p = e["by_predicted_decade"]
+    assert set(p) == {"1e-03", "1e-05"}
+    assert p["1e-03"]["n"] == 2 and p["1e-03"]["coverage"] == 0.5
+    assert p["1e-05"]["coverage"] == 0.0 and p["1e-05"]["coverage_censored"] == 1.0
     # "longer than": rows 2 and 4 predicted beyond, both truly beyond (precision 1);
     # 3 simulated beyond, 2 of them found (recall 2/3)
     bh = e["beyond_horizon"]
@@ -189,3 +199,55 @@ def test_served_gbm_behind_the_same_interface(fitted, tmp_path) -> None:
     test = data[data["case_id"].isin(sur.metadata["split"]["test_cases"])]
     want = ens.predict(test, refuse=False)["log10_damage_rate_per_h"].to_numpy()
     np.testing.assert_allclose(np.sort(pred["ensemble"].to_numpy()), np.sort(want), rtol=1e-6)
+
+
+def test_served_gbm_trains_on_every_case_the_heldout_design_frees(fitted, tmp_path) -> None:
+    data, _ = fitted
+    cfg = CFG.model_copy(update={"served_model": "gbm", "conformal_bin_min_rows": 20,
+                                 "heldout_path": "held-out.parquet"})
+    sur = fit_surrogate(data, cfg)
+    g, sp = sur.metadata["gbm"], sur.metadata["split"]
+    # cross-conformal by case over every case: the split's calibration and test cases
+    # train the served gradient boosting too (the ensemble keeps its split)
+    assert g["calibration"] == "cross" and g["conformal_folds"] == 5
+    assert g["train_cases"] == sorted(sp["train_cases"] + sp["calibration_cases"]
+                                      + sp["test_cases"])
+    assert g["n_train_rows"] == g["n_calibration_rows"] == len(data)
+    assert g["n_calibration_cases"] == data["case_id"].nunique()
+    assert sur.metadata["training"]["n_train_rows"] < len(data)
+    sur.save(tmp_path / "m")
+    again = Surrogate.load(tmp_path / "m")
+    assert again.metadata["gbm"] == g
+    rows = data.iloc[::13]
+    pd.testing.assert_frame_equal(again.predict(rows), sur.predict(rows))
+    # the evaluation's baseline is the served procedure on the same cases
+    held = make_synthetic_dataset(6, seed=12)
+    held["case_id"] = "held_" + held["case_id"]
+    met, pred = evaluate(data, sur, cfg, heldout=held)
+    assert met["hgb"]["same_cases_as_served"] is True
+    assert met["hgb"]["calibration"] == "cross" and met["hgb"]["n_train_cases"] == 30
+    served = sur.predict(held, refuse=False)
+    np.testing.assert_allclose(pred["hgb"], served["log10_damage_rate_per_h"], rtol=1e-12)
+    np.testing.assert_allclose(pred["hgb_upper"], served["log10_damage_rate_per_h_upper"],
+                               rtol=1e-12)
+    # a held-out set holding a case the gradient boosting trained on (a test case
+    # of the ensemble's split) is refused
+    leak = pd.concat([held, data[data["case_id"] == sp["test_cases"][0]]], ignore_index=True)
+    with pytest.raises(InputError, match="training cases"):
+        evaluate(data, sur, cfg, baselines=False, heldout=leak)
+    # scored on its own test cases, the baseline leaves them out of training (and says
+    # it is not the served model's case set)
+    own, _ = evaluate(data, sur, cfg.model_copy(update={"gp_max_rows": 20}))
+    assert own["hgb"]["same_cases_as_served"] is False
+    assert own["hgb"]["n_train_cases"] == len(sp["train_cases"]) + len(sp["calibration_cases"])
+    # a model saved before the calibration keys existed loads and answers the same
+    meta_path = tmp_path / "m" / "metadata.json"
+    meta = json.loads(meta_path.read_text(encoding="utf-8"))
+    for key in ("calibration", "conformal_folds", "train_cases", "n_calibration_rows",
+                "n_calibration_cases", "interval", "n_train_rows"):
+        del meta["gbm"][key]
+    meta_path.write_text(json.dumps(meta), encoding="utf-8")
+    old = Surrogate.load(tmp_path / "m")
+    pd.testing.assert_frame_equal(old.predict(rows), sur.predict(rows))
+    old_met, _ = evaluate(data, old, cfg, baselines=False, heldout=held)
+    assert old_met["n_test_cases"] == 6

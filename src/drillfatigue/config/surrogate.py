@@ -93,6 +93,17 @@ class SurrogateConfig(StrictModel):
     # drillfatigue.surrogate.conformal.MONDRIAN_MIN_ROWS ---
     gbm_interval: Literal["per_decade", "constant"] = "per_decade"
     conformal_bin_min_rows: int = Field(50, ge=2, le=1_000_000)
+    # --- calibration of the served gradient boosting: cross (cross-conformal by
+    # case: the out-of-fold residuals of every case it trains on, conformal_folds
+    # folds of whole cases) or split (the calibration cases of the split, which it
+    # then does not train on); docs/surrogate.md "Cross-conformal calibration" ---
+    gbm_calibration: Literal["cross", "split"] = "cross"
+    conformal_folds: int = Field(5, ge=2, le=100)
+    # --- cases the served gradient boosting trains on: free (every case the
+    # evaluation does not score: the calibration cases with cross calibration,
+    # the test cases too when heldout_path is set) or train (the split's train
+    # cases only) ---
+    gbm_cases: Literal["free", "train"] = "free"
     ood_k: int = Field(5, ge=1, le=100)
     ood_quantile: float = Field(0.99, gt=0.5, le=1.0)
     ood_reference_rows: int = Field(2000, ge=10, le=200_000)

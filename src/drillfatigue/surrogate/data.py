@@ -90,6 +90,71 @@ def split_by_case(groups: np.ndarray, cfg: SurrogateConfig) -> Split:
     return Split(train=~(test | cal), calibration=cal, test=test)
 
 
+def gbm_rows(split: Split, cfg: SurrogateConfig, heldout: bool) -> tuple[np.ndarray,
+                                                                          np.ndarray | None]:
+    """Rows the served gradient boosting trains on, and the rows it calibrates on.
+
+    The ensemble keeps its split (its conformal quantile needs calibration
+    cases it did not train on); the gradient boosting trains on every case
+    the evaluation does not score (``cfg.gbm_cases == "free"``): with
+    cross-conformal calibration (``cfg.gbm_calibration == "cross"``) the
+    calibration cases are training cases, and when the evaluation scores a
+    held-out design of its own (``heldout``) the test cases are too. With
+    ``gbm_cases: train`` it trains on the split's train cases only.
+
+    Parameters
+    ----------
+    split : Split
+    cfg : SurrogateConfig
+    heldout : bool
+        The evaluation scores a held-out dataset, not the split's test cases.
+
+    Returns
+    -------
+    fit : ndarray of bool, shape (n,)
+        Training rows of the gradient boosting.
+    calibration : ndarray of bool, shape (n,), or None
+        Its split-conformal calibration rows; None with cross-conformal
+        calibration (the out-of-fold residuals of the training rows).
+    """
+    cross = cfg.gbm_calibration == "cross"
+    fit = split.train.copy()
+    if cfg.gbm_cases == "free":
+        if cross:
+            fit |= split.calibration
+        if heldout:
+            fit |= split.test
+    return fit, (None if cross else split.calibration.copy())
+
+
+def case_folds(groups: np.ndarray, n_folds: int, seed: int) -> np.ndarray:
+    """Fold index (0 .. n_folds - 1) per row, whole cases per fold (seeded).
+
+    The cases are shuffled by ``seed`` and dealt round-robin, so the folds'
+    case counts differ by at most one and every row of a case has its fold.
+
+    Parameters
+    ----------
+    groups : ndarray, shape (n,)
+        Case id per row.
+    n_folds : int
+        Number of folds, 2 <= n_folds <= number of cases.
+    seed : int
+
+    Returns
+    -------
+    ndarray of int64, shape (n,)
+    """
+    cases, inverse = np.unique(np.asarray(groups), return_inverse=True)
+    if not 2 <= n_folds <= len(cases):
+        raise InputError("surrogate.conformal_folds", f"{n_folds} folds of {len(cases)} cases",
+                         f"2 <= folds <= number of cases ({len(cases)})")
+    fold_of_case = np.empty(len(cases), dtype=np.int64)
+    fold_of_case[np.random.default_rng(seed).permutation(len(cases))] = (
+        np.arange(len(cases)) % n_folds)
+    return fold_of_case[inverse.reshape(-1)]
+
+
 # ---------------------------------------------------------------------------
 # synthetic data
 # ---------------------------------------------------------------------------

@@ -2,8 +2,7 @@
 
 The test cases are the model's test split, or every case of a held-out
 dataset of its own design when one is given (``surrogate.heldout_path``).
-Baselines, trained on the same training cases and calibrated on the same
-calibration cases as the ensemble, scored on the same test cases:
+Baselines, scored on the same test cases as the ensemble:
 
 - **Gaussian process** (scikit-learn ``GaussianProcessRegressor``, constant x
   anisotropic RBF + white noise, ``normalize_y``): exact GP cost grows as n^3,
@@ -13,11 +12,17 @@ calibration cases as the ensemble, scored on the same test cases:
 - **HistGradientBoosting** (``HistGradientBoostingRegressor``, squared error,
   one-hot categorical inputs, non-decreasing in the dogleg inputs
   :data:`drillfatigue.surrogate.gbm.MONOTONE_FEATURES`), early stopping on
-  whole cases (:func:`drillfatigue.surrogate.gbm.fit_gbm`): intervals from
-  split conformal prediction on absolute residuals, as the served gradient
-  boosting has them (``surrogate.gbm_interval``): per bin of the predicted
-  decade (Mondrian, :func:`drillfatigue.surrogate.conformal.mondrian_bins`)
-  or one constant width.
+  whole cases (:func:`drillfatigue.surrogate.gbm.fit_gbm`), trained and
+  calibrated by the served gradient boosting's own procedure
+  (:func:`drillfatigue.surrogate.served_gbm.fit_served_gbm` on the rows of
+  :func:`drillfatigue.surrogate.data.gbm_rows`): by default on every case
+  the evaluation does not score, its interval from the out-of-fold absolute
+  residuals (cross-conformal by case, ``surrogate.gbm_calibration``), per bin
+  of the predicted decade (Mondrian,
+  :func:`drillfatigue.surrogate.conformal.mondrian_bins`) or one constant
+  width (``surrogate.gbm_interval``). When the model's own test cases are
+  scored, they are left out of its training (``hgb.same_cases_as_served``
+  then says false when the served model trained on them).
 
 All models see the same inputs: standardised numeric features and one-hot
 categorical levels (the ensemble's fitted :class:`Preprocessor`).
@@ -59,11 +64,12 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.metrics import decade_label, factor2_by_decade
 from drillfatigue.plotting import subplots
-from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins, mondrian_half_width
-from drillfatigue.surrogate.data import Split, check_columns, log10_target
+from drillfatigue.surrogate.conformal import SplitConformal, mondrian_half_width
+from drillfatigue.surrogate.data import Split, check_columns, gbm_rows, log10_target
 from drillfatigue.surrogate.facade import Surrogate
-from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
+from drillfatigue.surrogate.gbm import design_matrix, monotone_constraints
 from drillfatigue.surrogate.io import save_figure
+from drillfatigue.surrogate.served_gbm import fit_served_gbm
 
 LOG10_2 = math.log10(2.0)
 
@@ -91,6 +97,25 @@ def split_from_model(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig
     sp = model.metadata["split"]
     return Split(train=np.isin(g, sp["train_cases"]), calibration=np.isin(g, sp["calibration_cases"]),
                  test=np.isin(g, sp["test_cases"]))
+
+
+def fitted_cases(model: Surrogate, frame: pd.DataFrame, cfg: SurrogateConfig,
+                 baselines: bool = True) -> set[str]:
+    """Case ids a held-out dataset scored against ``model`` must not share.
+
+    The ensemble's training and calibration cases, the cases the served
+    gradient boosting trained on (``gbm.train_cases`` in the metadata), and,
+    with ``baselines``, those the evaluation's baselines train and calibrate
+    on when it scores a held-out dataset (:func:`~drillfatigue.surrogate.data.gbm_rows`:
+    the split's test cases too with ``gbm_cases: free``).
+    """
+    sp = model.metadata["split"]
+    cases = set(sp["train_cases"]) | set(sp["calibration_cases"])
+    cases |= set((model.metadata.get("gbm") or {}).get("train_cases") or ())
+    if baselines:
+        fit, _ = gbm_rows(split_from_model(frame, model, cfg), cfg, heldout=True)
+        cases |= set(map(str, frame.loc[fit, cfg.group_column]))
+    return cases
 
 
 def _design(model: Surrogate, frame: pd.DataFrame) -> np.ndarray:
@@ -140,11 +165,12 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         test = heldout
         y_te = log10_target(heldout[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
         # case ids hash the case's settings: a shared id is the same simulation
-        shared = (set(map(str, heldout[cfg.group_column]))
-                  & set(model.metadata["split"]["train_cases"]))
+        shared = set(map(str, heldout[cfg.group_column])) & fitted_cases(model, frame, cfg,
+                                                                         baselines)
         if shared:
             raise InputError("--heldout", f"{len(shared)} case(s) also in the model's "
-                             "training cases", "a dataset of its own design (held-out stage)")
+                             "training cases or calibration cases",
+                             "a dataset of its own design (held-out stage)")
         source = "heldout"
     # the ensemble's own answers, whichever model is served (a served gradient boosting
     # is scored as the hgb baseline below)
@@ -181,8 +207,8 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         lambda f: ens.predict_array(*ens.encode(f), ood=False)["log10"], test,
         model.domain)}
     if baselines:
-        x_tr = _design(model, frame.loc[sp.train])
-        x_ca = _design(model, frame.loc[sp.calibration])
+        x_all = _design(model, frame)
+        x_tr, x_ca = x_all[sp.train], x_all[sp.calibration]
         x_te = _design(model, test)
         y_tr, y_ca = y[sp.train], y[sp.calibration]
         censor = -math.log10(cfg.horizon_h) if cfg.censoring == "likelihood" else None
@@ -209,24 +235,22 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         out["gp"], out["gp_lower"], out["gp_upper"] = mu_t, lo_t, hi_t
 
         # gradient boosting, early stopping on whole cases, monotone in the dogleg
-        # inputs, conformalised absolute residuals (the served model's interval)
-        cst = monotone_constraints(model.preprocessor)
-        groups_tr = frame.loc[sp.train, cfg.group_column].astype(str).to_numpy()
-        hgb, info = fit_gbm(x_tr, y_tr, groups_tr, cfg, cst)
-        mu_hc = hgb.predict(x_ca)
-        ones = np.ones_like(mu_hc)
-        q = SplitConformal(model.coverage).fit(mu_hc, ones, y_ca, censor_below=censor).quantile_
+        # inputs, trained and calibrated as the served model is (one function)
+        fit_rows, cal_rows = gbm_rows(sp, cfg, heldout=heldout is not None)
+        hgb, info = fit_served_gbm(x_all, y, frame[cfg.group_column].to_numpy(), fit_rows,
+                                   cal_rows, cfg, monotone_constraints(model.preprocessor))
+        served = (model.metadata.get("gbm") or {}).get("train_cases")
+        info = info | {"same_cases_as_served": (None if served is None
+                                                else served == info["train_cases"]),
+                       "n_train_cases": len(info["train_cases"])}
+        info.pop("train_cases")
         mu_h = hgb.predict(x_te)
-        half: float | np.ndarray = q
-        info = info | {"interval": cfg.gbm_interval}
-        if cfg.gbm_interval == "per_decade":
-            edges, widths = mondrian_bins(mu_hc, y_ca, model.coverage,
-                                          cfg.conformal_bin_min_rows, censor_below=censor)
-            half = mondrian_half_width(mu_h, edges, widths)
-            info |= {"conformal_bins_log10": edges.tolist(),
-                     "conformal_half_widths": widths.tolist()}
+        half: float | np.ndarray = info["conformal_quantile"]
+        if "conformal_half_widths" in info:
+            half = mondrian_half_width(mu_h, np.asarray(info["conformal_bins_log10"]),
+                                       np.asarray(info["conformal_half_widths"]))
         metrics["hgb"] = (score(y_te, mu_h, mu_h - half, mu_h + half)
-                          | {"train_rows": int(x_tr.shape[0])} | info)
+                          | {"train_rows": int(fit_rows.sum())} | info)
         out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - half, mu_h + half
         monotone["hgb"] = monotone_check(lambda f: hgb.predict(_design(model, f)), test,
                                          model.domain)
@@ -238,7 +262,8 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
     return metrics, out
 
 
-def _errs(e: np.ndarray, covered: np.ndarray | None = None) -> dict[str, float]:
+def _errs(e: np.ndarray, covered: np.ndarray | None = None, width: np.ndarray | None = None,
+          covered_censored: np.ndarray | None = None) -> dict[str, float]:
     if e.size == 0:
         res = {"rmse": float("nan"), "mae": float("nan"), "factor2_fraction": float("nan"),
                "n": 0}
@@ -247,6 +272,11 @@ def _errs(e: np.ndarray, covered: np.ndarray | None = None) -> dict[str, float]:
                "factor2_fraction": float(np.mean(np.abs(e) <= LOG10_2)), "n": int(e.size)}
     if covered is not None:
         res["coverage"] = float(np.mean(covered)) if covered.size else float("nan")
+    if width is not None:
+        res["mean_width"] = float(np.mean(width)) if width.size else float("nan")
+    if covered_censored is not None:
+        res["coverage_censored"] = (float(np.mean(covered_censored)) if covered_censored.size
+                                    else float("nan"))
     return res
 
 
@@ -274,8 +304,16 @@ def deciding_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", 
     -------
     dict
         Per model: ``rows`` (RMSE, MAE, factor-2 fraction, interval coverage
-        on the rows predicted within the horizon), ``by_decade`` (the same per
-        decade of the simulated rate), ``by_profile``, ``by_component_type``,
+        and mean width on the rows predicted within the horizon; also
+        ``coverage_censored``, where a row simulated beyond the horizon
+        counts as covered once the interval reaches down to the horizon, as
+        the calibration scores it), ``by_decade``
+        (the same per decade of the simulated rate), ``by_predicted_decade``
+        (per decade of the predicted rate: a user sees the prediction, and a
+        Mondrian interval's coverage is guaranteed per bin of the prediction,
+        not per decade of the truth, which regression to the mean moves:
+        rows simulated at low rates and predicted within the horizon are
+        over-predicted by selection), ``by_profile``, ``by_component_type``,
         ``beyond_horizon`` (precision, recall and counts of the "longer than
         the horizon" answers against the simulation) and ``governing`` (per
         case and component type: the largest predicted against the largest
@@ -296,11 +334,20 @@ def deciding_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", 
         hi = pred[f"{m}_upper"].to_numpy(dtype=np.float64)
         within = mu >= c
         cov = (y >= lo) & (y <= hi)
-        res: dict[str, Any] = {"rows": _errs(mu[within] - y[within], cov[within])}
-        dec = decade_label(y)
-        res["by_decade"] = {str(k): _errs(mu[within & (dec == k)] - y[within & (dec == k)],
-                                          cov[within & (dec == k)])
-                            for k in sorted(set(dec[within]), key=float)}
+        wid = hi - lo
+        # a life simulated beyond the horizon is censored ("longer than"): covered when
+        # the interval reaches down to the horizon, as the conformal calibration scores it
+        cov_c = cov | ((y < c) & (lo <= c))
+        res: dict[str, Any] = {"rows": _errs(mu[within] - y[within], cov[within], wid[within],
+                                             cov_c[within])}
+        # per decade of the simulated rate (where the truth lies) and of the predicted
+        # one (what a user sees, and what Mondrian bins condition on)
+        for key, dec in (("by_decade", decade_label(y)), ("by_predicted_decade",
+                                                          decade_label(mu))):
+            res[key] = {}
+            for k in sorted(set(dec[within]), key=float):
+                sel = within & (dec == k)
+                res[key][str(k)] = _errs(mu[sel] - y[sel], cov[sel], wid[sel], cov_c[sel])
         for col, key in (("well.profile", "by_profile"), ("component_type", "by_component_type")):
             if col in pred:
                 g = pred[col].astype(str).to_numpy()

@@ -4,8 +4,9 @@
 is a folder::
 
     metadata.json     feature lists, category levels, scaler, ranges, conformal
-                      quantile (and the served gbm's bins and half-widths), OOD
-                      threshold, target, versions, training summary
+                      quantile (and the served gbm's calibration, bins,
+                      half-widths and training cases), OOD threshold, target,
+                      versions, training summary
     ensemble.pt       torch state dict of the EnsembleModule (weights only)
     gbm.pkl           the gradient-boosting model when it is the served one
                       (``surrogate.served_model: gbm``; pickled scikit-learn,
@@ -35,13 +36,14 @@ from drillfatigue import __version__
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output
-from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins, mondrian_half_width
-from drillfatigue.surrogate.data import check_columns, log10_target, split_by_case
+from drillfatigue.surrogate.conformal import SplitConformal, mondrian_half_width
+from drillfatigue.surrogate.data import check_columns, gbm_rows, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
-from drillfatigue.surrogate.gbm import FlatForest, design_matrix, fit_gbm, monotone_constraints
+from drillfatigue.surrogate.gbm import FlatForest, design_matrix, monotone_constraints
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
+from drillfatigue.surrogate.served_gbm import fit_served_gbm
 
 FORMAT_VERSION = 1
 #: Kind of the ownership marker of a model folder (:class:`drillfatigue.files.OutputFolder`).
@@ -169,23 +171,13 @@ class Surrogate:
         gbm = None
         gbm_meta: dict[str, Any] | None = None
         if cfg.served_model == "gbm":
-            x_tr = design_matrix(p, *reg._encode(tr))
-            gbm, info = fit_gbm(x_tr, y[split.train], groups[split.train].astype(str), cfg,
-                                monotone_constraints(p))
-            mu_g = gbm.predict(design_matrix(p, *reg._encode(cal)))
-            y_c = y[split.calibration]
-            q_g = SplitConformal(cfg.coverage).fit(mu_g, np.ones_like(mu_g), y_c,
-                                                   censor_below=censor_level(cfg)).quantile_
-            if not np.isfinite(q_g):
-                raise InputError("surrogate.calibration_fraction",
-                                 "too few calibration rows for the coverage", "a larger fraction")
-            gbm_meta = info | {"conformal_quantile": float(q_g),
-                               "sigma_log10": float(np.sqrt(np.mean((mu_g - y_c) ** 2)))}
-            if cfg.gbm_interval == "per_decade":
-                edges, half = mondrian_bins(mu_g, y_c, cfg.coverage, cfg.conformal_bin_min_rows,
-                                            censor_below=censor_level(cfg))
-                gbm_meta |= {"conformal_bins_log10": edges.tolist(),
-                             "conformal_half_widths": half.tolist()}
+            # the gradient boosting trains on every case the evaluation does not
+            # score (the held-out design when heldout_path is set) and is
+            # calibrated as the evaluation's baseline is (one procedure)
+            fit_rows, cal_rows = gbm_rows(split, cfg, heldout=cfg.heldout_path is not None)
+            x_all = design_matrix(p, *reg._encode(frame))
+            gbm, gbm_meta = fit_served_gbm(x_all, y, groups, fit_rows, cal_rows, cfg,
+                                           monotone_constraints(p))
         hist = reg.history_
         meta = {
             "format_version": FORMAT_VERSION,
