@@ -40,6 +40,10 @@ from drillfatigue.surrogate.parallel import map_chunks
 
 _CHUNK = 4096  # rows per worker call of the domain check
 _ONE_THREAD_ROWS = 2048  # up to this many rows, check on the calling thread
+# groups from which the served flag search goes best first over super-groups (CPU time per
+# row, one thread, against the exact search of every distance: 154 groups 0.46 vs 1.31 us,
+# 60 groups 0.38 vs 0.37 us, 20 groups 0.57 vs 0.43 us)
+_BEST_FIRST_GROUPS = 96
 
 
 def _partition_labels(col: np.ndarray) -> np.ndarray:
@@ -179,15 +183,21 @@ class KnnIndex:
                         threshold: float, out: np.ndarray) -> None:
         """:meth:`mean_distance` where it exceeds ``threshold``, NaN where it does not.
 
-        The search of a row stops once ``k`` reference rows within a mean
-        distance ``threshold`` are found
-        (:func:`~drillfatigue.surrogate.kernels.knn_within`): the flag
-        ``distance > threshold`` of every row is exact, and so is the
-        distance of every row beyond it.
+        From about a hundred groups, the search of a row stops once ``k``
+        reference rows within a mean distance ``threshold`` are found
+        (:func:`~drillfatigue.surrogate.kernels.knn_within`); with fewer
+        groups every distance is computed (:meth:`mean_distance`: bounding
+        every group costs little there, and the best-first bookkeeping more
+        than it saves). Either way the flag ``distance > threshold`` of
+        every row is exact, and so is the distance of every row beyond it.
         """
-        knn_within(x, mean, scale, self.perm, self.n_key, self.keys_t, self.group_start,
-                   self.rest_t, self.box_lo, self.box_hi, self.count, self.super_start,
-                   self.super_lo, self.super_hi, min(int(k), self.n_rows), float(threshold), out)
+        if self.keys_t.shape[1] < _BEST_FIRST_GROUPS:
+            self.mean_distance(x, mean, scale, k, out)
+        else:
+            knn_within(x, mean, scale, self.perm, self.n_key, self.keys_t, self.group_start,
+                       self.rest_t, self.box_lo, self.box_hi, self.count, self.super_start,
+                       self.super_lo, self.super_hi, min(int(k), self.n_rows), float(threshold),
+                       out)
         out[out <= threshold] = np.nan
 
 
