@@ -23,8 +23,13 @@ The reference set is a seeded subsample of the training rows (at most
 (float64 differences): a compiled search (:class:`KnnIndex`,
 :func:`~drillfatigue.surrogate.kernels.knn_mean_distance`) over the distinct
 reference rows grouped by case-level columns, which skips a group, or a row,
-once a partial sum reaches the current k-th best; batches run in chunks on
-the thread pool (the kernels release the GIL).
+once a partial sum reaches the current k-th best. The flag needs less: by
+default (:meth:`DomainChecker.check`) a row's search goes best first over
+super-groups of cases and stops once the row is certainly within the
+threshold (:func:`~drillfatigue.surrogate.kernels.knn_within`); every flag
+is exact, and so is the distance of every row beyond the threshold, the
+only one a refusal names. Batches run in chunks on the thread pool (the
+kernels release the GIL).
 """
 
 from __future__ import annotations
