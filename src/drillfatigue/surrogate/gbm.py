@@ -291,12 +291,12 @@ class FlatForest:
         for j in range(widths.size):
             a, b = self.mask_start[j], self.mask_start[j + 1]
             masks[a:b] = np.bitwise_and.accumulate(masks[a:b], axis=0)
+        words: np.ndarray = masks
         if most <= 32:  # the upper 32 bits name no leaf
-            self.masks = np.ascontiguousarray(masks & np.uint64(2**32 - 1), dtype=np.uint32)
-            self.leaf_mask_value = np.ascontiguousarray(leaf_value[:, :32])
-        else:
-            self.masks = masks
-            self.leaf_mask_value = leaf_value
+            words = np.ascontiguousarray(masks & np.uint64(2**32 - 1), dtype=np.uint32)
+            leaf_value = np.ascontiguousarray(leaf_value[:, :32])
+        self.masks = words
+        self.leaf_mask_value = leaf_value
         self._rank_grid()
 
     def _rank_grid(self, cells_per_threshold: int = 4) -> None:
