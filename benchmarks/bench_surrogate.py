@@ -228,6 +228,8 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
                  "flags_differing_from_previous": int((flag_now != flag_before).sum()),
                  "distances_beyond_threshold_differing": int(
                      (dist_now[beyond] != dist_before[beyond]).sum()),
+                 "max_abs_distance_difference": float(
+                     np.max(np.abs(dist_now[beyond] - dist_before[beyond]), initial=0.0)),
                  "rows_without_distance": int(np.isnan(dist_now).sum())}
 
     def previous_full() -> None:
