@@ -206,7 +206,7 @@ def _beyond(idx: KnnIndex, z: np.ndarray, k: int, threshold: float) -> np.ndarra
     d = z.shape[1]
     out = np.empty(z.shape[0])
     knn_within(np.ascontiguousarray(z), np.zeros(d), np.ones(d), idx.perm, idx.n_key,
-               idx.keys_t, idx.group_start, idx.rest_t, idx.box_lo, idx.box_hi, idx.count,
+               idx.group_start, idx.rest_t, idx.group_lo, idx.group_hi, idx.count,
                idx.super_start, idx.super_lo, idx.super_hi, min(k, idx.n_rows), threshold, out)
     out[out <= threshold] = np.nan
     return out
@@ -275,6 +275,8 @@ def test_super_groups_partition_the_groups_and_bound_them() -> None:
     assert sizes.min() >= 1 and sizes.max() <= 13  # about sqrt(150) groups each
     lo = np.vstack([idx.keys_t, idx.box_lo])
     hi = np.vstack([idx.keys_t, idx.box_hi])
+    np.testing.assert_array_equal(idx.group_lo, lo.T)
+    np.testing.assert_array_equal(idx.group_hi, hi.T)
     for s in range(sizes.size):
         a, b = idx.super_start[s], idx.super_start[s + 1]
         assert np.all(idx.super_lo[:, [s]] <= lo[:, a:b])

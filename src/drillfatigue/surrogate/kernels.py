@@ -383,9 +383,12 @@ def _mean_root(best: np.ndarray) -> float:
 def _argmin_open(v: np.ndarray, n: int) -> int:
     """Index of the least of ``v[:n]`` (the first on ties; 0 if none is less than ``v[0]``)."""
     m = 0
-    for s in range(1, n):
-        if v[s] < v[m]:
-            m = s
+    least = v[0]
+    for s in range(1, n):  # selects, no branch on the data
+        w = v[s]
+        better = w < least
+        m = s if better else m
+        least = w if better else least
     return m
 
 
@@ -411,6 +414,26 @@ def _group_bounds(z: np.ndarray, n_key: int, keys_t: np.ndarray, box_lo: np.ndar
         for h in range(m):  # gap below, above, or 0 inside (no branch)
             e = max(max(box_lo[j, a + h] - zj, zj - box_hi[j, a + h]), 0.0)
             lb[h] += e * e
+
+
+@njit(cache=True, nogil=True)
+def _group_bounds_rows(z: np.ndarray, n_key: int, group_lo: np.ndarray, group_hi: np.ndarray,
+                       a: int, m: int, kd: np.ndarray, lb: np.ndarray) -> None:
+    """:func:`_group_bounds` from the groups' boxes as rows (``group_lo[g]``, ``group_hi[g]``:
+    all columns, a key column's bounds both its key), group by group: the same floats,
+    for the few groups of one super-group (no short vector loop per column)."""
+    d = group_lo.shape[1]
+    for h in range(m):
+        g = a + h
+        s = 0.0
+        for j in range(n_key):
+            e = z[j] - group_lo[g, j]
+            s += e * e
+        kd[h] = s
+        for j in range(n_key, d):
+            e = max(max(group_lo[g, j] - z[j], z[j] - group_hi[g, j]), 0.0)
+            s += e * e
+        lb[h] = s
 
 
 @njit(cache=True, nogil=True)
@@ -476,23 +499,26 @@ def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: 
 
 @njit(cache=True, nogil=True)
 def knn_within(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: np.ndarray,
-               n_key: int, keys_t: np.ndarray, group_start: np.ndarray, rest_t: np.ndarray,
-               box_lo: np.ndarray, box_hi: np.ndarray, count: np.ndarray,
+               n_key: int, group_start: np.ndarray, rest_t: np.ndarray,
+               group_lo: np.ndarray, group_hi: np.ndarray, count: np.ndarray,
                super_start: np.ndarray, super_lo: np.ndarray, super_hi: np.ndarray, k: int,
                threshold: float, out: np.ndarray) -> None:
     """:func:`knn_mean_distance` where it exceeds ``threshold``, NaN where it certainly does not.
 
     The reference is stored as in :func:`knn_mean_distance` (``rest_t`` the
-    transpose of its ``rest``), its groups gathered into super-groups:
-    groups ``super_start[s]`` to ``super_start[s + 1]``, whose columns (key
-    and rest, in the search's order) lie in the box ``super_lo[:, s]`` to
-    ``super_hi[:, s]``. A super-group's lower bound is the sum of the
-    squared gaps between the query and its box, in column order.
+    transpose of its ``rest``), with each group's box as a row of all
+    columns in the search's order, ``group_lo[g]`` to ``group_hi[g]`` (a
+    key column's bounds both its key), and the groups gathered into
+    super-groups: groups ``super_start[s]`` to ``super_start[s + 1]``, whose
+    columns lie in the box ``super_lo[:, s]`` to ``super_hi[:, s]``. A
+    super-group's lower bound is the sum of the squared gaps between the
+    query and its box, in column order.
 
     Super-groups are visited best first (least bound first) while their
     bound is below the current k-th best, and inside one its groups best
     first likewise (a group's bound: its key part plus the squared gaps to
-    its rest box), each group scanned whole (:func:`_scan_rows`). After
+    its rest box, :func:`_group_bounds_rows`), each group scanned whole
+    (:func:`_scan_rows`). After
     each group the search stops if the ``k`` best so far have a mean
     ``<= threshold``: sorted ascending, the i-th nearest row is at most the
     i-th of any ``k`` rows, and square root, sum and division are monotone
@@ -542,7 +568,7 @@ def knn_within(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: np.ndar
             slb[s] = np.inf  # visited
             g0 = super_start[s]
             ng = super_start[s + 1] - g0
-            _group_bounds(z, n_key, keys_t, box_lo, box_hi, g0, ng, kd, glb)
+            _group_bounds_rows(z, n_key, group_lo, group_hi, g0, ng, kd, glb)
             while True:
                 h = _argmin_open(glb, ng)
                 if not glb[h] < best[k - 1]:

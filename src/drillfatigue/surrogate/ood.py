@@ -171,6 +171,9 @@ class KnnIndex:
         # box of a super-group: every column, key columns first (the kernel's order)
         lo = np.vstack([self.keys_t, self.box_lo])
         hi = np.vstack([self.keys_t, self.box_hi])
+        # each group's box as a row: the few groups of one super-group are bounded row by row
+        self.group_lo = np.ascontiguousarray(lo.T)
+        self.group_hi = np.ascontiguousarray(hi.T)
         self.super_lo = np.ascontiguousarray(np.minimum.reduceat(lo, self.super_start[:-1], axis=1))
         self.super_hi = np.ascontiguousarray(np.maximum.reduceat(hi, self.super_start[:-1], axis=1))
         self.count = np.ascontiguousarray(count[order], dtype=np.int64)
@@ -199,8 +202,8 @@ class KnnIndex:
         if self.keys_t.shape[1] < _BEST_FIRST_GROUPS:
             self.mean_distance(x, mean, scale, k, out)
         else:
-            knn_within(x, mean, scale, self.perm, self.n_key, self.keys_t, self.group_start,
-                       self.rest_t, self.box_lo, self.box_hi, self.count, self.super_start,
+            knn_within(x, mean, scale, self.perm, self.n_key, self.group_start,
+                       self.rest_t, self.group_lo, self.group_hi, self.count, self.super_start,
                        self.super_lo, self.super_hi, min(int(k), self.n_rows), float(threshold),
                        out)
         out[out <= threshold] = np.nan
