@@ -208,7 +208,6 @@ def _beyond(idx: KnnIndex, z: np.ndarray, k: int, threshold: float) -> np.ndarra
     knn_within(np.ascontiguousarray(z), np.zeros(d), np.ones(d), idx.perm, idx.n_key,
                idx.group_start, idx.rest_t, idx.group_lo, idx.group_hi, idx.count,
                idx.super_start, idx.super_lo, idx.super_hi, min(k, idx.n_rows), threshold, out)
-    out[out <= threshold] = np.nan
     return out
 
 

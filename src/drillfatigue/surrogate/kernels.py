@@ -529,8 +529,9 @@ def knn_within(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: np.ndar
     bounds, the terms are added in the same order and rounding is
     monotone): ``out`` is :func:`knn_mean_distance`'s result, the same
     float (the mean of the roots of the same ``k`` least squared
-    distances, summed in ascending order). A NaN input stops nowhere and
-    gives ``inf``, as there.
+    distances, summed in ascending order), kept if it exceeds
+    ``threshold``, else NaN too. A NaN input stops nowhere and gives
+    ``inf``, as there.
     """
     n = x.shape[0]
     d = perm.shape[0]
@@ -580,4 +581,5 @@ def knn_within(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: np.ndar
                 if best[k - 1] < np.inf and _mean_root(best) <= threshold:
                     stopped = True
                     break
-        out[i] = np.nan if stopped else _mean_root(best)
+        dist = np.nan if stopped else _mean_root(best)
+        out[i] = dist if dist > threshold else np.nan  # NaN > threshold is False

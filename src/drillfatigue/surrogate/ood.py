@@ -201,12 +201,12 @@ class KnnIndex:
         """
         if self.keys_t.shape[1] < _BEST_FIRST_GROUPS:
             self.mean_distance(x, mean, scale, k, out)
+            out[out <= threshold] = np.nan
         else:
             knn_within(x, mean, scale, self.perm, self.n_key, self.group_start,
                        self.rest_t, self.group_lo, self.group_hi, self.count, self.super_start,
                        self.super_lo, self.super_hi, min(int(k), self.n_rows), float(threshold),
                        out)
-        out[out <= threshold] = np.nan
 
 
 def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
