@@ -45,10 +45,11 @@ from drillfatigue.surrogate.parallel import map_chunks
 
 _CHUNK = 4096  # rows per worker call of the domain check
 _ONE_THREAD_ROWS = 2048  # up to this many rows, check on the calling thread
-# groups from which the served flag search goes best first over super-groups (CPU time per
-# row, one thread, against the exact search of every distance: 154 groups 0.46 vs 1.31 us,
-# 60 groups 0.38 vs 0.37 us, 20 groups 0.57 vs 0.43 us)
-_BEST_FIRST_GROUPS = 96
+# distinct rows per group up to which the served flag search goes best first over
+# super-groups, scanning groups whole (CPU time per row, one thread, against the search of
+# every distance, which walks its first group outward: 154 groups of 12 rows 0.41 vs 1.35 us,
+# 36 synthetic groups of 8 rows 0.21 vs 0.28 us, 20 groups of 45 rows 0.49 vs 0.47 us)
+_BEST_FIRST_ROWS_PER_GROUP = 24
 
 
 def _partition_labels(col: np.ndarray) -> np.ndarray:
@@ -191,15 +192,16 @@ class KnnIndex:
                         threshold: float, out: np.ndarray) -> None:
         """:meth:`mean_distance` where it exceeds ``threshold``, NaN where it does not.
 
-        From about a hundred groups, the search of a row stops once ``k``
-        reference rows within a mean distance ``threshold`` are found
-        (:func:`~drillfatigue.surrogate.kernels.knn_within`); with fewer
-        groups every distance is computed (:meth:`mean_distance`: bounding
-        every group costs little there, and the best-first bookkeeping more
-        than it saves). Either way the flag ``distance > threshold`` of
-        every row is exact, and so is the distance of every row beyond it.
+        The search of a row stops once ``k`` reference rows within a mean
+        distance ``threshold`` are found
+        (:func:`~drillfatigue.surrogate.kernels.knn_within`, which scans
+        groups whole); with more than 24 distinct rows per group on average
+        every distance is computed instead (:meth:`mean_distance`, which
+        walks its first group outward and is as fast there). Either way the
+        flag ``distance > threshold`` of every row is exact, and so is the
+        distance of every row beyond it.
         """
-        if self.keys_t.shape[1] < _BEST_FIRST_GROUPS:
+        if self.rest.shape[0] > _BEST_FIRST_ROWS_PER_GROUP * self.keys_t.shape[1]:
             self.mean_distance(x, mean, scale, k, out)
             out[out <= threshold] = np.nan
         else:
