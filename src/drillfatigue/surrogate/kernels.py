@@ -281,7 +281,8 @@ def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
             acc[i] = baseline
         for t in range(n_trees):
             for i in range(m):
-                acc[i] += leaf_value[t, trailing_zeros(alive[i, t])]
+                # trailing_zeros is a numba intrinsic (cttz): mypy sees its typing-time signature
+                acc[i] += leaf_value[t, trailing_zeros(alive[i, t])]  # type: ignore[call-arg, index]
         for i in range(m):
             out[b + i] = acc[i]
 
