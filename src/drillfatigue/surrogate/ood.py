@@ -98,8 +98,8 @@ def super_groups(keys: np.ndarray, size: int) -> list[np.ndarray]:
     at the median of the key column of widest spread, recursively, until a
     part holds ``size`` groups or fewer; the parts, left to right. Near keys
     share a super-group, so its box stays small. Only the speed of
-    :func:`~drillfatigue.surrogate.kernels.knn_mean_distance` depends on
-    the split, never its result.
+    :func:`~drillfatigue.surrogate.kernels.knn_within` depends on the
+    split, never its result.
     """
     parts: list[np.ndarray] = []
     todo = [np.arange(keys.shape[0])]
