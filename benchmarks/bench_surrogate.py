@@ -18,9 +18,11 @@ only: speed does not depend on how well it is trained. Measured on this CPU,
   table (its trees grown with the default early stopping on whole cases),
   batched 10^5 rows through ``predict_array`` (the compiled tree walker
   :class:`drillfatigue.surrogate.gbm.FlatForest`) without the domain check,
-  with the range check and with range + k-NN check (also on one thread),
-  the domain check alone, the previous evaluators (float tree walk, float32
-  GEMM k-NN distance) for a before/after ratio under the same load,
+  with the range check and with range + k-NN check (also on one thread, and
+  with the k-NN distance of every row), the domain check alone, the
+  evaluators served before (leaf masks one row at a time in 64-bit words,
+  the exact k-NN distance of every row) for a before/after ratio under the
+  same load, and the flags of both on every row of the batch,
   scikit-learn's own ``predict`` on the design matrix for reference, and the
   single-query latency; ``--served-model DIR --served-data PARQUET`` also measures a saved
   model (e.g. the train stage's ``data/surrogate/model``) on 10^5 rows drawn
@@ -44,8 +46,9 @@ section of an existing result file.
 
 ``--knn-scaling`` measures only the k-NN distance's CPU time per row against
 the reference size (synthetic fits of 60, 300 and 1 024 cases, 2 000 reference
-rows at most), the compiled search against the float32 GEMM distance in the
-same run, and keeps the rest of an existing result file.
+rows at most), the exact compiled search against the float32 GEMM distance
+and the served flag search in the same run, and keeps the rest of an
+existing result file.
 
 Usage: ``python benchmarks/bench_surrogate.py [--quick] [--threads 2] [--sim-seconds S]
 [--accuracy-cases N] [--no-speed] [--knn-scaling] [--served-model DIR --served-data PARQUET]``
@@ -65,13 +68,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import torch
+from numba import njit
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
 from drillfatigue.surrogate.export import export_torchscript, load_torchscript
 from drillfatigue.surrogate.gbm import FlatForest, design_matrix
 from drillfatigue.surrogate.io import write_json
-from drillfatigue.surrogate.kernels import forest_sum
+from drillfatigue.surrogate.kernels import _design_value, _rank
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
 
@@ -133,17 +137,62 @@ def _previous_knn(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
+#: lowest set bit -> its index, by de Bruijn multiplication (the previous evaluator's way)
+_DEBRUIJN = np.uint64(0x03F79D71B4CB0A89)
+_LOWEST_BIT = np.zeros(64, dtype=np.int64)
+for _b in range(64):
+    _LOWEST_BIT[(((1 << _b) * 0x03F79D71B4CB0A89) & 0xFFFFFFFFFFFFFFFF) >> 58] = _b
+
+
+@njit(cache=True, nogil=True)
+def _previous_leafmask_kernel(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
+                              scale: np.ndarray, col_cat: np.ndarray, col_index: np.ndarray,
+                              col_level: np.ndarray, cuts: np.ndarray, cut_start: np.ndarray,
+                              mask_start: np.ndarray, masks: np.ndarray, leaf_value: np.ndarray,
+                              baseline: float, out: np.ndarray) -> None:
+    """The leaf-mask evaluator as served before: one row at a time, 64-bit masks, a binary
+    search per input, the lowest set bit by de Bruijn multiplication, one chain of sums."""
+    n_cols = col_cat.shape[0]
+    n_trees = masks.shape[1]
+    alive = np.empty(n_trees, dtype=np.uint64)
+    for i in range(x_num.shape[0]):
+        for t in range(n_trees):
+            alive[t] = ~np.uint64(0)
+        for j in range(n_cols):
+            lo = cut_start[j]
+            hi = cut_start[j + 1]
+            if lo == hi:
+                continue
+            v = _design_value(x_num, x_cat, mean, scale, col_cat, col_index, col_level, i, j)
+            row = mask_start[j] + _rank(cuts, lo, hi, v) - lo
+            for t in range(n_trees):
+                alive[t] &= masks[row, t]
+        acc = baseline
+        for t in range(n_trees):
+            w = alive[t]
+            low = w & (~w + np.uint64(1))
+            acc += leaf_value[t, _LOWEST_BIT[(low * _DEBRUIJN) >> np.uint64(58)]]
+        out[i] = acc
+
+
 def _previous_trees(forest: FlatForest, x_num: np.ndarray, x_cat: np.ndarray) -> np.ndarray:
-    """The tree walk on float64 inputs (five arrays per node) as served before the rank walk,
-    in the same 8192-row chunks on the pool."""
+    """The trees as served before (:func:`_previous_leafmask_kernel` on the same tables in
+    64-bit words), in the same 8192-row chunks on the pool."""
+    masks = forest.masks
+    if masks is None:  # trees of more than 64 leaves: walked on ranks, as before
+        return forest.predict(x_num, x_cat)
+    leaf_value = np.zeros((forest.n_trees, 64))
+    leaf_value[:, :forest.leaf_mask_value.shape[1]] = forest.leaf_mask_value
+    if masks.dtype == np.uint32:  # the unused upper bits as they were: set
+        masks = masks.astype(np.uint64) | np.uint64(0xFFFFFFFF00000000)
     out = np.empty(x_num.shape[0])
 
     def run(a: int) -> None:
         b = a + 8192
-        forest_sum(x_num[a:b], x_cat[a:b], forest.mean, forest.scale, forest.col_cat,
-                   forest.col_index, forest.col_level, forest.feature, forest.threshold,
-                   forest.child, forest.nan_right, forest.value, forest.roots, forest.depth,
-                   forest.baseline, out[a:b])
+        _previous_leafmask_kernel(x_num[a:b], x_cat[a:b], forest.mean, forest.scale,
+                                  forest.col_cat, forest.col_index, forest.col_level, forest.cuts,
+                                  forest.cut_start, forest.mask_start, masks, leaf_value,
+                                  forest.baseline, out[a:b])
 
     map_chunks(run, range(0, x_num.shape[0], 8192))
     return out
@@ -152,10 +201,11 @@ def _previous_trees(forest: FlatForest, x_num: np.ndarray, x_cat: np.ndarray) ->
 def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, object]:
     """Batched and single-query speed of a surrogate whose served model is gradient boosting.
 
-    Also, in the same run: the previous evaluators (float tree walk, float32 GEMM
-    k-NN distance) with the same range check, so ``ratio_vs_previous`` is a ratio of
-    two figures measured under the same load; and the served path with the full
-    domain check on one thread, against the ``--threads`` of the run.
+    Also, in the same run: the evaluators served before (leaf masks one row at a time in
+    64-bit words; the exact k-NN distance of every row, ``distances=True``) with the same
+    range check, so ``ratio_vs_previous`` is a ratio of two figures measured under the same
+    load; and the served path with the full domain check on one thread, against the
+    ``--threads`` of the run.
     """
     n = len(big)
     x_num, x_cat = model.encode(big)
@@ -163,23 +213,28 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
     forest = model._forest
     dom = model.domain
     assert forest is not None
-    assert np.array_equal(_previous_trees(forest, x_num, x_cat),
-                          model.predict_array(x_num, x_cat, ood=False)["log10"])
+    served = model.predict_array(x_num, x_cat)
+    assert np.array_equal(_previous_trees(forest, x_num, x_cat), served["log10"])
+    assert np.array_equal(model.gbm.predict(design_matrix(model.preprocessor, x_num, x_cat)),
+                          served["log10"])
 
-    # the served answer against the previous one on this batch: same flags, same
-    # distances to the float32 rounding of the previous expansion
+    # the served answer against the previous one on this batch: the same flags on every
+    # row, and the same distance (bit for bit) on every row beyond the threshold
     flag_now, dist_now = dom.check(x_num)
-    dist_before = _previous_knn((x_num - dom.mean_) / dom.scale_, dom.reference_, dom.k)
-    flag_before = dom.check(x_num, knn=False)[0] | (dist_before > dom.threshold_)
+    flag_before, dist_before = dom.check(x_num, distances=True)
+    beyond = dist_before > dom.threshold_
     agreement = {"rows": n, "flagged": int(flag_now.sum()),
+                 "flagged_by_distance": int(beyond.sum()),
                  "flags_differing_from_previous": int((flag_now != flag_before).sum()),
-                 "max_abs_distance_difference": float(np.max(np.abs(dist_now - dist_before)))}
+                 "distances_beyond_threshold_differing": int(
+                     (dist_now[beyond] != dist_before[beyond]).sum()),
+                 "max_abs_distance_difference": float(
+                     np.max(np.abs(dist_now[beyond] - dist_before[beyond]), initial=0.0)),
+                 "rows_without_distance": int(np.isnan(dist_now).sum())}
 
     def previous_full() -> None:
         _previous_trees(forest, x_num, x_cat)
-        flag, _ = dom.check(x_num, knn=False)
-        flag |= _previous_knn((x_num - dom.mean_) / dom.scale_, dom.reference_,
-                              dom.k) > dom.threshold_
+        dom.check(x_num, distances=True)
 
     batched = {
         "trees_only": _median_rate(lambda: model.predict_array(x_num, x_cat, ood=False), n,
@@ -188,12 +243,13 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
                                        repeats),
         "with_range_and_knn_ood": _median_rate(lambda: model.predict_array(x_num, x_cat), n,
                                                repeats),
+        "with_range_and_knn_ood_all_distances": _median_rate(
+            lambda: model.predict_array(x_num, x_cat, distances=True), n, max(1, repeats // 2)),
         "domain_check_only": _median_rate(lambda: dom.check(x_num), n, repeats),
         "previous_trees_only": _median_rate(lambda: _previous_trees(forest, x_num, x_cat), n,
                                             repeats),
-        "previous_knn_only": _median_rate(
-            lambda: _previous_knn((x_num - dom.mean_) / dom.scale_, dom.reference_, dom.k), n,
-            max(1, repeats // 2)),
+        "previous_knn_only": _median_rate(lambda: dom.check(x_num, distances=True), n,
+                                          max(1, repeats // 2)),
         "previous_with_range_and_knn_ood": _median_rate(previous_full, n, max(1, repeats // 2)),
         "predict_dataframe": _median_rate(lambda: model.predict(big), n, max(1, repeats // 2)),
         "sklearn_predict_reference": _median_rate(
@@ -222,11 +278,17 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
         "predict_array_no_ood": _latency(lambda: model.predict_array(xn1, xc1, ood=False),
                                          n_single),
     }
+    idx = dom.index
     return {"n_trees": int(model.gbm.n_iter_),
+            "leaf_mask_bits": int(forest.masks.dtype.itemsize * 8) if forest.masks is not None
+            else None,
             "ood_reference_rows": int(dom.reference_.shape[0]),
-            "ood_index": {"distinct_rows": int(dom.index.rest.shape[0]),
-                          "groups": int(dom.index.keys_t.shape[1]),
-                          "key_columns": [dom.names[c] for c in dom.index.perm[:dom.index.n_key]]},
+            "ood_index": {"distinct_rows": int(idx.rest.shape[0]),
+                          "groups": int(idx.keys_t.shape[1]),
+                          "super_groups": int(idx.super_start.size - 1),
+                          "key_columns": [dom.names[c] for c in idx.perm[:idx.n_key]]},
+            "previous": "leaf masks one row at a time in 64-bit words; exact k-NN distance "
+                        "of every row (the evaluators served before, same run)",
             "batched": batched, "ratio_vs_previous": ratios,
             "domain_check_vs_previous": agreement, "single_query": single,
             "goals": _goals(batched, single, ("trees_only", "with_range_ood",
@@ -240,7 +302,9 @@ def knn_scaling(case_counts: tuple[int, ...] = (60, 300, 1024), n_rows: int = 20
     A domain check fitted as the train stage fits it (2 000 reference rows at most)
     on ``make_synthetic_dataset(n, seed=0)`` per ``n`` of ``case_counts``; queries:
     ``n_rows`` rows of unseen cases (seed 1) and ``n_rows`` training rows; the
-    compiled search against the float32 GEMM distance in the same run.
+    exact compiled search (every row's distance) against the float32 GEMM distance,
+    and the served flag search (stops once a row is certainly within the threshold;
+    :meth:`~drillfatigue.surrogate.ood.KnnIndex.distance_beyond`) in the same run.
     """
     cfg = SurrogateConfig()
     feats = list(cfg.features)
@@ -257,7 +321,8 @@ def knn_scaling(case_counts: tuple[int, ...] = (60, 300, 1024), n_rows: int = 20
                                                                 tr.std(axis=0))
             row: dict[str, object] = {"cases": n_cases,
                                       "distinct_reference_rows": int(dom.index.rest.shape[0]),
-                                      "groups": int(dom.index.keys_t.shape[1])}
+                                      "groups": int(dom.index.keys_t.shape[1]),
+                                      "super_groups": int(dom.index.super_start.size - 1)}
             for name, x in (("unseen_cases", unseen), ("training_rows", seen)):
                 dist = np.empty(len(x))
                 dom.index.mean_distance(x, dom.mean_, dom.scale_, dom.k, dist)
@@ -266,9 +331,17 @@ def knn_scaling(case_counts: tuple[int, ...] = (60, 300, 1024), n_rows: int = 20
                 c1 = time.process_time()
                 _previous_knn((x - dom.mean_) / dom.scale_, dom.reference_, dom.k)
                 c2 = time.process_time()
+                far = np.empty(len(x))
+                dom.index.distance_beyond(x, dom.mean_, dom.scale_, dom.k, dom.threshold_, far)
+                c3 = time.process_time()
+                dom.index.distance_beyond(x, dom.mean_, dom.scale_, dom.k, dom.threshold_, far)
+                c4 = time.process_time()
+                assert np.array_equal(far > dom.threshold_, dist > dom.threshold_)
                 row[name] = {"us_per_row": (c1 - c0) / len(x) * 1e6,
                              "previous_us_per_row": (c2 - c1) / len(x) * 1e6,
-                             "ratio": (c2 - c1) / (c1 - c0)}
+                             "ratio": (c2 - c1) / (c1 - c0),
+                             "served_flag_us_per_row": (c4 - c3) / len(x) * 1e6,
+                             "served_flag_vs_exact": (c1 - c0) / (c4 - c3)}
             out.append(row)
     finally:
         torch.set_num_threads(threads)

@@ -19,6 +19,7 @@ from drillfatigue.errors import InputError
 from drillfatigue.surrogate import make_synthetic_dataset
 from drillfatigue.surrogate.data import log10_target
 from drillfatigue.surrogate.gbm import FlatForest, design_matrix, fit_gbm, monotone_constraints
+from drillfatigue.surrogate.kernels import _rank, _rank_near
 from drillfatigue.surrogate.model import Preprocessor
 
 CFG = SurrogateConfig(hgb_max_iter=40)
@@ -139,4 +140,64 @@ def test_trees_of_more_than_64_leaves_take_the_rank_walk():
     forest = FlatForest(small, pre)
     assert max(t.nodes["is_leaf"].sum() for (t,) in small._predictors) == 64
     assert forest.masks is not None  # 64 leaves: the last bit of the mask in use
+    assert forest.masks.dtype == np.uint64
     assert np.array_equal(forest.predict(x, none), small.predict(x))
+    # 32-bit masks up to 32 leaves (the last bit in use), 64-bit from 33
+    for leaves, dtype in ((32, np.uint32), (33, np.uint64)):
+        model = HistGradientBoostingRegressor(max_iter=5, max_leaf_nodes=leaves,
+                                              min_samples_leaf=5, random_state=0).fit(x, y)
+        forest = FlatForest(model, pre)
+        assert max(t.nodes["is_leaf"].sum() for (t,) in model._predictors) == leaves
+        assert forest.masks.dtype == dtype
+        assert np.array_equal(forest.predict(x, none), model.predict(x))
+
+
+def test_queries_on_and_next_to_every_threshold_equal_sklearn(fitted):
+    # the rank of a value starts from a grid guess and steps to the exact count:
+    # values on each threshold and one float either side of it decide each
+    # split as the float comparison does, also where thresholds crowd
+    model, pre, data, forest = fitted
+    assert forest.masks.dtype == np.uint32  # scikit-learn's default: 31 leaves
+    x_num, x_cat = pre.numeric_array(data), pre.category_codes(data)
+    rows = []
+    for j in range(len(pre.numeric)):
+        cuts = forest.cuts[forest.cut_start[j]:forest.cut_start[j + 1]]
+        for v in np.concatenate([cuts, np.nextafter(cuts, -np.inf), np.nextafter(cuts, np.inf)]):
+            row = x_num[len(rows) % len(x_num)].copy()
+            row[j] = v * pre.scale_[j] + pre.mean_[j]  # about the threshold in raw units
+            rows.append(row)
+    q = np.asarray(rows)
+    qc = x_cat[np.arange(len(q)) % len(x_cat)]
+    assert np.array_equal(forest.predict(q, qc), model.predict(design_matrix(pre, q, qc)))
+
+
+def test_thresholds_one_float_apart_equal_sklearn():
+    # values 1 ulp apart (as computed geometry gives, e.g. a dogleg of 0 or of
+    # 1e-16): scikit-learn splits between them, so thresholds crowd in one cell
+    # of the rank grid and the rank takes several steps from its guess
+    rng = np.random.default_rng(0)
+    base = 1.0 + np.arange(12) * np.spacing(1.0)
+    x = np.column_stack([np.concatenate([rng.choice(base, 1500), rng.uniform(-3, 3, 1500)]),
+                         rng.normal(size=3000)])
+    y = np.where(np.isin(x[:, 0], base), (x[:, 0] - 1.0) / np.spacing(1.0), np.sin(x[:, 0]))
+    model = HistGradientBoostingRegressor(max_iter=20, random_state=0).fit(x, y)
+    pre = Preprocessor(["a", "b"])
+    pre.mean_, pre.scale_, pre.categories_ = np.zeros(2), np.ones(2), {}
+    forest = FlatForest(model, pre)
+    cuts = forest.cuts[forest.cut_start[0]:forest.cut_start[1]]
+    assert (np.diff(cuts) < 1e-12).sum() >= 5
+    q = np.vstack([x, np.column_stack([np.nextafter(base, 0.0), np.zeros(12)])])
+    assert np.array_equal(forest.predict(q, np.zeros((len(q), 0), dtype=np.int64)),
+                          model.predict(q))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3), min_size=0, max_size=12, unique=True),
+       st.floats(-2e3, 2e3, allow_nan=False), st.integers(0, 12))
+def test_property_rank_from_any_guess_is_exact(cuts, v, guess):
+    c = np.sort(np.asarray(cuts, dtype=np.float64))
+    padded = np.concatenate([[-7.0], c, [7.0]])  # the column's thresholds sit inside cuts
+    lo, hi = 1, 1 + c.size
+    r = _rank_near(padded, lo, hi, lo + min(guess, c.size), v)
+    assert r - lo == np.searchsorted(c, v, side="left")
+    assert r - lo == _rank(padded, lo, hi, v) - lo

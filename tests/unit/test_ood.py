@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate import make_synthetic_dataset
+from drillfatigue.surrogate.kernels import knn_within
 from drillfatigue.surrogate.ood import DomainChecker, KnnIndex, key_columns, knn_distance
 
 
@@ -100,7 +101,7 @@ def test_flags_equal_the_float32_gemm_distance() -> None:
     lo, hi = x_tr.min(axis=0), x_tr.max(axis=0)
     designed = rng.uniform(lo - 0.1 * (hi - lo), hi + 0.1 * (hi - lo), (3000, len(feats)))
     for x in (batch, designed):
-        flag, dist = dc.check(x)
+        flag, dist = dc.check(x, distances=True)
         z = (x - dc.mean_) / dc.scale_
         old = _gemm_float32(z, dc.reference_, 5)
         # the float32 expansion loses ~eps32 * |z|^2 to cancellation: up to
@@ -108,6 +109,12 @@ def test_flags_equal_the_float32_gemm_distance() -> None:
         np.testing.assert_allclose(dist, old, rtol=1e-4, atol=5e-3)
         range_flag, _ = dc.check(x, knn=False)
         np.testing.assert_array_equal(flag, range_flag | (old > dc.threshold_))
+        # the served check (distances only beyond the threshold): the same flags
+        served, far = dc.check(x)
+        np.testing.assert_array_equal(served, flag)
+        beyond = dist > dc.threshold_
+        np.testing.assert_array_equal(far[beyond], dist[beyond])
+        assert np.isnan(far[~beyond]).all()
     assert 0.0 < dc.check(batch)[0].mean() < 0.5
     assert dc.check(designed)[0].mean() > 0.9
 
@@ -192,3 +199,112 @@ def test_refusal_of_a_far_point_names_the_distance() -> None:
     _, dist = dc.check(x)
     err = dc.refusal(x[0], float(dist[0]), field_prefix="rows[0].")
     assert err.field == "rows[0].query" and "far from the training data" in err.problem
+
+
+def _beyond(idx: KnnIndex, z: np.ndarray, k: int, threshold: float) -> np.ndarray:
+    # the best-first kernel itself (the index takes it up to 24 rows per group)
+    d = z.shape[1]
+    out = np.empty(z.shape[0])
+    knn_within(np.ascontiguousarray(z), np.zeros(d), np.ones(d), idx.perm, idx.n_key,
+               idx.group_start, idx.rest_t, idx.group_lo, idx.group_hi, idx.count,
+               idx.super_start, idx.super_lo, idx.super_hi, min(k, idx.n_rows), threshold, out)
+    return out
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 8), st.integers(1, 80), st.integers(0, 5),
+       st.integers(0, 4), st.booleans(), st.floats(0.0, 1.0))
+def test_property_distance_beyond_equals_brute_force(seed: int, k: int, n_cases: int,
+                                                     d_case: int, d_loc: int, duplicates: bool,
+                                                     level: float) -> None:
+    # the served search stops once a row is certainly within the threshold: its
+    # flag must equal the brute force's on every row, and a row beyond the
+    # threshold must get the exact search's distance, bit for bit
+    rng = np.random.default_rng(seed)
+    rows = int(rng.integers(1, 6))
+    if d_case + d_loc == 0:
+        d_loc = 1
+    ref = _cases(rng, n_cases, rows, d_case, d_loc)
+    if duplicates:
+        ref = np.vstack([ref, ref[rng.integers(0, ref.shape[0], ref.shape[0])]])
+    z = np.vstack([rng.normal(scale=2.0, size=(40, ref.shape[1])),  # anywhere
+                   ref[rng.integers(0, ref.shape[0], 10)],  # on a reference row
+                   ref[rng.integers(0, ref.shape[0], 10)] + 1e-3,  # next to one
+                   50.0 * rng.normal(size=(5, ref.shape[1]))])  # far outliers
+    z = np.vstack([z, z[:5]])  # repeated queries
+    exact = knn_distance(z, ref, k)
+    brute = _brute(z, ref, k)
+    np.testing.assert_allclose(exact, brute, rtol=1e-12, atol=1e-12)
+    # a threshold among the distances (a row exactly at it is within) or below all
+    threshold = float(np.quantile(exact, level)) if level > 0.05 else 0.0
+    idx = KnnIndex(ref)
+    got = _beyond(idx, z, k, threshold)
+    beyond = exact > threshold
+    np.testing.assert_array_equal(got > threshold, beyond)
+    np.testing.assert_array_equal(got[beyond], exact[beyond])  # bit for bit
+    assert np.isnan(got[~beyond]).all()
+    # the brute force's flags too, away from float ties at the threshold
+    clear = np.abs(brute - threshold) > 1e-9
+    np.testing.assert_array_equal(beyond[clear], (brute > threshold)[clear])
+
+
+def test_distance_beyond_with_fewer_groups_or_rows_than_k() -> None:
+    # 2 cases of 2 rows: fewer groups and fewer rows than k = 5 (k falls to 4)
+    ref = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [3.0, 1.0, 0.0], [3.0, 1.0, 2.0]])
+    idx = KnnIndex(ref)
+    assert idx.n_key == 2 and idx.keys_t.shape[1] == 2 and idx.super_start.tolist() == [0, 2]
+    z = np.array([[0.0, 0.0, 0.0], [3.0, 1.0, 2.0], [100.0, 0.0, 0.0], [np.nan, 0.0, 0.0]])
+    exact = knn_distance(z, ref, 5)
+    np.testing.assert_allclose(exact[:3], _brute(z[:3], ref, 5), rtol=1e-12)
+    for threshold in (0.0, float(exact[0]), 10.0):
+        got = _beyond(idx, z, 5, threshold)
+        beyond = exact > threshold
+        np.testing.assert_array_equal(got[beyond], exact[beyond])
+        assert np.isnan(got[~beyond]).all()
+    assert np.isinf(exact[3]) and np.isinf(_beyond(idx, z[3:], 5, 10.0)[0])  # NaN: far
+
+
+def test_super_groups_partition_the_groups_and_bound_them() -> None:
+    rng = np.random.default_rng(3)
+    ref = _cases(rng, 150, 6, 5, 4)
+    idx = KnnIndex(ref)
+    n_groups = idx.keys_t.shape[1]
+    sizes = np.diff(idx.super_start)
+    assert idx.super_start[0] == 0 and idx.super_start[-1] == n_groups == 150
+    assert sizes.min() >= 1 and sizes.max() <= 13  # about sqrt(150) groups each
+    lo = np.vstack([idx.keys_t, idx.box_lo])
+    hi = np.vstack([idx.keys_t, idx.box_hi])
+    np.testing.assert_array_equal(idx.group_lo, lo.T)
+    np.testing.assert_array_equal(idx.group_hi, hi.T)
+    for s in range(sizes.size):
+        a, b = idx.super_start[s], idx.super_start[s + 1]
+        assert np.all(idx.super_lo[:, [s]] <= lo[:, a:b])
+        assert np.all(idx.super_hi[:, [s]] >= hi[:, a:b])
+    # every reference row lies in its group's box
+    for g in range(n_groups):
+        rows = idx.rest[idx.group_start[g]:idx.group_start[g + 1]]
+        assert np.all(rows >= idx.box_lo[:, g]) and np.all(rows <= idx.box_hi[:, g])
+
+
+def test_served_flags_equal_the_exact_ones_on_a_large_batch() -> None:
+    # 300 synthetic cases (about two reference rows each), 20 000 queries of
+    # other cases and of a box around the design: the served check's flags equal
+    # those of the exact distance on every row
+    cfg = SurrogateConfig()
+    feats = list(cfg.features)
+    train = make_synthetic_dataset(300, seed=0)[feats].to_numpy()
+    cal = make_synthetic_dataset(60, seed=5)[feats].to_numpy()
+    dc = DomainChecker(feats, reference_rows=2000).fit(train, cal, train.mean(axis=0),
+                                                        train.std(axis=0))
+    assert dc.index.rest.shape[0] <= 24 * dc.index.keys_t.shape[1]  # searched best first
+    rng = np.random.default_rng(11)
+    lo, hi = train.min(axis=0), train.max(axis=0)
+    x = np.vstack([make_synthetic_dataset(1000, seed=1)[feats].to_numpy()[:16_000],
+                   rng.uniform(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo), (4000, len(feats)))])
+    flag, dist = dc.check(x)
+    exact_flag, exact = dc.check(x, distances=True)
+    assert 0.01 < exact_flag.mean() < 0.5
+    np.testing.assert_array_equal(flag, exact_flag)
+    far = exact > dc.threshold_
+    np.testing.assert_array_equal(dist[far], exact[far])
+    assert np.isnan(dist[~far]).all()

@@ -235,7 +235,8 @@ class Surrogate:
         return self._scripted
 
     def predict_array(self, x_num: np.ndarray, x_cat: np.ndarray | None = None,
-                      ood: bool = True, knn: bool = True) -> dict[str, np.ndarray]:
+                      ood: bool = True, knn: bool = True,
+                      distances: bool = False) -> dict[str, np.ndarray]:
         """Fast path on encoded arrays (no DataFrame round trip, no input checks).
 
         Parameters
@@ -248,6 +249,11 @@ class Surrogate:
             Compute the out-of-domain flag (``ood`` key; False everywhere if not).
         knn : bool
             Include the k-NN joint-distance test (else per-feature ranges only).
+        distances : bool
+            The k-NN distance of every row in ``knn_distance``; by default
+            only that of the rows beyond the threshold (the number a refusal
+            names), NaN for the others, whose search stops once they are
+            certainly within it (the flags are the same either way).
 
         Returns
         -------
@@ -255,13 +261,14 @@ class Surrogate:
             ``log10``, ``sigma``, ``lower``, ``upper`` (log10 damage rate per
             hour and its interval, also for out-of-domain rows: the caller
             decides to refuse them), ``beyond_horizon`` (bool: predicted life
-            longer than :attr:`horizon_h`), ``ood`` (bool), ``knn_distance``.
+            longer than :attr:`horizon_h`), ``ood`` (bool), ``knn_distance``
+            (see ``distances``).
         """
         x_num = np.asarray(x_num, dtype=np.float64)
         if x_cat is None:
             x_cat = np.zeros((x_num.shape[0], len(self.categorical)), dtype=np.int64)
         if self.gbm is not None:
-            return self._predict_gbm(x_num, x_cat, ood, knn)
+            return self._predict_gbm(x_num, x_cat, ood, knn, distances)
         xt = torch.from_numpy(x_num.astype(np.float32))
         ct = torch.from_numpy(np.ascontiguousarray(x_cat, dtype=np.int64))
         out = np.empty((x_num.shape[0], 4), dtype=np.float32)
@@ -288,10 +295,10 @@ class Surrogate:
             map_chunks(run, range(0, n, share))
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
-        return self._finish(res, x_num, ood, knn)
+        return self._finish(res, x_num, ood, knn, distances)
 
     def _predict_gbm(self, x_num: np.ndarray, x_cat: np.ndarray, ood: bool,
-                     knn: bool) -> dict[str, np.ndarray]:
+                     knn: bool, distances: bool) -> dict[str, np.ndarray]:
         """:meth:`predict_array` of the served gradient boosting.
 
         The trees are evaluated by :class:`~drillfatigue.surrogate.gbm.FlatForest`
@@ -313,16 +320,16 @@ class Surrogate:
                 else float(g["conformal_quantile"]))
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
                "lower": mu - half, "upper": mu + half}
-        return self._finish(res, x_num, ood, knn)
+        return self._finish(res, x_num, ood, knn, distances)
 
     def _finish(self, res: dict[str, np.ndarray], x_num: np.ndarray, ood: bool,
-                knn: bool) -> dict[str, np.ndarray]:
+                knn: bool, distances: bool) -> dict[str, np.ndarray]:
         """Add ``beyond_horizon``, ``ood`` and ``knn_distance`` to a prediction."""
         h = self.horizon_h
         res["beyond_horizon"] = (res["log10"] < -math.log10(h) if h is not None
                                  else np.zeros(x_num.shape[0], dtype=bool))
         if ood:
-            flag, dist = self.domain.check(x_num, knn=knn)
+            flag, dist = self.domain.check(x_num, knn=knn, distances=distances)
         else:
             flag, dist = np.zeros(x_num.shape[0], dtype=bool), np.full(x_num.shape[0], np.nan)
         res["ood"] = flag

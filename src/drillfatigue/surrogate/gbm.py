@@ -245,8 +245,11 @@ class FlatForest:
         ``r`` (0 to the column's number of thresholds) the row
         ``masks[mask_start[j] + r]`` holds per tree the AND of the leaf masks
         (all bits but the left subtree's leaves) of its splits on ``j`` whose
-        threshold index is below ``r``. None (``masks`` is None) when a tree
-        has more than 64 leaves: the rank walk evaluates it.
+        threshold index is below ``r``: uint32 words when no tree has more
+        than 32 leaves (scikit-learn's default grows at most 31; half the
+        bytes read per row), else uint64. None (``masks`` is None) when a
+        tree has more than 64 leaves: the rank walk evaluates it. Also the
+        rank guesses of :meth:`_rank_grid`.
         """
         leaf = self.child[:, 0] == np.arange(self.child.shape[0])
         widths = np.diff(self.cut_start)
@@ -254,6 +257,7 @@ class FlatForest:
         masks = np.full((int(self.mask_start[-1]), self.n_trees), np.uint64(2**64 - 1),
                         dtype=np.uint64)
         leaf_value = np.zeros((self.n_trees, 64))
+        most = 0
         for t, root in enumerate(self.roots):
             # in-order walk: the leaves of a subtree are a run [first, end) of numbers
             first: dict[int, int] = {}
@@ -274,6 +278,7 @@ class FlatForest:
                 else:
                     stack += [(k, True), (int(self.child[k, 1]), False),
                               (int(self.child[k, 0]), False)]
+            most = max(most, count)
             for k in first:
                 if leaf[k]:
                     continue
@@ -286,8 +291,44 @@ class FlatForest:
         for j in range(widths.size):
             a, b = self.mask_start[j], self.mask_start[j + 1]
             masks[a:b] = np.bitwise_and.accumulate(masks[a:b], axis=0)
-        self.masks = masks
+        words: np.ndarray = masks
+        if most <= 32:  # the upper 32 bits name no leaf
+            words = np.ascontiguousarray(masks & np.uint64(2**32 - 1), dtype=np.uint32)
+            leaf_value = np.ascontiguousarray(leaf_value[:, :32])
+        self.masks = words
         self.leaf_mask_value = leaf_value
+        self._rank_grid()
+
+    def _rank_grid(self, cells_per_threshold: int = 4) -> None:
+        """Rank guesses: per input column a uniform grid over its threshold range.
+
+        Column ``j`` with ``m >= 2`` distinct thresholds spanning a positive
+        width gets ``4 m`` cells from its first threshold (``grid_lo[j]``,
+        ``grid_inv[j]`` cells per unit), others one cell; ``grid_rank`` holds,
+        from ``grid_start[j]``, the rank (absolute index into ``cuts``) of each
+        cell's lower edge. The kernel steps from that guess to the exact rank,
+        a few steps where thresholds crowd (scikit-learn bins split values
+        1e-16 apart, so no grid isolates them all).
+        """
+        n_cols = self.cut_start.size - 1
+        self.grid_lo = np.zeros(n_cols)
+        self.grid_inv = np.zeros(n_cols)
+        starts, ranks = [0], []
+        for j in range(n_cols):
+            a, b = int(self.cut_start[j]), int(self.cut_start[j + 1])
+            c = self.cuts[a:b]
+            cells = 1
+            if b - a >= 2 and c[-1] > c[0]:
+                cells = cells_per_threshold * (b - a)
+                self.grid_lo[j] = c[0]
+                self.grid_inv[j] = cells / (c[-1] - c[0])
+                edges = c[0] + np.arange(cells) * ((c[-1] - c[0]) / cells)
+                ranks.append(a + np.searchsorted(c, edges, side="left"))
+            else:
+                ranks.append(np.array([a]))
+            starts.append(starts[-1] + cells)
+        self.grid_start = np.asarray(starts, dtype=np.int64)
+        self.grid_rank = np.concatenate(ranks).astype(np.int64)
 
     @property
     def n_trees(self) -> int:
@@ -302,6 +343,7 @@ class FlatForest:
         if self.masks is not None:
             forest_sum_leafmask(x_num, x_cat, self.mean, self.scale, self.col_cat,
                                 self.col_index, self.col_level, self.cuts, self.cut_start,
+                                self.grid_lo, self.grid_inv, self.grid_start, self.grid_rank,
                                 self.mask_start, self.masks, self.leaf_mask_value,
                                 self.baseline, out)
             return

@@ -6,9 +6,10 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.cpython.unsafe.numbers import trailing_zeros
 
 __all__ = ["forest_sum", "forest_sum_leafmask", "forest_sum_ranked", "knn_mean_distance",
-           "outside_ranges"]
+           "knn_within", "outside_ranges"]
 
 
 @njit(cache=True, nogil=True)
@@ -167,59 +168,123 @@ def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
             out[b + i] = acc[i]
 
 
-#: lowest set bit -> its index, by de Bruijn multiplication (exact for every 64-bit power of 2)
-_DEBRUIJN = np.uint64(0x03F79D71B4CB0A89)
-_LOWEST_BIT = np.zeros(64, dtype=np.int64)
-for _b in range(64):
-    _LOWEST_BIT[(((1 << _b) * 0x03F79D71B4CB0A89) & 0xFFFFFFFFFFFFFFFF) >> 58] = _b
+_ROWS = 32  # rows whose ranks, leaf masks and sums are formed together
+
+
+@njit(cache=True, nogil=True)
+def _rank_near(cuts: np.ndarray, lo: int, hi: int, r: int, v: float) -> int:
+    """:func:`_rank` found by steps from a guess ``r`` in ``[lo, hi]``: exact for any guess."""
+    while r < hi and cuts[r] < v:
+        r += 1
+    while r > lo and cuts[r - 1] >= v:
+        r -= 1
+    return r
 
 
 @njit(cache=True, nogil=True)
 def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
                         scale: np.ndarray, col_cat: np.ndarray, col_index: np.ndarray,
                         col_level: np.ndarray, cuts: np.ndarray, cut_start: np.ndarray,
-                        mask_start: np.ndarray, masks: np.ndarray, leaf_value: np.ndarray,
-                        baseline: float, out: np.ndarray) -> None:
+                        grid_lo: np.ndarray, grid_inv: np.ndarray, grid_start: np.ndarray,
+                        grid_rank: np.ndarray, mask_start: np.ndarray, masks: np.ndarray,
+                        leaf_value: np.ndarray, baseline: float, out: np.ndarray) -> None:
     """:func:`forest_sum` on rows without NaN, by leaf masks: no tree is walked.
 
-    The leaves of each tree (at most 64) are numbered left to right; a split
-    that sends a row right rules out the leaves of its left subtree, and the
-    leaf a row reaches is the leftmost leaf no split on its path rules out
-    (QuickScorer, Lucchese et al., SIGIR 2015: a split off the path rules
-    out only leaves left of the path's leaf, or ones its path already left).
-    Which splits send a row right depends, per input column, only on the
-    row's rank (the count of the column's thresholds below its value, as in
+    The leaves of each tree (at most 32 with uint32 ``masks``, 64 with
+    uint64) are numbered left to right; a split that sends a row right
+    rules out the leaves of its left subtree, and the leaf a row reaches is
+    the leftmost leaf no split on its path rules out (QuickScorer, Lucchese
+    et al., SIGIR 2015: a split off the path rules out only leaves left of
+    the path's leaf, or ones its path already left). Which splits send a
+    row right depends, per input column, only on the row's rank (the count
+    of the column's thresholds below its value, as in
     :func:`forest_sum_ranked`): ``masks[mask_start[j] + rank, t]`` is the
     AND of the leaf masks of tree ``t``'s splits on column ``j`` whose
     threshold lies below the value. A row is then one AND per column and
-    tree (contiguous over trees: vectorised), the lowest set bit per tree
-    picks ``leaf_value[t, leaf]``, added to ``baseline`` tree by tree in the
-    model's order: the sums are :func:`forest_sum`'s float64 numbers.
+    tree (contiguous over trees: vectorised), and the lowest set bit per
+    tree picks ``leaf_value[t, leaf]``, added to ``baseline`` tree by tree
+    in the model's order: the sums are :func:`forest_sum`'s float64 numbers.
+
+    Rows go in blocks of 32, column by column for the ranks (the column's
+    constants loaded once), four columns' masks per pass over the trees,
+    and tree by tree over the block for the sums (32 independent additions
+    in flight instead of one chain). A numeric column's rank starts from a
+    guess on a uniform grid of its threshold range (``grid_start[j + 1] -
+    grid_start[j]`` cells from ``grid_lo[j]``, ``grid_inv[j]`` cells per
+    unit; ``grid_rank`` holds the absolute rank at each cell's lower edge)
+    and ends by steps (:func:`_rank_near`), so it is exact whatever the
+    guess; a one-hot column has two ranks, that of 1.0 and of 0.0.
     """
     n = x_num.shape[0]
     n_cols = col_cat.shape[0]
     n_trees = masks.shape[1]
-    alive = np.empty(n_trees, dtype=np.uint64)
-    one = np.uint64(1)
-    shift = np.uint64(58)
-    for i in range(n):
-        for t in range(n_trees):
-            alive[t] = ~np.uint64(0)
-        for j in range(n_cols):
+    active = np.empty(n_cols, dtype=np.int64)
+    n_active = 0
+    for j in range(n_cols):
+        if cut_start[j + 1] > cut_start[j]:  # a column no split uses changes no mask
+            active[n_active] = j
+            n_active += 1
+    row = np.empty((_ROWS, max(n_active, 1)), dtype=np.int64)
+    alive = np.empty((_ROWS, n_trees), dtype=masks.dtype)
+    acc = np.empty(_ROWS)
+    for b in range(0, n, _ROWS):
+        m = min(_ROWS, n - b)
+        for q in range(n_active):
+            j = active[q]
             lo = cut_start[j]
             hi = cut_start[j + 1]
-            if lo == hi:
-                continue
-            v = _design_value(x_num, x_cat, mean, scale, col_cat, col_index, col_level, i, j)
-            row = mask_start[j] + _rank(cuts, lo, hi, v) - lo
-            for t in range(n_trees):
-                alive[t] &= masks[row, t]
-        acc = baseline
+            c = col_index[j]
+            shift = mask_start[j] - lo
+            if col_cat[j] == 0:
+                mu = mean[c]
+                sc = scale[c]
+                g0 = grid_lo[j]
+                inv = grid_inv[j]
+                gs = grid_start[j]
+                cells = grid_start[j + 1] - gs
+                for i in range(m):
+                    v = (x_num[b + i, c] - mu) / sc
+                    t = (v - g0) * inv
+                    cell = 0
+                    if t >= 0.0:  # also false for NaN (a zero-width grid times inf)
+                        cell = int(t) if t < cells else cells - 1
+                    row[i, q] = shift + _rank_near(cuts, lo, hi, grid_rank[gs + cell], v)
+            else:
+                level = col_level[j]
+                r1 = shift + _rank(cuts, lo, hi, 1.0)
+                r0 = shift + _rank(cuts, lo, hi, 0.0)
+                for i in range(m):
+                    row[i, q] = r1 if x_cat[b + i, c] == level else r0
+        for i in range(m):
+            if n_active == 0:
+                for t in range(n_trees):
+                    alive[i, t] = masks[0, t]
+            q = n_active % 4
+            if q > 0:
+                r0 = row[i, 0]
+                for t in range(n_trees):
+                    alive[i, t] = masks[r0, t]
+                for p in range(1, q):
+                    rp = row[i, p]
+                    for t in range(n_trees):
+                        alive[i, t] &= masks[rp, t]
+            elif n_active > 0:
+                r0, r1, r2, r3 = row[i, 0], row[i, 1], row[i, 2], row[i, 3]
+                for t in range(n_trees):
+                    alive[i, t] = masks[r0, t] & masks[r1, t] & masks[r2, t] & masks[r3, t]
+                q = 4
+            while q < n_active:
+                r0, r1, r2, r3 = row[i, q], row[i, q + 1], row[i, q + 2], row[i, q + 3]
+                for t in range(n_trees):
+                    alive[i, t] &= masks[r0, t] & masks[r1, t] & masks[r2, t] & masks[r3, t]
+                q += 4
+            acc[i] = baseline
         for t in range(n_trees):
-            w = alive[t]
-            low = w & (~w + one)
-            acc += leaf_value[t, _LOWEST_BIT[(low * _DEBRUIJN) >> shift]]
-        out[i] = acc
+            for i in range(m):
+                # trailing_zeros is a numba intrinsic (cttz): mypy sees its typing-time signature
+                acc[i] += leaf_value[t, trailing_zeros(alive[i, t])]  # type: ignore[call-arg, index]
+        for i in range(m):
+            out[b + i] = acc[i]
 
 
 @njit(cache=True, nogil=True)
@@ -283,6 +348,96 @@ def _scan_group(z: np.ndarray, n_key: int, base: float, rest: np.ndarray, count:
 
 
 @njit(cache=True, nogil=True)
+def _scan_rows(z: np.ndarray, n_key: int, base: float, rest_t: np.ndarray, count: np.ndarray,
+               a: int, b: int, acc: np.ndarray, best: np.ndarray) -> None:
+    """Offer reference rows ``a:b`` at key distance ``base`` to ``best``.
+
+    The squared distances of the rows are summed one rest column at a time
+    over all of them (a loop without branches, vectorised), ``base`` first,
+    then the rest columns in order; a row below the k-th best enters
+    ``count[r]`` times at most.
+    """
+    k = best.shape[0]
+    m = b - a
+    for r in range(m):
+        acc[r] = base
+    for j in range(rest_t.shape[0]):
+        zj = z[n_key + j]
+        for r in range(m):
+            e = zj - rest_t[j, a + r]
+            acc[r] += e * e
+    for r in range(m):
+        if acc[r] < best[k - 1]:
+            _insert(best, acc[r], count[a + r])
+
+
+@njit(cache=True, nogil=True)
+def _mean_root(best: np.ndarray) -> float:
+    """Mean of the square roots of ``best`` (ascending), summed in that order."""
+    total = 0.0
+    for q in range(best.shape[0]):
+        total += math.sqrt(best[q])
+    return total / best.shape[0]
+
+
+@njit(cache=True, nogil=True)
+def _argmin_open(v: np.ndarray, n: int) -> int:
+    """Index of the least of ``v[:n]`` (the first on ties; 0 if none is less than ``v[0]``)."""
+    m = 0
+    least = v[0]
+    for s in range(1, n):  # selects, no branch on the data
+        w = v[s]
+        better = w < least
+        m = s if better else m
+        least = w if better else least
+    return m
+
+
+@njit(cache=True, nogil=True)
+def _group_bounds(z: np.ndarray, n_key: int, keys_t: np.ndarray, box_lo: np.ndarray,
+                  box_hi: np.ndarray, a: int, m: int, kd: np.ndarray, lb: np.ndarray) -> None:
+    """Key part ``kd[h]`` and lower bound ``lb[h]`` of the squared distance to groups ``a + h``.
+
+    ``kd``: the squared key differences summed in column order; ``lb``: that
+    plus the squared gaps to the group's rest box, in column order.
+    """
+    for h in range(m):
+        kd[h] = 0.0
+    for j in range(n_key):
+        zj = z[j]
+        for h in range(m):
+            e = zj - keys_t[j, a + h]
+            kd[h] += e * e
+    for h in range(m):
+        lb[h] = kd[h]
+    for j in range(box_lo.shape[0]):
+        zj = z[n_key + j]
+        for h in range(m):  # gap below, above, or 0 inside (no branch)
+            e = max(max(box_lo[j, a + h] - zj, zj - box_hi[j, a + h]), 0.0)
+            lb[h] += e * e
+
+
+@njit(cache=True, nogil=True)
+def _group_bounds_rows(z: np.ndarray, n_key: int, group_lo: np.ndarray, group_hi: np.ndarray,
+                       a: int, m: int, kd: np.ndarray, lb: np.ndarray) -> None:
+    """:func:`_group_bounds` from the groups' boxes as rows (``group_lo[g]``, ``group_hi[g]``:
+    all columns, a key column's bounds both its key), group by group: the same floats,
+    for the few groups of one super-group (no short vector loop per column)."""
+    d = group_lo.shape[1]
+    for h in range(m):
+        g = a + h
+        s = 0.0
+        for j in range(n_key):
+            e = z[j] - group_lo[g, j]
+            s += e * e
+        kd[h] = s
+        for j in range(n_key, d):
+            e = max(max(group_lo[g, j] - z[j], z[j] - group_hi[g, j]), 0.0)
+            s += e * e
+        lb[h] = s
+
+
+@njit(cache=True, nogil=True)
 def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: np.ndarray,
                       n_key: int, keys_t: np.ndarray, group_start: np.ndarray,
                       rest: np.ndarray, rest_t: np.ndarray, box_lo: np.ndarray,
@@ -327,21 +482,7 @@ def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: 
         for j in range(d):
             c = perm[j]
             z[j] = (x[i, c] - mean[c]) / scale[c]
-        for g in range(n_groups):
-            kd[g] = 0.0
-        for j in range(n_key):
-            zj = z[j]
-            for g in range(n_groups):
-                e = zj - keys_t[j, g]
-                kd[g] += e * e
-        # lower bound per group: its key part plus the gaps to its bounding box
-        for g in range(n_groups):
-            lb[g] = kd[g]
-        for j in range(n_key, d):
-            zj = z[j]
-            for g in range(n_groups):  # gap below, above, or 0 inside (no branch)
-                e = max(max(box_lo[j - n_key, g] - zj, zj - box_hi[j - n_key, g]), 0.0)
-                lb[g] += e * e
+        _group_bounds(z, n_key, keys_t, box_lo, box_hi, 0, n_groups, kd, lb)
         g0 = 0
         for g in range(1, n_groups):
             if lb[g] < lb[g0]:
@@ -352,20 +493,94 @@ def knn_mean_distance(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: 
         for g in range(n_groups):
             if g == g0 or lb[g] >= best[k - 1]:
                 continue
-            base = kd[g]
-            a = group_start[g]
-            m = group_start[g + 1] - a
-            for r in range(m):
-                acc[r] = base
-            for j in range(n_key, d):
-                zj = z[j]
-                for r in range(m):
-                    e = zj - rest_t[j - n_key, a + r]
-                    acc[r] += e * e
-            for r in range(m):
-                if acc[r] < best[k - 1]:
-                    _insert(best, acc[r], count[a + r])
-        total = 0.0
+            _scan_rows(z, n_key, kd[g], rest_t, count, group_start[g], group_start[g + 1], acc,
+                       best)
+        out[i] = _mean_root(best)
+
+
+@njit(cache=True, nogil=True)
+def knn_within(x: np.ndarray, mean: np.ndarray, scale: np.ndarray, perm: np.ndarray,
+               n_key: int, group_start: np.ndarray, rest_t: np.ndarray,
+               group_lo: np.ndarray, group_hi: np.ndarray, count: np.ndarray,
+               super_start: np.ndarray, super_lo: np.ndarray, super_hi: np.ndarray, k: int,
+               threshold: float, out: np.ndarray) -> None:
+    """:func:`knn_mean_distance` where it exceeds ``threshold``, NaN where it certainly does not.
+
+    The reference is stored as in :func:`knn_mean_distance` (``rest_t`` the
+    transpose of its ``rest``), with each group's box as a row of all
+    columns in the search's order, ``group_lo[g]`` to ``group_hi[g]`` (a
+    key column's bounds both its key), and the groups gathered into
+    super-groups: groups ``super_start[s]`` to ``super_start[s + 1]``, whose
+    columns lie in the box ``super_lo[:, s]`` to ``super_hi[:, s]``. A
+    super-group's lower bound is the sum of the squared gaps between the
+    query and its box, in column order.
+
+    Super-groups are visited best first (least bound first) while their
+    bound is below the current k-th best, and inside one its groups best
+    first likewise (a group's bound: its key part plus the squared gaps to
+    its rest box, :func:`_group_bounds_rows`), each group scanned whole
+    (:func:`_scan_rows`). After
+    each group the search stops if the ``k`` best so far have a mean
+    ``<= threshold``: sorted ascending, the i-th nearest row is at most the
+    i-th of any ``k`` rows, and square root, sum and division are monotone
+    in floats, so the exact result (:func:`knn_mean_distance`'s float) is
+    then ``<= threshold`` too; ``out`` is NaN. A row that does not stop
+    has searched every super-group and group its bound did not rule out
+    (no bound exceeds the float sum it bounds: a box contains what it
+    bounds, the terms are added in the same order and rounding is
+    monotone): ``out`` is :func:`knn_mean_distance`'s result, the same
+    float (the mean of the roots of the same ``k`` least squared
+    distances, summed in ascending order), kept if it exceeds
+    ``threshold``, else NaN too. A NaN input stops nowhere and gives
+    ``inf``, as there.
+    """
+    n = x.shape[0]
+    d = perm.shape[0]
+    n_super = super_start.shape[0] - 1
+    width = 1
+    for s in range(n_super):
+        width = max(width, super_start[s + 1] - super_start[s])
+    rows_max = 1
+    for g in range(group_start.shape[0] - 1):
+        rows_max = max(rows_max, group_start[g + 1] - group_start[g])
+    z = np.empty(d)
+    slb = np.empty(n_super)
+    kd = np.empty(width)
+    glb = np.empty(width)
+    acc = np.empty(rows_max)
+    best = np.empty(k)
+    for i in range(n):
+        for j in range(d):
+            c = perm[j]
+            z[j] = (x[i, c] - mean[c]) / scale[c]
+        for s in range(n_super):
+            slb[s] = 0.0
+        for j in range(d):
+            zj = z[j]
+            for s in range(n_super):  # gap below, above, or 0 inside (no branch)
+                e = max(max(super_lo[j, s] - zj, zj - super_hi[j, s]), 0.0)
+                slb[s] += e * e
         for q in range(k):
-            total += math.sqrt(best[q])
-        out[i] = total / k
+            best[q] = np.inf
+        stopped = False
+        while not stopped:
+            s = _argmin_open(slb, n_super)
+            if not slb[s] < best[k - 1]:  # also NaN (a NaN input): ends the search
+                break
+            slb[s] = np.inf  # visited
+            g0 = super_start[s]
+            ng = super_start[s + 1] - g0
+            _group_bounds_rows(z, n_key, group_lo, group_hi, g0, ng, kd, glb)
+            while True:
+                h = _argmin_open(glb, ng)
+                if not glb[h] < best[k - 1]:
+                    break
+                glb[h] = np.inf  # scanned
+                g = g0 + h
+                _scan_rows(z, n_key, kd[h], rest_t, count, group_start[g], group_start[g + 1],
+                           acc, best)
+                if best[k - 1] < np.inf and _mean_root(best) <= threshold:
+                    stopped = True
+                    break
+        dist = np.nan if stopped else _mean_root(best)
+        out[i] = dist if dist > threshold else np.nan  # NaN > threshold is False
