@@ -57,6 +57,33 @@ def test_all_cases_done_once_then_resume_skips(tmp_path):
     assert stamp == {c.case_id: (tmp_path / c.case_id / DONE_NAME).stat().st_mtime_ns for c in cases}
 
 
+_WARMED: list[dict] = []
+
+
+def _strict_case(case, case_dir):
+    return synthetic_case(case, case_dir)
+
+
+def _strict_warmup(inputs):
+    """A warm-up that needs a real case's inputs, as the converged window's does."""
+    _WARMED.append(inputs)
+    return inputs["operation"]["rpm"]
+
+
+_strict_case.warmup = _strict_warmup  # type: ignore[attr-defined]
+
+
+def test_sweep_with_every_case_done_compiles_nothing(tmp_path):
+    # a finished sweep re-run (dvc repro after a code-free change, a resumed
+    # stage) must not call the warm-up with an empty case: it reads the case
+    cases = make_cases(3, work=100)
+    run_sweep(cases, synthetic_case, tmp_path, scheduler="processes", n_workers=2)
+    _WARMED.clear()
+    again = run_sweep(cases, _strict_case, tmp_path, scheduler="processes", n_workers=2)
+    assert (again.n_done, again.n_skipped) == (0, 3)
+    assert _WARMED == []
+
+
 def test_changed_inputs_rerun_the_case(tmp_path):
     cases = make_cases(2)
     run_sweep(cases, synthetic_case, tmp_path, scheduler="serial")

@@ -252,11 +252,15 @@ def _warmup_hook(case_fn: CaseFn) -> Callable[[dict[str, Any]], Any] | None:
 
 
 @contextlib.contextmanager
-def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case
+def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case | None
                    ) -> Iterator[tuple[Callable[[], Executor], int, Callable[[], None]]]:
-    """Yield (make_executor, max_in_flight, close_current) for a scheduler."""
+    """Yield (make_executor, max_in_flight, close_current) for a scheduler.
+
+    ``first`` is the first case to run (its inputs warm the compiled kernels up);
+    None when every case is already done: nothing is compiled then.
+    """
     hook = _warmup_hook(case_fn)
-    if scheduler in ("processes", "local-cluster") and hook is not None:
+    if scheduler in ("processes", "local-cluster") and hook is not None and first is not None:
         hook(first.inputs)  # fill numba's on-disk cache before any worker exists
     if scheduler == "serial":
         yield (lambda: _SerialExecutor()), 1, (lambda: None)
@@ -504,7 +508,7 @@ def run_sweep(cases: Iterable[Case], case_fn: CaseFn, out_root: str | Path, *,
                 "traceback_tail": _tail("".join(traceback.format_exception(exc)))}
 
     try:
-        first = todo[0] if todo else Case("", {})
+        first = todo[0] if todo else None
         with _open_executor(scheduler, n_workers, case_fn, first) as (make, in_flight, close), \
                 _progress(progress and bool(todo), len(cases)) as bar:
             task = None
