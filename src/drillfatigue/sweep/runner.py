@@ -313,7 +313,7 @@ def _open_executor(scheduler: str, n_workers: int, case_fn: CaseFn, first: Case 
             # their numba cache by their installed kernels before any case
             # module is unpickled there (local workers inherit NUMBA_CACHE_DIR).
             client.run(scope_numba_cache)
-        if cluster is None and hook is not None:
+        if cluster is None and hook is not None and first is not None:
             for address in workers:  # one worker at a time: no concurrent cache writes
                 client.run(hook, first.inputs, workers=[address])
         executor = client.get_executor(pure=False)
