@@ -87,9 +87,9 @@ def _params(args: argparse.Namespace, k: int, cache: Path) -> Any:
     return params.model_copy(update={"sweep": sweep})
 
 
-def _fit_score(rows: pd.DataFrame, train_ids: list[str], test: pd.DataFrame,
-               cfg: Any) -> dict[str, Any]:
-    train = rows[rows[cfg.group_column].isin(train_ids)]
+def fit_served(train: pd.DataFrame, cfg: Any) -> tuple[Any, dict[str, Any]]:
+    """The served model (``fit_gbm`` on the surrogate's encoding) fitted on every row of
+    ``train``: its ``predict(frame) -> log10 rate`` and the fit's info."""
     pre = Preprocessor(cfg.features, cfg.categorical).fit(train)
 
     def x_of(f: pd.DataFrame) -> np.ndarray:
@@ -98,7 +98,11 @@ def _fit_score(rows: pd.DataFrame, train_ids: list[str], test: pd.DataFrame,
     y = log10_target(train[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
     model, info = fit_gbm(x_of(train), y, train[cfg.group_column].astype(str).to_numpy(), cfg,
                           monotone_constraints(pre))
-    mu = model.predict(x_of(test))
+    return (lambda f: model.predict(x_of(f))), info
+
+
+def heldout_predictions(test: pd.DataFrame, mu: np.ndarray, cfg: Any) -> pd.DataFrame:
+    """The held-out rows with the prediction ``mu`` as :func:`deciding_metrics` reads them."""
     pred = pd.DataFrame({"case_id": test[cfg.group_column].astype(str).to_numpy(),
                          "y_true": log10_target(test[cfg.target_column].to_numpy(),
                                                 cfg.rate_floor_per_h),
@@ -106,13 +110,26 @@ def _fit_score(rows: pd.DataFrame, train_ids: list[str], test: pd.DataFrame,
     for col in ("well.profile", "component_type", "location", "s_from_bit_m"):
         if col in test.columns:
             pred[col] = test[col].to_numpy()
-    dec = deciding_metrics(pred, ("hgb",), cfg.horizon_h)["hgb"]
-    return {"n_cases": len(train_ids), "n_train_rows": int(len(train)), "n_iter": info["n_iter"],
-            "factor2_fraction": dec["rows"]["factor2_fraction"], "rmse": dec["rows"]["rmse"],
+    return pred
+
+
+def deciding_scores(pred: pd.DataFrame, horizon_h: float) -> dict[str, float]:
+    """Factor 2, RMSE and precision on the deciding rows, and the governing errors."""
+    dec = deciding_metrics(pred, ("hgb",), horizon_h)["hgb"]
+    return {"factor2_fraction": dec["rows"]["factor2_fraction"], "rmse": dec["rows"]["rmse"],
             "n_rows_deciding": dec["rows"]["n"],
             "beyond_horizon_precision": dec["beyond_horizon"]["precision"],
             "governing_rmse": dec["governing"]["rmse"],
             "governing_factor2_fraction": dec["governing"]["factor2_fraction"]}
+
+
+def _fit_score(rows: pd.DataFrame, train_ids: list[str], test: pd.DataFrame,
+               cfg: Any) -> dict[str, Any]:
+    train = rows[rows[cfg.group_column].isin(train_ids)]
+    predict, info = fit_served(train, cfg)
+    pred = heldout_predictions(test, predict(test), cfg)
+    return {"n_cases": len(train_ids), "n_train_rows": int(len(train)), "n_iter": info["n_iter"],
+            **deciding_scores(pred, cfg.horizon_h)}
 
 
 def _sizes(n_initial: int, batch: int, n_max: int) -> list[int]:

@@ -78,10 +78,7 @@ from scipy.stats import spearmanr
 
 from drillfatigue.config import load_params
 from drillfatigue.surrogate.data import log10_target
-from drillfatigue.surrogate.evaluation import deciding_metrics
-from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.io import write_json
-from drillfatigue.surrogate.model import Preprocessor
 from drillfatigue.sweep.adaptive import (
     acquisition_scores,
     case_targets,
@@ -92,22 +89,16 @@ from drillfatigue.sweep.adaptive import (
 )
 from drillfatigue.sweep.design import base_case_from_params, design_space, sobol_unit
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from learning_curve import (  # noqa: E402  (the served fit, its scores and the ratio)
+    METRICS,
+    deciding_scores,
+    fit_served,
+    heldout_predictions,
+    reach_ratio,
+)
+
 RESULT = Path(__file__).parent / "results" / "learning_curve_pool.json"
-#: (metric, +1 if higher is better)
-METRICS = (("factor2_fraction", +1), ("rmse", -1), ("governing_factor2_fraction", +1),
-           ("governing_rmse", -1))
-
-
-def reach_ratio(sizes: list[int], curve: list[float], target: float, sign: int,
-                n_ref: int) -> float | None:
-    """Simulations (interpolated) at which ``curve`` first reaches ``target``, over ``n_ref``."""
-    for i, (n, v) in enumerate(zip(sizes, curve, strict=True)):
-        if sign * (v - target) >= 0.0:
-            if i == 0:
-                return n / n_ref
-            n0, v0 = sizes[i - 1], curve[i - 1]
-            return (n0 + (n - n0) * (target - v0) / (v - v0)) / n_ref
-    return None
 
 
 class Pool:
@@ -150,28 +141,13 @@ class Pool:
         cfg = self.cfg if split_seed is None else self.cfg.model_copy(
             update={"split_seed": split_seed})
         train = self.rows.iloc[np.concatenate([self.row_index[c] for c in ids])]
-        pre = Preprocessor(cfg.features, cfg.categorical).fit(train)
-
-        def x_of(f: pd.DataFrame) -> np.ndarray:
-            return design_matrix(pre, pre.numeric_array(f), pre.category_codes(f))
-
-        y = log10_target(train[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
-        model, info = fit_gbm(x_of(train), y, train["case_id"].to_numpy(), cfg,
-                              monotone_constraints(pre))
-        mu = model.predict(x_of(self.test))
-        test = self.test
-        pred = pd.DataFrame({"case_id": test[cfg.group_column].astype(str).to_numpy(),
-                             "y_true": log10_target(test[cfg.target_column].to_numpy(),
-                                                    cfg.rate_floor_per_h),
-                             "hgb": mu, "hgb_lower": mu, "hgb_upper": mu})
-        for col in ("well.profile", "component_type", "location", "s_from_bit_m"):
-            if col in test.columns:
-                pred[col] = test[col].to_numpy()
+        predict, info = fit_served(train, cfg)
+        pred = heldout_predictions(self.test, predict(self.test), cfg)
         out = {"n_cases": len(ids), "n_train_rows": int(len(train)), "n_iter": info["n_iter"],
-               **_scores(pred, cfg.horizon_h)}
-        out["subsets"] = [_scores(pred[pred["case_id"].isin(s)], cfg.horizon_h)
+               **deciding_scores(pred, cfg.horizon_h)}
+        out["subsets"] = [deciding_scores(pred[pred["case_id"].isin(s)], cfg.horizon_h)
                           for s in self.subsets]
-        out["_predict"] = lambda f: model.predict(x_of(f))
+        out["_predict"] = predict
         return out
 
     def case_error(self, predict: Any, cand: list[str]) -> np.ndarray:
@@ -203,15 +179,6 @@ class Pool:
                        self.x_rows[ci], self.rows["case_id"].to_numpy()[ci],
                        n_members=ad.n_members, seed=seed, censor_log10=self.censor)
         return s.reindex(cand).to_numpy(dtype=np.float64)
-
-
-def _scores(pred: pd.DataFrame, horizon_h: float) -> dict[str, float]:
-    dec = deciding_metrics(pred, ("hgb",), horizon_h)["hgb"]
-    return {"factor2_fraction": dec["rows"]["factor2_fraction"], "rmse": dec["rows"]["rmse"],
-            "n_rows_deciding": dec["rows"]["n"],
-            "beyond_horizon_precision": dec["beyond_horizon"]["precision"],
-            "governing_rmse": dec["governing"]["rmse"],
-            "governing_factor2_fraction": dec["governing"]["factor2_fraction"]}
 
 
 def run_adaptive(pool: Pool, acquisition: str, seed: int, args: argparse.Namespace,

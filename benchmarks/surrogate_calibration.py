@@ -58,14 +58,15 @@ from drillfatigue.config.base import validate
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.metrics import decade_label
 from drillfatigue.numba_cache import scope_numba_cache
-from drillfatigue.surrogate.conformal import conformal_quantile, mondrian_half_width
+from drillfatigue.surrogate.conformal import conformal_quantile
 from drillfatigue.surrogate.data import (case_folds, gbm_rows, log10_target, read_dataset,
                                          split_by_case)
 from drillfatigue.surrogate.evaluation import deciding_metrics, score
 from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
 from drillfatigue.surrogate.io import write_json
 from drillfatigue.surrogate.model import Preprocessor
-from drillfatigue.surrogate.served_gbm import fit_served_gbm, out_of_fold_predictions
+from drillfatigue.surrogate.served_gbm import (fit_served_gbm, half_width, interval_bins,
+                                               out_of_fold_predictions)
 
 RESULT = Path(__file__).parent / "results" / "surrogate_calibration.json"
 #: name -> overrides of the research run's surrogate section
@@ -133,10 +134,7 @@ def run_variant(cfg: SurrogateConfig, frame: pd.DataFrame, held: pd.DataFrame,
     x_h = design_matrix(pre, pre.numeric_array(held), pre.category_codes(held))
     y_h = log10_target(held[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
     mu = model.predict(x_h)
-    half: float | np.ndarray = meta["conformal_quantile"]
-    if "conformal_half_widths" in meta:
-        half = mondrian_half_width(mu, np.asarray(meta["conformal_bins_log10"]),
-                                   np.asarray(meta["conformal_half_widths"]))
+    half = half_width(mu, meta, interval_bins(meta))
     pred = pd.DataFrame({"case_id": held[cfg.group_column].astype(str).to_numpy(),
                          "y_true": y_h, "hgb": mu, "hgb_lower": mu - half,
                          "hgb_upper": mu + half})

@@ -75,14 +75,20 @@ def test_held_out_design_of_an_adaptive_training_design_is_sobol(tmp_path):
     assert heldout_params(params).sweep.method == "sobol"
 
 
-def test_bad_adaptive_block_one_line_error_nothing_written(tmp_path, capsys):
-    path = _params(tmp_path, adaptive={"n_initial": 16, "cache_dir": str(tmp_path / "c")})
+def _design_script_error(path, capsys) -> str:
+    """Run pipeline/design.py on ``path``; it must exit with 2 and print one line: that line."""
     spec = importlib.util.spec_from_file_location("pipeline_design", ROOT / "pipeline" / "design.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     assert module.main(["--params", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0
+    return err
+
+
+def test_bad_adaptive_block_one_line_error_nothing_written(tmp_path, capsys):
+    path = _params(tmp_path, adaptive={"n_initial": 16, "cache_dir": str(tmp_path / "c")})
+    err = _design_script_error(path, capsys)
     assert err.startswith("error: sweep.adaptive.n_initial: 16 initial cases exceed n_cases = 7")
     assert not (tmp_path / "design").exists() and not (tmp_path / "c").exists()
 
@@ -117,12 +123,7 @@ def test_row_level_acquisition_in_the_stage_builds_candidate_rows_and_resumes(tm
 def test_unknown_acquisition_one_line_error_nothing_written(tmp_path, capsys):
     path = _params(tmp_path, adaptive={"acquisition": "widest",
                                        "cache_dir": str(tmp_path / "c")})
-    spec = importlib.util.spec_from_file_location("pipeline_design", ROOT / "pipeline" / "design.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    assert module.main(["--params", str(path)]) == 2
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0
+    err = _design_script_error(path, capsys)
     assert err.startswith("error: sweep.adaptive.acquisition: ")
     assert "(allowed: 'governing', 'rows' or 'mix')" in err
     assert not (tmp_path / "design").exists() and not (tmp_path / "c").exists()

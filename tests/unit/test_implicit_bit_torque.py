@@ -23,8 +23,8 @@ from drillfatigue.dynamics.bitrock import bit_response, bit_torque_slope, pack_b
 from drillfatigue.dynamics.boundaries import implicit_bit_damping
 from drillfatigue.dynamics.api import simulate
 from drillfatigue.dynamics.bundles import Params, new_state, new_work
-from drillfatigue.dynamics.model import straight_path
 from drillfatigue.studies.case2 import case_dict
+from testkit.short_runs import given_tob_run
 
 YC = BitConfig(model="yigit_christoforou")
 DET = BitConfig(model="detournay")
@@ -195,20 +195,6 @@ def test_case2_window_at_safety_095_matches_a_quarter_step_with_the_implicit_bit
     assert _err(exp, ref, "surface_torque_Nm") > 3.0 * _err(imp, ref, "surface_torque_Nm")
 
 
-def _given_tob(dt_s, implicit):
-    cfg = case_from_dict({
-        "string": {"components": [
-            {"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 30.0, "n_segments": 3},
-            {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 90.0,
-             "n_segments": 9}]},
-        "operation": {"bit_md_m": 120.0, "duration_s": 1.5, "rpm": 120.0, "rpm_ramp_s": 0.5,
-                      "tob_Nm": 1500.0, "rop_m_per_s": 0.01, "lobe_amplitude_m": 0.0002},
-        "solver": {"dt_s": dt_s, "implicit_bit_torque": implicit},
-        "recording": {"loads_rate_hz": 100.0, "channels_rate_hz": 100.0},
-    })
-    return simulate(cfg, None, progress=False, path=straight_path(300.0))
-
-
 def test_given_torque_on_bit_with_the_implicit_damping_converges_as_the_explicit_step():
     """The step-halving case of ``test_integrator_convergence`` (given TOB tanh(Omega /
     Omega_ref), starting from rest) with the implicit bit torque at the default step,
@@ -216,9 +202,9 @@ def test_given_torque_on_bit_with_the_implicit_damping_converges_as_the_explicit
     (measured 0.15 %, 0.03 %, 0.13 % for torque, WOB, bit speed; the explicit run at the
     default step 0.10 %, 0.03 %, 0.12 %: here c = 1500 / 0.5 N m s/rad, 2 I_a / c is
     far above the step and the option changes little)."""
-    exp = _given_tob(None, False)
-    imp = _given_tob(None, True)
-    half = _given_tob(exp.summary["dt_s"] / 2, False)
+    exp = given_tob_run(None, False)
+    imp = given_tob_run(None, True)
+    half = given_tob_run(exp.summary["dt_s"] / 2, False)
     assert imp.summary["dt_s"] == exp.summary["dt_s"]
     for key in ("surface_torque_Nm", "wob_N", "bit_rpm"):
         assert _err(imp, half, key) < 0.01, key

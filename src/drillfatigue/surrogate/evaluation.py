@@ -64,12 +64,12 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.metrics import decade_label, factor2_by_decade
 from drillfatigue.plotting import subplots
-from drillfatigue.surrogate.conformal import SplitConformal, mondrian_half_width
+from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import Split, check_columns, gbm_rows, log10_target
 from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.surrogate.gbm import design_matrix, monotone_constraints
 from drillfatigue.surrogate.io import save_figure
-from drillfatigue.surrogate.served_gbm import fit_served_gbm
+from drillfatigue.surrogate.served_gbm import fit_served_gbm, half_width, interval_bins
 
 LOG10_2 = math.log10(2.0)
 
@@ -245,10 +245,7 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
                        "n_train_cases": len(info["train_cases"])}
         info.pop("train_cases")
         mu_h = hgb.predict(x_te)
-        half: float | np.ndarray = info["conformal_quantile"]
-        if "conformal_half_widths" in info:
-            half = mondrian_half_width(mu_h, np.asarray(info["conformal_bins_log10"]),
-                                       np.asarray(info["conformal_half_widths"]))
+        half = half_width(mu_h, info, interval_bins(info))
         metrics["hgb"] = (score(y_te, mu_h, mu_h - half, mu_h + half)
                           | {"train_rows": int(fit_rows.sum())} | info)
         out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - half, mu_h + half

@@ -36,14 +36,14 @@ from drillfatigue import __version__
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output
-from drillfatigue.surrogate.conformal import SplitConformal, mondrian_half_width
+from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import check_columns, gbm_rows, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
 from drillfatigue.surrogate.gbm import FlatForest, design_matrix, monotone_constraints
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
-from drillfatigue.surrogate.served_gbm import fit_served_gbm
+from drillfatigue.surrogate.served_gbm import fit_served_gbm, half_width, interval_bins
 
 FORMAT_VERSION = 1
 #: Kind of the ownership marker of a model folder (:class:`drillfatigue.files.OutputFolder`).
@@ -312,12 +312,9 @@ class Surrogate:
         g = self.metadata["gbm"]
         if self._forest is None:
             self._forest = FlatForest(self.gbm, self.preprocessor)
-            if "conformal_half_widths" in g:
-                self._bins = (np.asarray(g["conformal_bins_log10"], dtype=np.float64),
-                              np.asarray(g["conformal_half_widths"], dtype=np.float64))
+            self._bins = interval_bins(g)
         mu = self._forest.predict(x_num, x_cat)
-        half = (mondrian_half_width(mu, *self._bins) if self._bins is not None
-                else float(g["conformal_quantile"]))
+        half = half_width(mu, g, self._bins)
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
                "lower": mu - half, "upper": mu + half}
         return self._finish(res, x_num, ood, knn, distances)

@@ -53,7 +53,7 @@ from sklearn.ensemble import HistGradientBoostingRegressor
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins
+from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins, mondrian_half_width
 from drillfatigue.surrogate.data import case_folds
 from drillfatigue.surrogate.gbm import fit_gbm
 
@@ -159,3 +159,21 @@ def fit_served_gbm(x: np.ndarray, y: np.ndarray, groups: np.ndarray, fit: np.nda
                                     censor_below=censor)
         meta |= {"conformal_bins_log10": edges.tolist(), "conformal_half_widths": half.tolist()}
     return model, meta
+
+
+def interval_bins(meta: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
+    """The per-decade bins of a :func:`fit_served_gbm` ``meta`` as arrays (edges,
+    half-widths); None for a constant width (``gbm_interval: constant``, older models)."""
+    if "conformal_half_widths" not in meta:
+        return None
+    return (np.asarray(meta["conformal_bins_log10"], dtype=np.float64),
+            np.asarray(meta["conformal_half_widths"], dtype=np.float64))
+
+
+def half_width(mu: np.ndarray, meta: dict[str, Any],
+               bins: tuple[np.ndarray, np.ndarray] | None) -> float | np.ndarray:
+    """Interval half-width (decades) of predictions ``mu``: their bin's with ``bins``
+    (:func:`interval_bins` of ``meta``), else ``meta``'s one conformal quantile."""
+    if bins is not None:
+        return mondrian_half_width(mu, *bins)
+    return float(meta["conformal_quantile"])
