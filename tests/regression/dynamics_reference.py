@@ -94,6 +94,20 @@ def _deviated(friction: str, k: int) -> CaseConfig:
     })
 
 
+def _span_quasistatic() -> CaseConfig:
+    """The deviated drilling case with the string's contact points, the lateral mud mass
+    and the span-bending record taken quasi-statically at each sample
+    (``contact.span_dynamic`` off): the span correction's arithmetic."""
+    cfg = _deviated("tanh_exp", 2).model_dump(mode="json")
+    data = _merge(cfg, {
+        "string": {"lateral_mud_mass": True},
+        "contact": {"points": "string", "span_bending": True, "deepest_point": True,
+                    "span_dynamic": False},
+        "operation": {"duration_s": 0.3},
+    })
+    return case_from_dict(data)
+
+
 def _drilling_split() -> CaseConfig:
     """5 x 2 m collars in a straight 30 deg hole, wall contact, 1 m/s: one split in 2.3 s."""
     return _pinned({
@@ -137,6 +151,7 @@ def cases() -> dict[str, tuple[CaseConfig, Any]]:
     }
     for k, fr in enumerate(FRICTION_MODELS):
         out[f"deviated_{fr}"] = (_deviated(fr, k), None)
+    out["span_quasistatic"] = (_span_quasistatic(), None)
     out["drilling_split"] = (_drilling_split(), straight_path(100.0, inclination_deg=30.0))
     out["tripping_out"] = (_tripping(-6.0), None)
     out["tripping_in"] = (_tripping(6.0), None)
@@ -156,6 +171,8 @@ def run_case(config: CaseConfig, path: Any) -> dict[str, np.ndarray]:
         "times_s": res.times_s, "loads": res.loads,
         "summary_json": np.array(_summary_json(res.summary)),
     }
+    if res.span_bending is not None:
+        out["span_bending"] = res.span_bending
     for name, col in res.channels.items():
         out[f"channels/{name}"] = np.asarray(col)
     kin = res.kinematics

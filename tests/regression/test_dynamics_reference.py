@@ -39,6 +39,11 @@ def test_reference_run_is_reproduced_bit_for_bit(name: str) -> None:
                 assert g == r
                 continue
             a, b = np.asarray(got[key]), ref[key]
+            if key == "state/cst" and a.shape[1] > b.shape[1]:
+                # columns added after the reference: the span filter's state, untouched
+                # (zero) where the filter is off, as it is in every reference run
+                assert not a[:, b.shape[1]:].any(), key
+                a = a[:, :b.shape[1]]
             assert a.shape == b.shape, key
             assert a.dtype == b.dtype, key
             same = np.array_equal(a, b, equal_nan=a.dtype.kind == "f")

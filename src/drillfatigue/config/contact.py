@@ -57,6 +57,17 @@ class ContactConfig(StrictModel):
         the fatigue chain adds it to the joint moment. Default on
         (docs/bending.md); its supports are the contact points, so it is
         meant with ``points: string`` (tool joints and stabilizers).
+    span_dynamic : bool
+        The span correction takes its distributed load through each span's
+        first bending mode (a single degree of freedom per segment, static
+        gain 1, :mod:`drillfatigue.dynamics.span_dynamics`) instead of
+        quasi-statically: a wall impact of a few milliseconds bends the span
+        by the factor omega tau of its quasi-static moment, and rings down
+        at the span's frequency. Default on (docs/bending.md#dynamic-span-response);
+        off: the quasi-static correction at each sample.
+    span_damping_min : float
+        The least modal damping ratio of the span filter (the segment's mud
+        drag gives it otherwise): 0 <= zeta < 0.95, default 0.05.
     deepest_point : bool
         Each segment with three or more contact points also tests, every
         step, the point of its axis furthest out towards the wall between
@@ -78,4 +89,6 @@ class ContactConfig(StrictModel):
     tool_joints: bool = True
     chord_fraction: float = Field(0.25, gt=0.0, le=1.0)
     span_bending: bool = True
+    span_dynamic: bool = True
+    span_damping_min: float = Field(0.05, ge=0.0, lt=0.95)
     deepest_point: bool = True

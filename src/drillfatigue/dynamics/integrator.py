@@ -76,10 +76,11 @@ from drillfatigue.dynamics.forces import compute_forces
 from drillfatigue.dynamics.growth import grow_top
 from drillfatigue.dynamics.layout import (
     B_ESCALE, B_RIG, C_DISS, C_NACT, C_PHIB, C_PHID, C_STEP, C_WIN, CS_D, CS_N, H_PDISS, H_PIN, N_CH, P_LATMASS,
-    P_SPAN, S_IA, S_IT,
+    P_SPAN, P_SPANDYN, P_SPANZ, S_IA, S_IT,
     S_M,
 )
 from drillfatigue.dynamics.rigid import free_rotation, kick, kick_lateral
+from drillfatigue.dynamics.span_dynamics import accumulate_span_load, update_span_filters
 from drillfatigue.dynamics.span_record import span_sample
 from drillfatigue.dynamics.status import (
     BLOWUP, MAX_SPEED_M_PER_S, MAX_SPIN_RAD_S, NONFINITE, OK, SPEED,
@@ -273,6 +274,12 @@ def step(n, s, p, wk, hdt, latm, info):
         info[1] = iworst
         info[2] = worst
         return SPEED, n
+    if p.cpar.shape[0] > P_SPANZ and p.cpar[P_SPANDYN] > 0.0:
+        # the span filter (span_dynamics): this step's impulse, and the filter's update
+        # on the loads record's grid of steps
+        accumulate_span_load(n, s, p, dt)
+        if sc[C_STEP] % p.cpar[P_SPANDYN] == 0.0:
+            update_span_filters(n, s, p, latm, p.cpar[P_SPANZ])
     return OK, n
 
 

@@ -42,7 +42,9 @@ P_CPTAB = 26     # 1: segments below the top use their own contact points (Param
 P_SPAN = 27      # 1: record the span-bending correction at the recorded joints (span_record)
 P_LATMASS = 28   # 1: lateral mass m * Params.mlat[i] across the axis (mud inside, added mass)
 P_DEEP = 29      # 1: each segment with >= 3 points also tests its deepest point (contact.deepest_point)
-N_CPAR = 30
+P_SPANDYN = 30   # 1: the span correction takes its load through each span's first mode (span_dynamics)
+P_SPANZ = 31     # the span filter's least damping ratio (contact.span_damping_min)
+N_CPAR = 32
 N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;
@@ -167,7 +169,15 @@ CS_TH = 8       # previous orbit angle (rad)
 CS_THOK = 9     # 1 when CS_TH is valid
 CS_SPIN = 10    # spin angle about the hole axis, summed over the window (rad)
 CS_ONMD = 11    # bit MD at contact onset (m)
-N_CST = 12
+# the span filter (span_dynamics): running impulse of the dynamic transverse load since
+# the last loads sample (3, world, N s) and its duration (s); the filtered load (3, N)
+# and its rate (3, N/s); 1 once the filter runs
+CS_SQA = 12
+CS_SQT = 15
+CS_SQF = 16
+CS_SQD = 19
+CS_SQON = 22
+N_CST = 23
 
 # ch -- channels computed with the forces
 H_TSURF = 0     # surface torque (N m)

@@ -874,6 +874,10 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     pack_wall(config, segs, seg, cpar, cp_n)
     dt = choose_step(config, seg, jp, bp, topp, cpar, cp_n)
     bp[L.B_DT] = dt
+    if cpar[L.P_SPAN] != 0.0 and config.contact.span_dynamic:
+        # the span filter steps on the loads record's grid (api.Runner: the same rule)
+        cpar[L.P_SPANDYN] = float(max(1, round(1.0 / (config.recording.loads_rate_hz * dt))))
+        cpar[L.P_SPANZ] = config.contact.span_damping_min
     bp[L.B_ESCALE] = energy_scale(config, seg, bp, tab_w, pre.total_axial_weight_N,
                                   float(place.s_top_end[-1]))
     sc = np.zeros(L.N_SC_RIG if config.rig is not None else L.N_SC)

@@ -100,7 +100,8 @@ from drillfatigue.dynamics.contact import (
     OUT_DELTA, OUT_SIZE, contact_point, deepest_point, find_contact,
 )
 from drillfatigue.dynamics.layout import (
-    MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS, S_CL, S_H, S_RB, S_W,
+    CS_SQF, CS_SQON, MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS, P_SPANDYN, S_CL,
+    S_H, S_RB, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
@@ -341,6 +342,8 @@ def span_sample(n, s, p, wk, sel, out):
     seg_ei = np.zeros(n)
     Fw = s.Fw
     v = s.v
+    cst = s.cst
+    dyn = cpar.shape[0] > P_SPANDYN and cpar[P_SPANDYN] > 0.0
     for i in range(n):
         inv_l = 1.0 / (2.0 * seg[i, S_H])
         # weight + drag - m_lat a = weight + drag - (all forces): the distributed load
@@ -349,10 +352,17 @@ def span_sample(n, s, p, wk, sel, out):
         ex = R[i, 0, 2]
         ey = R[i, 1, 2]
         ez = R[i, 2, 2]
-        vax = v[i, 0] * ex + v[i, 1] * ey + v[i, 2] * ez
-        gx = -cl * (v[i, 0] - vax * ex) - Fw[i, 0]
-        gy = -cl * (v[i, 1] - vax * ey) - Fw[i, 1]
-        gz = -cl * (v[i, 2] - vax * ez) - Fw[i, 2] + seg[i, S_W]
+        if dyn and cst[i, CS_SQON] != 0.0:
+            # through the span's first mode (span_dynamics): the filtered -c v - F,
+            # whose axial part the projection below removes as it does the drag's
+            gx = cst[i, CS_SQF]
+            gy = cst[i, CS_SQF + 1]
+            gz = cst[i, CS_SQF + 2] + seg[i, S_W]
+        else:
+            vax = v[i, 0] * ex + v[i, 1] * ey + v[i, 2] * ez
+            gx = -cl * (v[i, 0] - vax * ex) - Fw[i, 0]
+            gy = -cl * (v[i, 1] - vax * ey) - Fw[i, 1]
+            gz = -cl * (v[i, 2] - vax * ez) - Fw[i, 2] + seg[i, S_W]
         ga = gx * ex + gy * ey + gz * ez
         seg_q[i, 0] = (gx - ga * ex) * inv_l
         seg_q[i, 1] = (gy - ga * ey) * inv_l

@@ -1,0 +1,202 @@
+"""Dynamic response of a span to its distributed load (docs/bending.md#dynamic-span-response).
+
+The span correction (:mod:`drillfatigue.dynamics.span_record`) gives the
+moment of a span's distributed transverse load between its supports. That
+load is the buoyed weight and mud drag minus the segment's lateral inertia,
+and the inertia carries every concentrated force the segment feels: a wall
+impact of a few milliseconds shows as a load spike of the same duration. Put
+quasi-statically into the span (moment ~ F L / 8), such a spike says the pipe
+bends between its supports as if the impact had lasted for ever, and the
+200 Hz record either catches it whole or misses it (the window's damage then
+depends on where the samples fall).
+
+A real span answers a load through its flexural modes. A load uniform over
+the span excites chiefly the first one (modal participation 8/pi^2 = 0.81 of
+the static deflection for a pinned-pinned span, the rest in modes 3, 5, ...
+at 9, 25, ... times its frequency), so the span's deflection -- and its
+moment, proportional to it -- follows the load through a single degree of
+freedom (the modal, or "dynamic load factor", approach of structural
+dynamics: Biggs, *Introduction to Structural Dynamics*, 1964, ch. 2; Clough &
+Penzien, *Dynamics of Structures*, 2nd ed. 1993, ch. 4-6):
+
+    y'' + 2 zeta omega y' + omega^2 y = omega^2 u(t)
+
+with u the quasi-static load (per segment, world frame: each component solved
+alone, the equation is linear) and y the load that the span's deflection
+holds now, which the three-moment solution then turns into moments. Static
+gain 1: a load that changes slowly compared with the span's period (weight,
+the drag of a steady whirl, the once-per-revolution alternation in the pipe
+frame, which is a steady load in the world frame) gives the moment of the
+quasi-static correction; an impulse J lasting tau << 1/omega gives a peak of
+about J omega (against J / tau quasi-statically), i.e. the factor omega tau,
+and then rings down at the span's frequency.
+
+* omega: the first bending frequency of the segment as a pinned-pinned span,
+  omega = (pi / L)^2 sqrt(EI / mu), L the segment's length, mu its lateral
+  mass per length (steel, and with ``lateral_mud_mass`` the mud inside and
+  the added mass). A 9.14 m span of 5 in drill pipe in 1.2 SG mud: about
+  3.7 Hz; a 10 m segment of 6 3/4 in collar: about 3.5 Hz. The axial force
+  (which raises it in tension and lowers it in compression) is left out: in
+  tension the span is stiffer, so quicker to follow, and the filter errs on
+  the side of the quasi-static answer only for loads faster than the span.
+* zeta: the segment's own linear mud drag (``seg[:, S_CL]``, the one the
+  integrator applies to its lateral motion) as a modal damping ratio,
+  c / (2 m_lat omega), not below ``zeta_min`` (contact and structural damping
+  that the rigid chain does not carry): 0 < zeta < 1.
+* u: the mean load over the record interval (its impulse divided by the
+  interval: the integrator adds (-c v - F) dt every step), held constant over
+  the interval -- the exact zero-order-hold solution of the equation, so an
+  impulse anywhere in the interval counts once, whatever the sample times.
+  The response is resolved to the interval (5 ms at 200 Hz, omega T ~ 0.1
+  for drill-pipe spans); a span stiff enough to answer within the interval
+  sees its load averaged over it.
+
+Validity: linear, small deflections, the load's shape uniform over the span
+(the first mode's participation is the same for every load, which the
+quasi-static solution then distributes); a span shorter or longer than its
+segment (a mid-body wall contact, a row of segments in line contact) keeps
+its segment's frequency.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from drillfatigue.dynamics.layout import (
+    CS_SQA, CS_SQD, CS_SQF, CS_SQON, CS_SQT, P_CPTAB, P_LATMASS, S_CL, S_H, S_M, S_RB,
+)
+
+#: the damping ratio kept below 1 (the closed form below is the under-damped one)
+ZETA_MAX = 0.95
+
+
+@njit(cache=True)
+def span_mode(length_m, ei_Nm2, mass_kg, drag_N_s_per_m, zeta_min):
+    """First bending frequency (rad/s) and damping ratio of a pinned-pinned span of
+    ``length_m`` with ``mass_kg`` (lateral) and linear lateral drag ``drag_N_s_per_m``
+    on the whole span (module docstring)."""
+    mu = mass_kg / length_m
+    omega = (math.pi / length_m) ** 2 * math.sqrt(ei_Nm2 / mu)
+    zeta = drag_N_s_per_m / (2.0 * mass_kg * omega)
+    if zeta < zeta_min:
+        zeta = zeta_min
+    if zeta > ZETA_MAX:
+        zeta = ZETA_MAX
+    return omega, zeta
+
+
+@njit(cache=True)
+def sdof_hold_step(y, yd, u, omega, zeta, T):
+    """Exact step over ``T`` of y'' + 2 zeta omega y' + omega^2 y = omega^2 u with u held
+    constant (zero-order hold); returns (y, y') at the end. 0 <= zeta < 1."""
+    wd = omega * math.sqrt(1.0 - zeta * zeta)
+    e0 = y - u
+    a = math.exp(-zeta * omega * T)
+    c = math.cos(wd * T)
+    sn = math.sin(wd * T)
+    b = (yd + zeta * omega * e0) / wd
+    e1 = a * (e0 * c + b * sn)
+    yd1 = a * (yd * c - (omega * omega * e0 + zeta * omega * yd) / wd * sn)
+    return u + e1, yd1
+
+
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+def accumulate_span_load(n, s, p, dt):
+    """Add the impulse over one step of each active segment's dynamic transverse load
+    -c_lat v - F (world frame, N s; its axial part is removed where it is used) and the
+    step to the segment's running sums in ``s.cst``."""
+    seg = p.seg
+    v = s.v
+    Fw = s.Fw
+    cst = s.cst
+    for i in range(n):
+        cl = seg[i, S_CL]
+        for k in range(3):
+            cst[i, CS_SQA + k] += dt * (-cl * v[i, k] - Fw[i, k])
+        cst[i, CS_SQT] += dt
+
+
+@njit(cache=True)
+def span_length_m(i, n, p):
+    """The span whose mode segment ``i``'s filter follows, m: the longest distance
+    between neighbouring raised contact points (tool joints, blades, upsets: radius
+    above the body's) in the segment's own table (``cpar[P_CPTAB]``), else the
+    segment's length. The growing top segment (its own table is not used) takes the
+    span of the segment below it."""
+    seg = p.seg
+    j = i
+    if i == n - 1 and n >= 2:
+        j = n - 2
+    length = 2.0 * seg[i, S_H]
+    if not (p.cpar[P_CPTAB] != 0.0 and j < n - 1):
+        return length
+    k = int(p.cp_n[j])
+    rb = seg[j, S_RB]
+    best = 0.0
+    for a in range(k):
+        if p.cp[j, a, 1] <= rb:
+            continue
+        # the nearest raised point below this one
+        near = math.inf
+        for b in range(k):
+            if b == a or p.cp[j, b, 1] <= rb:
+                continue
+            d = p.cp[j, a, 0] - p.cp[j, b, 0]
+            if 0.0 < d < near:
+                near = d
+        if near < math.inf and near > best:
+            best = near
+    if best <= 0.0:
+        return 2.0 * seg[j, S_H] if j != i else length
+    return best
+
+
+@njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+def update_span_filters(n, s, p, latm, zeta_min):
+    """Advance every active segment's span filter over the interval summed since its last
+    update (the mean load over it held, :func:`sdof_hold_step`); the running sums
+    restart. A segment whose filter has not run yet (a new run, a segment the string
+    just grew) starts at rest on the interval's mean load."""
+    seg = p.seg
+    cst = s.cst
+    for i in range(n):
+        T = cst[i, CS_SQT]
+        if T <= 0.0:
+            continue
+        # the span's mode: its mass and drag per length are the segment's
+        L = 2.0 * seg[i, S_H]
+        ls = span_length_m(i, n, p)
+        m = seg[i, S_M] * p.mlat[i] if latm else seg[i, S_M]
+        omega, zeta = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min)
+        started = cst[i, CS_SQON] != 0.0
+        for k in range(3):
+            u = cst[i, CS_SQA + k] / T
+            if started:
+                y, yd = sdof_hold_step(cst[i, CS_SQF + k], cst[i, CS_SQD + k], u, omega, zeta, T)
+            else:
+                y = u
+                yd = 0.0
+            cst[i, CS_SQF + k] = y
+            cst[i, CS_SQD + k] = yd
+            cst[i, CS_SQA + k] = 0.0
+        cst[i, CS_SQON] = 1.0
+        cst[i, CS_SQT] = 0.0
+
+
+def span_modes(p: object, n: int, zeta_min: float) -> np.ndarray:
+    """(span m, omega rad/s, zeta) of the ``n`` active segments of the parameter bundle
+    ``p`` (:class:`drillfatigue.dynamics.bundles.Params`): what the span filter uses."""
+    seg = p.seg  # type: ignore[attr-defined]
+    cpar = p.cpar  # type: ignore[attr-defined]
+    latm = bool(cpar.shape[0] > P_LATMASS and cpar[P_LATMASS] != 0.0)
+    out = np.zeros((n, 3))
+    for i in range(n):
+        L = 2.0 * seg[i, S_H]
+        ls = span_length_m(i, n, p)
+        m = seg[i, S_M] * p.mlat[i] if latm else seg[i, S_M]  # type: ignore[attr-defined]
+        om, z = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min)  # type: ignore[attr-defined]
+        out[i] = (ls, om, z)
+    return out
