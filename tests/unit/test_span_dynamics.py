@@ -11,8 +11,9 @@ omega^2 y = omega^2 u:
 * rectangular pulse u0 of duration tau, undamped: the free vibration after it has
   the amplitude 2 u0 sin(omega tau / 2) -- the factor omega tau of the quasi-static
   u0 for a short pulse, the dynamic load factor of an impact.
-* first bending frequency of a pinned-pinned Euler-Bernoulli span:
-  omega = (pi / L)^2 sqrt(EI / mu).
+* first in-phase bending frequency of a span clamped at both ends: (beta L)^2
+  sqrt(EI / (mu L^4)), beta L = 4.730 (Blevins 1979, table 8-1), and Rayleigh's
+  quotient of that mode for the axial force.
 
 Tolerances: the hold step is exact for a held input, so it is compared with the
 closed forms to 1e-12 relative (round-off of a few hundred steps); the peak of a
@@ -86,17 +87,31 @@ def test_a_short_pulse_bends_the_span_by_the_factor_omega_tau(omega_tau: float) 
     assert amp == pytest.approx(omega_tau, rel=omega_tau ** 2 / 20)
 
 
-def test_pinned_pinned_frequency_and_damping_floor() -> None:
+def test_in_phase_frequency_with_axial_force_and_damping_floor() -> None:
     # 5 in drill pipe body: EI = 207 GPa x pi / 64 (D^4 - d^4)
     ei = 207e9 * math.pi / 64.0 * (0.127 ** 4 - 0.1086 ** 4)
-    L, mass = 9.144, 9.144 * 29.0
-    omega, zeta = span_mode(L, ei, mass, 0.0, 0.05)
-    assert omega == pytest.approx((math.pi / L) ** 2 * math.sqrt(ei / 29.0), rel=1e-14)
+    L, mu = 9.144, 71.5
+    mass = L * mu
+    omega, zeta = span_mode(L, ei, mass, 0.0, 0.05, 0.0)
+    # clamped-clamped first mode, beta L = 4.730041 (Blevins, Formulas for Natural
+    # Frequency and Mode Shape, table 8-1): 2.267 x the pinned-pinned frequency
+    assert omega == pytest.approx((4.730041 / L) ** 2 * math.sqrt(ei / mu), rel=1e-6)
+    assert omega / ((math.pi / L) ** 2 * math.sqrt(ei / mu)) == pytest.approx(2.2669, rel=1e-4)
     assert zeta == 0.05
-    # the drag sets it where it is larger, within the under-damped range
+    # tension raises omega^2 by 12.30 T / (mu L^2) (Rayleigh's quotient of that mode;
+    # the string limit pi^2 = 9.87 bounds it within 25 %)
+    T = 2e5
+    om_t = span_mode(L, ei, mass, 0.0, 0.05, T)[0]
+    assert om_t ** 2 - omega ** 2 == pytest.approx(12.3026 * T / (mu * L ** 2), rel=1e-4)
+    string = math.pi ** 2 * T / (mu * L ** 2)
+    assert string < om_t ** 2 - omega ** 2 < 1.25 * string
+    # in compression it falls, and stops at 0.3 of the value without axial force
+    assert span_mode(L, ei, mass, 0.0, 0.05, -1e4)[0] < omega
+    assert span_mode(L, ei, mass, 0.0, 0.05, -1e7)[0] == pytest.approx(0.3 * omega, rel=1e-12)
+    # the drag sets the damping where it is larger, within the under-damped range
     c = 2.0 * mass * omega * 0.3
-    assert span_mode(L, ei, mass, c, 0.05)[1] == pytest.approx(0.3, rel=1e-14)
-    assert span_mode(L, ei, mass, 100.0 * c, 0.05)[1] == ZETA_MAX
+    assert span_mode(L, ei, mass, c, 0.05, 0.0)[1] == pytest.approx(0.3, rel=1e-14)
+    assert span_mode(L, ei, mass, 100.0 * c, 0.05, 0.0)[1] == ZETA_MAX
 
 
 @settings(max_examples=40, deadline=None)
@@ -162,14 +177,14 @@ def test_impulses_count_once_wherever_they_fall_in_the_interval() -> None:
         st_.Fw[...] = 0.0
         for _ in range(steps):
             accumulate_span_load(n, st_, p, dt)
-        update_span_filters(n, st_, p, True, 0.05)
+        update_span_filters(n, st_, p, m.work, True, 0.05)
         assert np.all(st_.cst[:n, CS_SQON] == 1.0)
         for k in range(steps):
             st_.Fw[3, 1] = 1e3 if k == at else 0.0
             accumulate_span_load(n, st_, p, dt)
         assert st_.cst[3, CS_SQT] == pytest.approx(steps * dt, rel=1e-12)
         assert st_.cst[3, CS_SQA + 1] == pytest.approx(-1e3 * dt, rel=1e-12)
-        update_span_filters(n, st_, p, True, 0.05)
+        update_span_filters(n, st_, p, m.work, True, 0.05)
         assert st_.cst[3, CS_SQT] == 0.0 and st_.cst[3, CS_SQA + 1] == 0.0
         return st_.cst[:n, CS_SQF:CS_SQF + 3].copy()
 
@@ -180,8 +195,9 @@ def test_impulses_count_once_wherever_they_fall_in_the_interval() -> None:
     T = steps * dt
     L = 2.0 * m.seg[3, S_H]
     ls = span_length_m(3, n, p)
+    ax = 0.5 * (m.work.loads[2, 0] + m.work.loads[3, 0])
     om, z = span_mode(ls, m.ei[3], m.seg[3, S_M] * m.mlat[3] * ls / L, m.seg[3, S_CL] * ls / L,
-                      0.05)
+                      0.05, ax)
     y, _ = sdof_hold_step(0.0, 0.0, -1e3 * dt / T, om, z, T)
     assert first[3, 1] == pytest.approx(y, rel=1e-12)
     assert not np.delete(first, 3, axis=0).any()

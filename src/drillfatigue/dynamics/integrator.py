@@ -279,7 +279,7 @@ def step(n, s, p, wk, hdt, latm, info):
         # on the loads record's grid of steps
         accumulate_span_load(n, s, p, dt)
         if sc[C_STEP] % p.cpar[P_SPANDYN] == 0.0:
-            update_span_filters(n, s, p, latm, p.cpar[P_SPANZ])
+            update_span_filters(n, s, p, wk, latm, p.cpar[P_SPANZ])
     return OK, n
 
 

@@ -10,14 +10,17 @@ bends between its supports as if the impact had lasted for ever, and the
 200 Hz record either catches it whole or misses it (the window's damage then
 depends on where the samples fall).
 
-A real span answers a load through its flexural modes. A load uniform over
-the span excites chiefly the first one (modal participation 8/pi^2 = 0.81 of
-the static deflection for a pinned-pinned span, the rest in modes 3, 5, ...
-at 9, 25, ... times its frequency), so the span's deflection -- and its
-moment, proportional to it -- follows the load through a single degree of
-freedom (the modal, or "dynamic load factor", approach of structural
-dynamics: Biggs, *Introduction to Structural Dynamics*, 1964, ch. 2; Clough &
-Penzien, *Dynamics of Structures*, 2nd ed. 1993, ch. 4-6):
+A real span answers a load through its flexural modes, and a row of equal
+spans on rigid supports has a band of them: from the pinned-pinned frequency
+(neighbouring spans bowing in opposite senses, which puts no moment over the
+supports) to the clamped-clamped one (spans bowing alike, zero slope over
+every support: the mode of a load that every span carries alike, weight or a
+whirl's inertia, and the one that holds the moment over the supports, where
+the joints are read). The filter follows that in-phase mode, whose shape is
+within 0.4 % of the static deflection's and 3 % of its mid-span moment, as one
+degree of freedom (the modal, or "dynamic load factor", approach of
+structural dynamics: Biggs, *Introduction to Structural Dynamics*, 1964,
+ch. 2; Clough & Penzien, *Dynamics of Structures*, 2nd ed. 1993, ch. 4-6):
 
     y'' + 2 zeta omega y' + omega^2 y = omega^2 u(t)
 
@@ -31,14 +34,22 @@ quasi-static correction; an impulse J lasting tau << 1/omega gives a peak of
 about J omega (against J / tau quasi-statically), i.e. the factor omega tau,
 and then rings down at the span's frequency.
 
-* omega: the first bending frequency of the segment as a pinned-pinned span,
-  omega = (pi / L)^2 sqrt(EI / mu), L the segment's length, mu its lateral
-  mass per length (steel, and with ``lateral_mud_mass`` the mud inside and
-  the added mass). A 9.14 m span of 5 in drill pipe in 1.2 SG mud: about
-  3.7 Hz; a 10 m segment of 6 3/4 in collar: about 3.5 Hz. The axial force
-  (which raises it in tension and lowers it in compression) is left out: in
-  tension the span is stiffer, so quicker to follow, and the filter errs on
-  the side of the quasi-static answer only for loads faster than the span.
+* omega: the first in-phase frequency of the span clamped at both ends with
+  its axial force T, by Rayleigh's quotient with that mode's shape:
+  omega^2 = (4.730 / L)^4 EI / mu + 12.30 T / (mu L^2) (exact without T;
+  in tension it tends to the string's pi^2 T / (mu L^2), 25 % below, a
+  slight over-estimate; in compression it falls towards the span's
+  buckling, and is kept above 0.3 of its value without T: a span that far
+  in compression lies on the wall). L: the distance between neighbouring
+  raised contact points (tool joints, upsets, blades) when they reach both
+  ends of the segment (one pipe joint, 9.14 m, however many joints a
+  segment holds), else the segment's length (flush collars, a stabilizer
+  segment); the growing top segment takes the span of the one below it.
+  mu: the lateral mass per length (steel, and with ``lateral_mud_mass`` the
+  mud inside and the added mass). T: the mean effective tension of the
+  segment's two joints, as the span solution takes it. 5 in drill pipe in
+  1.2 SG mud, one joint: 5.6 Hz without axial force (335 rpm), 6.0 Hz at
+  100 kN of tension; 4 m segments of 6 3/4 in collars: 39 Hz.
 * zeta: the segment's own linear mud drag (``seg[:, S_CL]``, the one the
   integrator applies to its lateral motion) as a modal damping ratio,
   c / (2 m_lat omega), not below ``zeta_min`` (contact and structural damping
@@ -47,15 +58,15 @@ and then rings down at the span's frequency.
   interval: the integrator adds (-c v - F) dt every step), held constant over
   the interval -- the exact zero-order-hold solution of the equation, so an
   impulse anywhere in the interval counts once, whatever the sample times.
-  The response is resolved to the interval (5 ms at 200 Hz, omega T ~ 0.1
+  The response is resolved to the interval (5 ms at 200 Hz, omega T ~ 0.2
   for drill-pipe spans); a span stiff enough to answer within the interval
   sees its load averaged over it.
 
-Validity: linear, small deflections, the load's shape uniform over the span
-(the first mode's participation is the same for every load, which the
-quasi-static solution then distributes); a span shorter or longer than its
-segment (a mid-body wall contact, a row of segments in line contact) keeps
-its segment's frequency.
+Validity: linear, small deflections, one mode: a load on one span alone
+excites the whole band, whose lower modes put less moment over the supports,
+so the filter (at the band's top) errs towards the quasi-static answer there;
+a span shorter or longer than its raised-point spacing (a mid-body wall
+contact, a row of segments in line contact) keeps that spacing's frequency.
 """
 
 from __future__ import annotations
@@ -73,13 +84,31 @@ from drillfatigue.dynamics.layout import (
 ZETA_MAX = 0.95
 
 
+#: first in-phase mode of a span clamped at both ends (a row of equal spans loaded
+#: alike: zero slope over every support), beam theory: (beta L)^4 with beta L = 4.7300
+CC_EIGEN4 = 500.5639
+#: its tension term, L^2 int(phi'^2) / int(phi^2) of that mode shape (Rayleigh's
+#: quotient; pi^2 = 9.87 for the pinned-pinned mode, the string's limit)
+CC_TENSION = 12.3026
+#: the least omega as a share of the span's omega without axial force: in compression
+#: near the span's buckling load (40.7 EI / L^2 by the same quotient) the span lies on
+#: the wall, which the quasi-static solution handles by splitting it
+OMEGA_MIN_SHARE = 0.3
+
+
 @njit(cache=True)
-def span_mode(length_m, ei_Nm2, mass_kg, drag_N_s_per_m, zeta_min):
-    """First bending frequency (rad/s) and damping ratio of a pinned-pinned span of
-    ``length_m`` with ``mass_kg`` (lateral) and linear lateral drag ``drag_N_s_per_m``
-    on the whole span (module docstring)."""
+def span_mode(length_m, ei_Nm2, mass_kg, drag_N_s_per_m, zeta_min, axial_N):
+    """First in-phase bending frequency (rad/s) and damping ratio of a span of
+    ``length_m`` clamped at both ends, with ``mass_kg`` (lateral), linear lateral drag
+    ``drag_N_s_per_m`` on the whole span and effective axial force ``axial_N``
+    (tension > 0), by Rayleigh's quotient with the mode's shape (module docstring)."""
     mu = mass_kg / length_m
-    omega = (math.pi / length_m) ** 2 * math.sqrt(ei_Nm2 / mu)
+    w0sq = CC_EIGEN4 * ei_Nm2 / (mu * length_m ** 4)
+    wsq = w0sq + CC_TENSION * axial_N / (mu * length_m ** 2)
+    lo = OMEGA_MIN_SHARE * OMEGA_MIN_SHARE * w0sq
+    if not wsq >= lo:
+        wsq = lo
+    omega = math.sqrt(wsq)
     zeta = drag_N_s_per_m / (2.0 * mass_kg * omega)
     if zeta < zeta_min:
         zeta = zeta_min
@@ -149,13 +178,22 @@ def span_length_m(i, n, p):
                 near = d
         if near < math.inf and near > best:
             best = near
-    if best <= 0.0:
+    # raised points that do not reach both ends of the segment (a stabilizer's blades
+    # in the middle of a flush segment) do not make its spans
+    h = seg[j, S_H]
+    top = -math.inf
+    bot = math.inf
+    for a in range(k):
+        if p.cp[j, a, 1] > rb:
+            top = max(top, p.cp[j, a, 0])
+            bot = min(bot, p.cp[j, a, 0])
+    if best <= 0.0 or top < h - 0.05 * h or bot > -h + 0.05 * h:
         return 2.0 * seg[j, S_H] if j != i else length
     return best
 
 
 @njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
-def update_span_filters(n, s, p, latm, zeta_min):
+def update_span_filters(n, s, p, wk, latm, zeta_min):
     """Advance every active segment's span filter over the interval summed since its last
     update (the mean load over it held, :func:`sdof_hold_step`); the running sums
     restart. A segment whose filter has not run yet (a new run, a segment the string
@@ -170,7 +208,12 @@ def update_span_filters(n, s, p, latm, zeta_min):
         L = 2.0 * seg[i, S_H]
         ls = span_length_m(i, n, p)
         m = seg[i, S_M] * p.mlat[i] if latm else seg[i, S_M]
-        omega, zeta = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min)
+        # the segment's axial force: the mean effective tension of its joints (as the
+        # span solution takes it; the last joint row is the top boundary)
+        lo = wk.loads[i - 1, 0] if i > 0 else wk.loads[0, 0]
+        up = wk.loads[i, 0] if i < n - 1 else wk.loads[n - 2, 0]
+        omega, zeta = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min,
+                                0.5 * (lo + up))
         started = cst[i, CS_SQON] != 0.0
         for k in range(3):
             u = cst[i, CS_SQA + k] / T
@@ -186,9 +229,11 @@ def update_span_filters(n, s, p, latm, zeta_min):
         cst[i, CS_SQT] = 0.0
 
 
-def span_modes(p: object, n: int, zeta_min: float) -> np.ndarray:
+def span_modes(p: object, n: int, zeta_min: float,
+               axial_N: np.ndarray | None = None) -> np.ndarray:
     """(span m, omega rad/s, zeta) of the ``n`` active segments of the parameter bundle
-    ``p`` (:class:`drillfatigue.dynamics.bundles.Params`): what the span filter uses."""
+    ``p`` (:class:`drillfatigue.dynamics.bundles.Params`) under the segments' axial
+    forces ``axial_N`` (N, tension > 0; None: zero): what the span filter uses."""
     seg = p.seg  # type: ignore[attr-defined]
     cpar = p.cpar  # type: ignore[attr-defined]
     latm = bool(cpar.shape[0] > P_LATMASS and cpar[P_LATMASS] != 0.0)
@@ -197,6 +242,7 @@ def span_modes(p: object, n: int, zeta_min: float) -> np.ndarray:
         L = 2.0 * seg[i, S_H]
         ls = span_length_m(i, n, p)
         m = seg[i, S_M] * p.mlat[i] if latm else seg[i, S_M]  # type: ignore[attr-defined]
-        om, z = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min)  # type: ignore[attr-defined]
+        ax = 0.0 if axial_N is None else float(axial_N[i])
+        om, z = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min, ax)  # type: ignore[attr-defined]
         out[i] = (ls, om, z)
     return out
