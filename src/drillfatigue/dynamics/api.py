@@ -73,6 +73,7 @@ from drillfatigue.dynamics.model import (
     build_model,
     path_from_wellbore,
     raise_for_status,
+    record_every,
 )
 from drillfatigue.dynamics.recorder import Recorder, write_table
 from drillfatigue.dynamics.rockface import ROP_FROM_WOB_MODELS, rop_slope_m_per_N_s
@@ -305,7 +306,7 @@ class Runner:
                                  f"0 <= joint <= {n_j - 1}")
             self.sel = np.asarray(sorted(set(rec.joints)), dtype=np.int64)
         dt = m.dt
-        self.every = [max(1, round(1.0 / (r * dt))) for r in
+        self.every = [record_every(r, dt) for r in
                       (rec.loads_rate_hz, rec.channels_rate_hz, rec.kinematics_rate_hz)]
         self.n_steps_total = int(math.ceil(config.operation.duration_s / dt - 1e-9))
         self.chunk = int(config.solver.chunk_steps)

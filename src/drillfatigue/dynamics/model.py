@@ -818,6 +818,13 @@ def energy_scale(config: CaseConfig, seg: np.ndarray, bp: np.ndarray, tab_w: np.
     return config.solver.energy_blowup_factor * e_scale
 
 
+def record_every(rate_hz: float, dt_s: float) -> int:
+    """Steps between two records at ``rate_hz`` with the step ``dt_s`` (at least 1): the
+    grid of the recorder (:class:`drillfatigue.dynamics.api.Runner`) and of the span
+    filter."""
+    return max(1, round(1.0 / (rate_hz * dt_s)))
+
+
 def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     """Pack a case into kernel arrays and the initial (pre-loaded) state.
 
@@ -875,8 +882,8 @@ def build_model(config: CaseConfig, path: WellPath) -> tuple[Model, State]:
     dt = choose_step(config, seg, jp, bp, topp, cpar, cp_n)
     bp[L.B_DT] = dt
     if cpar[L.P_SPAN] != 0.0 and config.contact.span_dynamic:
-        # the span filter steps on the loads record's grid (api.Runner: the same rule)
-        cpar[L.P_SPANDYN] = float(max(1, round(1.0 / (config.recording.loads_rate_hz * dt))))
+        # the span filter steps on the loads record's grid
+        cpar[L.P_SPANDYN] = float(record_every(config.recording.loads_rate_hz, dt))
         cpar[L.P_SPANZ] = config.contact.span_damping_min
     bp[L.B_ESCALE] = energy_scale(config, seg, bp, tab_w, pre.total_axial_weight_N,
                                   float(place.s_top_end[-1]))

@@ -152,22 +152,23 @@ def accumulate_span_load(n, s, p, dt):
 def span_length_m(i, n, p):
     """The span whose mode segment ``i``'s filter follows, m: the longest distance
     between neighbouring raised contact points (tool joints, blades, upsets: radius
-    above the body's) in the segment's own table (``cpar[P_CPTAB]``), else the
-    segment's length. The growing top segment (its own table is not used) takes the
-    span of the segment below it."""
+    above the body's) in the segment's own table (``cpar[P_CPTAB]``) when they reach
+    both ends of the segment, else the segment's length. The growing top segment (its
+    own table is not used) takes the span of the segment below it."""
     seg = p.seg
-    j = i
-    if i == n - 1 and n >= 2:
-        j = n - 2
-    length = 2.0 * seg[i, S_H]
+    j = n - 2 if (i == n - 1 and n >= 2) else i
     if not (p.cpar[P_CPTAB] != 0.0 and j < n - 1):
-        return length
+        return 2.0 * seg[i, S_H]
     k = int(p.cp_n[j])
     rb = seg[j, S_RB]
     best = 0.0
+    top = -math.inf
+    bot = math.inf
     for a in range(k):
         if p.cp[j, a, 1] <= rb:
             continue
+        top = max(top, p.cp[j, a, 0])
+        bot = min(bot, p.cp[j, a, 0])
         # the nearest raised point below this one
         near = math.inf
         for b in range(k):
@@ -181,15 +182,33 @@ def span_length_m(i, n, p):
     # raised points that do not reach both ends of the segment (a stabilizer's blades
     # in the middle of a flush segment) do not make its spans
     h = seg[j, S_H]
-    top = -math.inf
-    bot = math.inf
-    for a in range(k):
-        if p.cp[j, a, 1] > rb:
-            top = max(top, p.cp[j, a, 0])
-            bot = min(bot, p.cp[j, a, 0])
     if best <= 0.0 or top < h - 0.05 * h or bot > -h + 0.05 * h:
-        return 2.0 * seg[j, S_H] if j != i else length
+        return 2.0 * h
     return best
+
+
+@njit(cache=True)
+def segment_axial_N(i, n, loads):
+    """Effective axial force of active segment ``i`` (N, tension > 0): the mean of its
+    two joints' (the first and the last segment take their one joint's; row ``n - 1``
+    of ``loads`` is the top boundary). The span solution and the span filter both
+    take it."""
+    lo = loads[i - 1, 0] if i > 0 else loads[0, 0]
+    up = loads[i, 0] if i < n - 1 else loads[n - 2, 0]
+    return 0.5 * (lo + up)
+
+
+@njit(cache=True)
+def segment_mode(i, n, p, latm, zeta_min, axial_N):
+    """(span m, omega rad/s, zeta) of active segment ``i``'s span filter under the axial
+    force ``axial_N``: the span of :func:`span_length_m`, with the segment's lateral
+    mass and drag per length (``latm``: the lateral mud mass ``p.mlat``)."""
+    seg = p.seg
+    L = 2.0 * seg[i, S_H]
+    ls = span_length_m(i, n, p)
+    m = seg[i, S_M] * p.mlat[i] if latm else seg[i, S_M]
+    omega, zeta = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min, axial_N)
+    return ls, omega, zeta
 
 
 @njit(cache=True, _nrt=False, error_model="numpy")  # type: ignore[call-overload]  # _nrt: not in numba's stubs
@@ -198,22 +217,12 @@ def update_span_filters(n, s, p, wk, latm, zeta_min):
     update (the mean load over it held, :func:`sdof_hold_step`); the running sums
     restart. A segment whose filter has not run yet (a new run, a segment the string
     just grew) starts at rest on the interval's mean load."""
-    seg = p.seg
     cst = s.cst
     for i in range(n):
         T = cst[i, CS_SQT]
         if T <= 0.0:
             continue
-        # the span's mode: its mass and drag per length are the segment's
-        L = 2.0 * seg[i, S_H]
-        ls = span_length_m(i, n, p)
-        m = seg[i, S_M] * p.mlat[i] if latm else seg[i, S_M]
-        # the segment's axial force: the mean effective tension of its joints (as the
-        # span solution takes it; the last joint row is the top boundary)
-        lo = wk.loads[i - 1, 0] if i > 0 else wk.loads[0, 0]
-        up = wk.loads[i, 0] if i < n - 1 else wk.loads[n - 2, 0]
-        omega, zeta = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min,
-                                0.5 * (lo + up))
+        _, omega, zeta = segment_mode(i, n, p, latm, zeta_min, segment_axial_N(i, n, wk.loads))
         started = cst[i, CS_SQON] != 0.0
         for k in range(3):
             u = cst[i, CS_SQA + k] / T
@@ -234,15 +243,10 @@ def span_modes(p: object, n: int, zeta_min: float,
     """(span m, omega rad/s, zeta) of the ``n`` active segments of the parameter bundle
     ``p`` (:class:`drillfatigue.dynamics.bundles.Params`) under the segments' axial
     forces ``axial_N`` (N, tension > 0; None: zero): what the span filter uses."""
-    seg = p.seg  # type: ignore[attr-defined]
     cpar = p.cpar  # type: ignore[attr-defined]
     latm = bool(cpar.shape[0] > P_LATMASS and cpar[P_LATMASS] != 0.0)
     out = np.zeros((n, 3))
     for i in range(n):
-        L = 2.0 * seg[i, S_H]
-        ls = span_length_m(i, n, p)
-        m = seg[i, S_M] * p.mlat[i] if latm else seg[i, S_M]  # type: ignore[attr-defined]
         ax = 0.0 if axial_N is None else float(axial_N[i])
-        om, z = span_mode(ls, p.ei[i], m * ls / L, seg[i, S_CL] * ls / L, zeta_min, ax)  # type: ignore[attr-defined]
-        out[i] = (ls, om, z)
+        out[i] = segment_mode(i, n, p, latm, zeta_min, ax)
     return out

@@ -107,6 +107,7 @@ from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
     BUCKLED_V, END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments, midspan_deflection,
 )
+from drillfatigue.dynamics.span_dynamics import segment_axial_N
 
 #: supports closer than this along the string are one support, m
 MERGE_M = 0.01
@@ -367,9 +368,7 @@ def span_sample(n, s, p, wk, sel, out):
         seg_q[i, 0] = (gx - ga * ex) * inv_l
         seg_q[i, 1] = (gy - ga * ey) * inv_l
         seg_qz[i, 0] = (gz - ga * ez) * inv_l
-        lo = loads[i - 1, 0] if i > 0 else loads[0, 0]
-        up = loads[i, 0] if i < n - 1 else loads[n - 2, 0]
-        seg_T[i] = 0.5 * (lo + up)
+        seg_T[i] = segment_axial_N(i, n, loads)
         seg_ei[i] = p.ei[i]
     # supports: the bit and the contact points in the wall now
     cap = 1 + n * (MAX_TABLE_POINTS + 1)
