@@ -48,7 +48,7 @@ and then rings down at the span's frequency.
   mu: the lateral mass per length (steel, and with ``lateral_mud_mass`` the
   mud inside and the added mass). T: the mean effective tension of the
   segment's two joints, as the span solution takes it. 5 in drill pipe in
-  1.2 SG mud, one joint: 5.6 Hz without axial force (335 rpm), 6.0 Hz at
+  1.2 SG mud, one joint: 5.5 Hz without axial force (328 rpm), 5.9 Hz at
   100 kN of tension; 4 m segments of 6 3/4 in collars: 39 Hz.
 * zeta: the segment's own linear mud drag (``seg[:, S_CL]``, the one the
   integrator applies to its lateral motion) as a modal damping ratio,
