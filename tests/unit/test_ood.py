@@ -308,3 +308,64 @@ def test_served_flags_equal_the_exact_ones_on_a_large_batch() -> None:
     far = exact > dc.threshold_
     np.testing.assert_array_equal(dist[far], exact[far])
     assert np.isnan(dist[~far]).all()
+
+
+def _corner_cases(n_cases: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    # rows grouped by case: 2 case-level columns (the empty corner x0 + x1 > 1.2
+    # of the design) and one location column with 12 rows per case
+    rng = np.random.default_rng(seed)
+    c = rng.uniform(0, 1, (4 * n_cases, 2))
+    c = c[c[:, 0] + c[:, 1] <= 1.2][:n_cases]
+    loc = np.linspace(0.0, 1.0, 12)
+    x = np.column_stack([np.repeat(c, loc.size, axis=0), np.tile(loc, len(c))])
+    return x, np.repeat(np.arange(len(c)), loc.size)
+
+
+def test_cross_fitted_threshold_equals_the_brute_force_out_of_fold_quantile() -> None:
+    x, case = _corner_cases(200, 2)
+    folds = case % 5
+    mean, scale = x.mean(axis=0), x.std(axis=0)
+    dc = DomainChecker(["rpm", "wob", "md"], k=5, quantile=0.99, reference_rows=1500,
+                       seed=3).fit_cross(x, folds, mean, scale)
+    # the served reference: the same seeded subsample as fit, drawn from every case
+    keep = np.sort(np.random.default_rng(3).choice(len(x), 1500, replace=False))
+    np.testing.assert_array_equal(dc.reference_, ((x[keep] - mean) / scale).astype(np.float32))
+    z = (x - mean) / scale
+    d = np.empty(len(x))
+    for f in range(5):
+        other = dc.reference_[folds[keep] != f].astype(np.float64)
+        diff = z[folds == f][:, None, :] - other[None, :, :]
+        dist = np.sort(np.sqrt((diff ** 2).sum(axis=2)), axis=1)[:, :5]
+        d[folds == f] = dist.mean(axis=1)
+    assert dc.threshold_ == float(np.quantile(d, 0.99))
+    assert dc.to_dict()["threshold_source"] == "cross-fitted, 5 folds of whole cases"
+    again = DomainChecker.from_dict(dc.to_dict(), dc.reference_)
+    assert again.threshold_ == dc.threshold_ and again.threshold_source_ == dc.threshold_source_
+
+
+def test_cross_fitted_domain_answers_new_cases_and_refuses_the_empty_corner() -> None:
+    # new cases of the same design are flagged about 1 - quantile of the time
+    # (the out-of-fold distance is a new case's distance to cases it is not part
+    # of); 5 % allows for 600 rows in 50 correlated groups of 12 (the
+    # binomial std of 1 % over 50 independent cases is 1.4 %)
+    x, case = _corner_cases(200, 2)
+    dc = DomainChecker(["rpm", "wob", "md"], k=5, quantile=0.99, reference_rows=1500,
+                       seed=3).fit_cross(x, case % 5, x.mean(axis=0), x.std(axis=0),
+                                         design_bounds={"rpm": (0.0, 1.0), "wob": (0.0, 1.0)})
+    new, _ = _corner_cases(50, 9)
+    flag, _ = dc.check(new)
+    assert flag.mean() <= 0.05
+    corner = np.array([[0.97, 0.97, 0.5]])
+    assert not dc.check(corner, knn=False)[0].any()
+    assert dc.check(corner)[0].all()
+
+
+def test_cross_fit_needs_two_folds() -> None:
+    x, case = _corner_cases(20, 2)
+    try:
+        DomainChecker(["a", "b", "c"]).fit_cross(x, np.zeros(len(x), int), x.mean(axis=0),
+                                                 x.std(axis=0))
+    except ValueError as exc:
+        assert "two folds" in str(exc)
+    else:
+        raise AssertionError("one fold accepted")

@@ -214,6 +214,11 @@ def test_served_gbm_trains_on_every_case_the_heldout_design_frees(fitted, tmp_pa
                                       + sp["test_cases"])
     assert g["n_train_rows"] == g["n_calibration_rows"] == len(data)
     assert g["n_calibration_cases"] == data["case_id"].nunique()
+    # the domain is every case the served model trains on, its threshold cross-fitted
+    dom = sur.domain.to_dict()
+    assert dom["threshold_source"] == "cross-fitted, 5 folds of whole cases"
+    n_ref = min(len(data), dom["reference_rows"])
+    assert sur.domain.reference_.shape[0] == n_ref
     assert sur.metadata["training"]["n_train_rows"] < len(data)
     sur.save(tmp_path / "m")
     again = Surrogate.load(tmp_path / "m")

@@ -37,7 +37,7 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.surrogate.conformal import SplitConformal
-from drillfatigue.surrogate.data import check_columns, gbm_rows, log10_target, split_by_case
+from drillfatigue.surrogate.data import case_folds, check_columns, gbm_rows, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
 from drillfatigue.surrogate.gbm import FlatForest, design_matrix, monotone_constraints
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
@@ -166,10 +166,11 @@ class Surrogate:
             module.conformal_q.fill_(conf.quantile_)
         p = reg.preprocessor_
         domain = DomainChecker(p.numeric, cfg.ood_k, cfg.ood_quantile, cfg.ood_reference_rows,
-                               cfg.split_seed).fit(
-            p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_, design_bounds)
+                               cfg.split_seed)
         gbm = None
         gbm_meta: dict[str, Any] | None = None
+        fit_rows: np.ndarray | None = None
+        cal_rows: np.ndarray | None = None
         if cfg.served_model == "gbm":
             # the gradient boosting trains on every case the evaluation does not
             # score (the held-out design when heldout_path is set) and is
@@ -178,6 +179,17 @@ class Surrogate:
             x_all = design_matrix(p, *reg._encode(frame))
             gbm, gbm_meta = fit_served_gbm(x_all, y, groups, fit_rows, cal_rows, cfg,
                                            monotone_constraints(p))
+        if fit_rows is not None and cal_rows is None:
+            # the served model's domain is every case it trains on; with no
+            # calibration cases apart, the threshold is cross-fitted on the
+            # cross-conformal folds of those cases
+            fit_frame = frame.loc[fit_rows]
+            domain.fit_cross(p.numeric_array(fit_frame),
+                             case_folds(groups[fit_rows], cfg.conformal_folds, cfg.split_seed),
+                             p.mean_, p.scale_, design_bounds)
+        else:
+            domain.fit(p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_,
+                       design_bounds)
         hist = reg.history_
         meta = {
             "format_version": FORMAT_VERSION,

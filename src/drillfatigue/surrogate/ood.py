@@ -269,6 +269,67 @@ class DomainChecker:
         the sweep; a feature not in it takes the [min, max] of ``x_train``.
         The k-NN threshold comes from ``x_cal``.
         """
+        self._fit_reference(x_train, mean, scale, design_bounds)
+        d_cal = np.empty(x_cal.shape[0])
+        self.index.mean_distance(np.ascontiguousarray(x_cal, dtype=np.float64), self.mean_,
+                                 self.scale_, self.k, d_cal)
+        self.threshold_ = float(np.quantile(d_cal, self.quantile))
+        self.threshold_source_ = "calibration rows"
+        return self
+
+    def fit_cross(self, x: np.ndarray, folds: np.ndarray, mean: np.ndarray,
+                  scale: np.ndarray,
+                  design_bounds: Mapping[str, tuple[float, float]] | None = None
+                  ) -> DomainChecker:
+        """Reference of every row of ``x``, threshold cross-fitted over ``folds`` of whole cases.
+
+        The served reference is the seeded subsample of all of ``x`` (every
+        case the served model trains on), so no case is spent on
+        calibration. The threshold is the ``quantile`` of the out-of-fold
+        distances: each row's k-NN distance to the reference rows of the
+        other folds' cases, the distance a new case of the design has to
+        cases it is not part of. That reference holds (K - 1)/K of the
+        served one, so its distances are a little longer (by about
+        (K/(K - 1))^(1/d) in d dimensions of uniform density) and the
+        threshold errs towards answering, not towards refusing in-design
+        queries.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n, d)
+            Raw SI numeric features of the training rows.
+        folds : ndarray of int, shape (n,)
+            Fold per row, whole cases per fold
+            (:func:`drillfatigue.surrogate.data.case_folds`), at least two folds.
+        mean, scale : ndarray, shape (d,)
+        design_bounds : mapping, optional
+            As in :meth:`fit`.
+        """
+        folds = np.asarray(folds)
+        labels = np.unique(folds)
+        if labels.size < 2:
+            raise ValueError("fit_cross needs rows of two folds or more")
+        keep = self._fit_reference(x, mean, scale, design_bounds)
+        ref_fold = folds[keep]
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        d_oof = np.empty(x.shape[0])
+        for f in labels:
+            other = ref_fold != f
+            if not other.any():
+                raise ValueError(f"fold {f} holds every reference row")
+            rows = np.flatnonzero(folds == f)
+            d = np.empty(rows.size)
+            KnnIndex(self.reference_[other]).mean_distance(
+                np.ascontiguousarray(x[rows]), self.mean_, self.scale_, self.k, d)
+            d_oof[rows] = d
+        self.threshold_ = float(np.quantile(d_oof, self.quantile))
+        self.threshold_source_ = f"cross-fitted, {labels.size} folds of whole cases"
+        return self
+
+    def _fit_reference(self, x_train: np.ndarray, mean: np.ndarray, scale: np.ndarray,
+                       design_bounds: Mapping[str, tuple[float, float]] | None
+                       ) -> np.ndarray:
+        """Ranges, standardisation and the reference subsample; the rows kept (indices)."""
         self.min_ = x_train.min(axis=0).astype(np.float64)
         self.max_ = x_train.max(axis=0).astype(np.float64)
         self.source_ = ["training"] * len(self.names)
@@ -280,15 +341,13 @@ class DomainChecker:
         self.mean_ = np.asarray(mean, dtype=np.float64)
         self.scale_ = np.asarray(scale, dtype=np.float64)
         z = (x_train - self.mean_) / self.scale_
-        rng = np.random.default_rng(self.seed)
+        keep = np.arange(z.shape[0])
         if z.shape[0] > self.reference_rows:
-            z = z[np.sort(rng.choice(z.shape[0], self.reference_rows, replace=False))]
+            rng = np.random.default_rng(self.seed)
+            keep = np.sort(rng.choice(z.shape[0], self.reference_rows, replace=False))
+            z = z[keep]
         self.reference_ = z.astype(np.float32)
-        d_cal = np.empty(x_cal.shape[0])
-        self.index.mean_distance(np.ascontiguousarray(x_cal, dtype=np.float64), self.mean_,
-                                 self.scale_, self.k, d_cal)
-        self.threshold_ = float(np.quantile(d_cal, self.quantile))
-        return self
+        return keep
 
     @property
     def index(self) -> KnnIndex:
@@ -394,7 +453,8 @@ class DomainChecker:
                 "min": self.min_.tolist(), "max": self.max_.tolist(),
                 "source": list(self.source_),
                 "mean": self.mean_.tolist(), "scale": self.scale_.tolist(),
-                "threshold": self.threshold_}
+                "threshold": self.threshold_,
+                "threshold_source": getattr(self, "threshold_source_", "calibration rows")}
 
     @classmethod
     def from_dict(cls, d: dict, reference: np.ndarray) -> DomainChecker:
@@ -405,5 +465,6 @@ class DomainChecker:
         c.mean_ = np.asarray(d["mean"])
         c.scale_ = np.asarray(d["scale"])
         c.threshold_ = float(d["threshold"])
+        c.threshold_source_ = d.get("threshold_source", "calibration rows")
         c.reference_ = np.asarray(reference, dtype=np.float32)
         return c
