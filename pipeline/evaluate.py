@@ -12,12 +12,16 @@ rate, under ``noise_floor.by_decade``, also printed as a table),
 
 Usage: ``python pipeline/evaluate.py [--params params.yaml] [--data data/dataset/damage.parquet]
 [--model data/surrogate/model] [--metrics data/surrogate/metrics.json] [--plots data/surrogate/plots]
-[--synthetic-cases N] [--noise-floor data/replicates/spread.json] [--heldout PATH]``
+[--synthetic-cases N] [--noise-floor data/replicates/spread.json] [--heldout PATH]
+[--draws data/heldout/draws/spread.parquet]``
 
 ``--heldout`` (default: ``surrogate.heldout_path``; none: the model's test
 cases) scores every row of a dataset of its own design instead; the
 ``deciding`` block of the metrics scores the rows whose predicted life is
 within ``surrogate.horizon_h`` and the governing damage per component.
+``--draws`` (the ``heldout_draws`` stage's ``spread.parquet``) adds
+``deciding_draws``: the same rows scored against the mean rate of each
+case's draws (rpm moved by ``heldout.draw_rel_step``) beside the single run.
 """
 
 from __future__ import annotations
@@ -57,6 +61,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="spread.json of the replicates stage: adds the noise floor")
     parser.add_argument("--heldout", default=None,
                         help="held-out dataset to score (default: surrogate.heldout_path)")
+    parser.add_argument("--draws", default=None,
+                        help="spread.parquet of the heldout_draws stage: also scores the "
+                             "held-out rows against the mean rate of their case's draws")
     args = parser.parse_args(argv)
     try:
         from drillfatigue.files import OutputFolder
@@ -79,6 +86,22 @@ def main(argv: list[str] | None = None) -> int:
             spread = read_spread(args.noise_floor, cfg.criterion)
             metrics["noise_floor"] = noise_floor_metrics(spread, pred["y_true"].to_numpy(),
                                                          metrics)
+        if args.draws:
+            import pandas as pd
+
+            from drillfatigue.surrogate.evaluation import draws_metrics, mean_of_draws_log10
+
+            if heldout is None:
+                raise InputError("--draws", "given without a held-out dataset",
+                                 "--heldout or surrogate.heldout_path")
+            if not (pred["case_id"].astype(str).to_numpy()
+                    == heldout["case_id"].astype(str).to_numpy()).all():
+                raise InputError("--draws", "the scored rows are not the held-out rows in order",
+                                 "the held-out dataset the model was evaluated on")
+            y_draws = mean_of_draws_log10(heldout, pd.read_parquet(args.draws),
+                                          cfg.rate_floor_per_h)
+            models = tuple(m for m in ("ensemble", "gp", "hgb") if m in pred.columns)
+            metrics["deciding_draws"] = draws_metrics(pred, y_draws, models, cfg.horizon_h)
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2
@@ -99,6 +122,16 @@ def main(argv: list[str] | None = None) -> int:
               f"{rows['factor2_fraction']:.3f}, coverage {rows['coverage']:.3f}; governing per "
               f"component: factor-2 {gov['factor2_fraction']:.3f}; 'longer than' precision "
               f"{bh['precision']:.3f}")
+    dd = metrics.get("deciding_draws", {})
+    if dd.get("n_rows"):
+        for m in dd["mean_of_draws"]:
+            if not isinstance(dd["mean_of_draws"][m], dict) or "rows" not in dd["mean_of_draws"][m]:
+                continue
+            one, avg = dd["single_run"][m]["rows"], dd["mean_of_draws"][m]["rows"]
+            print(f"{m:9s} against the mean of each case's draws ({dd['n_cases']} cases): "
+                  f"predicted within the horizon factor-2 {avg['factor2_fraction']:.3f} "
+                  f"(single run {one['factor2_fraction']:.3f}), RMSE {avg['rmse']:.3f} "
+                  f"({one['rmse']:.3f}), coverage {avg['coverage']:.3f} ({one['coverage']:.3f})")
     table = metrics.get("noise_floor", {}).get("by_decade")
     if table:
         print("factor-2 fraction by decade of damage rate per h "

@@ -199,3 +199,51 @@ def test_heldout_cases_shared_with_training_are_left_out(tmp_path):
         update={"seed": params.sweep.seed})})
     with pytest.raises(InputError, match="equals sweep.seed"):
         heldout_stage(same_seed, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+
+
+def test_heldout_draws_run_every_heldout_case_centred_on_its_rpm(tmp_path):
+    from drillfatigue.sweep.replicates import heldout_draws_stage
+    from drillfatigue.sweep.stages import heldout_stage
+
+    path = _heldout_params(tmp_path)
+    data = yaml.safe_load(path.read_text())
+    data["heldout"] |= {"draws": 3, "draw_rel_step": 0.02,
+                        "draws_dir": str(tmp_path / "heldout" / "draws")}
+    path.write_text(yaml.safe_dump(data))
+    params = load_params(path)
+    design_stage(params)
+    heldout_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    out = heldout_draws_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    draws = tmp_path / "heldout" / "draws"
+    cases = pd.read_parquet(draws / "cases.parquet")
+    held = pd.read_parquet(tmp_path / "heldout" / "design" / "cases.parquet")
+    # every held-out case, two more runs at rpm x 1.02 and x 0.98
+    assert set(cases["base_case_id"]) == set(held["case_id"]) and len(cases) == 2 * len(held)
+    rpm = {cid: json.loads(t)["operation"]["rpm"]
+           for cid, t in zip(held["case_id"], held["case_json"], strict=True)}
+    ratio = sorted({round(v / rpm[b], 12)
+                    for v, b in zip(cases["value"], cases["base_case_id"], strict=True)})
+    assert ratio == [0.98, 1.02]
+    table = pd.read_parquet(draws / "spread.parquet")
+    assert (table.groupby("base_case_id")["replicate"].nunique() == 3).all()
+    assert out["symmetric"] is True and out["n_cases"] == len(held)
+    assert not (tmp_path / "replicates").exists()  # the training noise floor is untouched
+
+
+def test_heldout_draws_one_draw_runs_nothing(tmp_path):
+    from drillfatigue.errors import InputError
+    from drillfatigue.sweep.replicates import heldout_draws_stage
+    from drillfatigue.sweep.stages import heldout_stage
+
+    path = _heldout_params(tmp_path)
+    data = yaml.safe_load(path.read_text())
+    data["heldout"] |= {"draws": 1, "draws_dir": str(tmp_path / "heldout" / "draws")}
+    path.write_text(yaml.safe_dump(data))
+    params = load_params(path)
+    with pytest.raises(InputError, match="heldout.cases_path"):
+        heldout_draws_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    design_stage(params)
+    heldout_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    out = heldout_draws_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
+    assert out["n_rows"] == 0 and out["sweeps"] == {}
+    assert len(pd.read_parquet(tmp_path / "heldout" / "draws" / "spread.parquet")) == 0

@@ -157,3 +157,32 @@ def test_config_bounds_are_named():
     with pytest.raises(InputError) as err:
         validate(ReplicatesConfig, {"n_replicates": 1}, "replicates")
     assert err.value.field == "replicates.n_replicates" and ">= 2" in err.value.one_line()
+
+
+def test_symmetric_replicates_alternate_about_the_design_value():
+    cfg = ReplicatesConfig(n_cases=1, n_replicates=5, rel_step=1e-2, symmetric=True)
+    reps = replicate_cases(_cases(), cfg)
+    np.testing.assert_allclose(reps["value"], [120.0 * 1.01, 120.0 * 0.99, 120.0 * 1.02,
+                                               120.0 * 0.98], rtol=1e-15)
+    # the design value and its draws centre on it: their mean is the design value
+    assert math.isclose((120.0 + reps["value"].sum()) / 5, 120.0, rel_tol=1e-14)
+
+
+@given(st.integers(1, 200))
+def test_step_multiples(k):
+    from drillfatigue.sweep.replicates import step_multiple
+
+    assert step_multiple(k, False) == k
+    m = step_multiple(k, True)
+    assert abs(m) == (k + 1) // 2 and (m > 0) == (k % 2 == 1)
+
+
+def test_symmetric_replicates_keep_the_sign_of_the_field():
+    from drillfatigue.config import validate
+
+    with pytest.raises(InputError) as err:
+        validate(ReplicatesConfig, {"n_replicates": 41, "rel_step": 0.05, "symmetric": True},
+                 "replicates")
+    assert "sign" in err.value.one_line()
+    assert validate(ReplicatesConfig, {"n_replicates": 41, "rel_step": 0.04,
+                                       "symmetric": True}, "replicates").symmetric

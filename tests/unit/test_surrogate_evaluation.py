@@ -256,3 +256,38 @@ def test_served_gbm_trains_on_every_case_the_heldout_design_frees(fitted, tmp_pa
     pd.testing.assert_frame_equal(old.predict(rows), sur.predict(rows))
     old_met, _ = evaluate(data, old, cfg, baselines=False, heldout=held)
     assert old_met["n_test_cases"] == 6
+
+
+def test_mean_of_draws_is_the_arithmetic_mean_rate_floored() -> None:
+    from drillfatigue.surrogate.evaluation import mean_of_draws_log10
+
+    rows = pd.DataFrame({"case_id": ["a", "a", "b", "c"], "joint": [0, 1, 0, 0],
+                         "location": ["body"] * 4})
+    draws = pd.DataFrame({
+        "base_case_id": ["a"] * 6 + ["b"] * 3 + ["c"],
+        "joint": [0, 0, 0, 1, 1, 1, 0, 0, 0, 0], "location": ["body"] * 10,
+        "replicate": [0, 1, 2, 0, 1, 2, 0, 1, 2, 0],
+        "damage_rate_per_h": [1e-3, 1e-2, 1e-1, np.nan, 0.0, 3e-13, 0.0, 0.0, 0.0, 1.0]})
+    y = mean_of_draws_log10(rows, draws, floor_per_h=1e-12)
+    # (1e-3 + 1e-2 + 1e-1) / 3: the mean rate, not the mean of the logs (-2)
+    assert y[0] == pytest.approx(math.log10(0.111 / 3), rel=1e-12)
+    assert y[1] == -12.0 and y[2] == -12.0  # no cycle in any draw: the floor
+    assert np.isnan(y[3])  # one draw only
+
+
+def test_draws_metrics_score_the_same_rows_twice() -> None:
+    from drillfatigue.surrogate.evaluation import draws_metrics
+
+    rng = np.random.default_rng(0)
+    n = 60
+    truth = rng.uniform(-4, 0, n)
+    pred = pd.DataFrame({"case_id": np.repeat(list("abcdef"), 10), "y_true": truth + 0.5,
+                         "hgb": truth, "hgb_lower": truth - 0.2, "hgb_upper": truth + 0.2})
+    y_draws = truth.copy()
+    y_draws[:10] = np.nan
+    d = draws_metrics(pred, y_draws, ("hgb",), 1e5)
+    assert d["n_rows"] == 50 and d["n_cases"] == 5
+    assert d["single_run"]["hgb"]["rows"]["factor2_fraction"] == 0.0  # 0.5 decades off
+    assert d["mean_of_draws"]["hgb"]["rows"]["factor2_fraction"] == 1.0
+    assert d["mean_of_draws"]["hgb"]["rows"]["n"] == 50
+    assert draws_metrics(pred, np.full(n, np.nan), ("hgb",), 1e5) == {"n_rows": 0, "n_cases": 0}

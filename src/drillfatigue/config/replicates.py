@@ -15,7 +15,7 @@ trajectory is (docs/surrogate.md#what-limits-it).
 
 from __future__ import annotations
 
-from pydantic import Field, field_validator
+from pydantic import Field, field_validator, model_validator
 
 from drillfatigue.config.base import StrictModel
 from drillfatigue.config.sweep import check_path
@@ -37,6 +37,11 @@ class ReplicatesConfig(StrictModel):
     rel_step : float
         Relative perturbation step, dimensionless: replicate k runs with the
         field times ``1 + k * rel_step``.
+    symmetric : bool
+        Alternate the sign instead: replicates 1, 2, 3, 4, ... run at
+        ``1 + rel_step``, ``1 - rel_step``, ``1 + 2 rel_step``, ``1 - 2
+        rel_step``, ..., so the runs centre on the design value (their mean
+        estimates the rate at it, not at a shifted value).
     out_dir : str
         Folder of the replicate runs, their fatigue and ``spread.json``.
     """
@@ -45,9 +50,20 @@ class ReplicatesConfig(StrictModel):
     n_replicates: int = Field(4, ge=2, le=100)
     variable: str = "operation.rpm"
     rel_step: float = Field(1e-2, gt=0.0, le=0.1)
+    symmetric: bool = False
     out_dir: str = Field("data/replicates", min_length=1)
 
     @field_validator("variable")
     @classmethod
     def _path(cls, v: str) -> str:
         return check_path(v)
+
+    @model_validator(mode="after")
+    def _positive(self) -> ReplicatesConfig:
+        # the lowest symmetric replicate scales the field by 1 - m rel_step
+        m = (self.n_replicates - 1) // 2
+        if self.symmetric and m * self.rel_step >= 1.0:
+            raise ValueError(f"symmetric replicates down to 1 - {m} x {self.rel_step} would not "
+                             f"keep the field's sign (rel_step < {1.0 / m:.3g} for "
+                             f"{self.n_replicates} replicates)")
+        return self

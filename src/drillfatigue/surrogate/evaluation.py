@@ -494,6 +494,69 @@ def governing_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble",
     return out
 
 
+def mean_of_draws_log10(rows: pd.DataFrame, draws: pd.DataFrame, floor_per_h: float,
+                        min_draws: int = 2) -> np.ndarray:
+    """log10 of each row's damage rate per hour averaged over its case's draws.
+
+    A draw is a run of the same case with rpm moved by a fraction of a
+    percent (the ``heldout_draws`` stage); runs that close land in different
+    states of the string's dynamics (docs/surrogate.md#what-limits-it).
+    Miner damage adds linearly in time, so over hours that visit those
+    states alike the rate is the arithmetic mean of the draws' rates; its
+    log10 is floored at ``floor_per_h`` as the surrogate's target is. A
+    draw's missing rate (no cycle) counts as zero.
+
+    Parameters
+    ----------
+    rows : DataFrame
+        ``case_id``, ``joint``, ``location`` per row to score.
+    draws : DataFrame
+        ``base_case_id``, ``joint``, ``location``, ``replicate``,
+        ``damage_rate_per_h`` (the replicates stage's ``spread.parquet``).
+    floor_per_h : float
+        Censoring floor of the rate, per hour (> 0).
+    min_draws : int
+        Fewest draws a row needs; rows with fewer get NaN.
+
+    Returns
+    -------
+    ndarray, shape (len(rows),)
+    """
+    need = {"base_case_id", "joint", "location", "replicate", "damage_rate_per_h"}
+    if need - set(draws.columns):
+        raise InputError("draws", f"table lacks columns {sorted(need - set(draws.columns))}",
+                         ", ".join(sorted(need)))
+    d = draws.assign(rate=np.nan_to_num(draws["damage_rate_per_h"].to_numpy(float), nan=0.0))
+    agg = (d.groupby(["base_case_id", "joint", "location"])["rate"]
+           .agg(["mean", "size"]).reset_index()
+           .rename(columns={"base_case_id": "case_id"}))
+    agg["case_id"] = agg["case_id"].astype(str)
+    keys = rows[["case_id", "joint", "location"]].astype({"case_id": str})
+    m = keys.merge(agg, on=["case_id", "joint", "location"], how="left")
+    y = np.log10(np.maximum(m["mean"].to_numpy(float), floor_per_h))
+    return np.where(m["size"].fillna(0).to_numpy() >= min_draws, y, np.nan)
+
+
+def draws_metrics(pred: pd.DataFrame, y_draws: np.ndarray, models: tuple[str, ...],
+                  horizon_h: float) -> dict[str, Any]:
+    """:func:`deciding_metrics` against the mean of draws, beside the single run.
+
+    ``pred``: the test rows of :func:`evaluate`; ``y_draws``: per row the
+    log10 mean rate of its draws (:func:`mean_of_draws_log10`, NaN where a
+    row has too few). Both blocks score the same rows, those with draws, so
+    their difference is the single run's spread alone.
+    """
+    y_draws = np.asarray(y_draws, dtype=float)
+    have = np.isfinite(y_draws)
+    if not have.any():
+        return {"n_rows": 0, "n_cases": 0}
+    sub = pred.loc[have].copy()
+    single = deciding_metrics(sub, models, horizon_h)
+    sub["y_true"] = y_draws[have]
+    return {"n_rows": int(have.sum()), "n_cases": int(sub["case_id"].nunique()),
+            "single_run": single, "mean_of_draws": deciding_metrics(sub, models, horizon_h)}
+
+
 def read_spread(path: str | Path, criterion: str) -> dict[str, Any]:
     """Read the replicates stage's ``spread.json`` for a model of ``criterion``.
 

@@ -53,9 +53,10 @@ from drillfatigue.sweep.cases import fatigue_case, run_case
 from drillfatigue.sweep.design import (_split_path, apply_overrides, canonical_json, case_id_of,
                                        read_cases, write_cases)
 from drillfatigue.sweep.runner import CaseFn
-from drillfatigue.sweep.stages import fatigue_stage, simulate_stage
+from drillfatigue.sweep.stages import fatigue_stage, heldout_params, simulate_stage
 
-__all__ = ["FACTOR2_DECADES", "replicate_cases", "replicate_spread", "replicates_stage"]
+__all__ = ["FACTOR2_DECADES", "heldout_draws_params", "heldout_draws_stage", "replicate_cases",
+           "replicate_spread", "replicates_stage", "step_multiple"]
 
 GROUP_KEYS = ("base_case_id", "joint", "location")
 
@@ -69,6 +70,14 @@ def _get(case: dict[str, Any], path: str) -> Any:
             raise InputError("replicates.variable", f"unknown configuration path {path!r}",
                              "a numeric field of the case sections, e.g. operation.rpm") from None
     return node
+
+
+def step_multiple(k: int, symmetric: bool) -> int:
+    """Signed multiple of the step of replicate ``k`` (>= 1): ``k``, or with
+    ``symmetric`` +1, -1, +2, -2, ... for k = 1, 2, 3, 4, ..."""
+    if not symmetric:
+        return k
+    return (k + 1) // 2 if k % 2 else -(k // 2)
 
 
 def replicate_cases(cases: pd.DataFrame, cfg: ReplicatesConfig) -> pd.DataFrame:
@@ -107,7 +116,7 @@ def replicate_cases(cases: pd.DataFrame, cfg: ReplicatesConfig) -> pd.DataFrame:
             raise InputError("replicates.variable", f"{cfg.variable} is {value!r}, not a number",
                              "a numeric field of the case sections, e.g. operation.rpm")
         for k in range(1, cfg.n_replicates):
-            new = float(value) * (1.0 + k * cfg.rel_step)
+            new = float(value) * (1.0 + step_multiple(k, cfg.symmetric) * cfg.rel_step)
             rep = apply_overrides(case, {cfg.variable: new}, prefix="replicates.variable")
             rows.append({"case_id": case_id_of(rep), "design_index": int(idx),
                          "base_case_id": str(cid), "replicate": k, "value": new,
@@ -225,6 +234,40 @@ def replicates_stage(params: Params, *, progress: bool = False, case_fn: CaseFn 
     with atomic_output(out / "spread.parquet") as tmp:
         table.to_parquet(tmp, index=False)
     result = {"criterion": criterion, "variable": cfg.variable, "rel_step": cfg.rel_step,
-              "n_replicates": cfg.n_replicates, **stats, "sweeps": reports}
+              "symmetric": cfg.symmetric, "n_replicates": cfg.n_replicates, **stats,
+              "sweeps": reports}
     atomic_write_text(out / "spread.json", json.dumps(result, indent=2, sort_keys=True) + "\n")
     return result
+
+
+def heldout_draws_params(params: Params) -> Params:
+    """:func:`~drillfatigue.sweep.stages.heldout_params` with the ``replicates`` section
+    turned into the held-out draws': every held-out case, ``heldout.draws`` runs
+    at rpm x (1 +- k ``heldout.draw_rel_step``) alternating in sign, into
+    ``heldout.draws_dir`` (no case when ``heldout.draws`` is 1)."""
+    h = params.heldout
+    hp = heldout_params(params)
+    n_cases = len(read_cases(h.cases_path)) if h.draws > 1 else 0
+    rep = ReplicatesConfig(n_cases=n_cases, n_replicates=max(h.draws, 2),
+                           variable="operation.rpm", rel_step=h.draw_rel_step, symmetric=True,
+                           out_dir=h.draws_dir)
+    return hp.model_copy(update={"replicates": rep})
+
+
+def heldout_draws_stage(params: Params, *, progress: bool = False,
+                        case_fn: CaseFn = run_case,
+                        fatigue_fn: CaseFn = fatigue_case) -> dict[str, Any]:
+    """Run the held-out draws (:func:`heldout_draws_params`) as a replicates study.
+
+    The held-out design's runs are draw 0; the others run under
+    ``<draws_dir>/sweep`` and ``<draws_dir>/fatigue``; ``spread.parquet``
+    holds every draw's damage rate per case, joint and location, which
+    ``evaluate --draws`` averages into the rate of the operating condition
+    (:func:`drillfatigue.surrogate.evaluation.mean_of_draws_log10`), and
+    ``spread.json`` the spread of the draws.
+    """
+    if not Path(params.heldout.cases_path).is_file():
+        raise InputError("heldout.cases_path", f"{params.heldout.cases_path} does not exist",
+                         "the heldout stage's design (run it first)")
+    return replicates_stage(heldout_draws_params(params), progress=progress, case_fn=case_fn,
+                            fatigue_fn=fatigue_fn)
