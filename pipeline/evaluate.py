@@ -98,10 +98,12 @@ def main(argv: list[str] | None = None) -> int:
                     == heldout["case_id"].astype(str).to_numpy()).all():
                 raise InputError("--draws", "the scored rows are not the held-out rows in order",
                                  "the held-out dataset the model was evaluated on")
-            y_draws = mean_of_draws_log10(heldout, pd.read_parquet(args.draws),
-                                          cfg.rate_floor_per_h)
+            table = pd.read_parquet(args.draws)
+            y_draws = mean_of_draws_log10(heldout, table, cfg.rate_floor_per_h)
+            y_log = mean_of_draws_log10(heldout, table, cfg.rate_floor_per_h, average="log10")
             models = tuple(m for m in ("ensemble", "gp", "hgb") if m in pred.columns)
-            metrics["deciding_draws"] = draws_metrics(pred, y_draws, models, cfg.horizon_h)
+            metrics["deciding_draws"] = draws_metrics(pred, y_draws, models, cfg.horizon_h,
+                                                      y_log)
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2
@@ -128,10 +130,12 @@ def main(argv: list[str] | None = None) -> int:
             if not isinstance(dd["mean_of_draws"][m], dict) or "rows" not in dd["mean_of_draws"][m]:
                 continue
             one, avg = dd["single_run"][m]["rows"], dd["mean_of_draws"][m]["rows"]
-            print(f"{m:9s} against the mean of each case's draws ({dd['n_cases']} cases): "
-                  f"predicted within the horizon factor-2 {avg['factor2_fraction']:.3f} "
-                  f"(single run {one['factor2_fraction']:.3f}), RMSE {avg['rmse']:.3f} "
-                  f"({one['rmse']:.3f}), coverage {avg['coverage']:.3f} ({one['coverage']:.3f})")
+            geo = dd["log_mean_of_draws"][m]["rows"]
+            print(f"{m:9s} predicted within the horizon, against the single run / the mean "
+                  f"rate of the case's draws / their mean log10 ({dd['n_cases']} cases): "
+                  f"factor-2 {one['factor2_fraction']:.3f} / {avg['factor2_fraction']:.3f} / "
+                  f"{geo['factor2_fraction']:.3f}, RMSE {one['rmse']:.3f} / {avg['rmse']:.3f} / "
+                  f"{geo['rmse']:.3f}")
     table = metrics.get("noise_floor", {}).get("by_decade")
     if table:
         print("factor-2 fraction by decade of damage rate per h "

@@ -1,9 +1,10 @@
 """The pipeline under DVC: ``dvc repro`` in a temporary git+DVC repo, then a no-op rerun.
 
 Uses the stages ``wells`` → ``design`` → ``simulate`` → ``fatigue`` →
-``dataset`` → ``replicates`` → ``heldout`` → ``train`` → ``evaluate`` of the
-project's ``dvc.yaml`` with the repository's pipeline scripts, the installed package and a tiny params file
-(6 cases and 2 held-out ones, 16 segments, 0.3 s window, a 5-epoch ensemble).
+``dataset`` → ``replicates`` → ``heldout`` → ``heldout_draws`` → ``train`` →
+``evaluate`` of the project's ``dvc.yaml`` with the repository's pipeline
+scripts, the installed package and a tiny params file (6 cases and 2 held-out
+ones with 2 draws each, 16 segments, 0.3 s window, a 5-epoch ensemble).
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ TINY = {
                   "gp_max_rows": 60, "hgb_max_iter": 20,
                   "heldout_path": "data/heldout/dataset/damage.parquet"},
     "replicates": {"n_cases": 2, "n_replicates": 2},
-    "heldout": {"n_cases": 2, "seed": 6},
+    "heldout": {"n_cases": 2, "seed": 6, "draws": 2},
     "sweep": {"method": "lhs", "n_cases": 6, "seed": 5, "scheduler": "serial",
               "fatigue_criteria": ["uniaxial"],
               "variables": {"operation.rpm": {"low": 40.0, "high": 120.0},
@@ -49,8 +50,8 @@ TINY = {
 }
 
 
-STAGES = ("wells", "design", "simulate", "fatigue", "dataset", "replicates", "heldout", "train",
-          "evaluate")
+STAGES = ("wells", "design", "simulate", "fatigue", "dataset", "replicates", "heldout",
+          "heldout_draws", "train", "evaluate")
 
 
 def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
@@ -99,6 +100,9 @@ def test_dvc_repro_then_noop(tmp_path):
     spread = json.loads((repo / "data" / "replicates" / "spread.json").read_text())
     assert spread["n_cases"] == 2 and spread["criterion"] == "uniaxial"
     assert m["noise_floor"]["sigma_log10"] == spread["sigma_log10"]
+    draws = pd.read_parquet(repo / "data" / "heldout" / "draws" / "spread.parquet")
+    assert (draws.groupby("base_case_id")["replicate"].nunique() == 2).all()
+    assert m["deciding_draws"]["n_cases"] == draws["base_case_id"].nunique() >= 1
 
     t0 = time.perf_counter()
     second = _run([str(DVC), "repro"], repo)

@@ -273,6 +273,11 @@ def test_mean_of_draws_is_the_arithmetic_mean_rate_floored() -> None:
     assert y[0] == pytest.approx(math.log10(0.111 / 3), rel=1e-12)
     assert y[1] == -12.0 and y[2] == -12.0  # no cycle in any draw: the floor
     assert np.isnan(y[3])  # one draw only
+    g = mean_of_draws_log10(rows, draws, floor_per_h=1e-12, average="log10")
+    assert g[0] == pytest.approx(-2.0, rel=1e-12)  # the mean of the logs
+    assert g[1] == -12.0 and np.isnan(g[3])
+    with pytest.raises(InputError, match="average"):
+        mean_of_draws_log10(rows, draws, floor_per_h=1e-12, average="median")
 
 
 def test_draws_metrics_score_the_same_rows_twice() -> None:
@@ -289,5 +294,7 @@ def test_draws_metrics_score_the_same_rows_twice() -> None:
     assert d["n_rows"] == 50 and d["n_cases"] == 5
     assert d["single_run"]["hgb"]["rows"]["factor2_fraction"] == 0.0  # 0.5 decades off
     assert d["mean_of_draws"]["hgb"]["rows"]["factor2_fraction"] == 1.0
-    assert d["mean_of_draws"]["hgb"]["rows"]["n"] == 50
+    assert d["mean_of_draws"]["hgb"]["rows"]["n"] == 50 and "log_mean_of_draws" not in d
+    d = draws_metrics(pred, y_draws, ("hgb",), 1e5, y_draws + 1.0)
+    assert d["log_mean_of_draws"]["hgb"]["rows"]["factor2_fraction"] == 0.0
     assert draws_metrics(pred, np.full(n, np.nan), ("hgb",), 1e5) == {"n_rows": 0, "n_cases": 0}

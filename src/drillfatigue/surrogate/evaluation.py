@@ -495,16 +495,19 @@ def governing_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble",
 
 
 def mean_of_draws_log10(rows: pd.DataFrame, draws: pd.DataFrame, floor_per_h: float,
-                        min_draws: int = 2) -> np.ndarray:
+                        min_draws: int = 2, average: str = "rate") -> np.ndarray:
     """log10 of each row's damage rate per hour averaged over its case's draws.
 
     A draw is a run of the same case with rpm moved by a fraction of a
     percent (the ``heldout_draws`` stage); runs that close land in different
     states of the string's dynamics (docs/surrogate.md#what-limits-it).
-    Miner damage adds linearly in time, so over hours that visit those
-    states alike the rate is the arithmetic mean of the draws' rates; its
-    log10 is floored at ``floor_per_h`` as the surrogate's target is. A
-    draw's missing rate (no cycle) counts as zero.
+    ``average="rate"``: Miner damage adds linearly in time, so over hours
+    that visit those states alike the rate is the arithmetic mean of the
+    draws' rates. ``average="log10"``: the mean of the draws' floored log10
+    rates (the geometric mean), what a model fitted to single runs in log10
+    estimates; scored against it, the single run's spread alone is averaged
+    away. Rates are floored at ``floor_per_h`` as the surrogate's target is;
+    a draw's missing rate (no cycle) counts as zero.
 
     Parameters
     ----------
@@ -517,6 +520,7 @@ def mean_of_draws_log10(rows: pd.DataFrame, draws: pd.DataFrame, floor_per_h: fl
         Censoring floor of the rate, per hour (> 0).
     min_draws : int
         Fewest draws a row needs; rows with fewer get NaN.
+    average : {"rate", "log10"}
 
     Returns
     -------
@@ -526,35 +530,45 @@ def mean_of_draws_log10(rows: pd.DataFrame, draws: pd.DataFrame, floor_per_h: fl
     if need - set(draws.columns):
         raise InputError("draws", f"table lacks columns {sorted(need - set(draws.columns))}",
                          ", ".join(sorted(need)))
-    d = draws.assign(rate=np.nan_to_num(draws["damage_rate_per_h"].to_numpy(float), nan=0.0))
-    agg = (d.groupby(["base_case_id", "joint", "location"])["rate"]
+    if average not in ("rate", "log10"):
+        raise InputError("average", f"{average!r}", "rate or log10")
+    rate = np.maximum(np.nan_to_num(draws["damage_rate_per_h"].to_numpy(float), nan=0.0),
+                      floor_per_h)
+    d = draws.assign(v=rate if average == "rate" else np.log10(rate))
+    agg = (d.groupby(["base_case_id", "joint", "location"])["v"]
            .agg(["mean", "size"]).reset_index()
            .rename(columns={"base_case_id": "case_id"}))
     agg["case_id"] = agg["case_id"].astype(str)
     keys = rows[["case_id", "joint", "location"]].astype({"case_id": str})
     m = keys.merge(agg, on=["case_id", "joint", "location"], how="left")
-    y = np.log10(np.maximum(m["mean"].to_numpy(float), floor_per_h))
+    mean = m["mean"].to_numpy(float)
+    y = np.log10(mean) if average == "rate" else mean
     return np.where(m["size"].fillna(0).to_numpy() >= min_draws, y, np.nan)
 
 
 def draws_metrics(pred: pd.DataFrame, y_draws: np.ndarray, models: tuple[str, ...],
-                  horizon_h: float) -> dict[str, Any]:
+                  horizon_h: float, y_draws_log: np.ndarray | None = None) -> dict[str, Any]:
     """:func:`deciding_metrics` against the mean of draws, beside the single run.
 
     ``pred``: the test rows of :func:`evaluate`; ``y_draws``: per row the
     log10 mean rate of its draws (:func:`mean_of_draws_log10`, NaN where a
-    row has too few). Both blocks score the same rows, those with draws, so
-    their difference is the single run's spread alone.
+    row has too few); ``y_draws_log``, optional: the mean of their log10
+    rates (``average="log10"``), scored as ``log_mean_of_draws``. Every
+    block scores the same rows, those with draws.
     """
     y_draws = np.asarray(y_draws, dtype=float)
     have = np.isfinite(y_draws)
     if not have.any():
         return {"n_rows": 0, "n_cases": 0}
     sub = pred.loc[have].copy()
-    single = deciding_metrics(sub, models, horizon_h)
+    out: dict[str, Any] = {"n_rows": int(have.sum()), "n_cases": int(sub["case_id"].nunique()),
+                           "single_run": deciding_metrics(sub, models, horizon_h)}
     sub["y_true"] = y_draws[have]
-    return {"n_rows": int(have.sum()), "n_cases": int(sub["case_id"].nunique()),
-            "single_run": single, "mean_of_draws": deciding_metrics(sub, models, horizon_h)}
+    out["mean_of_draws"] = deciding_metrics(sub, models, horizon_h)
+    if y_draws_log is not None:
+        sub["y_true"] = np.asarray(y_draws_log, dtype=float)[have]
+        out["log_mean_of_draws"] = deciding_metrics(sub, models, horizon_h)
+    return out
 
 
 def read_spread(path: str | Path, criterion: str) -> dict[str, Any]:
