@@ -5,7 +5,14 @@ load-only fatigue chain (no pressure terms in the stress state) on a fixed
 synthetic history: damage, critical angles and per-point damage of the body
 and connection of a 5 in drill pipe for every criterion (Goodman uniaxial
 route). With ``pressure=None`` and with ``Pressure(0, 0)`` the chain must
-reproduce them exactly (``==`` on float64, no tolerance).
+reproduce them: on one machine ``None`` and ``Pressure(0, 0)`` exactly
+(``==`` on float64, no tolerance), and the stored reference to a few ulp.
+numpy dispatches its transcendental functions (power, log) to SIMD
+implementations chosen by the CPU at run time, and those agree with each
+other only to about 1 ulp: the per-point damage recorded on one CPU differs
+in the last bit on another (seen: 10 of 36 points, relative 2.1e-16, on an
+AMD EPYC against the recording machine), while the summed damage and angles
+agree exactly. A change of arithmetic moves results by far more than 1e-14.
 """
 
 from __future__ import annotations
@@ -34,19 +41,28 @@ def _loads() -> np.ndarray:
     return L
 
 
-@pytest.mark.parametrize("pressure", [None, Pressure(0.0, 0.0)], ids=["none", "zero"])
+#: relative tolerance against the stored reference: a few ulp of float64 (see above)
+CPU_RTOL = 1e-14
+
+
 @pytest.mark.parametrize("crit", ["matake", "findley", "fatemi_socie", "uniaxial"])
-def test_zero_pressure_is_bit_identical(pressure: Pressure | None, crit: str) -> None:
+def test_zero_pressure_is_bit_identical(crit: str) -> None:
     ref = np.load(REF)
     L = _loads()
     for loc, sec, scf in (("body", Section(0.127, 0.1086), SCF()),
                           ("connection", Section(0.1683, 0.0826), SCF(3.5, 3.5, 1.5))):
-        r = evaluate_location(L, sec, scf, get_curve("B1", "air"), crit, CriterionParams(),
-                              mean_stress="goodman", ultimate_Pa=1e9, pressure=pressure)
-        got = np.array([r.damage, r.critical_angle_deg, r.critical_plane_deg,
-                        r.uniaxial_damage])
-        assert np.array_equal(got, ref[f"{loc}_{crit}"])
-        assert np.array_equal(r.point_damage, ref[f"{loc}_{crit}_point_damage"])
+        res = [evaluate_location(L, sec, scf, get_curve("B1", "air"), crit, CriterionParams(),
+                                 mean_stress="goodman", ultimate_Pa=1e9, pressure=p)
+               for p in (None, Pressure(0.0, 0.0))]
+        got = [np.array([r.damage, r.critical_angle_deg, r.critical_plane_deg,
+                         r.uniaxial_damage]) for r in res]
+        # zero pressure is the load-only chain, bit for bit on this machine
+        assert np.array_equal(got[0], got[1])
+        assert np.array_equal(res[0].point_damage, res[1].point_damage)
+        # and the recorded load-only chain, to a few ulp across CPUs
+        np.testing.assert_allclose(got[0], ref[f"{loc}_{crit}"], rtol=CPU_RTOL, atol=0.0)
+        np.testing.assert_allclose(res[0].point_damage, ref[f"{loc}_{crit}_point_damage"],
+                                   rtol=CPU_RTOL, atol=0.0)
 
 
 def test_pressure_changes_only_the_normal_stress_terms() -> None:
