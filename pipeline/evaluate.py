@@ -126,8 +126,8 @@ def main(argv: list[str] | None = None) -> int:
               f"{bh['precision']:.3f}")
     dd = metrics.get("deciding_draws", {})
     if dd.get("n_rows"):
-        for m in dd["mean_of_draws"]:
-            if not isinstance(dd["mean_of_draws"][m], dict) or "rows" not in dd["mean_of_draws"][m]:
+        for m in ("ensemble", "gp", "hgb"):
+            if m not in dd["single_run"]:
                 continue
             one, avg = dd["single_run"][m]["rows"], dd["mean_of_draws"][m]["rows"]
             geo = dd["log_mean_of_draws"][m]["rows"]
