@@ -22,7 +22,10 @@ simulations at the cost of the model fits alone.
   the governing rate per case and component type), ``rows``
   (:func:`~drillfatigue.sweep.adaptive.row_scores` on the rows' log10 rate,
   the rows the pool holds), ``mix`` (a share space-filling, the rest by
-  ``rows``); and the control ``space_filling`` (max-min distance alone: no
+  ``rows``), ``state`` (benchmark only: the ``governing`` disagreement on each
+  case's simulated stick-slip severity, aimed at the boundary between full
+  and partial stick-slip where the served model misses); and the control
+  ``space_filling`` (max-min distance alone: no
   model, no seed), which tells a disagreement's gain from mere spreading.
 - At each size the served model (gradient boosting,
   :func:`drillfatigue.surrogate.gbm.fit_gbm` on every row of the cases taken,
@@ -99,6 +102,8 @@ from learning_curve import (  # noqa: E402  (the served fit, its scores and the 
 )
 
 RESULT = Path(__file__).parent / "results" / "learning_curve_pool.json"
+#: the case's simulated torsional state, the ``state`` acquisition's target
+STATE_COLUMN = "stick_slip_severity"
 
 
 class Pool:
@@ -165,6 +170,16 @@ class Pool:
         pos = {c: i for i, c in enumerate(self.order)}
         if acquisition == "space_filling":
             return np.zeros(len(cand))
+        if acquisition == "state":
+            # disagreement on the torsional state the string settles in (its simulated
+            # stick-slip severity, a post-run output of the cases taken): full stick-slip
+            # and partial stick-slip coexist above ~120 rpm, and the boundary between them
+            # is where the served model misses (docs/surrogate.md, "What limits it")
+            sev = self.rows.drop_duplicates("case_id").set_index("case_id")[STATE_COLUMN]
+            y = sev.reindex(taken).to_numpy(dtype=np.float64)
+            return acquisition_scores(self.x_unit[[pos[c] for c in taken]], y,
+                                      self.x_unit[[pos[c] for c in cand]],
+                                      n_members=ad.n_members, seed=seed, censor_log10=None)
         if acquisition == "governing":
             tr = self.rows.iloc[np.concatenate([self.row_index[c] for c in taken])]
             y = case_targets(tr, self.cfg.target_column, self.cfg.rate_floor_per_h)
@@ -217,7 +232,8 @@ def run_adaptive(pool: Pool, acquisition: str, seed: int, args: argparse.Namespa
             pick = np.concatenate([first, n_sobol + disputed])
         else:
             score = pool.scores(acquisition, taken, cand, 1000 * seed + rnd, ad)
-            mode = "mix" if acquisition in ("mix", "space_filling") else acquisition
+            mode = ("mix" if acquisition in ("mix", "space_filling")
+                    else "governing" if acquisition == "state" else acquisition)
             share = 1.0 if acquisition == "space_filling" else ad.space_filling_share
             pick = choose_batch(mode, x_cand, score, pool.x_unit[[pos[c] for c in taken]],
                                 n_new, math.ceil(ad.pool_factor * args.batch), share)
@@ -294,7 +310,7 @@ def main(argv: list[str] | None = None) -> int:
                     default=["governing", "rows", "mix", "space_filling", "mix_sobol",
                              "random", "oracle"],
                     choices=["governing", "rows", "mix", "space_filling", "mix_sobol",
-                             "random", "oracle"])
+                             "random", "oracle", "state"])
     ap.add_argument("--out", default=str(RESULT))
     ap.add_argument("--keep", action="store_true",
                     help="keep the Sobol curve and the runs already in --out (same settings "
