@@ -26,7 +26,10 @@ only: speed does not depend on how well it is trained. Measured on this CPU,
   scikit-learn's own ``predict`` on the design matrix for reference, and the
   single-query latency; ``--served-model DIR --served-data PARQUET`` also measures a saved
   model (e.g. the train stage's ``data/surrogate/model``) on 10^5 rows drawn
-  from its dataset. Goals are stated per served model (``goals``);
+  from its dataset, and ``--served-baseline DIR`` a second one on the same rows
+  in the same run (``vs_baseline``: the ratios, e.g. the scaled interval's
+  second forest against one width per decade). Goals are stated per served
+  model (``goals``);
 - the ratio against one simulator run of the same condition: ``--sim-seconds``
   (a measured simulator wall time) if given, and the founding paper's figure
   (three profiles x 800 s simulated in about 38 h, i.e. ~12.7 h per case) as
@@ -51,7 +54,8 @@ and the served flag search in the same run, and keeps the rest of an
 existing result file.
 
 Usage: ``python benchmarks/bench_surrogate.py [--quick] [--threads 2] [--sim-seconds S]
-[--accuracy-cases N] [--no-speed] [--knn-scaling] [--served-model DIR --served-data PARQUET]``
+[--accuracy-cases N] [--no-speed] [--knn-scaling] [--served-model DIR --served-data PARQUET
+[--served-baseline DIR]]]``
 -> ``benchmarks/results/surrogate.json``.
 """
 
@@ -443,6 +447,9 @@ def main(argv: list[str] | None = None) -> int:
                     help="also measure this saved gbm model folder (with --served-data)")
     ap.add_argument("--served-data", default=None,
                     help="dataset parquet the --served-model was trained on (query rows)")
+    ap.add_argument("--served-baseline", default=None,
+                    help="a second saved gbm model folder measured in the same run on the same "
+                         "rows (e.g. one with gbm_interval: per_decade against scaled)")
     args = ap.parse_args(argv)
     repeats, n_single = (3, 200) if args.quick else (10, 2000)
     if args.knn_scaling:
@@ -552,6 +559,20 @@ def main(argv: list[str] | None = None) -> int:
                                   "query_rows": f"{n} rows drawn from {args.served_data}",
                                   **gbm_speed(saved, rows, repeats, n_single)}
         res["goals"]["gbm_saved_model"] = res["gbm_saved_model"]["goals"]
+        if args.served_baseline:
+            base = Surrogate.load(args.served_baseline)
+            res["gbm_saved_baseline"] = {"model": str(args.served_baseline),
+                                         **gbm_speed(base, rows, repeats, n_single)}
+            a, b = res["gbm_saved_model"], res["gbm_saved_baseline"]
+            res["gbm_saved_model"]["vs_baseline"] = {
+                "interval": [saved.metadata["gbm"].get("interval"),
+                             base.metadata["gbm"].get("interval")],
+                "batched_ratio": {k: a["batched"][k]["predictions_per_s"]
+                                  / b["batched"][k]["predictions_per_s"]
+                                  for k in a["batched"] if k in b["batched"]},
+                "single_p50_ratio": {k: a["single_query"][k]["p50_ms"]
+                                     / b["single_query"][k]["p50_ms"]
+                                     for k in a["single_query"]}}
     res["machine"]["load_avg_1min_end"] = os.getloadavg()[0]
     if args.accuracy_cases > 0:
         res["accuracy_synthetic"] = accuracy(args.accuracy_cases, args.threads)

@@ -66,7 +66,7 @@ from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constrai
 from drillfatigue.surrogate.io import write_json
 from drillfatigue.surrogate.model import Preprocessor
 from drillfatigue.surrogate.served_gbm import (fit_served_gbm, half_width, interval_bins,
-                                               out_of_fold_predictions)
+                                               interval_scale, out_of_fold_predictions)
 
 RESULT = Path(__file__).parent / "results" / "surrogate_calibration.json"
 #: name -> overrides of the research run's surrogate section
@@ -77,8 +77,30 @@ VARIANTS: dict[str, dict[str, Any]] = {
     "cross_free_iter1000": {"gbm_calibration": "cross", "gbm_cases": "free",
                             "hgb_max_iter": 1000},
     "cross_free_k10": {"gbm_calibration": "cross", "gbm_cases": "free", "conformal_folds": 10},
+    "cross_free_per_decade": {"gbm_calibration": "cross", "gbm_cases": "free",
+                              "gbm_interval": "per_decade"},
+    "cross_free_scaled": {"gbm_calibration": "cross", "gbm_cases": "free",
+                          "gbm_interval": "scaled"},
 }
-_ROW_COLUMNS = ("well.profile", "component_type", "location", "s_from_bit_m")
+_ROW_COLUMNS = ("well.profile", "component_type", "location", "s_from_bit_m", "operation.rpm")
+#: bands of rpm of the coverage breakdown: full stick-slip below ~110 rpm, both states above
+RPM_BANDS = (0.0, 110.0, 140.0, 160.0, 1e9)
+
+
+def coverage_by(pred: pd.DataFrame, within: np.ndarray, covered: np.ndarray,
+                width: np.ndarray, key: pd.Series) -> dict[str, Any]:
+    """Coverage (a censored row counted as the calibration counts it), its standard error
+    over cases and the mean width of the deciding rows, per value of ``key``."""
+    out: dict[str, Any] = {}
+    k = key.astype(str).to_numpy()
+    for v in sorted(set(k[within])):
+        sel = within & (k == v)
+        out[v] = {"rows": int(sel.sum()), "cases": int(pred["case_id"][sel].nunique()),
+                  "coverage": float(np.mean(covered[sel])),
+                  "coverage_se_cases": coverage_se_by_case(covered[sel],
+                                                           pred["case_id"].to_numpy()[sel]),
+                  "mean_width": float(np.mean(width[sel]))}
+    return out
 
 
 def _slim(d: dict[str, Any]) -> dict[str, Any]:
@@ -134,7 +156,8 @@ def run_variant(cfg: SurrogateConfig, frame: pd.DataFrame, held: pd.DataFrame,
     x_h = design_matrix(pre, pre.numeric_array(held), pre.category_codes(held))
     y_h = log10_target(held[cfg.target_column].to_numpy(), cfg.rate_floor_per_h)
     mu = model.predict(x_h)
-    half = half_width(mu, meta, interval_bins(meta))
+    half = np.broadcast_to(half_width(mu, meta, interval_bins(meta), interval_scale(model, x_h)),
+                           mu.shape)
     pred = pd.DataFrame({"case_id": held[cfg.group_column].astype(str).to_numpy(),
                          "y_true": y_h, "hgb": mu, "hgb_lower": mu - half,
                          "hgb_upper": mu + half})
@@ -149,6 +172,11 @@ def run_variant(cfg: SurrogateConfig, frame: pd.DataFrame, held: pd.DataFrame,
     cov = (y_h >= mu - half) & (y_h <= mu + half)
     d["rows"]["coverage_se_cases"] = coverage_se_by_case(
         cov[within], pred["case_id"].to_numpy()[within])
+    cov_c = cov | ((y_h <= level) & (mu - half <= level))
+    breakdown = {"rpm_band": pd.cut(pred["operation.rpm"], RPM_BANDS).astype(str),
+                 "profile": pred["well.profile"], "component_type": pred["component_type"]}
+    coverage_breakdown = {name: coverage_by(pred, within, cov_c, 2.0 * half, key)
+                          for name, key in breakdown.items()}
     gov = d["governing"]
     return {
         "fit_s": round(fit_s, 2), "n_iter": meta["n_iter"], "hgb_max_iter": cfg.hgb_max_iter,
@@ -166,6 +194,7 @@ def run_variant(cfg: SurrogateConfig, frame: pd.DataFrame, held: pd.DataFrame,
                                           "same_location_fraction")}
         | {"by_component_type": gov["by_component_type"]},
         "beyond_horizon": d["beyond_horizon"],
+        "coverage_censored_by": coverage_breakdown,
     }
 
 

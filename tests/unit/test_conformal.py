@@ -199,3 +199,18 @@ def test_mondrian_bins_property(mus: list[float], min_rows: int, level: float | 
         assert binned.min() >= min_rows
     assert np.all(np.isfinite(half)) or mu.size < 9
     np.testing.assert_array_equal(mondrian_half_width(mu, edges, half), half[b])
+
+
+def test_mondrian_bins_of_normalised_scores_are_multipliers_of_the_scale() -> None:
+    # a constant scale c divides every score by c: the same bins, half-widths / c;
+    # a row's scale must be finite and positive
+    rng = np.random.default_rng(4)
+    mu = rng.uniform(-5.0, 0.0, 2000)
+    y = mu + rng.normal(0.0, 0.3, mu.size)
+    edges, half = mondrian_bins(mu, y, 0.9, 50, censor_below=-5.0)
+    e2, h2 = mondrian_bins(mu, y, 0.9, 50, censor_below=-5.0, scale=np.full(mu.size, 2.0))
+    np.testing.assert_array_equal(e2, edges)
+    np.testing.assert_allclose(h2, half / 2.0, rtol=1e-12)
+    for bad in (np.zeros(mu.size), np.full(mu.size, np.nan), np.ones(3)):
+        with pytest.raises(InputError, match="scale"):
+            mondrian_bins(mu, y, 0.9, 50, scale=bad)

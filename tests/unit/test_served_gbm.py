@@ -12,7 +12,8 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.surrogate.conformal import mondrian_half_width
 from drillfatigue.surrogate.data import Split, gbm_rows
-from drillfatigue.surrogate.served_gbm import fit_served_gbm
+from drillfatigue.surrogate.served_gbm import (SCALE_ATTRIBUTE, fit_served_gbm, half_width,
+                                               interval_bins, interval_scale)
 
 COVERAGE = 0.9
 
@@ -36,7 +37,7 @@ def _grouped(n_cases: int, rows: int, seed: int) -> tuple[np.ndarray, np.ndarray
 
 
 CFG = SurrogateConfig(hgb_max_iter=100, censoring="none", conformal_bin_min_rows=50,
-                      conformal_folds=5, coverage=COVERAGE)
+                      conformal_folds=5, coverage=COVERAGE, gbm_interval="per_decade")
 N_CASES, ROWS = 100, 10
 
 
@@ -140,3 +141,81 @@ def test_config_refuses_bad_calibration_settings(key: str, value: object, allowe
     line = exc.value.one_line()
     assert line.startswith(f"surrogate.{key}: ") and "\n" not in line
     assert allowed in line, line
+
+
+def _regional(n_cases: int, rows: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Grouped data whose error size is set by an input that barely moves the prediction.
+
+    y = 2 x0 + 0.1 x1 + s(x1) (case effect N(0, 0.5^2) + row noise N(0, 1)),
+    s = 0.15 below x1 = 0.5 and 0.6 above (x0, x1 drawn per case): like the
+    drill string's rpm, which moves the damage rate little but decides
+    whether the string may settle in partial stick-slip, where the errors are
+    several times larger. A width per bin of the prediction cannot see x1.
+    """
+    rng = np.random.default_rng(seed)
+    x0 = np.repeat(rng.uniform(0.0, 1.0, n_cases), rows)
+    x1 = np.repeat(rng.uniform(0.0, 1.0, n_cases), rows)
+    case = np.repeat(rng.normal(0.0, 0.5, n_cases), rows)
+    s = np.where(x1 > 0.5, 0.6, 0.15)
+    y = 2.0 * x0 + 0.1 * x1 + s * (case + rng.normal(0.0, 1.0, x0.size))
+    groups = np.repeat([f"r{seed}_{i:04d}" for i in range(n_cases)], rows)
+    return np.column_stack([x0, x1]), y, groups
+
+
+def test_scaled_interval_follows_the_error_where_the_decade_bins_cannot() -> None:
+    # 200 training cases x 10 rows; scored on 400 new cases (~2000 rows per region):
+    # the per-decade width over-covers the quiet half and under-covers the noisy one;
+    # the scaled width covers both near the nominal 0.9, and is narrower on average
+    x, y, g = _regional(200, ROWS, seed=3)
+    x_new, y_new, _ = _regional(400, ROWS, seed=77)
+    every = np.ones(y.size, dtype=bool)
+    noisy = x_new[:, 1] > 0.5
+    out = {}
+    for kind in ("per_decade", "scaled"):
+        cfg = CFG.model_copy(update={"gbm_interval": kind})
+        model, meta = fit_served_gbm(x, y, g, every, None, cfg)
+        assert meta["interval"] == kind
+        mu = model.predict(x_new)
+        half = half_width(mu, meta, interval_bins(meta), interval_scale(model, x_new))
+        ok = np.abs(y_new - mu) <= half
+        out[kind] = (ok[~noisy].mean(), ok[noisy].mean(), float(np.mean(half)))
+    quiet_d, noisy_d, _ = out["per_decade"]
+    quiet_s, noisy_s, _ = out["scaled"]
+    # tolerance 0.05: ~200 cases per region, the case effect shared by its 10 rows
+    # (standard error of a coverage ~0.02)
+    assert quiet_d > 0.97 and noisy_d < 0.85
+    assert abs(quiet_s - COVERAGE) < 0.05 and abs(noisy_s - COVERAGE) < 0.05
+    assert out["scaled"][2] < out["per_decade"][2]
+
+
+def test_scaled_interval_needs_its_scale_and_travels_with_the_model() -> None:
+    import pickle
+
+    x, y, g = _regional(40, ROWS, seed=5)
+    every = np.ones(y.size, dtype=bool)
+    model, meta = fit_served_gbm(x, y, g, every, None,
+                                 CFG.model_copy(update={"gbm_interval": "scaled"}))
+    with pytest.raises(ValueError, match="scale"):
+        half_width(model.predict(x), meta, interval_bins(meta))
+    again = pickle.loads(pickle.dumps(model))
+    np.testing.assert_array_equal(interval_scale(again, x), interval_scale(model, x))
+    assert np.all(interval_scale(model, x) > 0.0)
+    # per_decade and constant models carry no scale model
+    plain, _ = fit_served_gbm(x, y, g, every, None, CFG)
+    assert not hasattr(plain, SCALE_ATTRIBUTE) and interval_scale(plain, x) is None
+
+
+def test_scaled_interval_keeps_the_global_width_beyond_the_horizon() -> None:
+    # rows predicted beyond the horizon answer "longer than": their calibration rows are
+    # mostly censored with a zero residual, so their width is the one global quantile
+    x, y, g = _regional(60, ROWS, seed=8)
+    every = np.ones(y.size, dtype=bool)
+    cfg = CFG.model_copy(update={"gbm_interval": "scaled", "censoring": "likelihood",
+                                 "horizon_h": 10.0 ** -0.5})
+    model, meta = fit_served_gbm(x, y, g, every, None, cfg)
+    mu = model.predict(x)
+    half = half_width(mu, meta, interval_bins(meta), interval_scale(model, x))
+    beyond = mu < 0.5
+    assert beyond.any() and (~beyond).any()
+    np.testing.assert_array_equal(half[beyond], meta["conformal_quantile"])
+    assert np.ptp(half[~beyond]) > 0.0

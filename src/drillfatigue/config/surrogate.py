@@ -90,8 +90,10 @@ class SurrogateConfig(StrictModel):
     # conformal by decade of the predicted log10 rate, bins merged until each
     # has conformal_bin_min_rows calibration rows: the residual spread depends
     # on the rate) or constant (one width); 50 rows: see
-    # drillfatigue.surrogate.conformal.MONDRIAN_MIN_ROWS ---
-    gbm_interval: Literal["per_decade", "constant"] = "per_decade"
+    # drillfatigue.surrogate.conformal.MONDRIAN_MIN_ROWS;
+    # scaled: the same bins of normalised scores |r| / s(x), s from a small model of the
+    # out-of-fold residual's size (drillfatigue.surrogate.served_gbm) ---
+    gbm_interval: Literal["per_decade", "constant", "scaled"] = "scaled"
     conformal_bin_min_rows: int = Field(50, ge=2, le=1_000_000)
     # --- calibration of the served gradient boosting: cross (cross-conformal by
     # case: the out-of-fold residuals of every case it trains on, conformal_folds

@@ -105,7 +105,8 @@ MONDRIAN_MIN_ROWS = 50
 
 def mondrian_bins(mu: np.ndarray, y: np.ndarray, coverage: float,
                   min_rows: int = MONDRIAN_MIN_ROWS, censor_below: float | None = None,
-                  bin_width: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+                  bin_width: float = 1.0, scale: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
     """Mondrian split-conformal half-widths by bin of the predicted value.
 
     The calibration rows are binned by their *prediction* ``mu`` (unit-width
@@ -137,13 +138,19 @@ def mondrian_bins(mu: np.ndarray, y: np.ndarray, coverage: float,
         the level).
     bin_width : float
         Width of the initial bins in units of ``mu``.
+    scale : ndarray, shape (n,), optional
+        Positive scale of each row's residual (normalised conformal: the
+        score is ``|y - mu| / scale``, Papadopoulos et al. 2002; Lei et al.
+        2018, sec. 5.2); the returned half-widths are then multipliers of a
+        query's own scale. Without it the score is ``|y - mu|``.
 
     Returns
     -------
     edges : ndarray, shape (k - 1,)
         Inner bin edges, increasing (empty: one bin).
     half_widths : ndarray, shape (k,)
-        Half-width of the interval of each bin; a prediction's bin is
+        Half-width of the interval of each bin (with ``scale``: the multiplier
+        of the query's scale); a prediction's bin is
         ``np.searchsorted(edges, mu, side="right")``, so predictions beyond
         the outer edges take the outer bins.
     """
@@ -161,11 +168,18 @@ def mondrian_bins(mu: np.ndarray, y: np.ndarray, coverage: float,
     if not bin_width > 0.0:
         raise InputError("bin_width", f"must be > 0, got {bin_width}", "> 0")
     scores = np.abs(y - mu)
-    below: list[float] = []
-    binned = np.ones(mu.shape, dtype=bool)
     if censor_below is not None:
         cens = y <= censor_below
         scores[cens] = np.maximum(mu[cens] - censor_below, 0.0)
+    if scale is not None:
+        scale = np.asarray(scale, dtype=np.float64).reshape(-1)
+        if scale.shape != mu.shape or not np.all(np.isfinite(scale) & (scale > 0.0)):
+            raise InputError("calibration scale", "not one finite positive value per row",
+                             "finite scales > 0, one per calibration row")
+        scores = scores / scale
+    below: list[float] = []
+    binned = np.ones(mu.shape, dtype=bool)
+    if censor_below is not None:
         # Predictions below the censoring level form one bin of the global
         # width: their calibration rows are mostly censored with score 0 (the
         # prediction already lies below the level), so a quantile of their own

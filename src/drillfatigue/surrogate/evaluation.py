@@ -69,7 +69,8 @@ from drillfatigue.surrogate.data import Split, check_columns, gbm_rows, log10_ta
 from drillfatigue.surrogate.facade import Surrogate
 from drillfatigue.surrogate.gbm import design_matrix, monotone_constraints
 from drillfatigue.surrogate.io import save_figure
-from drillfatigue.surrogate.served_gbm import fit_served_gbm, half_width, interval_bins
+from drillfatigue.surrogate.served_gbm import (fit_served_gbm, half_width, interval_bins,
+                                               interval_scale)
 
 LOG10_2 = math.log10(2.0)
 
@@ -245,7 +246,7 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
                        "n_train_cases": len(info["train_cases"])}
         info.pop("train_cases")
         mu_h = hgb.predict(x_te)
-        half = half_width(mu_h, info, interval_bins(info))
+        half = half_width(mu_h, info, interval_bins(info), interval_scale(hgb, x_te))
         metrics["hgb"] = (score(y_te, mu_h, mu_h - half, mu_h + half)
                           | {"train_rows": int(fit_rows.sum())} | info)
         out["hgb"], out["hgb_lower"], out["hgb_upper"] = mu_h, mu_h - half, mu_h + half

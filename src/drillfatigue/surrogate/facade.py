@@ -43,7 +43,7 @@ from drillfatigue.surrogate.gbm import FlatForest, design_matrix, monotone_const
 from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
-from drillfatigue.surrogate.served_gbm import fit_served_gbm, half_width, interval_bins
+from drillfatigue.surrogate.served_gbm import fit_served_gbm, half_width, interval_bins, scale_model
 
 FORMAT_VERSION = 1
 #: Kind of the ownership marker of a model folder (:class:`drillfatigue.files.OutputFolder`).
@@ -91,6 +91,8 @@ class Surrogate:
         # served gradient boosting (None: the ensemble answers)
         self.gbm = gbm
         self._forest: FlatForest | None = None
+        # the served gbm's scale model (gbm_interval: scaled) as a flat forest
+        self._scale_forest: FlatForest | None = None
         # the served gbm's interval bins as arrays (edges, half-widths), built with the forest
         self._bins: tuple[np.ndarray, np.ndarray] | None = None
         self._scripted: torch.jit.ScriptModule | None = None
@@ -318,15 +320,21 @@ class Surrogate:
         design matrix). The interval's half-width is that of the prediction's
         bin of log10 rate (Mondrian conformal,
         :func:`~drillfatigue.surrogate.conformal.mondrian_bins`) when the
-        model has bins, else the one global conformal quantile (models saved
-        with ``gbm_interval: constant`` or before the bins existed).
+        model has bins, times the row's scale from the scale model for a
+        ``scaled`` interval (:mod:`~drillfatigue.surrogate.served_gbm`), else
+        the one global conformal quantile (models saved with
+        ``gbm_interval: constant`` or before the bins existed).
         """
         g = self.metadata["gbm"]
         if self._forest is None:
             self._forest = FlatForest(self.gbm, self.preprocessor)
             self._bins = interval_bins(g)
+            sm = scale_model(self.gbm)
+            self._scale_forest = None if sm is None else FlatForest(sm, self.preprocessor)
         mu = self._forest.predict(x_num, x_cat)
-        half = half_width(mu, g, self._bins)
+        scale = (None if self._scale_forest is None
+                 else np.exp(self._scale_forest.predict(x_num, x_cat)))
+        half = half_width(mu, g, self._bins, scale)
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
                "lower": mu - half, "upper": mu + half}
         return self._finish(res, x_num, ood, knn, distances)

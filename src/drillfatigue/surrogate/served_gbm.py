@@ -40,6 +40,25 @@ errors: the exchangeable unit is the case, so the quantiles carry the
 case-to-case scatter of the number of training cases (all of them here,
 against the calibration cases alone with ``split``). Its coverage is
 measured, not assumed: docs/surrogate.md, "Cross-conformal calibration".
+
+Three interval shapes (``surrogate.gbm_interval``): ``constant`` (one
+width), ``per_decade`` (Mondrian bins of the predicted decade) and
+``scaled`` (normalised conformal within the same bins: Papadopoulos,
+Proedrou, Vovk & Gammerman 2002; Lei et al. 2018, sec. 5.2). With
+``scaled``, a small gradient boosting (the *scale model*) learns the log of
+the calibration rows' absolute residual from the inputs, its prediction
+``s(x)`` is cross-fitted over folds of whole calibration cases (a row's own
+residual never shapes its scale), the conformal scores are ``|r| / s(x)``
+and a query's half-width is its bin's multiplier times ``s(x)`` (an
+answer beyond the horizon keeps the one global width of ``per_decade``:
+its calibration rows are mostly censored with zero residual). The
+residual spread is not a function of the predicted rate alone: on the
+research-scale data the served model's residuals are three times larger
+where the string may settle in partial stick-slip (above ~140 rpm) than in
+the full stick-slip of low rpm, so one width per decade covered 0.99 of the
+rows at 80-110 rpm and 0.84 above 160 rpm (docs/surrogate.md, "An
+interval that follows the error"). The scale model travels with the
+regressor as its attribute :data:`SCALE_ATTRIBUTE` (pickled with it).
 """
 
 from __future__ import annotations
@@ -56,6 +75,50 @@ from drillfatigue.errors import InputError
 from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins, mondrian_half_width
 from drillfatigue.surrogate.data import case_folds
 from drillfatigue.surrogate.gbm import fit_gbm
+
+#: the scale model of ``gbm_interval: scaled``: a smooth, small gradient boosting of
+#: log(|residual| + SCALE_FLOOR_LOG10) (few shallow trees on well-populated leaves: it
+#: learns where the error is large, not each case's residual)
+SCALE_MAX_ITER = 30
+SCALE_LEARNING_RATE = 0.15
+SCALE_MAX_LEAF_NODES = 15
+SCALE_MIN_SAMPLES_LEAF = 200
+#: decades added to |residual| before its log: a zero residual (a censored row predicted
+#: beyond the horizon) has a finite log, and no scale collapses to zero
+SCALE_FLOOR_LOG10 = 0.02
+#: the attribute of the fitted regressor that holds its scale model
+SCALE_ATTRIBUTE = "drillfatigue_interval_scale_"
+
+
+def calibration_residuals(mu: np.ndarray, y: np.ndarray, censor: float | None) -> np.ndarray:
+    """Absolute residuals as the conformal calibration scores them, decades: a row simulated
+    at or below the censoring level counts only the prediction's excess above it."""
+    r = np.abs(np.asarray(y, dtype=np.float64) - mu)
+    if censor is not None:
+        cens = y <= censor
+        r[cens] = np.maximum(mu[cens] - censor, 0.0)
+    return r
+
+
+def fit_scale_model(x: np.ndarray, residual: np.ndarray, seed: int
+                    ) -> HistGradientBoostingRegressor:
+    """The scale model: log(|residual| + :data:`SCALE_FLOOR_LOG10`) from the inputs."""
+    return HistGradientBoostingRegressor(
+        max_iter=SCALE_MAX_ITER, learning_rate=SCALE_LEARNING_RATE,
+        max_leaf_nodes=SCALE_MAX_LEAF_NODES, min_samples_leaf=SCALE_MIN_SAMPLES_LEAF,
+        early_stopping=False, random_state=seed).fit(x, np.log(residual + SCALE_FLOOR_LOG10))
+
+
+def scale_model(model: HistGradientBoostingRegressor) -> HistGradientBoostingRegressor | None:
+    """The scale model a :func:`fit_served_gbm` regressor carries (None: not ``scaled``)."""
+    return getattr(model, SCALE_ATTRIBUTE, None)
+
+
+def interval_scale(model: HistGradientBoostingRegressor, x: np.ndarray) -> np.ndarray | None:
+    """Scale ``s(x)`` (decades) of each row of the design matrix ``x``; None when the model
+    has no scale model (``gbm_interval`` ``per_decade`` or ``constant``)."""
+    sm = scale_model(model)
+    return None if sm is None else np.exp(sm.predict(x))
 
 
 def out_of_fold_predictions(model: HistGradientBoostingRegressor, x: np.ndarray, y: np.ndarray,
@@ -105,8 +168,9 @@ def fit_served_gbm(x: np.ndarray, y: np.ndarray, groups: np.ndarray, fit: np.nda
         folds seeded by ``cfg.split_seed``).
     cfg : SurrogateConfig
         ``coverage``, ``gbm_interval`` (``per_decade``: Mondrian bins of
-        ``conformal_bin_min_rows`` rows or more), censoring, the early
-        stopping of :func:`~drillfatigue.surrogate.gbm.fit_gbm`.
+        ``conformal_bin_min_rows`` rows or more; ``scaled``: the same bins of
+        normalised scores, module doc), censoring, the early stopping of
+        :func:`~drillfatigue.surrogate.gbm.fit_gbm`.
     monotone : ndarray of int, shape (d,), optional
         scikit-learn ``monotonic_cst``.
 
@@ -120,9 +184,11 @@ def fit_served_gbm(x: np.ndarray, y: np.ndarray, groups: np.ndarray, fit: np.nda
         ``conformal_quantile`` (global half-width, decades), ``sigma_log10``
         (RMS calibration residual: out-of-fold with ``cross``),
         ``interval``, ``train_cases`` (sorted case ids of the ``fit`` rows),
-        ``n_train_rows`` and, with ``per_decade``, ``conformal_bins_log10``
-        and ``conformal_half_widths``
-        (:func:`~drillfatigue.surrogate.conformal.mondrian_bins`).
+        ``n_train_rows`` and, with ``per_decade`` or ``scaled``,
+        ``conformal_bins_log10`` and ``conformal_half_widths``
+        (:func:`~drillfatigue.surrogate.conformal.mondrian_bins`; with
+        ``scaled`` multipliers of the query's scale, and the model carries its
+        scale model: :func:`interval_scale`).
     """
     g = np.asarray(groups).astype(str)
     fit = np.asarray(fit, dtype=bool)
@@ -154,9 +220,30 @@ def fit_served_gbm(x: np.ndarray, y: np.ndarray, groups: np.ndarray, fit: np.nda
         "sigma_log10": float(np.sqrt(np.mean((mu_c - y_c) ** 2))),
         "interval": cfg.gbm_interval, "n_train_rows": int(fit.sum()),
         "train_cases": sorted(np.unique(g_f).tolist())}
-    if cfg.gbm_interval == "per_decade":
+    scale_c = None
+    if cfg.gbm_interval == "scaled":
+        # the scale of a calibration row comes from a scale model that did not see the
+        # row's case (folds of whole calibration cases); the served one sees them all
+        x_c = x_f if calibration is None else x[calibration]
+        r_c = calibration_residuals(mu_c, y_c, censor)
+        n_cases = int(np.unique(g_c).size)
+        if n_cases < 2:
+            raise InputError(field, "one calibration case cannot cross-fit the interval's "
+                             "scale", allowed)
+        folds_c = case_folds(g_c, min(cfg.conformal_folds, n_cases), cfg.split_seed)
+        scale_c = np.empty_like(r_c)
+        for k in np.unique(folds_c):
+            out = folds_c == k
+            scale_c[out] = np.exp(fit_scale_model(x_c[~out], r_c[~out], cfg.split_seed)
+                                  .predict(x_c[out]))
+        setattr(model, SCALE_ATTRIBUTE, fit_scale_model(x_c, r_c, cfg.split_seed))
+        meta["scale_floor_log10"] = SCALE_FLOOR_LOG10
+        # an answer "longer than the horizon" keeps the one global width: its calibration
+        # rows are mostly censored with a zero residual, which would shrink its scale
+        meta["censor_level_log10"] = censor
+    if cfg.gbm_interval in ("per_decade", "scaled"):
         edges, half = mondrian_bins(mu_c, y_c, cfg.coverage, cfg.conformal_bin_min_rows,
-                                    censor_below=censor)
+                                    censor_below=censor, scale=scale_c)
         meta |= {"conformal_bins_log10": edges.tolist(), "conformal_half_widths": half.tolist()}
     return model, meta
 
@@ -171,9 +258,27 @@ def interval_bins(meta: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def half_width(mu: np.ndarray, meta: dict[str, Any],
-               bins: tuple[np.ndarray, np.ndarray] | None) -> float | np.ndarray:
+               bins: tuple[np.ndarray, np.ndarray] | None,
+               scale: np.ndarray | None = None) -> float | np.ndarray:
     """Interval half-width (decades) of predictions ``mu``: their bin's with ``bins``
-    (:func:`interval_bins` of ``meta``), else ``meta``'s one conformal quantile."""
+    (:func:`interval_bins` of ``meta``) times the rows' ``scale`` for a ``scaled``
+    interval (:func:`interval_scale`; a prediction beyond the horizon keeps the one
+    global width), else ``meta``'s one conformal quantile.
+
+    Raises
+    ------
+    ValueError
+        A ``scaled`` interval without the rows' scale.
+    """
+    if meta.get("interval") == "scaled":
+        if scale is None or bins is None:
+            raise ValueError("a scaled interval needs its bins and the rows' scale "
+                             "(interval_scale of the served regressor)")
+        half = mondrian_half_width(mu, *bins) * scale
+        level = meta.get("censor_level_log10")
+        if level is not None:
+            half = np.where(mu < level, float(meta["conformal_quantile"]), half)
+        return half
     if bins is not None:
         return mondrian_half_width(mu, *bins)
     return float(meta["conformal_quantile"])
