@@ -101,3 +101,14 @@ def test_stream_counts_equal_whole_history(chunk: int) -> None:
     got = _sorted(np.concatenate([p.ranges for p in parts]),
                   np.concatenate([p.count for p in parts]))
     assert got == _sorted(whole.ranges, whole.count)
+
+
+def test_exact_reversals_keep_a_turn_whose_differences_multiply_below_the_smallest_double() -> None:
+    # differences of 2 and 1.7e-171 around the dip: their product (3e-342) underflows to
+    # -0.0; the turn is a change of sign and is kept, and the dip's cycle closes
+    e = 1.7317028894306911e-171
+    rev, idx = find_exact_reversals(np.array([2.0, 0.0, -e, 0.0, -1.0]))
+    np.testing.assert_array_equal(rev, [2.0, -e, 0.0, -1.0])
+    np.testing.assert_array_equal(idx, [0, 2, 3, 4])
+    tiny = concatenate_reversals(np.array([0.0, e]), np.array([2 * e, -1.0]))
+    np.testing.assert_array_equal(tiny, [0.0, 2 * e, -1.0])

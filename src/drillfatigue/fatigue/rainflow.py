@@ -126,7 +126,10 @@ def find_exact_reversals(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if z.size < 3:
         return z, idx
     d = np.diff(z)
-    turn = np.flatnonzero(d[:-1] * d[1:] < 0.0) + 1
+    # a turn is a change of the difference's sign (no difference is zero here): compared
+    # by sign, not by the product, which underflows to -0.0 for differences below ~1e-154
+    rising = d > 0.0
+    turn = np.flatnonzero(rising[:-1] != rising[1:]) + 1
     ridx = np.r_[0, turn, z.size - 1]
     return z[ridx], idx[ridx]
 
@@ -163,7 +166,8 @@ def concatenate_reversals(r1: np.ndarray, r2: np.ndarray) -> np.ndarray:
     [0, 5, 1]), so those cases, and sequences shorter than two points, are
     joined by an exact peak-valley filter of the concatenation.
     """
-    if r1.size >= 2 and r2.size >= 2 and (r1[-1] - r1[-2]) * (r2[1] - r2[0]) > 0.0:
+    if (r1.size >= 2 and r2.size >= 2 and r1[-1] != r1[-2] and r2[1] != r2[0]
+            and (r1[-1] > r1[-2]) == (r2[1] > r2[0])):
         try:
             return fatpack.concatenate_reversals(r1, r2)
         except ValueError:
