@@ -53,10 +53,11 @@ and a query's half-width is its bin's multiplier times ``s(x)`` (an
 answer beyond the horizon keeps the one global width of ``per_decade``:
 its calibration rows are mostly censored with zero residual). The
 residual spread is not a function of the predicted rate alone: on the
-research-scale data the served model's residuals are three times larger
-where the string may settle in partial stick-slip (above ~140 rpm) than in
-the full stick-slip of low rpm, so one width per decade covered 0.99 of the
-rows at 80-110 rpm and 0.84 above 160 rpm (docs/surrogate.md, "An
+research-scale data the served model misses a factor 2 on a quarter of the
+rows where the string may settle in partial stick-slip (above ~140 rpm) and
+on 2 % in the full stick-slip of low rpm, so one width per decade covered
+0.99 of the rows at 80-110 rpm and 0.84 above 160 rpm (the learned scale is
+about twice as large above 160 rpm as below 110 rpm) (docs/surrogate.md, "An
 interval that follows the error"). The scale model travels with the
 regressor as its attribute :data:`SCALE_ATTRIBUTE` (pickled with it).
 """
