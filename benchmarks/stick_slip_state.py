@@ -69,6 +69,7 @@ from drillfatigue.sweep.dataset import summary_dynamics
 from drillfatigue.surrogate.data import case_folds, log10_target
 from drillfatigue.surrogate.evaluation import deciding_metrics
 from drillfatigue.surrogate.gbm import design_matrix, fit_gbm, monotone_constraints
+from drillfatigue.surrogate.io import write_json
 from drillfatigue.surrogate.model import Preprocessor
 
 RESULT = Path(__file__).parent / "results" / "stick_slip_state.json"
@@ -284,7 +285,7 @@ def main(argv: list[str] | None = None) -> int:
     res["served_misses_heldout"] = {key: _misses(d, key)
                                     for key in ("state", "rpm_band", "classifier")}
     res["wall_s"] = round(time.perf_counter() - t0, 1)
-    Path(args.out).write_text(json.dumps(res, indent=1) + "\n", encoding="utf-8")
+    write_json(res, args.out)  # atomic: no half-written result under the final name
     print(json.dumps({k: v for k, v in res.items() if k != "row_model"}, indent=1))
     return 0
 

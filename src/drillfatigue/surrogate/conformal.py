@@ -103,6 +103,18 @@ class SplitConformal:
 MONDRIAN_MIN_ROWS = 50
 
 
+def censored_residuals(mu: np.ndarray, y: np.ndarray, censor_below: float | None
+                       ) -> np.ndarray:
+    """Absolute residuals ``|y - mu|`` as the conformal calibration scores them: a row with
+    ``y <= censor_below`` (censored, "at most the level") counts only the prediction's
+    excess above the level."""
+    scores = np.abs(y - mu)
+    if censor_below is not None:
+        cens = y <= censor_below
+        scores[cens] = np.maximum(mu[cens] - censor_below, 0.0)
+    return scores
+
+
 def mondrian_bins(mu: np.ndarray, y: np.ndarray, coverage: float,
                   min_rows: int = MONDRIAN_MIN_ROWS, censor_below: float | None = None,
                   bin_width: float = 1.0, scale: np.ndarray | None = None
@@ -167,10 +179,7 @@ def mondrian_bins(mu: np.ndarray, y: np.ndarray, coverage: float,
                          "conformal quantile", f">= {need}")
     if not bin_width > 0.0:
         raise InputError("bin_width", f"must be > 0, got {bin_width}", "> 0")
-    scores = np.abs(y - mu)
-    if censor_below is not None:
-        cens = y <= censor_below
-        scores[cens] = np.maximum(mu[cens] - censor_below, 0.0)
+    scores = censored_residuals(mu, y, censor_below)
     if scale is not None:
         scale = np.asarray(scale, dtype=np.float64).reshape(-1)
         if scale.shape != mu.shape or not np.all(np.isfinite(scale) & (scale > 0.0)):

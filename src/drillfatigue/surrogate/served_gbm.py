@@ -73,7 +73,8 @@ from sklearn.ensemble import HistGradientBoostingRegressor
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.conformal import SplitConformal, mondrian_bins, mondrian_half_width
+from drillfatigue.surrogate.conformal import (SplitConformal, censored_residuals, mondrian_bins,
+                                             mondrian_half_width)
 from drillfatigue.surrogate.data import case_folds
 from drillfatigue.surrogate.gbm import fit_gbm
 
@@ -89,16 +90,6 @@ SCALE_MIN_SAMPLES_LEAF = 200
 SCALE_FLOOR_LOG10 = 0.02
 #: the attribute of the fitted regressor that holds its scale model
 SCALE_ATTRIBUTE = "drillfatigue_interval_scale_"
-
-
-def calibration_residuals(mu: np.ndarray, y: np.ndarray, censor: float | None) -> np.ndarray:
-    """Absolute residuals as the conformal calibration scores them, decades: a row simulated
-    at or below the censoring level counts only the prediction's excess above it."""
-    r = np.abs(np.asarray(y, dtype=np.float64) - mu)
-    if censor is not None:
-        cens = y <= censor
-        r[cens] = np.maximum(mu[cens] - censor, 0.0)
-    return r
 
 
 def fit_scale_model(x: np.ndarray, residual: np.ndarray, seed: int
@@ -226,7 +217,7 @@ def fit_served_gbm(x: np.ndarray, y: np.ndarray, groups: np.ndarray, fit: np.nda
         # the scale of a calibration row comes from a scale model that did not see the
         # row's case (folds of whole calibration cases); the served one sees them all
         x_c = x_f if calibration is None else x[calibration]
-        r_c = calibration_residuals(mu_c, y_c, censor)
+        r_c = censored_residuals(mu_c, y_c, censor)
         n_cases = int(np.unique(g_c).size)
         if n_cases < 2:
             raise InputError(field, "one calibration case cannot cross-fit the interval's "
