@@ -22,7 +22,9 @@ only: speed does not depend on how well it is trained. Measured on this CPU,
   with the k-NN distance of every row), the domain check alone, the
   evaluators served before (leaf masks one row at a time in 64-bit words,
   the exact k-NN distance of every row) for a before/after ratio under the
-  same load, and the flags of both on every row of the batch,
+  same load, the trees of the regressor and of the scale model in one pass
+  (``forest_one_pass``, served) against two (``forest_two_passes``), and the
+  flags of both domain checks on every row of the batch,
   scikit-learn's own ``predict`` on the design matrix for reference, and the
   single-query latency; ``--served-model DIR --served-data PARQUET`` also measures a saved
   model (e.g. the train stage's ``data/surrogate/model``) on 10^5 rows drawn
@@ -82,6 +84,7 @@ from drillfatigue.surrogate.io import write_json
 from drillfatigue.surrogate.kernels import _design_value, _rank
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
+from drillfatigue.surrogate.served_gbm import scale_model
 
 RESULT = Path(__file__).parent / "results" / "surrogate.json"
 PARAMS = Path(__file__).resolve().parents[1] / "params.yaml"
@@ -217,8 +220,17 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
     forest = model._forest
     dom = model.domain
     assert forest is not None
+    # the regressor's trees alone (the served form before a scale model shared its pass),
+    # and the scale model's alone
+    regressor = FlatForest(model.gbm, model.preprocessor)
+    sm = scale_model(model.gbm)
+    scale_alone = None if sm is None else FlatForest(sm, model.preprocessor)
     served = model.predict_array(x_num, x_cat)
-    assert np.array_equal(_previous_trees(forest, x_num, x_cat), served["log10"])
+    assert np.array_equal(_previous_trees(regressor, x_num, x_cat), served["log10"])
+    if scale_alone is not None:
+        both = forest.predict(x_num, x_cat)
+        assert np.array_equal(both[:, 0], served["log10"])
+        assert np.array_equal(both[:, 1], scale_alone.predict(x_num, x_cat))
     assert np.array_equal(model.gbm.predict(design_matrix(model.preprocessor, x_num, x_cat)),
                           served["log10"])
 
@@ -237,8 +249,15 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
                  "rows_without_distance": int(np.isnan(dist_now).sum())}
 
     def previous_full() -> None:
-        _previous_trees(forest, x_num, x_cat)
+        _previous_trees(regressor, x_num, x_cat)
+        if scale_alone is not None:
+            scale_alone.predict(x_num, x_cat)
         dom.check(x_num, distances=True)
+
+    def two_passes() -> None:
+        regressor.predict(x_num, x_cat)
+        if scale_alone is not None:
+            scale_alone.predict(x_num, x_cat)
 
     batched = {
         "trees_only": _median_rate(lambda: model.predict_array(x_num, x_cat, ood=False), n,
@@ -250,7 +269,9 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
         "with_range_and_knn_ood_all_distances": _median_rate(
             lambda: model.predict_array(x_num, x_cat, distances=True), n, max(1, repeats // 2)),
         "domain_check_only": _median_rate(lambda: dom.check(x_num), n, repeats),
-        "previous_trees_only": _median_rate(lambda: _previous_trees(forest, x_num, x_cat), n,
+        "forest_one_pass": _median_rate(lambda: forest.predict(x_num, x_cat), n, repeats),
+        "forest_two_passes": _median_rate(two_passes, n, repeats),
+        "previous_trees_only": _median_rate(lambda: _previous_trees(regressor, x_num, x_cat), n,
                                             repeats),
         "previous_knn_only": _median_rate(lambda: dom.check(x_num, distances=True), n,
                                           max(1, repeats // 2)),
@@ -269,6 +290,7 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
         torch.set_num_threads(threads)
     r = {k: v["predictions_per_s"] for k, v in batched.items()}
     ratios = {"trees_only": r["trees_only"] / r["previous_trees_only"],
+              "forest_one_pass_vs_two": r["forest_one_pass"] / r["forest_two_passes"],
               "knn_only": r["domain_check_only"] / r["previous_knn_only"],
               "with_range_and_knn_ood": (r["with_range_and_knn_ood"]
                                          / r["previous_with_range_and_knn_ood"]),

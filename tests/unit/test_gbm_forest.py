@@ -201,3 +201,48 @@ def test_property_rank_from_any_guess_is_exact(cuts, v, guess):
     r = _rank_near(padded, lo, hi, lo + min(guess, c.size), v)
     assert r - lo == np.searchsorted(c, v, side="left")
     assert r - lo == _rank(padded, lo, hi, v) - lo
+
+
+def _sharing_models(leaves: int) -> tuple[Preprocessor, np.ndarray, np.ndarray, list]:
+    # a regressor and a small second model (the served interval's scale model is one)
+    # on the same design matrix, with thresholds of their own on every column
+    rng = np.random.default_rng(11)
+    x = rng.normal(size=(3000, 4))
+    y = np.sin(3 * x[:, 0]) + x[:, 1] * x[:, 2] + 0.1 * rng.normal(size=3000)
+    pre = Preprocessor(["a", "b", "c", "d"])
+    pre.mean_, pre.scale_, pre.categories_ = np.zeros(4), np.ones(4), {}
+    first = HistGradientBoostingRegressor(max_iter=25, max_leaf_nodes=leaves,
+                                          min_samples_leaf=5, random_state=0).fit(x, y)
+    second = HistGradientBoostingRegressor(max_iter=7, max_leaf_nodes=7, min_samples_leaf=50,
+                                           random_state=1).fit(x, np.abs(y - first.predict(x)))
+    return pre, x, np.zeros((3000, 0), dtype=np.int64), [first, second]
+
+
+@pytest.mark.parametrize("leaves, path", [(31, "leaf masks"), (100, "rank walk")])
+def test_models_sharing_one_pass_give_each_models_own_numbers(leaves, path):
+    pre, x, none, (first, second) = _sharing_models(leaves)
+    both = FlatForest(first, pre, extra=(second,))
+    assert both.n_outputs == 2 and both.n_trees == first.n_iter_ + second.n_iter_
+    assert (both.masks is None) == (path == "rank walk")
+    big = np.tile(x, (6, 1))  # chunked over threads as well as one thread
+    big_none = np.zeros((big.shape[0], 0), dtype=np.int64)
+    nan = big.copy()
+    nan[5, 2] = np.nan  # that chunk takes the float walk
+    for q, c in ((x[:500], none[:500]), (big, big_none), (nan, big_none)):
+        out = both.predict(q, c)
+        assert out.shape == (q.shape[0], 2)
+        # bit for bit: each column is that model's own evaluator's and scikit-learn's number
+        assert np.array_equal(out[:, 0], FlatForest(first, pre).predict(q, c))
+        assert np.array_equal(out[:, 1], FlatForest(second, pre).predict(q, c))
+        assert np.array_equal(out[:, 0], first.predict(q))
+        assert np.array_equal(out[:, 1], second.predict(q))
+    # a forest of one model keeps its (n,) answer
+    assert FlatForest(first, pre).predict(x, none).shape == (3000,)
+
+
+def test_models_sharing_one_pass_must_share_the_design_matrix():
+    pre, x, _, (first, _) = _sharing_models(31)
+    other = HistGradientBoostingRegressor(max_iter=3).fit(x[:, :3], x[:, 0])
+    with pytest.raises(InputError) as err:
+        FlatForest(first, pre, extra=(other,))
+    assert err.value.field == "gbm"

@@ -90,9 +90,8 @@ class Surrogate:
         self.module = module.eval()
         # served gradient boosting (None: the ensemble answers)
         self.gbm = gbm
+        # the served gbm's trees, and its scale model's (gbm_interval: scaled), as one flat forest
         self._forest: FlatForest | None = None
-        # the served gbm's scale model (gbm_interval: scaled) as a flat forest
-        self._scale_forest: FlatForest | None = None
         # the served gbm's interval bins as arrays (edges, half-widths), built with the forest
         self._bins: tuple[np.ndarray, np.ndarray] | None = None
         self._scripted: torch.jit.ScriptModule | None = None
@@ -317,8 +316,8 @@ class Surrogate:
 
         The trees are evaluated by :class:`~drillfatigue.surrogate.gbm.FlatForest`
         (built on first use; the same numbers as ``self.gbm.predict`` on the
-        design matrix). The interval's half-width is that of the prediction's
-        bin of log10 rate (Mondrian conformal,
+        design matrix), the scale model's in the same pass. The interval's
+        half-width is that of the prediction's bin of log10 rate (Mondrian conformal,
         :func:`~drillfatigue.surrogate.conformal.mondrian_bins`) when the
         model has bins, times the row's scale from the scale model for a
         ``scaled`` interval (:mod:`~drillfatigue.surrogate.served_gbm`), else
@@ -327,13 +326,16 @@ class Surrogate:
         """
         g = self.metadata["gbm"]
         if self._forest is None:
-            self._forest = FlatForest(self.gbm, self.preprocessor)
-            self._bins = interval_bins(g)
+            # the scale model's trees share the regressor's pass (inputs ranked once)
             sm = scale_model(self.gbm)
-            self._scale_forest = None if sm is None else FlatForest(sm, self.preprocessor)
-        mu = self._forest.predict(x_num, x_cat)
-        scale = (None if self._scale_forest is None
-                 else np.exp(self._scale_forest.predict(x_num, x_cat)))
+            self._forest = FlatForest(self.gbm, self.preprocessor,
+                                      extra=() if sm is None else (sm,))
+            self._bins = interval_bins(g)
+        out = self._forest.predict(x_num, x_cat)
+        if self._forest.n_outputs == 1:
+            mu, scale = out, None
+        else:
+            mu, scale = np.ascontiguousarray(out[:, 0]), np.exp(out[:, 1])
         half = half_width(mu, g, self._bins, scale)
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
                "lower": mu - half, "upper": mu + half}

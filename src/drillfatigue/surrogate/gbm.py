@@ -127,6 +127,13 @@ class FlatForest:
     prediction bit for bit (the same leaf values added in the same order to
     the same baseline; tested).
 
+    Models fitted on the same design matrix can share one evaluator
+    (``extra``: e.g. the served interval's scale model beside the
+    regressor): their trees follow the first model's, each row's inputs are
+    ranked once against the union of their thresholds, and :meth:`predict`
+    returns one column per model, each the number that model's own
+    evaluator (and scikit-learn) gives.
+
     Parameters
     ----------
     model : HistGradientBoostingRegressor
@@ -134,22 +141,31 @@ class FlatForest:
         no categorical splits.
     pre : Preprocessor
         The preprocessor whose :func:`design_matrix` the model was fitted on.
+    extra : sequence of HistGradientBoostingRegressor
+        Further models of the same kind on the same design matrix.
     """
 
-    def __init__(self, model: HistGradientBoostingRegressor, pre: Preprocessor) -> None:
-        loss = getattr(model, "loss", "squared_error")
-        if loss != "squared_error" or model.n_trees_per_iteration_ != 1:
-            raise InputError("gbm", f"loss {loss!r} with {model.n_trees_per_iteration_} trees per "
-                             "iteration", "a squared-error regressor")
-        nodes, roots, depth, offset = [], [], [], 0
-        for (tree,) in model._predictors:
-            t = tree.nodes
-            if np.any(t["is_categorical"]):
-                raise InputError("gbm", "categorical splits", "numeric inputs (one-hot levels)")
-            roots.append(offset)
-            depth.append(int(t["depth"].max()))
-            nodes.append((t, offset))
-            offset += t.shape[0]
+    def __init__(self, model: HistGradientBoostingRegressor, pre: Preprocessor,
+                 extra: Sequence[HistGradientBoostingRegressor] = ()) -> None:
+        models = (model, *extra)
+        nodes, roots, depth, output, offset = [], [], [], [], 0
+        for o, m in enumerate(models):
+            loss = getattr(m, "loss", "squared_error")
+            if loss != "squared_error" or m.n_trees_per_iteration_ != 1:
+                raise InputError("gbm", f"loss {loss!r} with {m.n_trees_per_iteration_} trees "
+                                 "per iteration", "a squared-error regressor")
+            for (tree,) in m._predictors:
+                t = tree.nodes
+                if np.any(t["is_categorical"]):
+                    raise InputError("gbm", "categorical splits",
+                                     "numeric inputs (one-hot levels)")
+                roots.append(offset)
+                depth.append(int(t["depth"].max()))
+                output.append(o)
+                nodes.append((t, offset))
+                offset += t.shape[0]
+        self.n_outputs = len(models)
+        self.tree_output = np.asarray(output, dtype=np.int64)
         self.roots = np.asarray(roots, dtype=np.int64)
         self.depth = np.asarray(depth, dtype=np.int64)
         leaf = np.concatenate([t["is_leaf"] for t, _ in nodes]).astype(bool)
@@ -166,7 +182,9 @@ class FlatForest:
         self.nan_right = (~leaf) & (np.concatenate([t["missing_go_to_left"] for t, _ in nodes])
                                     == 0)
         self.value = np.concatenate([t["value"] for t, _ in nodes]).astype(np.float64)
-        self.baseline = float(np.asarray(model._baseline_prediction).ravel()[0])
+        self.baselines = np.asarray([float(np.asarray(m._baseline_prediction).ravel()[0])
+                                     for m in models], dtype=np.float64)
+        self.baseline = float(self.baselines[0])
         col_cat, col_index, col_level = [], [], []
         for c in range(len(pre.numeric)):
             col_cat.append(0)
@@ -177,9 +195,11 @@ class FlatForest:
                 col_cat.append(1)
                 col_index.append(c)
                 col_level.append(level)
-        if len(col_cat) != model.n_features_in_:
-            raise InputError("gbm", f"fitted on {model.n_features_in_} inputs, the preprocessor "
-                             f"gives {len(col_cat)}", "the preprocessor the model was fitted with")
+        for m in models:
+            if len(col_cat) != m.n_features_in_:
+                raise InputError("gbm", f"fitted on {m.n_features_in_} inputs, the preprocessor "
+                                 f"gives {len(col_cat)}",
+                                 "the preprocessor the model was fitted with")
         self.col_cat = np.asarray(col_cat, dtype=np.int64)
         self.col_index = np.asarray(col_index, dtype=np.int64)
         self.col_level = np.asarray(col_level, dtype=np.int64)
@@ -338,32 +358,39 @@ class FlatForest:
         if np.isnan(x_num).any():  # NaN has no rank: the float walk, which knows its side
             forest_sum(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
                        self.col_level, self.feature, self.threshold, self.child,
-                       self.nan_right, self.value, self.roots, self.depth, self.baseline, out)
+                       self.nan_right, self.value, self.roots, self.depth, self.tree_output,
+                       self.baselines, out)
             return
         if self.masks is not None:
             forest_sum_leafmask(x_num, x_cat, self.mean, self.scale, self.col_cat,
                                 self.col_index, self.col_level, self.cuts, self.cut_start,
                                 self.grid_lo, self.grid_inv, self.grid_start, self.grid_rank,
                                 self.mask_start, self.masks, self.leaf_mask_value,
-                                self.baseline, out)
+                                self.tree_output, self.baselines, out)
             return
         forest_sum_ranked(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
                           self.col_level, self.cuts, self.cut_start, self.packed,
-                          self.leaf_value, self.ranked_roots, self.depth, self.baseline, out)
+                          self.leaf_value, self.ranked_roots, self.depth, self.tree_output,
+                          self.baselines, out)
 
     def predict(self, x_num: np.ndarray, x_cat: np.ndarray) -> np.ndarray:
-        """Prediction (n,) from raw numeric features (n, n_numeric) and level codes."""
+        """Prediction from raw numeric features (n, n_numeric) and level codes.
+
+        Shape (n,) for a forest of one model, (n, n_models) with ``extra``
+        models (column 0 the first model's).
+        """
         x_num = np.ascontiguousarray(x_num, dtype=np.float64)
         x_cat = np.ascontiguousarray(x_cat, dtype=np.int64).reshape(x_num.shape[0], -1)
         n = x_num.shape[0]
-        out = np.empty(n)
+        out2 = np.empty((n, self.n_outputs))
+        out = out2[:, 0] if self.n_outputs == 1 else out2
         if n <= _ONE_THREAD_ROWS:
-            self._run(x_num, x_cat, out)
+            self._run(x_num, x_cat, out2)
             return out
 
         def run(a: int) -> None:
             b = a + _CHUNK_ROWS
-            self._run(x_num[a:b], x_cat[a:b], out[a:b])
+            self._run(x_num[a:b], x_cat[a:b], out2[a:b])
 
         map_chunks(run, range(0, n, _CHUNK_ROWS))
         return out

@@ -66,8 +66,9 @@ def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np
                col_cat: np.ndarray, col_index: np.ndarray, col_level: np.ndarray,
                feature: np.ndarray, threshold: np.ndarray, child: np.ndarray,
                nan_right: np.ndarray, value: np.ndarray, roots: np.ndarray,
-               depth: np.ndarray, baseline: float, out: np.ndarray) -> None:
-    """Sum of the leaf values of a forest of binary regression trees, per row, into ``out``.
+               depth: np.ndarray, tree_output: np.ndarray, baseline: np.ndarray,
+               out: np.ndarray) -> None:
+    """Sums of the leaf values of forests of binary regression trees, per row, into ``out``.
 
     The model's input column ``j`` is built per row as the gradient boosting's
     design matrix builds it: a standardised numeric feature
@@ -79,18 +80,23 @@ def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np
     gradient boosting does on raw inputs; a leaf is its own child (threshold
     +inf), so ``depth[t]`` steps from ``roots[t]`` end on every row's leaf.
 
+    Several models can share one pass (their inputs ranked or built once):
+    tree ``t`` belongs to output ``tree_output[t]``, whose sum starts from
+    ``baseline[o]``; ``out`` is (n, n_outputs).
+
     Rows go down each tree in blocks, one level at a time for the whole block:
     the steps of different rows do not wait on each other, and no branch
     depends on where a row goes (measured 2x the throughput of walking one row
-    to its leaf after the other). Leaf values are added to ``baseline`` tree
-    by tree, in the model's order, so the sums are scikit-learn's float64
-    numbers.
+    to its leaf after the other). Leaf values are added to their output's
+    ``baseline`` tree by tree, in the model's order, so each sum is
+    scikit-learn's float64 number for that model.
     """
     n = x_num.shape[0]
     n_cols = col_cat.shape[0]
     n_trees = roots.shape[0]
+    n_out = baseline.shape[0]
     z = np.empty((_BLOCK, n_cols))
-    acc = np.empty(_BLOCK)
+    acc = np.empty((n_out, _BLOCK))
     node = np.empty(_BLOCK, dtype=np.int64)
     for b in range(0, n, _BLOCK):
         m = min(_BLOCK, n - b)
@@ -98,8 +104,11 @@ def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np
             for j in range(n_cols):
                 z[i, j] = _design_value(x_num, x_cat, mean, scale, col_cat, col_index,
                                         col_level, b + i, j)
-            acc[i] = baseline
+        for o in range(n_out):
+            for i in range(m):
+                acc[o, i] = baseline[o]
         for t in range(n_trees):
+            o = tree_output[t]
             root = roots[t]
             for i in range(m):
                 node[i] = root
@@ -110,9 +119,10 @@ def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np
                     right = (v > threshold[k]) | (math.isnan(v) & nan_right[k])
                     node[i] = child[k, 1] if right else child[k, 0]
             for i in range(m):
-                acc[i] += value[node[i]]
-        for i in range(m):
-            out[b + i] = acc[i]
+                acc[o, i] += value[node[i]]
+        for o in range(n_out):
+            for i in range(m):
+                out[b + i, o] = acc[o, i]
 
 
 _LEAF = 0xFFFF  # rank "threshold" of a leaf: above every rank, so a leaf never goes right
@@ -123,7 +133,8 @@ def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
                       scale: np.ndarray, col_cat: np.ndarray, col_index: np.ndarray,
                       col_level: np.ndarray, cuts: np.ndarray, cut_start: np.ndarray,
                       packed: np.ndarray, value: np.ndarray, roots: np.ndarray,
-                      depth: np.ndarray, baseline: float, out: np.ndarray) -> None:
+                      depth: np.ndarray, tree_output: np.ndarray, baseline: np.ndarray,
+                      out: np.ndarray) -> None:
     """:func:`forest_sum` on rows without NaN, with each input replaced by its rank.
 
     Input column ``j`` is built per row as in :func:`forest_sum`, then
@@ -136,15 +147,17 @@ def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
     child is ``left + 1``; a leaf is its own left child with rank
     threshold ``0xFFFF``, above every rank. A step is then two loads (the
     node, the row's rank) instead of five, on one cache line per node.
-    Leaf values are added to ``baseline`` tree by tree in the model's order:
-    the sums are :func:`forest_sum`'s (and scikit-learn's) float64 numbers.
-    A NaN input has no rank: such rows go to :func:`forest_sum`.
+    Leaf values are added to their output's ``baseline`` tree by tree in the
+    model's order (``tree_output``, ``out`` as there): the sums are
+    :func:`forest_sum`'s (and scikit-learn's) float64 numbers. A NaN input
+    has no rank: such rows go to :func:`forest_sum`.
     """
     n = x_num.shape[0]
     n_cols = col_cat.shape[0]
     n_trees = roots.shape[0]
+    n_out = baseline.shape[0]
     rank = np.empty((_BLOCK, n_cols), dtype=np.int64)
-    acc = np.empty(_BLOCK)
+    acc = np.empty((n_out, _BLOCK))
     node = np.empty(_BLOCK, dtype=np.int64)
     for b in range(0, n, _BLOCK):
         m = min(_BLOCK, n - b)
@@ -153,8 +166,11 @@ def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
                 v = _design_value(x_num, x_cat, mean, scale, col_cat, col_index, col_level,
                                   b + i, j)
                 rank[i, j] = _rank(cuts, cut_start[j], cut_start[j + 1], v) - cut_start[j]
-            acc[i] = baseline
+        for o in range(n_out):
+            for i in range(m):
+                acc[o, i] = baseline[o]
         for t in range(n_trees):
+            o = tree_output[t]
             root = roots[t]
             for i in range(m):
                 node[i] = root
@@ -163,9 +179,10 @@ def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
                     w = packed[node[i]]
                     node[i] = (w >> 32) + (rank[i, (w >> 16) & 0xFFFF] >= (w & 0xFFFF))
             for i in range(m):
-                acc[i] += value[node[i]]
-        for i in range(m):
-            out[b + i] = acc[i]
+                acc[o, i] += value[node[i]]
+        for o in range(n_out):
+            for i in range(m):
+                out[b + i, o] = acc[o, i]
 
 
 _ROWS = 32  # rows whose ranks, leaf masks and sums are formed together
@@ -187,7 +204,8 @@ def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
                         col_level: np.ndarray, cuts: np.ndarray, cut_start: np.ndarray,
                         grid_lo: np.ndarray, grid_inv: np.ndarray, grid_start: np.ndarray,
                         grid_rank: np.ndarray, mask_start: np.ndarray, masks: np.ndarray,
-                        leaf_value: np.ndarray, baseline: float, out: np.ndarray) -> None:
+                        leaf_value: np.ndarray, tree_output: np.ndarray, baseline: np.ndarray,
+                        out: np.ndarray) -> None:
     """:func:`forest_sum` on rows without NaN, by leaf masks: no tree is walked.
 
     The leaves of each tree (at most 32 with uint32 ``masks``, 64 with
@@ -202,8 +220,10 @@ def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
     AND of the leaf masks of tree ``t``'s splits on column ``j`` whose
     threshold lies below the value. A row is then one AND per column and
     tree (contiguous over trees: vectorised), and the lowest set bit per
-    tree picks ``leaf_value[t, leaf]``, added to ``baseline`` tree by tree
-    in the model's order: the sums are :func:`forest_sum`'s float64 numbers.
+    tree picks ``leaf_value[t, leaf]``, added to its output's ``baseline``
+    tree by tree in the model's order (``tree_output``, ``out`` as in
+    :func:`forest_sum`: the models of one pass share the ranks and the
+    per-row work): the sums are :func:`forest_sum`'s float64 numbers.
 
     Rows go in blocks of 32, column by column for the ranks (the column's
     constants loaded once), four columns' masks per pass over the trees,
@@ -224,9 +244,10 @@ def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
         if cut_start[j + 1] > cut_start[j]:  # a column no split uses changes no mask
             active[n_active] = j
             n_active += 1
+    n_out = baseline.shape[0]
     row = np.empty((_ROWS, max(n_active, 1)), dtype=np.int64)
     alive = np.empty((_ROWS, n_trees), dtype=masks.dtype)
-    acc = np.empty(_ROWS)
+    acc = np.empty((n_out, _ROWS))
     for b in range(0, n, _ROWS):
         m = min(_ROWS, n - b)
         for q in range(n_active):
@@ -278,13 +299,17 @@ def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
                 for t in range(n_trees):
                     alive[i, t] &= masks[r0, t] & masks[r1, t] & masks[r2, t] & masks[r3, t]
                 q += 4
-            acc[i] = baseline
+        for o in range(n_out):
+            for i in range(m):
+                acc[o, i] = baseline[o]
         for t in range(n_trees):
+            o = tree_output[t]
             for i in range(m):
                 # trailing_zeros is a numba intrinsic (cttz): mypy sees its typing-time signature
-                acc[i] += leaf_value[t, trailing_zeros(alive[i, t])]  # type: ignore[call-arg, index]
-        for i in range(m):
-            out[b + i] = acc[i]
+                acc[o, i] += leaf_value[t, trailing_zeros(alive[i, t])]  # type: ignore[call-arg, index]
+        for o in range(n_out):
+            for i in range(m):
+                out[b + i, o] = acc[o, i]
 
 
 @njit(cache=True, nogil=True)
