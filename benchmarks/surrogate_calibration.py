@@ -18,7 +18,13 @@ whose predicted life is within the horizon):
 - ``cross_free`` (the defaults): cross-conformal by case over every case,
   trained on every case;
 - ``cross_free_iter1000`` / ``cross_free_k10``: the same with the tree cap
-  raised from 300 to 1000, or 10 folds.
+  raised from 300 to 1000, or 10 folds;
+- ``cross_free_per_decade`` / ``cross_free_scaled`` / ``cross_free_scaled_k10``:
+  cross-conformal over every case with one width per decade, or with the
+  width scaled by the scale model (``surrogate.gbm_interval``), on 5 folds,
+  and scaled on 10 folds (the default of ``conformal_folds`` since).
+
+A variant that names no ``conformal_folds`` takes the research run's.
 
 Then, for ``cross_free``, the half-width per bin of the prediction from
 the out-of-fold residuals of all cases and of each part of the split alone
@@ -78,9 +84,11 @@ VARIANTS: dict[str, dict[str, Any]] = {
                             "hgb_max_iter": 1000},
     "cross_free_k10": {"gbm_calibration": "cross", "gbm_cases": "free", "conformal_folds": 10},
     "cross_free_per_decade": {"gbm_calibration": "cross", "gbm_cases": "free",
-                              "gbm_interval": "per_decade"},
+                              "gbm_interval": "per_decade", "conformal_folds": 5},
     "cross_free_scaled": {"gbm_calibration": "cross", "gbm_cases": "free",
-                          "gbm_interval": "scaled"},
+                          "gbm_interval": "scaled", "conformal_folds": 5},
+    "cross_free_scaled_k10": {"gbm_calibration": "cross", "gbm_cases": "free",
+                              "gbm_interval": "scaled", "conformal_folds": 10},
 }
 _ROW_COLUMNS = ("well.profile", "component_type", "location", "s_from_bit_m", "operation.rpm")
 #: bands of rpm of the coverage breakdown: full stick-slip below ~110 rpm, both states above

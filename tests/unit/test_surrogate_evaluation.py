@@ -227,14 +227,14 @@ def test_served_gbm_trains_on_every_case_the_heldout_design_frees(fitted, tmp_pa
     g, sp = sur.metadata["gbm"], sur.metadata["split"]
     # cross-conformal by case over every case: the split's calibration and test cases
     # train the served gradient boosting too (the ensemble keeps its split)
-    assert g["calibration"] == "cross" and g["conformal_folds"] == 5
+    assert g["calibration"] == "cross" and g["conformal_folds"] == cfg.conformal_folds
     assert g["train_cases"] == sorted(sp["train_cases"] + sp["calibration_cases"]
                                       + sp["test_cases"])
     assert g["n_train_rows"] == g["n_calibration_rows"] == len(data)
     assert g["n_calibration_cases"] == data["case_id"].nunique()
     # the domain is every case the served model trains on, its threshold cross-fitted
     dom = sur.domain.to_dict()
-    assert dom["threshold_source"] == "cross-fitted, 5 folds of whole cases"
+    assert dom["threshold_source"] == f"cross-fitted, {cfg.conformal_folds} folds of whole cases"
     n_ref = min(len(data), dom["reference_rows"])
     assert sur.domain.reference_.shape[0] == n_ref
     assert sur.metadata["training"]["n_train_rows"] < len(data)
