@@ -220,8 +220,7 @@ def gbm_speed(model: Surrogate, big, repeats: int, n_single: int) -> dict[str, o
     forest = model._forest
     dom = model.domain
     assert forest is not None
-    # the regressor's trees alone (the served form before a scale model shared its pass),
-    # and the scale model's alone
+    # the regressor's trees alone and the scale model's alone: the two-pass form
     regressor = FlatForest(model.gbm, model.preprocessor)
     sm = scale_model(model.gbm)
     scale_alone = None if sm is None else FlatForest(sm, model.preprocessor)

@@ -22,7 +22,7 @@ whose predicted life is within the horizon):
 - ``cross_free_per_decade`` / ``cross_free_scaled`` / ``cross_free_scaled_k10``:
   cross-conformal over every case with one width per decade, or with the
   width scaled by the scale model (``surrogate.gbm_interval``), on 5 folds,
-  and scaled on 10 folds (the default of ``conformal_folds`` since).
+  and scaled on 10 folds (the library's default ``conformal_folds``).
 
 A variant that names no ``conformal_folds`` takes the research run's.
 

@@ -106,8 +106,19 @@ def test_split_calibration_refuses_rows_it_trained_on() -> None:
     every = np.ones(y.size, bool)
     with pytest.raises(InputError, match="shared with the training rows"):
         fit_served_gbm(x, y, g, every, every, CFG.model_copy(update={"gbm_calibration": "split"}))
-    with pytest.raises(InputError, match="conformal_folds"):
-        fit_served_gbm(x[:10], y[:10], g[:10], every[:10], None, CFG)  # 2 cases, 5 folds
+    # 2 cases, 5 folds asked: cross-conformal on 2 folds, one case each
+    cfg = CFG.model_copy(update={"conformal_bin_min_rows": 10})
+    assert fit_served_gbm(x[:10], y[:10], g[:10], every[:10], None, cfg)[1][
+        "conformal_folds"] == 2
+
+
+def test_cross_calibration_takes_at_most_one_fold_per_case() -> None:
+    # 12 cases of 10 rows with 20 folds asked: 12 folds of one case each, recorded
+    x, y, g = _grouped(12, 10, seed=3)
+    every = np.ones(y.size, bool)
+    cfg = CFG.model_copy(update={"conformal_folds": 20, "conformal_bin_min_rows": 10})
+    _, meta = fit_served_gbm(x, y, g, every, None, cfg)
+    assert meta["calibration"] == "cross" and meta["conformal_folds"] == 12
 
 
 def test_gbm_rows_follow_calibration_and_heldout() -> None:

@@ -186,7 +186,10 @@ class Surrogate:
             # cross-conformal folds of those cases
             fit_frame = frame.loc[fit_rows]
             domain.fit_cross(p.numeric_array(fit_frame),
-                             case_folds(groups[fit_rows], cfg.conformal_folds, cfg.split_seed),
+                             case_folds(groups[fit_rows],
+                                        min(cfg.conformal_folds,
+                                            int(np.unique(groups[fit_rows]).size)),
+                                        cfg.split_seed),
                              p.mean_, p.scale_, design_bounds)
         else:
             domain.fit(p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_,

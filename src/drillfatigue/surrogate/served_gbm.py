@@ -188,10 +188,12 @@ def fit_served_gbm(x: np.ndarray, y: np.ndarray, groups: np.ndarray, fit: np.nda
     x_f, y_f, g_f = x[fit], y[fit], g[fit]
     model, info = fit_gbm(x_f, y_f, g_f, cfg, monotone)
     if calibration is None:
-        folds = case_folds(g_f, cfg.conformal_folds, cfg.split_seed)
+        # at most one fold per case (a small training set keeps working as with 5 folds)
+        k = min(cfg.conformal_folds, int(np.unique(g_f).size))
+        folds = case_folds(g_f, k, cfg.split_seed)
         mu_c, y_c, g_c = out_of_fold_predictions(model, x_f, y_f, folds), y_f, g_f
         field, allowed = "surrogate.conformal_folds", "more training cases"
-        meta: dict[str, Any] = {"calibration": "cross", "conformal_folds": cfg.conformal_folds}
+        meta: dict[str, Any] = {"calibration": "cross", "conformal_folds": k}
     else:
         calibration = np.asarray(calibration, dtype=bool)
         if np.any(calibration & fit):
