@@ -203,9 +203,11 @@ def test_property_rank_from_any_guess_is_exact(cuts, v, guess):
     assert r - lo == _rank(padded, lo, hi, v) - lo
 
 
-def _sharing_models(leaves: int) -> tuple[Preprocessor, np.ndarray, np.ndarray, list]:
-    # a regressor and a small second model (the served interval's scale model is one)
-    # on the same design matrix, with thresholds of their own on every column
+def _sharing_models(leaves: int, second_leaves: int = 7
+                    ) -> tuple[Preprocessor, np.ndarray, np.ndarray, list]:
+    # a regressor and a second model (the served interval's scale model is one) on the
+    # same design matrix; the second is fitted on a third of the rows, so its histogram
+    # bins, and thresholds, are its own
     rng = np.random.default_rng(11)
     x = rng.normal(size=(3000, 4))
     y = np.sin(3 * x[:, 0]) + x[:, 1] * x[:, 2] + 0.1 * rng.normal(size=3000)
@@ -213,17 +215,29 @@ def _sharing_models(leaves: int) -> tuple[Preprocessor, np.ndarray, np.ndarray, 
     pre.mean_, pre.scale_, pre.categories_ = np.zeros(4), np.ones(4), {}
     first = HistGradientBoostingRegressor(max_iter=25, max_leaf_nodes=leaves,
                                           min_samples_leaf=5, random_state=0).fit(x, y)
-    second = HistGradientBoostingRegressor(max_iter=7, max_leaf_nodes=7, min_samples_leaf=50,
-                                           random_state=1).fit(x, np.abs(y - first.predict(x)))
+    second = HistGradientBoostingRegressor(
+        max_iter=7, max_leaf_nodes=second_leaves, min_samples_leaf=5, random_state=1,
+    ).fit(x[::3], np.abs(y - first.predict(x))[::3])
     return pre, x, np.zeros((3000, 0), dtype=np.int64), [first, second]
 
 
-@pytest.mark.parametrize("leaves, path", [(31, "leaf masks"), (100, "rank walk")])
-def test_models_sharing_one_pass_give_each_models_own_numbers(leaves, path):
-    pre, x, none, (first, second) = _sharing_models(leaves)
+@pytest.mark.parametrize("leaves, second_leaves, path", [
+    (31, 7, "leaf masks"), (100, 7, "rank walk"),
+    (31, 50, "leaf masks"),  # the extra model's 50 leaves widen every mask to 64 bits
+    (31, 100, "rank walk"),  # the extra model's trees of > 64 leaves: the whole pass walks
+])
+def test_models_sharing_one_pass_give_each_models_own_numbers(leaves, second_leaves, path):
+    pre, x, none, (first, second) = _sharing_models(leaves, second_leaves)
     both = FlatForest(first, pre, extra=(second,))
     assert both.n_outputs == 2 and both.n_trees == first.n_iter_ + second.n_iter_
     assert (both.masks is None) == (path == "rank walk")
+    if both.masks is not None:
+        widest = max(max(t.nodes["is_leaf"].sum() for (t,) in m._predictors)
+                     for m in (first, second))
+        assert both.masks.dtype == (np.uint32 if widest <= 32 else np.uint64)
+    # the union of thresholds holds some of the second model's that the first lacks
+    own = FlatForest(first, pre)
+    assert both.cuts.size > own.cuts.size
     big = np.tile(x, (6, 1))  # chunked over threads as well as one thread
     big_none = np.zeros((big.shape[0], 0), dtype=np.int64)
     nan = big.copy()
