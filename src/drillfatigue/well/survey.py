@@ -82,6 +82,43 @@ def ratio_factor(beta: np.ndarray) -> np.ndarray:
     return np.where(small, 1.0 + beta * beta / 12.0, 2.0 / safe * np.tan(safe / 2.0))
 
 
+# Above this dogleg (rad) per interval tan(beta/2) and |t1 + t2| are each
+# ill-conditioned (beta carries an absolute error of ~ulp(pi) = 4.4e-16, so
+# tan(beta/2) a relative one of ~4.4e-16 / (pi - beta), which reaches 1e-12 at
+# pi - beta ~ 4e-4) and their product, the step, is no longer the chord: the
+# step is taken as its length times the tangents' bisector instead.
+_BETA_NEAR_PI = math.pi - 1e-3
+
+
+def _half_turn_steps(t1: np.ndarray, t2: np.ndarray, beta: np.ndarray,
+                     dmd: np.ndarray) -> np.ndarray:
+    """Minimum-curvature steps for doglegs near pi, shape (k, 3).
+
+    The chord of an arc of length dMD turning by beta is ``dMD 2 sin(beta/2) / beta``
+    along the bisector of the end tangents, ``(t1 + t2) / |t1 + t2|`` (the same step as
+    ``dMD/2 (t1 + t2) (2/beta) tan(beta/2)`` in exact arithmetic, with
+    ``2 sin(beta/2) = |t2 - t1|``). At beta = pi exactly the plane of the turn is
+    undefined; the turn is then taken in the vertical plane of t1 (or the north-tvd
+    plane when t1 is vertical), towards increasing tvd.
+    """
+    bis = t1 + t2
+    s = np.linalg.norm(bis, axis=-1)
+    d = np.linalg.norm(t2 - t1, axis=-1)
+    undefined = s == 0.0
+    if np.any(undefined):
+        tu = t1[undefined]
+        horizontal = np.stack([tu[:, 0], tu[:, 1], np.zeros(tu.shape[0])], axis=-1)
+        h = np.linalg.norm(horizontal, axis=-1)
+        # a unit vector perpendicular to t1 in its vertical plane (north when t1 is vertical)
+        perp = np.where((h > 0.0)[:, None],
+                        -tu[:, 2:3] * horizontal / np.where(h > 0.0, h, 1.0)[:, None]
+                        + h[:, None] * np.array([0.0, 0.0, 1.0]),
+                        np.array([1.0, 0.0, 0.0]))
+        bis[undefined] = perp
+        s[undefined] = 1.0
+    return (dmd * d / beta / s)[:, None] * bis
+
+
 @dataclass(frozen=True)
 class Survey:
     """A directional survey with positions by minimum curvature.
@@ -184,6 +221,10 @@ def minimum_curvature(
     beta = dogleg_rad(t[:-1], t[1:])
     rf = ratio_factor(beta)
     step = (0.5 * dmd * rf)[:, None] * (t[:-1] + t[1:])
+    near_pi = beta > _BETA_NEAR_PI
+    if np.any(near_pi):
+        step[near_pi] = _half_turn_steps(t[:-1][near_pi], t[1:][near_pi], beta[near_pi],
+                                         dmd[near_pi])
     pos = np.empty((md.size, 3))
     pos[0] = np.asarray(start_pos_m, dtype=float)
     pos[1:] = pos[0] + np.cumsum(step, axis=0)
