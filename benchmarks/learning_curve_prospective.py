@@ -26,7 +26,8 @@ continued to the same number of simulations.
   SHA-256 of their inputs). That is valid only while the simulator and
   fatigue chain give those outputs bit for bit; ``--check`` names case ids
   the extension simulated again, whose files are compared with the research
-  run's before anything else runs.
+  run's before anything else runs (every file byte for byte; ``summary.json``
+  as JSON without its wall time and real-time factor).
 - At each size the served model (gradient boosting, ``fit_gbm``, as in
   ``learning_curve.py``) is fitted on every row of the first ``n`` cases of
   each arm and scored on the held-out rows that decide life (factor 2, RMSE,
@@ -52,7 +53,8 @@ whose ``simulate``/``fatigue`` stage code ran the missing cases into
 writes ``benchmarks/results/learning_curve_prospective.json`` (about 40 min
 of adaptive rounds on 2 cores; pools of 4096 candidates cost about 11 min of
 acquisition a round). ``--resummarise`` recomputes the summary of a stored
-result from its curves.
+result from its curves (the stored result's summary was written so, after the
+self-ratio was added; its curves are the run's).
 """
 
 from __future__ import annotations
@@ -75,8 +77,10 @@ from drillfatigue.numba_cache import scope_numba_cache
 
 sys.path.insert(0, str(Path(__file__).parent))
 RESULT = Path(__file__).parent / "results" / "learning_curve_prospective.json"
-#: files of a run or fatigue folder that carry timings, not results
-TIMING_FILES = ("summary.json", "DONE")
+#: files of a run or fatigue folder that carry timings only (DONE hashes the others)
+TIMING_FILES = ("DONE",)
+#: keys of a summary.json that carry timings, not results
+TIMING_KEYS = ("wall_time_s", "real_time_factor")
 
 
 def _copy_or(known: dict[str, str], key: str, case_dir: Path) -> bool:
@@ -122,7 +126,13 @@ def check_identical(research: Path, extension: Path, ids: list[str]) -> list[str
             for f in sorted(old.iterdir()):
                 if f.name in TIMING_FILES:
                     continue
-                if (new / f.name).read_bytes() != f.read_bytes():
+                if f.name == "summary.json":
+                    a, b = (json.loads(g.read_text()) for g in (f, new / f.name))
+                    same = ({k: v for k, v in a.items() if k not in TIMING_KEYS}
+                            == {k: v for k, v in b.items() if k not in TIMING_KEYS})
+                else:
+                    same = (new / f.name).read_bytes() == f.read_bytes()
+                if not same:
                     diff.append(str(new / f.name))
     return diff
 
@@ -200,6 +210,9 @@ def main(argv: list[str] | None = None) -> int:
     research, extension = Path(args.research), Path(args.extension)
     t0 = time.perf_counter()
 
+    if not args.check:
+        print("warning: no --check cases: the research run's folders seed the adaptive arm "
+              "unverified", file=sys.stderr)
     bad = check_identical(research, extension, args.check)
     if bad:
         raise SystemExit("the research run's outputs are not reproduced bit for bit by this "
