@@ -53,8 +53,7 @@ whose ``simulate``/``fatigue`` stage code ran the missing cases into
 writes ``benchmarks/results/learning_curve_prospective.json`` (about 40 min
 of adaptive rounds on 2 cores; pools of 4096 candidates cost about 11 min of
 acquisition a round). ``--resummarise`` recomputes the summary of a stored
-result from its curves (the stored result's summary was written so, after the
-self-ratio was added; its curves are the run's).
+result from its curves (and marks it ``summary_recomputed_from_curves``).
 """
 
 from __future__ import annotations
@@ -171,6 +170,7 @@ def resummarise(path: Path) -> int:
     result = json.loads(path.read_text())
     result["summary"] = summarise(result["curves"], result["sizes"],
                                   result["settings"]["n_max"], result["settings"]["subsets"])
+    result["summary_recomputed_from_curves"] = True
     write_json(result, path)
     return 0
 
@@ -182,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
     from drillfatigue.sweep.adaptive import adaptive_design
     from drillfatigue.sweep.dataset import build_dataset
     from drillfatigue.sweep.design import base_case_from_params, inputs_sha256
-    from drillfatigue.sweep.stages import adaptive_rows, adaptive_targets
+    from drillfatigue.sweep.stages import adaptive_cache_dir, adaptive_rows, adaptive_targets
     from drillfatigue.sweep.window import window_inputs
     from learning_curve import deciding_scores, fit_served, heldout_predictions
 
@@ -226,10 +226,10 @@ def main(argv: list[str] | None = None) -> int:
     params = params.model_copy(update={"sweep": sw.model_copy(update={
         "method": "adaptive", "n_cases": args.n_max, "adaptive": ad})})
     design = pd.read_parquet(research / "data/design/cases.parquet")
-    known_runs = {inputs_sha256(json.loads(t)): str(research / "data/sweep" / c)
-                  for c, t in zip(design["case_id"], design["case_json"], strict=True)}
-    known_fatigue = {inputs_sha256(json.loads(t)): str(research / "data/fatigue" / c)
-                     for c, t in zip(design["case_id"], design["case_json"], strict=True)}
+    by_hash = {inputs_sha256(json.loads(t)): c
+               for c, t in zip(design["case_id"], design["case_json"], strict=True)}
+    known_runs = {h: str(research / "data/sweep" / c) for h, c in by_hash.items()}
+    known_fatigue = {h: str(research / "data/fatigue" / c) for h, c in by_hash.items()}
     cases_path = Path(args.cache) / "cases.parquet"
     target = adaptive_targets(
         params, cases_path=cases_path,
@@ -243,7 +243,6 @@ def main(argv: list[str] | None = None) -> int:
                        "wall_s": round(time.perf_counter() - t0, 1)})
         print(f"round {rnd}: {len(frame)} cases ({rounds[-1]['wall_s']:.0f} s)", flush=True)
 
-    from drillfatigue.sweep.stages import adaptive_cache_dir
     adaptive = adaptive_design(params.sweep, base_case_from_params(params), target,
                                censor_log10=censor, on_round=on_round,
                                rows=adaptive_rows(params, cases_path))
@@ -286,7 +285,7 @@ def main(argv: list[str] | None = None) -> int:
     result = {
         "benchmark": "learning_curve_prospective", "python": platform.python_version(),
         "machine": platform.machine(),
-        "settings": {k: v for k, v in vars(args).items() if k not in ("out",)},
+        "settings": {k: v for k, v in vars(args).items() if k not in ("out", "resummarise")},
         "served_model": "gbm (fit_gbm on every row of the first n cases)",
         "metric": "held-out rows predicted within surrogate.horizon_h (deciding_metrics rows)",
         "n_test_cases": int(test_ids.size), "n_test_rows": int(len(test)),

@@ -75,7 +75,8 @@ def test_chord_near_a_half_turn_is_the_arcs(gap, azi, inc, dmd) -> None:
 
 def test_exact_half_turn_is_taken_in_the_vertical_plane() -> None:
     """Straight down then straight up over 10 m: the chord is 2 * 10 / pi m (a semicircle
-    of radius 10 / pi), horizontal (north, by the stated convention for a vertical t1)."""
+    of radius 10 / pi), horizontal; north, where sin(pi) rounded (1.2e-16) tips the second
+    tangent."""
     sv = minimum_curvature(np.array([0.0, 10.0]), np.array([0.0, math.pi]),
                            np.array([0.0, 0.0]))
     np.testing.assert_allclose(sv.pos_m[1], [20.0 / math.pi, 0.0, 0.0], rtol=1e-15,
