@@ -15,6 +15,8 @@ of radius ``R = dMD / beta`` in the plane of the node tangents ``t1, t2``
 (the integral of t over s, written with half-angle products so it stays
 accurate for tiny beta). At ``s = dMD`` this is the minimum-curvature step
 ``dMD/2 (t1 + t2) (2/beta) tan(beta/2)`` (Sawaryn & Thorogood 2005, eq. 3).
+Within 1e-3 rad of a half turn, where ``1/sin(beta)`` is ill-conditioned,
+the same arc is written in the basis of ``t1`` and its in-plane normal.
 """
 
 from __future__ import annotations
@@ -30,6 +32,60 @@ __all__ = ["path_point"]
 # expansion p = p1 + s t1 + s^2/(2 dMD) (t2 - t1); the neglected terms are
 # O(beta^2 s) < 1e-24 m per metre.
 _BETA_STRAIGHT = 1e-12
+# Above this dogleg (rad) per interval 1/sin(beta) is ill-conditioned (a
+# relative error eps / (pi - beta)); the arc is written in the basis of t1 and
+# the in-plane normal found from the bisector instead (drillfatigue.well.survey
+# switches its step at the same angle).
+_BETA_NEAR_PI = math.pi - 1e-3
+
+
+@njit(cache=True)
+def _half_turn_point(node_pos, node_tan, i, beta, R, th, out_pos, out_tan):
+    """The arc point for a dogleg near pi: ``t = cos(th) t1 + sin(th) u``.
+
+    ``u`` is the unit normal to ``t1`` in the plane of the turn, towards
+    ``t2``: the part of ``b``, the unit bisector of the end tangents, normal
+    to ``t1`` (of length ``sin(beta/2)``, near 1), normalised. When
+    ``t1 + t2`` is zero (or its square underflows) the plane is undefined
+    and ``b`` is the unit normal to ``t1`` in its vertical plane, towards
+    increasing tvd (north when ``t1`` is vertical). Position:
+    ``p1 + R [sin(th) t1 + 2 sin^2(th/2) u]``. The survey's step near pi is
+    this point at ``th = beta``
+    (:func:`drillfatigue.well.survey.half_turn_normal`).
+    """
+    b0 = node_tan[i, 0] + node_tan[i + 1, 0]
+    b1 = node_tan[i, 1] + node_tan[i + 1, 1]
+    b2 = node_tan[i, 2] + node_tan[i + 1, 2]
+    nb = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+    if nb > 0.0:
+        b0 /= nb
+        b1 /= nb
+        b2 /= nb
+    else:
+        h = math.sqrt(node_tan[i, 0] ** 2 + node_tan[i, 1] ** 2)
+        if h > 0.0:
+            b0 = -node_tan[i, 2] * node_tan[i, 0] / h
+            b1 = -node_tan[i, 2] * node_tan[i, 1] / h
+            b2 = h
+        else:
+            b0 = 1.0
+            b1 = 0.0
+            b2 = 0.0
+    # u: b with its t1 part removed, normalised (drillfatigue.well.survey.half_turn_normal)
+    d = b0 * node_tan[i, 0] + b1 * node_tan[i, 1] + b2 * node_tan[i, 2]
+    w0 = b0 - d * node_tan[i, 0]
+    w1 = b1 - d * node_tan[i, 1]
+    w2 = b2 - d * node_tan[i, 2]
+    nw = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    st = math.sin(th)
+    ct = math.cos(th)
+    vt = 2.0 * math.sin(0.5 * th) ** 2
+    for k in range(3):
+        t1 = node_tan[i, k]
+        wk = w0 if k == 0 else (w1 if k == 1 else w2)
+        u = wk / nw
+        out_pos[k] = node_pos[i, k] + R * (st * t1 + vt * u)
+        out_tan[k] = ct * t1 + st * u
 
 
 @njit(cache=True)
@@ -122,6 +178,9 @@ def path_point(md, node_md, node_pos, node_tan, hint, out_pos, out_tan):
         return i
     R = ds / beta
     th = s / R
+    if beta > _BETA_NEAR_PI:
+        _half_turn_point(node_pos, node_tan, i, beta, R, th, out_pos, out_tan)
+        return i
     sb = math.sin(beta)
     ca = 2.0 * R * math.sin(beta - 0.5 * th) * math.sin(0.5 * th) / sb
     cb = 2.0 * R * math.sin(0.5 * th) ** 2 / sb

@@ -38,10 +38,12 @@ from drillfatigue.limits import MD_MAX_M
 from drillfatigue.units import FT_M
 
 __all__ = [
+    "BETA_NEAR_PI_RAD",
     "SURVEY_COLUMNS",
     "Survey",
     "atomic_output",
     "dogleg_rad",
+    "half_turn_normal",
     "minimum_curvature",
     "read_survey_csv",
     "tangent_vectors",
@@ -86,37 +88,55 @@ def ratio_factor(beta: np.ndarray) -> np.ndarray:
 # ill-conditioned (beta carries an absolute error of ~ulp(pi) = 4.4e-16, so
 # tan(beta/2) a relative one of ~4.4e-16 / (pi - beta), which reaches 1e-12 at
 # pi - beta ~ 4e-4) and their product, the step, is no longer the chord: the
-# step is taken as its length times the tangents' bisector instead.
-_BETA_NEAR_PI = math.pi - 1e-3
+# step is taken as the end of the arc written in the basis of t1 and its unit
+# normal in the plane of the turn instead.
+BETA_NEAR_PI_RAD = math.pi - 1e-3
+
+
+def half_turn_normal(t1: np.ndarray, t2: np.ndarray) -> np.ndarray:
+    """Unit normal to t1 in the plane of a turn by nearly pi towards t2, shape (k, 3).
+
+    The part of the tangents' unit bisector ``(t1 + t2) / |t1 + t2|`` normal to t1,
+    normalised (its length is sin(beta/2), near 1). The direction of ``t1 + t2`` is
+    only as good as eps / |t1 + t2|: the plane of a nearly reversed turn is
+    ill-defined by its tangents, but the normal is a unit vector normal to t1 to
+    rounding, so the arc built on it is a circle. When ``t1 + t2`` is zero (or its
+    square underflows) the plane is undefined and the turn is taken in the vertical
+    plane of t1 (the north-tvd plane when t1 is vertical), towards increasing tvd.
+    :func:`drillfatigue.well.kernels.path_point` and
+    :func:`drillfatigue.well.wellbore.arc_points` follow the same construction.
+    """
+    b = t1 + t2
+    nb = np.sqrt(np.sum(b * b, axis=-1))
+    undefined = nb == 0.0
+    b = b / np.where(undefined, 1.0, nb)[:, None]
+    if np.any(undefined):
+        tu = t1[undefined]
+        horizontal = np.stack([tu[:, 0], tu[:, 1], np.zeros(tu.shape[0])], axis=-1)
+        h = np.linalg.norm(horizontal, axis=-1)
+        # a unit vector perpendicular to t1 in its vertical plane (north when t1 is vertical)
+        b[undefined] = np.where((h > 0.0)[:, None],
+                                -tu[:, 2:3] * horizontal / np.where(h > 0.0, h, 1.0)[:, None]
+                                + h[:, None] * np.array([0.0, 0.0, 1.0]),
+                                np.array([1.0, 0.0, 0.0]))
+    w = b - np.sum(b * t1, axis=-1)[:, None] * t1
+    return w / np.linalg.norm(w, axis=-1, keepdims=True)
 
 
 def _half_turn_steps(t1: np.ndarray, t2: np.ndarray, beta: np.ndarray,
                      dmd: np.ndarray) -> np.ndarray:
     """Minimum-curvature steps for doglegs near pi, shape (k, 3).
 
-    The chord of an arc of length dMD turning by beta is ``dMD 2 sin(beta/2) / beta``
-    along the bisector of the end tangents, ``(t1 + t2) / |t1 + t2|`` (the same step as
-    ``dMD/2 (t1 + t2) (2/beta) tan(beta/2)`` in exact arithmetic, with
-    ``2 sin(beta/2) = |t2 - t1|``). At beta = pi exactly the plane of the turn is
-    undefined; the turn is then taken in the vertical plane of t1 (or the north-tvd
-    plane when t1 is vertical), towards increasing tvd.
+    The end of an arc of radius ``R = dMD / beta`` turning by beta from t1 towards
+    the unit normal ``u`` (:func:`half_turn_normal`):
+    ``R [sin(beta) t1 + 2 sin^2(beta/2) u]``, the chord ``2 R sin(beta/2)`` long along
+    the bisector (the same step as ``dMD/2 (t1 + t2) (2/beta) tan(beta/2)`` in exact
+    arithmetic). At beta = pi exactly the turn is taken in the vertical plane of t1.
     """
-    bis = t1 + t2
-    s = np.linalg.norm(bis, axis=-1)
-    d = np.linalg.norm(t2 - t1, axis=-1)
-    undefined = s == 0.0
-    if np.any(undefined):
-        tu = t1[undefined]
-        horizontal = np.stack([tu[:, 0], tu[:, 1], np.zeros(tu.shape[0])], axis=-1)
-        h = np.linalg.norm(horizontal, axis=-1)
-        # a unit vector perpendicular to t1 in its vertical plane (north when t1 is vertical)
-        perp = np.where((h > 0.0)[:, None],
-                        -tu[:, 2:3] * horizontal / np.where(h > 0.0, h, 1.0)[:, None]
-                        + h[:, None] * np.array([0.0, 0.0, 1.0]),
-                        np.array([1.0, 0.0, 0.0]))
-        bis[undefined] = perp
-        s[undefined] = 1.0
-    return (dmd * d / beta / s)[:, None] * bis
+    u = half_turn_normal(t1, t2)
+    r = dmd / beta
+    return ((r * np.sin(beta))[:, None] * t1
+            + (2.0 * r * np.sin(0.5 * beta) ** 2)[:, None] * u)
 
 
 @dataclass(frozen=True)
@@ -221,7 +241,7 @@ def minimum_curvature(
     beta = dogleg_rad(t[:-1], t[1:])
     rf = ratio_factor(beta)
     step = (0.5 * dmd * rf)[:, None] * (t[:-1] + t[1:])
-    near_pi = beta > _BETA_NEAR_PI
+    near_pi = beta > BETA_NEAR_PI_RAD
     if np.any(near_pi):
         step[near_pi] = _half_turn_steps(t[:-1][near_pi], t[1:][near_pi], beta[near_pi],
                                          dmd[near_pi])

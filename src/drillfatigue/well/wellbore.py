@@ -19,7 +19,7 @@ import numpy as np
 from drillfatigue.config.well import WellConfig
 from drillfatigue.errors import InputError
 from drillfatigue.well.profiles import build_survey
-from drillfatigue.well.survey import Survey, dogleg_rad
+from drillfatigue.well.survey import BETA_NEAR_PI_RAD, Survey, dogleg_rad, half_turn_normal
 
 __all__ = ["Wellbore", "arc_points", "build_wellbore", "resample_path"]
 
@@ -46,8 +46,9 @@ def arc_points(p1: np.ndarray, t1: np.ndarray, t2: np.ndarray, ds: np.ndarray,
 
     Notes
     -----
-    Same formulas as :func:`drillfatigue.well.kernels.path_point`; a point at
-    ``s = ds`` is the minimum-curvature step of Sawaryn & Thorogood (2005).
+    Same formulas as :func:`drillfatigue.well.kernels.path_point`, including its
+    form for doglegs within 1e-3 rad of pi; a point at ``s = ds`` is the
+    minimum-curvature step of Sawaryn & Thorogood (2005).
     """
     beta = dogleg_rad(t1, t2)
     straight = beta < 1e-12
@@ -61,6 +62,16 @@ def arc_points(p1: np.ndarray, t1: np.ndarray, t2: np.ndarray, ds: np.ndarray,
     wb = np.sin(th) / sb
     pos = p1 + ca[:, None] * t1 + cb[:, None] * t2
     tan = wa[:, None] * t1 + wb[:, None] * t2
+    near_pi = beta > BETA_NEAR_PI_RAD
+    if np.any(near_pi):
+        # 1/sin(beta) is ill-conditioned here: t = cos(th) t1 + sin(th) u with u the
+        # unit normal to t1 in the plane of the turn (the kernel's _half_turn_point)
+        bn = near_pi.nonzero()[0]
+        u = half_turn_normal(t1[bn], t2[bn])
+        thh = th[bn]
+        pos[bn] = p1[bn] + R[bn, None] * (np.sin(thh)[:, None] * t1[bn]
+                                          + (2.0 * np.sin(0.5 * thh) ** 2)[:, None] * u)
+        tan[bn] = np.cos(thh)[:, None] * t1[bn] + np.sin(thh)[:, None] * u
     if np.any(straight):
         f = (s / ds)[:, None]
         dt = t2 - t1
