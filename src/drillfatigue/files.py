@@ -83,14 +83,21 @@ class OutputFolder:
         What the folder holds (``"run"``, ``"fatigue"``, ``"model"``, ...).
     option : str
         The name the user gave the folder by (``"--out"``), used in errors.
+    names : iterable of str
+        The files this writer will write there: one of them that exists and
+        was not written by this package is refused here, before anything in
+        the folder changes (otherwise :meth:`file` refuses it only when that
+        file's turn comes, after earlier outputs were rewritten).
 
     Raises
     ------
     InputError
-        ``path`` is a file, or a non-empty folder without a marker of ``kind``.
+        ``path`` is a file, a non-empty folder without a marker of ``kind``, or
+        holds a file of one of ``names`` that this package did not write.
     """
 
-    def __init__(self, path: str | Path, kind: str, option: str = "--out") -> None:
+    def __init__(self, path: str | Path, kind: str, option: str = "--out",
+                 names: Iterable[str] = ()) -> None:
         self.path = Path(path)
         self.kind = kind
         self.option = option
@@ -114,12 +121,15 @@ class OutputFolder:
             elif any(self.path.iterdir()):
                 raise InputError(option, f"{self.path} holds files drillfatigue did not write",
                                  allowed)
+            _refuse_foreign(self.path, names, self.owned, option)
         self.path.mkdir(parents=True, exist_ok=True)
         self._save()
 
     @staticmethod
-    def check(path: str | Path, kind: str, option: str = "--out") -> None:
-        """Raise :class:`InputError` if ``path`` could not be claimed; write nothing."""
+    def check(path: str | Path, kind: str, option: str = "--out",
+              names: Iterable[str] = ()) -> None:
+        """Raise :class:`InputError` if ``path`` could not be claimed for ``names``;
+        write nothing."""
         p = Path(path)
         allowed = f"a new or empty folder, or one written by drillfatigue as a {kind} folder"
         if p.exists() and not p.is_dir():
@@ -129,13 +139,16 @@ class OutputFolder:
         marker = p / MARKER
         if marker.is_file():
             try:
-                found_kind = json.loads(marker.read_text(encoding="utf-8"))["kind"]
+                info = json.loads(marker.read_text(encoding="utf-8"))
+                found_kind = info["kind"]
+                owned = {str(f) for f in info.get("files", [])}
             except (ValueError, KeyError, TypeError, UnicodeDecodeError) as exc:
                 raise InputError(option, f"{marker} is not a valid drillfatigue marker",
                                  allowed) from exc
             if found_kind != kind:
                 raise InputError(option, f"{p} holds a drillfatigue {found_kind} output, "
                                  f"not a {kind} output", allowed)
+            _refuse_foreign(p, names, owned, option)
         elif any(p.iterdir()):
             raise InputError(option, f"{p} holds files drillfatigue did not write", allowed)
 
@@ -186,12 +199,36 @@ class OutputFolder:
         self.remove(sorted(self.owned))
 
 
-def check_output_file(path: str | Path, option: str) -> None:
+def _refuse_foreign(folder: Path, names: Iterable[str], owned: set[str], option: str) -> None:
+    """Raise :class:`InputError` for the first of ``names`` in ``folder`` not in ``owned``."""
+    for name in names:
+        f = folder / name
+        if (f.exists() or f.is_symlink()) and name not in owned:
+            raise InputError(option, f"{f} exists and was not written by drillfatigue",
+                             "a folder without foreign files of the names this command writes")
+
+
+def check_output_file(path: str | Path, option: str,
+                      inputs: Iterable[tuple[str, str | Path | None]] = ()) -> None:
     """Raise :class:`InputError` if ``path`` cannot be written as one output file.
 
     An existing folder of that name is refused (it would be neither replaced
-    nor written into); an existing file is replaced atomically when written.
+    nor written into), and so is a path that is one of the command's
+    ``inputs`` (``(option, path)`` pairs; the same file by any name, a link
+    included), or lies inside a folder among them (a model folder): the input
+    would be lost. An existing file that is no input is replaced atomically
+    when written: naming one output file is asking for it.
     """
     p = Path(path)
     if p.is_dir():
         raise InputError(option, f"{p} is a folder, not a file", "a file path")
+    target = p.resolve()
+    for in_option, in_path in inputs:
+        if in_path is None:
+            continue
+        q = Path(in_path).resolve()
+        if target == q or (p.exists() and q.exists() and os.path.samefile(p, q)):
+            raise InputError(option, f"{p} is the {in_option} input", f"a path other than {in_option}")
+        if q.is_dir() and target.is_relative_to(q):
+            raise InputError(option, f"{p} lies inside the {in_option} folder",
+                             f"a path outside {in_option}")

@@ -192,6 +192,22 @@ def test_rerun_replaces_only_its_own_files(run_dir: Path, tmp_path: Path) -> Non
     assert (out / "notes.txt").read_text() == "mine"
 
 
+def test_a_foreign_file_of_an_output_name_is_refused_before_anything_is_rewritten(
+        run_dir: Path, tmp_path: Path, capsys) -> None:
+    """An evaluation without figures, then the user's own figure under the name a plot
+    would take: an evaluation with plots is refused before it rewrites the old outputs."""
+    out = tmp_path / "fat"
+    evaluate_run(run_dir, FatigueConfig(plots=False, **FAST), out)
+    (out / "damage_along_string.png").write_bytes(b"my figure")
+    before = {p.name: (p.stat().st_ino, p.read_bytes()) for p in out.iterdir()}
+    with pytest.raises(InputError, match="damage_along_string.png exists and was not written"):
+        evaluate_run(run_dir, FatigueConfig(**FAST), out)
+    assert main(["fatigue", str(run_dir), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: --out:") and "\n" not in err
+    assert {p.name: (p.stat().st_ino, p.read_bytes()) for p in out.iterdir()} == before
+
+
 def test_joint_pressures_are_hydrostatic_at_the_joint_tvd() -> None:
     from drillfatigue.config import CaseConfig
     from drillfatigue.fatigue.run import joint_pressures

@@ -56,3 +56,21 @@ def test_atomic_output_leaves_nothing_on_error(tmp_path: Path) -> None:
         raise RuntimeError("boom")
     assert target.read_text() == "old"
     assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
+
+
+def test_names_to_write_are_checked_before_the_folder_changes(tmp_path: Path) -> None:
+    """A marked folder holding a user's file under a name the writer will write: both the
+    check and the claim refuse it at once, and the marker and the files stay as they were."""
+    d = tmp_path / "out"
+    f = OutputFolder(d, "run")
+    atomic_write_text(f.file("a.txt"), "ours")
+    (d / "b.txt").write_text("mine")
+    marker = (d / MARKER).read_text()
+    for call in (lambda: OutputFolder.check(d, "run", names=["a.txt", "b.txt"]),
+                 lambda: OutputFolder(d, "run", names=["a.txt", "b.txt"])):
+        with pytest.raises(InputError, match="b.txt exists and was not written"):
+            call()
+        assert (d / MARKER).read_text() == marker
+        assert (d / "a.txt").read_text() == "ours" and (d / "b.txt").read_text() == "mine"
+    OutputFolder.check(d, "run", names=["a.txt", "c.txt"])  # its own and new names pass
+    assert OutputFolder(d, "run", names=["a.txt", "c.txt"]).owns("a.txt")

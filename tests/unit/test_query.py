@@ -301,3 +301,22 @@ def test_batch_csv_with_field_headers(model_dir: Path, tmp_path: Path) -> None:
     # unit conversions there and back differ from the SI inputs by ~1e-16 relative,
     # far below what moves the float32 network's output
     np.testing.assert_allclose(b["damage_rate_per_h"], a["damage_rate_per_h"], rtol=1e-6)
+
+
+def test_batch_output_never_replaces_an_input(model_dir: Path, tmp_path: Path, capsys) -> None:
+    """--out naming the conditions CSV itself (by any path, a link included) or a file in
+    the model folder would lose an input: one line, exit 2, nothing changed."""
+    cond = tmp_path / "cond.csv"
+    cond.write_bytes((EXAMPLES / "conditions.csv").read_bytes())
+    link = tmp_path / "link.csv"
+    link.symlink_to(cond)
+    model_before = {p.name: p.read_bytes() for p in model_dir.iterdir() if p.is_file()}
+    for out, word in ((cond, "is the --csv input"), (tmp_path / "." / "cond.csv", "--csv"),
+                      (link, "--csv"), (model_dir / "notes.csv", "inside the --model folder")):
+        assert main(["query", "--model", str(model_dir), "--csv", str(cond),
+                     "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("error: --out:") and word in err and err.count("\n") == 1
+        assert cond.read_bytes() == (EXAMPLES / "conditions.csv").read_bytes()
+    assert not (model_dir / "notes.csv").exists()
+    assert {p.name: p.read_bytes() for p in model_dir.iterdir() if p.is_file()} == model_before

@@ -85,6 +85,26 @@ def test_a_rerun_replaces_only_its_own_files(tmp_path: Path) -> None:
     assert not (run / rundir.PARTS).exists() and not (run / rundir.CHECKPOINT).exists()
 
 
+def test_a_foreign_file_of_a_run_files_name_is_refused_before_the_old_run_changes(
+        tmp_path: Path, capsys) -> None:
+    """A complete run, then a file of the user's under one of the names a run writes
+    (here the checkpoint's): the rerun is refused before it deletes or rewrites anything."""
+    run = tmp_path / "run"
+    simulate(case_from_dict(_case()), run, progress=False)
+    (run / rundir.CHECKPOINT).write_bytes(b"mine")
+    before = {p.name: p.read_bytes() for p in run.iterdir() if p.is_file()}
+    case = tmp_path / "case.yaml"
+    case.write_text(yaml.safe_dump(_case(duration_s=0.1)))
+    assert main(["simulate", str(case), "--out", str(run), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "checkpoint.npz exists and was not written by drillfatigue" in err and "\n" not in err
+    assert {p.name: p.read_bytes() for p in run.iterdir() if p.is_file()} == before
+    assert not (run / rundir.PARTS).exists()
+    with pytest.raises(InputError, match="checkpoint.npz"):  # the library call too
+        simulate(case_from_dict(_case(duration_s=0.1)), run, progress=False)
+    assert {p.name: p.read_bytes() for p in run.iterdir() if p.is_file()} == before
+
+
 def test_a_diverged_run_leaves_no_history_under_a_final_name(tmp_path: Path,
                                                               monkeypatch) -> None:
     real = api.build_model

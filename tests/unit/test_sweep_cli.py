@@ -69,3 +69,51 @@ def test_params_with_an_empty_sweep_section_is_accepted(tmp_path, capsys):
     path = tmp_path / "params.yaml"
     path.write_text(f"sweep:\n  n_cases: 2\n  cases_path: {tmp_path / 'c.parquet'}\n")
     assert main(["sweep", "design", "--params", str(path)]) == 0
+
+
+def _files(root):
+    return {p.relative_to(root).as_posix(): p.read_bytes() for p in sorted(root.rglob("*"))
+            if p.is_file()}
+
+
+def test_sweep_design_keeps_a_users_files_beside_the_table(tmp_path, capsys):
+    """The design writes coverage.csv and design.json beside the table the user names:
+    files of those names it did not write are refused before anything is written, and a
+    folder given as --out is a one-line error, not a traceback."""
+    path = _params(tmp_path, {"operation.rpm": {"low": 60, "high": 120}})
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    for name, text in (("coverage.csv", "my notes\n"), ("design.json", '{"mine": 1}\n')):
+        (mine / name).write_text(text)
+        before = _files(tmp_path)
+        assert main(["sweep", "design", "--params", str(path), "--out",
+                     str(mine / "plan.parquet")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("error: --out:") and name in err and err.count("\n") == 1
+        assert _files(tmp_path) == before
+        (mine / name).unlink()
+    (mine / "notes.parquet").mkdir()
+    assert main(["sweep", "design", "--params", str(path), "--out",
+                 str(mine / "notes.parquet")]) == 2
+    assert "is a folder" in capsys.readouterr().err
+    # its own files it replaces: a second design over the first
+    assert main(["sweep", "design", "--params", str(path), "--out", str(mine / "plan.parquet")]) == 0
+    assert main(["sweep", "design", "--params", str(path), "--out", str(mine / "plan.parquet")]) == 0
+
+
+def test_sweep_run_refuses_a_foreign_dataset_folder_before_any_case(tmp_path, capsys):
+    """A foreign file in the dataset folder (the last stage's) stops `sweep run` before the
+    design is written or a case simulated."""
+    path = _params(tmp_path, {"operation.rpm": {"low": 60, "high": 120}})
+    data = yaml.safe_load(path.read_text())
+    data["sweep"]["dataset_dir"] = str(tmp_path / "dataset")
+    data["sweep"]["fatigue_dir"] = str(tmp_path / "fatigue")
+    path.write_text(yaml.safe_dump(data))
+    (tmp_path / "dataset").mkdir()
+    (tmp_path / "dataset" / "notes.txt").write_text("mine")
+    before = _files(tmp_path)
+    assert main(["sweep", "run", "--params", str(path), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: sweep.dataset_dir:") and err.count("\n") == 1
+    assert _files(tmp_path) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dataset", "params.yaml"]

@@ -12,7 +12,7 @@ from drillfatigue.config import FatigueConfig, load_params, note_default_section
 from drillfatigue.config.base import read_yaml
 from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import CRITERIA
-from drillfatigue.fatigue.run import FATIGUE_KIND, evaluate_run
+from drillfatigue.fatigue.run import FATIGUE_KIND, FILES, evaluate_run
 from drillfatigue.files import OutputFolder
 
 
@@ -54,7 +54,7 @@ def fatigue(
                                             "(default: RUN_DIR/case.yaml, else defaults)"),
 ) -> None:
     """Rainflow, S-N and critical-plane damage per joint and location of a run."""
-    OutputFolder.check(out, FATIGUE_KIND, "--out")  # at once, not after minutes of work
+    OutputFolder.check(out, FATIGUE_KIND, "--out", FILES)  # at once, not after minutes of work
     if criterion is not None and criterion not in CRITERIA:
         raise InputError("--criterion", f"unknown criterion {criterion!r}", ", ".join(CRITERIA))
     sel = _parse_joints(joints)

@@ -155,7 +155,7 @@ def query(ctx: typer.Context,
     if csv is not None and not csv.is_file():
         raise InputError("--csv", f"file {str(csv)!r} not found", "an existing CSV file")
     if out is not None:
-        check_output_file(out, "--out")
+        check_output_file(out, "--out", [("--csv", csv), ("--model", model), ("--well", well)])
     if well is None and well_profile is not None:
         raise InputError("--well-profile", "only used with --well", "--well FILE")
     sur = _load_model(model)

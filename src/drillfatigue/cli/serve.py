@@ -24,7 +24,7 @@ import typer
 from drillfatigue.cli.app import app
 from drillfatigue.cli.twin import _read_csv, parse_settings
 from drillfatigue.errors import InputError
-from drillfatigue.files import atomic_output
+from drillfatigue.files import atomic_output, check_output_file
 
 
 @app.command("serve")
@@ -113,6 +113,10 @@ def window(model: Path = typer.Option(..., "--model", help="surrogate model fold
         raise InputError("--out", f"{str(out)!r} is a folder", "FILE.png")
     if csv is not None and (csv.suffix.lower() != ".csv" or csv.is_dir()):
         raise InputError("--csv", f"{str(csv)!r} is not a .csv file", "FILE.csv")
+    inputs = [("--model", model), ("--survey", survey)]
+    check_output_file(out, "--out", inputs)
+    if csv is not None:
+        check_output_file(csv, "--csv", [*inputs, ("--out", out)])
     ax_x, ax_y = Axis.parse(x, "--x"), Axis.parse(y, "--y")
     fixed = parse_settings(list(settings))
     survey_t = _read_csv(survey, "--survey") if survey is not None else None

@@ -37,9 +37,11 @@ def design(params: Path = ParamsOpt,
            out: Path | None = typer.Option(None, "--out",
                                            help="default: sweep.cases_path")) -> None:
     """Sample the cases of params.yaml's sweep section into cases.parquet."""
-    from drillfatigue.sweep.stages import design_stage  # start-up: scipy.stats and the runner, ~0.9 s
+    # start-up: scipy.stats and the runner, ~0.9 s
+    from drillfatigue.sweep.stages import check_design_outputs, design_stage
 
     p = load_params_requiring(params, "sweep", "sweep design")
+    check_design_outputs(out or p.sweep.cases_path, "--out" if out else "sweep.cases_path")
     frame = design_stage(p, out)
     print(f"{len(frame)} cases -> {out or p.sweep.cases_path}")
 
@@ -53,12 +55,13 @@ def run(params: Path = ParamsOpt,
     """Design, simulate, evaluate fatigue and assemble the dataset (resumable)."""
     # start-up: the sweep package imports scipy.stats and the runner, ~0.9 s
     from drillfatigue.sweep.runner import SweepFailedError
-    from drillfatigue.sweep.stages import (dataset_stage, design_stage, fatigue_stage,
-                                           simulate_stage)
+    from drillfatigue.sweep.stages import (check_sweep_outputs, dataset_stage, design_stage,
+                                           fatigue_stage, simulate_stage)
 
     p = load_params_requiring(params, "sweep", "sweep run")
     if scheduler is not None:  # validate the override like the config field
         validate(SweepConfig, {"scheduler": scheduler}, "sweep")
+    check_sweep_outputs(p)  # every output folder at once, not after the simulations
     design_stage(p)
     try:
         sim = simulate_stage(p, scheduler=scheduler, n_workers=n_workers, progress=progress)

@@ -391,7 +391,7 @@ class Runner:
     def _open_folder(self, resume: bool) -> bool:
         """Claim the run folder; restore the checkpoint when resuming. Returns whether resumed."""
         assert self.out_dir is not None
-        folder = OutputFolder(self.out_dir, rundir.KIND)
+        folder = OutputFolder(self.out_dir, rundir.KIND, names=rundir.FILES)
         self.folder = folder
         self.recorder.folder = folder
         meta = load_checkpoint(folder, self.hash, self.model, self.state) if resume else None
@@ -625,6 +625,6 @@ def simulate(config: CaseConfig, out_dir: Path | None = None, *, progress: bool 
         Ctrl-C; the run directory is marked ``incomplete`` and can be resumed.
     """
     if out_dir is not None:
-        OutputFolder.check(out_dir, rundir.KIND)
+        OutputFolder.check(out_dir, rundir.KIND, names=rundir.FILES)
     runner = Runner(config, Path(out_dir) if out_dir is not None else None, path)
     return runner.run(progress=progress, resume=resume)

@@ -89,6 +89,9 @@ LOCATIONS: tuple[str, ...] = ("body", "connection", "upset")
 FATIGUE_KIND = "fatigue"
 #: Figures written with ``fatigue.plots``.
 PLOT_FILES: list[str] = ["stress_history.png", "rainflow_matrix.png", "damage_along_string.png"]
+#: every file a fatigue evaluation may write in its folder (checked for foreign files of
+#: these names before anything in the folder changes)
+FILES: tuple[str, ...] = ("damage.parquet", "api_rp7g.parquet", "summary.json", *PLOT_FILES)
 
 
 def joint_locations(component_type: str, cfg: FatigueConfig) -> tuple[str, ...]:
@@ -350,7 +353,7 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
         raise InputError("criterion", f"unknown criterion {crit!r}", ", ".join(CRITERIA))
     run_dir = Path(run_dir)
     if out_dir is not None:
-        OutputFolder.check(out_dir, FATIGUE_KIND)
+        OutputFolder.check(out_dir, FATIGUE_KIND, names=FILES)
     loads, jt, summary = read_run(run_dir)
     duration_s = rundir.recorded_span_s(loads["time_s"].to_numpy())
     if duration_s <= 0.0:
@@ -473,7 +476,7 @@ def _write_outputs(out: Path, df: pd.DataFrame, per_joint: dict[int, Any],
                    crit_info: dict[tuple[int, str], Any], cfg: FatigueConfig, crit: str,
                    duration_s: float, run_dir: Path, curves: dict[str, SNCurve],
                    rp7g: pd.DataFrame | None = None) -> None:
-    folder = OutputFolder(out, FATIGUE_KIND)
+    folder = OutputFolder(out, FATIGUE_KIND, names=FILES)
     written = ["damage.parquet", "summary.json"]
     _atomic_write_parquet(df, folder.file("damage.parquet"))
     if rp7g is not None:

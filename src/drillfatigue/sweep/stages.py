@@ -24,7 +24,8 @@ import pyarrow.parquet as pq
 
 from drillfatigue.config import Params
 from drillfatigue.errors import InputError
-from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
+from drillfatigue.files import (MARKER, OutputFolder, atomic_output, atomic_write_text,
+                                check_output_file)
 from drillfatigue.sweep.adaptive import (
     ADAPTIVE_KIND,
     RowSource,
@@ -34,9 +35,10 @@ from drillfatigue.sweep.adaptive import (
     template_rows,
 )
 from drillfatigue.sweep.cases import fatigue_case, fatigue_tasks, run_case
-from drillfatigue.sweep.dataset import build_dataset, write_dataset
+from drillfatigue.sweep.dataset import DATASET_FILES, DATASET_KIND, build_dataset, write_dataset
 from drillfatigue.sweep.design import base_case_from_params, design_cases, read_cases, write_cases
-from drillfatigue.sweep.runner import Case, CaseFn, SweepReport, cases_from_frame, run_sweep
+from drillfatigue.sweep.runner import (REPORT_NAME, SWEEP_KIND, Case, CaseFn, SweepReport,
+                                      cases_from_frame, run_sweep)
 from drillfatigue.sweep.window import run_case_converged, window_inputs
 
 __all__ = ["adaptive_cache_dir", "adaptive_rows", "adaptive_targets", "dataset_stage",
@@ -53,6 +55,69 @@ def write_report(report: SweepReport, path: str | Path) -> None:
     _write_json(Path(path), report.to_dict())
 
 
+def check_design_outputs(cases_path: str | Path, option: str = "sweep.cases_path") -> None:
+    """Refuse, before any work, a case table the design stage could not write.
+
+    The stage writes the case table and, beside it, ``coverage.csv`` and
+    ``design.json``: a folder of the table's name, or a file of one of these
+    names that the stage did not write (not a case table, not a coverage
+    table starting with ``case_id``, not a design record), is refused with a
+    one-line :class:`InputError`; nothing is written.
+    """
+    path = Path(cases_path)
+    check_output_file(path, option)
+    allowed = "a new path, or a case table written by drillfatigue's design stage"
+
+    def foreign(f: Path) -> InputError:
+        return InputError(option, f"{f} exists and was not written by drillfatigue", allowed)
+
+    if path.exists() or path.is_symlink():
+        try:
+            names = set(pq.read_schema(path).names)
+        except Exception as exc:  # any unreadable file is not ours
+            raise foreign(path) from exc
+        if not {"case_id", "case_json"} <= names:
+            raise foreign(path)
+    cov = path.with_name("coverage.csv")
+    if cov.exists() or cov.is_symlink():
+        try:
+            with cov.open(encoding="utf-8") as fh:
+                ours = fh.readline().startswith("case_id")
+        except (OSError, UnicodeDecodeError):
+            ours = False
+        if not ours:
+            raise foreign(cov)
+    rec = path.with_name("design.json")
+    if rec.exists() or rec.is_symlink():
+        try:
+            info = json.loads(rec.read_text(encoding="utf-8"))
+        except (OSError, ValueError, UnicodeDecodeError):
+            info = None
+        if not (isinstance(info, dict) and {"method", "n_cases"} <= set(info)):
+            raise foreign(rec)
+
+
+def check_sweep_outputs(params: Params, cases_path: str | Path | None = None) -> None:
+    """Refuse, before any work, output folders ``sweep run`` could not write into.
+
+    The design's files (:func:`check_design_outputs`), the adaptive cache, the
+    sweep and fatigue folders and the dataset folder are checked as their
+    stages would claim them, so a foreign file in the last of them stops the
+    command at once instead of after every simulation.
+    """
+    cfg = params.sweep
+    path = Path(cases_path or cfg.cases_path)
+    check_design_outputs(path)
+    OutputFolder.check(adaptive_cache_dir(params, path), ADAPTIVE_KIND,
+                       "sweep.adaptive.cache_dir")
+    for root, option in ((cfg.sweep_dir, "sweep.sweep_dir"), (cfg.fatigue_dir, "sweep.fatigue_dir")):
+        r = Path(root)
+        if r.is_dir() and not (r / MARKER).exists() and (r / REPORT_NAME).is_file():
+            continue  # a sweep folder written before markers: adopted when claimed
+        OutputFolder.check(r, SWEEP_KIND, option)
+    OutputFolder.check(cfg.dataset_dir, DATASET_KIND, "sweep.dataset_dir", DATASET_FILES)
+
+
 def design_stage(params: Params, cases_path: str | Path | None = None, *,
                  progress: bool = False, case_fn: CaseFn = run_case,
                  fatigue_fn: CaseFn = fatigue_case) -> pd.DataFrame:
@@ -66,6 +131,7 @@ def design_stage(params: Params, cases_path: str | Path | None = None, *,
     """
     cfg = params.sweep
     cases_path = Path(cases_path or cfg.cases_path)
+    check_design_outputs(cases_path)
     if cfg.method == "adaptive":
         censor = (-math.log10(params.surrogate.horizon_h)
                   if params.surrogate.censoring == "likelihood" else None)
