@@ -320,3 +320,14 @@ def test_batch_output_never_replaces_an_input(model_dir: Path, tmp_path: Path, c
         assert cond.read_bytes() == (EXAMPLES / "conditions.csv").read_bytes()
     assert not (model_dir / "notes.csv").exists()
     assert {p.name: p.read_bytes() for p in model_dir.iterdir() if p.is_file()} == model_before
+
+
+def test_messages_show_table_values_as_plain_values() -> None:
+    """A value read from a table is a numpy scalar: the message shows 'banana' and nan,
+    not np.str_('banana') and np.float64(nan)."""
+    v = Vocabulary(["operation.rpm"], [])
+    for value, shown in ((np.str_("banana"), "'banana'"), (np.float64("nan"), "nan")):
+        with pytest.raises(InputError) as exc:
+            v.frame_from_table(pd.DataFrame({"rpm": np.array([value], dtype=object)}),
+                               require=())
+        assert shown in exc.value.problem and "np." not in str(exc.value)

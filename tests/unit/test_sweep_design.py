@@ -204,3 +204,21 @@ def test_real_case_config_base_case(tmp_path):
 def test_read_cases_errors(tmp_path):
     with pytest.raises(InputError):
         read_cases(tmp_path / "missing.parquet")
+
+
+def test_a_bad_variable_bound_in_a_rig_design_names_the_variable() -> None:
+    """Rig boundaries: the fixed settings are validated on a probe case that carries the
+    variables at an extreme; a bad bound is the variable's error, not the first fixed key's."""
+    from pathlib import Path
+
+    import yaml
+
+    from drillfatigue.sweep.design import base_case_from_params, design_cases
+
+    data = yaml.safe_load((Path(__file__).resolve().parents[2] / "params.yaml").read_text())
+    assert data["sweep"]["boundaries"] == "rig" and data["sweep"]["fixed"]
+    data["sweep"]["variables"]["operation.rpm"] = {"low": -500.0, "high": 80.0}
+    params = Params.model_validate(data)
+    with pytest.raises(InputError) as exc:
+        design_cases(params.sweep, base_case_from_params(params))
+    assert exc.value.field == "sweep.variables.operation.rpm"

@@ -486,7 +486,7 @@ def _read_las(p: Path) -> _Raw:
     except (TypeError, ValueError):
         v = float("nan")
     if v not in (1.2, 2.0):
-        raise InputError(f"{p}:~VERSION", f"LAS version {vers!r}", "LAS 2.0 (or 1.2)")
+        raise InputError(f"{p}:~VERSION", f"LAS version {str(vers)!r}", "LAS 2.0 (or 1.2)")
     if not las.curves:
         raise InputError(str(p), "no curves", "a ~Curve section and data")
     numeric: dict[str, np.ndarray] = {}

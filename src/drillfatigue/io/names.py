@@ -110,12 +110,14 @@ class Vocabulary:
 
     # -- conversion ---------------------------------------------------------
     def _number(self, name: str, value: object) -> float:
+        # a numpy scalar from a table reads as its Python value in the message
+        shown = value.item() if hasattr(value, "item") else value
         try:
             v = float(value)  # type: ignore[arg-type]
         except (TypeError, ValueError):
-            raise InputError(name, f"non-numeric value {value!r}", "a finite number") from None
+            raise InputError(name, f"non-numeric value {shown!r}", "a finite number") from None
         if not math.isfinite(v):
-            raise InputError(name, f"value {value!r} is NaN or infinite", "a finite number")
+            raise InputError(name, f"value {shown!r} is NaN or infinite", "a finite number")
         return v
 
     def frame_from_mapping(self, values: Mapping[str, object],

@@ -146,7 +146,7 @@ class Preprocessor:
             codes = np.fromiter((lookup.get(v, -1) for v in vals), dtype=np.int64,
                                 count=len(vals))
         if np.any(codes < 0):
-            bad = vals[np.argmax(codes < 0)]
+            bad = str(vals[np.argmax(codes < 0)])
             raise InputError(col, f"value {bad!r} not seen in training", ", ".join(levels))
         return codes
 

@@ -26,7 +26,7 @@ import json
 import math
 import re
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -194,11 +194,18 @@ def rig_case(case: Mapping[str, Any], rig: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def _validate_case(case: dict[str, Any], field: str,
-                   model: type[BaseModel] = CaseConfig) -> dict[str, Any]:
-    """Validate a case dict; on error re-raise naming ``field``; return the JSON dump."""
+                   model: type[BaseModel] = CaseConfig,
+                   variables: Sequence[str] = ()) -> dict[str, Any]:
+    """Validate a case dict; on error re-raise naming ``field``; return the JSON dump.
+
+    An error in one of the design's ``variables`` (a probe case carries them at
+    an extreme) names ``sweep.variables.<path>`` instead of ``field``.
+    """
     try:
         cfg = case_from_dict(case) if model is CaseConfig else validate(model, case)
     except InputError as exc:
+        if exc.field in variables:
+            raise InputError(f"sweep.variables.{exc.field}", exc.problem, exc.allowed) from None
         raise InputError(field, f"gives an invalid case: {exc.field}: {exc.problem}",
                          exc.allowed) from None
     return cfg.model_dump(mode="json")
@@ -331,8 +338,8 @@ def design_space(cfg: SweepConfig, base_case: Mapping[str, Any], *,
         probe = apply_overrides(base, {p: _extremes(cfg.variables[p])[0] for p in names})
         for path, value in fixed.items():
             _validate_case(finish(apply_overrides(probe, {path: value}, "sweep.fixed")),
-                           f"sweep.fixed.{path}", model)
-        _validate_case(finish(probe), "sweep.rig", model)
+                           f"sweep.fixed.{path}", model, names)
+        _validate_case(finish(probe), "sweep.rig", model, names)
     else:
         for path, value in fixed.items():
             trial = apply_overrides(base, {path: value}, "sweep.fixed")
