@@ -235,3 +235,23 @@ def test_output_file_that_is_a_folder(tmp_path, monkeypatch, capsys, command) ->
     err = capsys.readouterr().err
     assert err == f"error: --out: {name} is a folder, not a file (allowed: a file path)\n"
     assert os.listdir(tmp_path / name) == ["mine.txt"]
+
+
+def test_tnd_refuses_more_weight_on_bit_than_the_string_can_give(tmp_path, monkeypatch,
+                                                                 capsys) -> None:
+    """Soft string: the drilling hook load falls one to one with the WOB (the hook load is
+    the rotating off-bottom tension less the WOB), so the largest WOB the string can give
+    is the WOB at which it reaches zero; a larger --wob-kN is one line naming that bound,
+    exit 2, no plot written. The bound read from the message agrees with a WOB inside it."""
+    import json
+
+    monkeypatch.chdir(tmp_path)
+    case = Path(drillfatigue.__file__).resolve().parents[2] / "data" / "cases" / "case2_profile.yaml"
+    assert main(["tnd", str(case), "--wob-kN", "600", "-o", "td.png"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --wob-kN: 600 kN would need a drilling hook load of -")
+    assert err.count("\n") == 1 and not (tmp_path / "td.png").exists()
+    most = float(err.split("wob_kN <= ")[1].split(" ")[0])
+    assert main(["tnd", str(case), "--wob-kN", "100", "--json"]) == 0
+    hook_kN = json.loads(capsys.readouterr().out)["hookload_drilling_N"] / 1e3
+    assert hook_kN == pytest.approx(most - 100.0, abs=0.1)  # the bound's rounding

@@ -320,6 +320,11 @@ def test_batch_output_never_replaces_an_input(model_dir: Path, tmp_path: Path, c
         assert cond.read_bytes() == (EXAMPLES / "conditions.csv").read_bytes()
     assert not (model_dir / "notes.csv").exists()
     assert {p.name: p.read_bytes() for p in model_dir.iterdir() if p.is_file()} == model_before
+    # the predictions are CSV text: another suffix would mislabel them
+    assert main(["query", "--model", str(model_dir), "--csv", str(cond),
+                 "--out", str(tmp_path / "pred.parquet")]) == 2
+    assert "not a .csv file" in capsys.readouterr().err
+    assert not (tmp_path / "pred.parquet").exists()
 
 
 def test_messages_show_table_values_as_plain_values() -> None:

@@ -156,6 +156,8 @@ def query(ctx: typer.Context,
         raise InputError("--csv", f"file {str(csv)!r} not found", "an existing CSV file")
     if out is not None:
         check_output_file(out, "--out", [("--csv", csv), ("--model", model), ("--well", well)])
+        if out.suffix.lower() != ".csv":  # the predictions are written as CSV text
+            raise InputError("--out", f"{str(out)!r} is not a .csv file", "FILE.csv")
     if well is None and well_profile is not None:
         raise InputError("--well-profile", "only used with --well", "--well FILE")
     sur = _load_model(model)

@@ -110,6 +110,15 @@ def tnd(
     cfg = load_case(case)
     td = torque_drag_for_case(cfg, cell_m=cell_m, wob_N=None if wob_kN is None else wob_kN * KN_N)
     summary: dict[str, Any] = dict(td.summary())
+    hook = float(summary["hookload_drilling_N"])
+    if wob_kN is not None and hook < 0.0:
+        # the block can hold the string back, not push it down: more WOB than the
+        # buoyed weight less the drag gives is no drilling state (a WOB from the
+        # operation section, the weight below the neutral point, cannot exceed it)
+        most = (wob_kN * KN_N + hook) / KN_N
+        raise InputError("--wob-kN", f"{wob_kN:g} kN would need a drilling hook load of "
+                         f"{hook / KN_N:.1f} kN (the block pushing the string down)",
+                         f"0 <= wob_kN <= {most:.1f} (hook load >= 0) for this string")
     buck = buckling_for_case(cfg, td)
     summary.update(buck.summary())
     if as_json:
