@@ -46,9 +46,6 @@ PARTS = ".parts"
 
 #: histories streamed as parts while the run goes on, by stem
 HISTORIES = ("loads", "channels", "kinematics", "contacts")
-#: the files a run writes at the top of its folder (checked for foreign files of
-#: these names before anything in the folder changes)
-FILES = (CASE, JOINTS, SUMMARY, CHECKPOINT) + tuple(f"{h}.parquet" for h in HISTORIES)
 
 #: the six joint loads, in the order of every load array (n_time, n_joint, 6)
 LOAD_COLUMNS = ("axial_N", "shear_x_N", "shear_y_N", "bending_x_Nm", "bending_y_Nm", "torque_Nm")
@@ -89,6 +86,11 @@ def recorded_span_s(time_s: np.ndarray) -> float:
 def history_name(stem: str) -> str:
     """Final file name of a history (``loads`` -> ``loads.parquet``)."""
     return f"{stem}.parquet"
+
+
+#: the files a run writes at the top of its folder (checked for foreign files of
+#: these names before anything in the folder changes)
+FILES = (CASE, JOINTS, SUMMARY, CHECKPOINT) + tuple(history_name(h) for h in HISTORIES)
 
 
 def partial_name(stem: str) -> str:
