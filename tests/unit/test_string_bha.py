@@ -157,3 +157,41 @@ def test_added_mass_coefficient_and_mud_masses() -> None:
                                   rel=1e-3)
     with pytest.raises(InputError):
         lateral_mud_mass_per_m(seg, -1.0, HOLE)
+
+
+# --- named BHAs under the listed components (string.bha) ---------------------------
+
+def _dp(length_m: float = 400.0) -> dict:
+    return {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": length_m,
+            "n_segments": 13}
+
+
+@pytest.mark.parametrize("name", ["slick", "pendulum", "packed", "mwd_jar_hwdp"])
+def test_a_named_bha_goes_below_the_listed_components_and_round_trips(name: str) -> None:
+    from drillfatigue.config.string import BHAS, StringConfig
+
+    cfg = StringConfig(bha=name, components=[_dp()])
+    assert len(cfg.components) == len(BHAS[name]) + 1
+    assert cfg.components[-1].type == "drill_pipe"
+    assert cfg.total_length_m == pytest.approx(cfg.bha_length_m + 400.0)
+    dump = cfg.model_dump(mode="json")
+    assert dump["bha"] == name and len(dump["components"]) == 1  # written out as given
+    again = StringConfig(**dump)
+    assert again.model_dump(mode="json") == dump
+    assert [c.type for c in again.components] == [c.type for c in cfg.components]
+
+
+def test_the_design_bhas_hold_every_bha_component_type_the_simulator_models() -> None:
+    from drillfatigue.config.string import BHAS
+
+    types = {c["type"] for bha in BHAS.values() for c in bha}
+    assert types == {"collar", "stabilizer", "hwdp", "jar", "mwd"}
+
+
+def test_a_bha_without_components_above_it_is_refused() -> None:
+    from drillfatigue.config.string import StringConfig
+
+    with pytest.raises(ValueError, match="components above the BHA"):
+        StringConfig.model_validate({"bha": "slick", "components": None})
+    with pytest.raises(ValueError, match="bha"):
+        StringConfig.model_validate({"bha": "banana", "components": [_dp()]})

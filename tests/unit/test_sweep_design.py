@@ -222,3 +222,26 @@ def test_a_bad_variable_bound_in_a_rig_design_names_the_variable() -> None:
     with pytest.raises(InputError) as exc:
         design_cases(params.sweep, base_case_from_params(params))
     assert exc.value.field == "sweep.variables.operation.rpm"
+
+
+def test_the_wob_set_point_moves_to_the_autodriller_and_is_refused_in_a_case() -> None:
+    from drillfatigue.config import CaseConfig
+    from drillfatigue.sweep.design import rig_case
+
+    case = {"operation": {"wob_N": 90_000.0, "rpm": 120.0}}
+    out = rig_case(case, {"block_mode": "autodriller", "autodriller": {"measurement": "wob"}})
+    assert out["rig"]["autodriller"]["wob_set_N"] == 90_000.0
+    assert out["operation"]["wob_N"] is None
+    with pytest.raises(ValueError, match="operation.wob_N"):
+        CaseConfig.model_validate({"operation": {"wob_N": 90_000.0}})
+
+
+def test_optional_fields_not_given_leave_the_case_id_unchanged() -> None:
+    from drillfatigue.sweep.design import case_id_of
+
+    base = {"operation": {"rpm": 120.0}, "string": {"components": []}}
+    with_none = {"operation": {"rpm": 120.0, "wob_N": None},
+                 "string": {"components": [], "bha": None}}
+    assert case_id_of(base) == case_id_of(with_none)
+    assert case_id_of(base) != case_id_of({**with_none, "string": {"components": [],
+                                                                     "bha": "slick"}})

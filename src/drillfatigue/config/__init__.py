@@ -82,9 +82,14 @@ class CaseConfig(StrictModel):
         """With a ``rig`` section the block holds the string, the top drive turns it and the
         bit law gives the ROP: an ``operation`` input those replace is an error."""
         rig = self.rig
+        op = self.operation
+        if op.wob_N is not None:
+            raise ValueError("operation.wob_N: the WOB set-point is the autodriller's (allowed: "
+                             "rig.autodriller.wob_set_N with rig.block_mode autodriller; "
+                             "operation.wob_N only as a sweep variable with sweep.boundaries rig, "
+                             "which moves it there)")
         if rig is None:
             return self
-        op = self.operation
         # given with a value other than its default (a written-out case.yaml lists
         # every field at its default: that is no input for the mode to ignore)
         given = {k for k in op.model_fields_set

@@ -47,6 +47,10 @@ class OperationConfig(StrictModel):
     # bit
     bit_on_bottom: bool = True
     rop_m_per_s: float = Field(0.0, ge=0.0, le=1.0)
+    wob_N: float | None = Field(
+        None, gt=0.0, le=2e6, description="weight-on-bit set-point, N: the driller's control. It "
+        "is the autodriller's rig.autodriller.wob_set_N; the sweep's rig boundaries move it "
+        "there (a simulated case gives it in the rig section)")
     tob_Nm: float = Field(0.0, ge=-1e6, le=1e6, description="given torque on bit (bit_on_bottom)")
     lobe_count: int = Field(3, ge=0, le=20)
     lobe_amplitude_m: float = Field(0.0, ge=0.0, le=0.05)

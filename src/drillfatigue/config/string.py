@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_serializer, model_validator
 
 from drillfatigue.config.base import StrictModel
 
@@ -204,6 +204,51 @@ def _paper_bha_components() -> list[ComponentConfig]:
 #: ``paper_bha`` (:func:`_paper_bha_components`).
 PRESETS = {"bare_collars": _default_components, "paper_bha": _paper_bha_components}
 
+# Typical 8 1/2 in hole BHA items (API RP 7G tables and makers' catalogues; typical
+# values, not one maker's): 6 3/4 in collars and MWD collar (OD 171.45 mm, ID 71.4 mm),
+# integral-blade stabilizers 1.8 m long with 8 7/16 in blades (1/16 in under gauge)
+# 0.45 m long, a 6 1/2 in drilling jar (OD 165.1 mm, ID 69.9 mm, 9.4 m), 5 in
+# heavy-weight drill pipe (ID 76.2 mm, 6 5/8 in tool joints, 5 1/2 in centre upset,
+# range-2 joints cut one per segment).
+_DC = {"od_m": 0.17145, "id_m": 0.0714}
+_STAB = {"type": "stabilizer", "length_m": 1.8, "blade_od_m": 0.2143, "blade_length_m": 0.45,
+         **_DC}
+_JAR = {"type": "jar", "name": "6.5in drilling jar", "od_m": 0.1651, "id_m": 0.0699,
+        "length_m": 9.4}
+_MWD = {"type": "mwd", "name": "6.75in MWD", "length_m": 9.0, **_DC}
+
+
+def _hwdp(n_joints: int) -> dict[str, Any]:
+    return {"type": "hwdp", "name": "5in HWDP", "od_m": 0.127, "id_m": 0.0762,
+            "length_m": n_joints * RANGE2_JOINT_LENGTH_M, "tool_joint_od_m": 0.1683,
+            "tool_joint_id_m": 0.0762, "tool_joint_length_fraction": 0.1,
+            "center_upset_od_m": 0.1397, "joints_per_segment": 1}
+
+
+def _collars(name: str, length_m: float, n_segments: int) -> dict[str, Any]:
+    return {"type": "collar", "name": name, "length_m": length_m, "n_segments": n_segments,
+            **_DC}
+
+
+#: Bottom-hole assemblies from the bit up (the bit itself not listed), for
+#: ``string.bha``: ``slick`` (60 m of collars), ``pendulum`` (a string stabilizer
+#: 18 m up, heavy-weight pipe above the collars), ``packed`` (near-bit and two string
+#: stabilizers, a jar in the collars, heavy-weight pipe) and ``mwd_jar_hwdp`` (near-bit
+#: stabilizer, MWD collar, string stabilizer, collars, jar, 10 joints of heavy-weight
+#: pipe). docs/bending.md and docs/surrogate.md list them.
+BHAS: dict[str, tuple[dict[str, Any], ...]] = {
+    "slick": (_collars("6.75in DC", 60.0, 6),),
+    "pendulum": (_collars("6.75in DC", 18.0, 2), {**_STAB, "name": "string stabilizer"},
+                 _collars("6.75in DC", 42.0, 4), _hwdp(5)),
+    "packed": ({**_STAB, "name": "near-bit stabilizer"}, _collars("6.75in short DC", 9.0, 1),
+               {**_STAB, "name": "string stabilizer"}, _collars("6.75in DC", 9.0, 1),
+               {**_STAB, "name": "string stabilizer"}, _collars("6.75in DC", 36.0, 4), _JAR,
+               _collars("6.75in DC", 18.0, 2), _hwdp(5)),
+    "mwd_jar_hwdp": ({**_STAB, "name": "near-bit stabilizer"}, _MWD,
+                     {**_STAB, "name": "string stabilizer"}, _collars("6.75in DC", 27.0, 3),
+                     _JAR, _collars("6.75in DC", 9.0, 1), _hwdp(10)),
+}
+
 
 class StringConfig(StrictModel):
     """Settings of the ``string`` section: components from the bit up.
@@ -227,6 +272,9 @@ class StringConfig(StrictModel):
 
     preset: Literal["bare_collars", "paper_bha"] | None = Field(
         None, description="a named string (PRESETS) used when components are not given")
+    bha: Literal["slick", "pendulum", "packed", "mwd_jar_hwdp"] | None = Field(
+        None, description="a named bottom-hole assembly (BHAS) below the listed components: "
+        "the string is the BHA from the bit up, then components")
     components: list[ComponentConfig] = Field(default_factory=_default_components, min_length=1)
     shear_coefficient: float = Field(0.5, gt=0.0, le=1.0)
     lateral_mud_mass: bool = True
@@ -249,6 +297,31 @@ class StringConfig(StrictModel):
                 raise ValueError(f"unknown preset {name!r} (allowed: {', '.join(PRESETS)})")
             data = {**data, "components": PRESETS[name]()}
         return data
+
+    @model_validator(mode="before")
+    @classmethod
+    def _prepend_bha(cls, data: Any) -> Any:
+        if isinstance(data, dict) and data.get("bha") is not None:
+            name = data["bha"]
+            if name not in BHAS:
+                raise ValueError(f"unknown bha {name!r} (allowed: {', '.join(BHAS)})")
+            above = data.get("components")
+            if above is None:
+                raise ValueError("bha: the components above the BHA are missing "
+                                 "(allowed: bha with a components list, e.g. the drill pipe)")
+            data = {**data, "components": [dict(c) for c in BHAS[name]] + list(above)}
+        return data
+
+    @field_serializer("components")
+    def _components_above_bha(self, components: list[ComponentConfig]) -> list[ComponentConfig]:
+        """Written out as given: a named BHA's components are not repeated (re-reading the
+        dump gives the same string)."""
+        return components[len(BHAS[self.bha]):] if self.bha is not None else components
+
+    @property
+    def bha_length_m(self) -> float:
+        """Length of the named BHA (m); 0 without one."""
+        return float(sum(c["length_m"] for c in BHAS[self.bha])) if self.bha else 0.0
 
     @property
     def total_length_m(self) -> float:

@@ -65,6 +65,7 @@ CASE_ID_LENGTH = 12
 #: The ROP goes to the block's set-point in ``block_mode: rop`` and to the autodriller's ROP
 #: limit in ``block_mode: autodriller`` (:data:`ROP_TARGETS`).
 RIG_PATHS = {"operation.rop_m_per_s": "rig.rop_set_m_per_s",
+             "operation.wob_N": "rig.autodriller.wob_set_N",
              "operation.lobe_amplitude_m": "rig.rock.lobe_amplitude_m",
              "operation.lobe_count": "rig.rock.lobe_count"}
 #: Where the designed ROP goes, per block mode: the ``rop`` block lowers at it; the
@@ -92,10 +93,21 @@ def canonical_json(data: Any) -> str:
                       allow_nan=False)
 
 
+#: Optional fields (section, key) left out of a case's identity while not given (None),
+#: so that a case that does not use them keeps its id.
+_OPTIONAL_FIELDS = (("operation", "wob_N"), ("string", "bha"))
+
+
 def simulation_inputs(case: Mapping[str, Any]) -> dict[str, Any]:
     """The part of a case that identifies a simulation (all sections but ``fatigue``; an
-    absent ``rig`` section is left out, so cases without it keep their ids)."""
-    return {k: v for k, v in case.items() if k != "fatigue" and not (k == "rig" and v is None)}
+    absent ``rig`` section and the :data:`_OPTIONAL_FIELDS` not given are left out, so
+    cases without them keep their ids)."""
+    out = {k: v for k, v in case.items() if k != "fatigue" and not (k == "rig" and v is None)}
+    for section, key in _OPTIONAL_FIELDS:
+        part = out.get(section)
+        if isinstance(part, dict) and key in part and part[key] is None:
+            out[section] = {k: v for k, v in part.items() if k != key}
+    return out
 
 
 def inputs_sha256(data: Any) -> str:
@@ -179,6 +191,8 @@ def rig_case(case: Mapping[str, Any], rig: Mapping[str, Any]) -> dict[str, Any]:
             continue
         value = op[key]
         op[key] = defaults[key].default
+        if value is None:  # an optional input not given (operation.wob_N)
+            continue
         if dst == "rig.rop_set_m_per_s":
             target = ROP_TARGETS.get(section.get("block_mode", "autodriller"))
             if target is None:
