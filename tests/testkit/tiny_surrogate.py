@@ -1,9 +1,11 @@
 """A tiny surrogate with the pipeline's feature set, trained in seconds.
 
 Stands in for ``data/surrogate/model`` (a DVC output) where a test runs a
-command that needs a trained model. The table draws every feature of
-``params.yaml``'s ``surrogate`` section uniformly over the sweep's ranges and
-takes a smooth made-up log10 damage rate; the model is only as right as that.
+command that needs a trained model. The table draws every operating feature
+of ``params.yaml``'s ``surrogate`` section uniformly over the sweep's ranges,
+and places the component types and locations of the design's BHAs at the
+distances from the bit they sit at there (:data:`_PLACES`), with a smooth
+made-up log10 damage rate; the model is only as right as that.
 """
 
 from __future__ import annotations
@@ -18,13 +20,12 @@ from drillfatigue.surrogate import fit_surrogate
 from drillfatigue.surrogate.bounds import domain_bounds
 
 _RANGES = {
-    "operation.rpm": (80.0, 180.0),
-    "operation.rop_m_per_s": (0.0014, 0.015),
+    "operation.rpm": (60.0, 180.0),
+    "operation.wob_N": (30000.0, 120000.0),
     "operation.lobe_amplitude_m": (0.0, 0.002),
     "operation.mud_density_kg_per_m3": (1000.0, 1600.0),
     "friction.mu_dynamic": (0.15, 0.4),
-    "md_m": (400.0, 800.0),
-    "s_from_bit_m": (5.0, 200.0),
+    "bit_md_m": (560.0, 760.0),
     "local_dls_deg_per_30m": (0.0, 9.0),
     "local_inc_deg": (0.0, 90.0),
     "local_max_dls_deg_per_30m": (0.0, 9.0),
@@ -32,18 +33,31 @@ _RANGES = {
     "bit_dls_deg_per_30m": (0.0, 9.0),
     "build_to_bit_deg_per_30m": (0.0, 9.0),
 }
+#: (component type, locations, distance from the bit low, high in m) as in the design's BHAs
+_PLACES = (
+    ("stabilizer", ("body", "connection"), 0.9, 22.0),
+    ("mwd", ("body", "connection"), 2.0, 12.0),
+    ("collar", ("body", "connection"), 4.0, 60.0),
+    ("jar", ("body", "connection"), 50.0, 80.0),
+    ("hwdp", ("body", "connection", "upset"), 60.0, 150.0),
+    ("drill_pipe", ("body", "connection", "upset"), 60.0, 550.0),
+)
 
 
 def tiny_table(features: tuple[str, ...], n_cases: int = 40, seed: int = 0) -> pd.DataFrame:
-    """Rows of ``n_cases`` cases x (collar, drill_pipe) x (body, connection)."""
+    """Rows of ``n_cases`` cases x the component types and locations of :data:`_PLACES`."""
     rng = np.random.default_rng(seed)
     rows = []
     for case in range(n_cases):
-        values = {f: rng.uniform(*_RANGES.get(f, (0.0, 1.0))) for f in features}
-        for ctype in ("collar", "drill_pipe"):
-            for loc in ("body", "connection"):
-                rows.append({"case_id": f"case{case:03d}", "component_type": ctype,
-                             "location": loc, **values})
+        values = {f: rng.uniform(*_RANGES.get(f, (0.0, 1.0))) for f in features
+                  if f not in ("md_m", "s_from_bit_m")}
+        bit_md = rng.uniform(*_RANGES["bit_md_m"])
+        for ctype, locs, s_lo, s_hi in _PLACES:
+            for s in rng.uniform(s_lo, s_hi, 3):
+                for loc in locs:
+                    rows.append({"case_id": f"case{case:03d}", "component_type": ctype,
+                                 "location": loc, **values, "s_from_bit_m": s,
+                                 "md_m": bit_md - s})
     frame = pd.DataFrame(rows)
     log_rate = (-6.0 + 2.0 * frame.get("local_dls_deg_per_30m", 0.0) / 9.0
                 + frame["location"].eq("connection") * 0.5 + rng.normal(0.0, 0.05, len(frame)))
@@ -57,8 +71,9 @@ def train_tiny_surrogate(params_path: Path, out_dir: Path) -> Path:
     params = load_params(params_path)
     cfg = params.surrogate.model_copy(
         update={"hidden_layers": (8,), "max_epochs": 20, "patience": 5})
+    table = tiny_table(tuple(cfg.features))
     # the domain from the design, as the train stage saves it
-    bounds = domain_bounds(params, cfg.features, np.array(_RANGES["s_from_bit_m"]))
-    model = fit_surrogate(tiny_table(cfg.features), cfg, bounds=bounds)
+    bounds = domain_bounds(params, cfg.features, table["s_from_bit_m"].to_numpy())
+    model = fit_surrogate(table, cfg, bounds=bounds)
     model.save(out_dir)
     return out_dir

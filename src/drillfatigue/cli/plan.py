@@ -71,7 +71,13 @@ def rank(
                         "critical_component", "ood_fraction", "life_windows_simulator",
                         "rank_simulator")
             if c in table.columns]
-    typer.echo(table[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    typer.echo(table[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}",
+                                     na_rep="no answer"))
+    refused = table[table["no_answer"] != ""]
+    for _, row in refused.iterrows():
+        typer.echo(f"{row['candidate']}: no answer: {row['no_answer']}")
+    if len(refused):
+        typer.echo("no best plan: the surrogate has no answer for every candidate")
     typer.echo(f"wrote {out / 'ranking.csv'}, {out / 'ranking.png'}")
 
 

@@ -192,7 +192,7 @@ def query(ctx: typer.Context,
     x_num, x_cat = sur.encode(frame)
     r = sur.predict_array(x_num, x_cat)
     if r["ood"][0]:
-        raise sur.domain.refusal(x_num[0], float(r["knn_distance"][0]))
+        raise sur.domain.refusal(x_num[0], float(r["knn_distance"][0]), cat_row=x_cat[0])
     row = prediction_frame(r, np.full(1, "", dtype=object)).iloc[0]
     horizon = sur.horizon_h
     res = {

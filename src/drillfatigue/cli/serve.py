@@ -3,7 +3,7 @@
 ::
 
     drillfatigue serve --model data/surrogate/model [--model other=PATH] [--port 8000]
-    drillfatigue window --model data/surrogate/model --x rpm=40:200:33 --y wob_kN=20:200:31 \\
+    drillfatigue window --model data/surrogate/model --x rpm=60:180:25 --y wob_kN=30:120:19 \\
         --set md_m=1500 --set s_from_bit_m=8 --set component_type=collar ... --out map.png
 
 ``serve`` loads every model once, answers on ``http://HOST:PORT/`` (web page)
@@ -91,9 +91,10 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
 
 @app.command("window")
 def window(model: Path = typer.Option(..., "--model", help="surrogate model folder"),
-           x: str = typer.Option("rpm=40:200:33", "--x", help="x axis NAME=START:STOP:NODES"),
-           y: str = typer.Option("wob_kN=20:200:31", "--y",
-                                 help="y axis NAME=START:STOP:NODES (wob_kN, rop_m_per_h, ...)"),
+           x: str = typer.Option("rpm", "--x", help="x axis NAME=START:STOP:NODES, or NAME "
+                                 "alone: 31 nodes over the model's domain"),
+           y: str = typer.Option("wob_kN", "--y", help="y axis NAME=START:STOP:NODES, or NAME "
+                                 "alone: 31 nodes over the model's domain (wob_kN, ...)"),
            settings: list[str] = typer.Option([], "--set", help="fixed input NAME=VALUE, user "
                                               "units (md_m, s_from_bit_m, component_type, ...)"),
            survey: Path | None = typer.Option(None, "--survey", help="survey CSV (md_m, "
@@ -117,13 +118,16 @@ def window(model: Path = typer.Option(..., "--model", help="surrogate model fold
     check_output_file(out, "--out", inputs)
     if csv is not None:
         check_output_file(csv, "--csv", [*inputs, ("--out", out)])
-    ax_x, ax_y = Axis.parse(x, "--x"), Axis.parse(y, "--y")
     fixed = parse_settings(list(settings))
     survey_t = _read_csv(survey, "--survey") if survey is not None else None
     if not (model / "metadata.json").is_file():
         raise InputError("--model", f"{str(model)!r} is not a surrogate model folder",
                          "a folder written by the train stage")
-    wmap = operating_window(Surrogate.load(model), ax_x, ax_y, fixed, survey_t)
+    sur = Surrogate.load(model)
+    ax_x, ax_y = (Axis.parse(spec, opt) if "=" in spec
+                  else Axis.in_domain(spec.strip().replace("-", "_"), sur, field=opt)
+                  for spec, opt in ((x, "--x"), (y, "--y")))
+    wmap = operating_window(sur, ax_x, ax_y, fixed, survey_t)
     plot_window(wmap, out, title)
     if csv is not None:
         with atomic_output(csv) as tmp:

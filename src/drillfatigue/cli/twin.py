@@ -123,6 +123,7 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
         components_from_string,
         plot_damage_along_string,
         replay_log,
+        replay_summary,
         survey_from_well,
     )
 
@@ -137,7 +138,8 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
     imported = load_log(log, parse_settings(list(channels), "--channel"), max_fill_s, max_gap_s)
     log_t = imported.table
     if string is not None and string.suffix.lower() == ".csv":
-        comp_t = components_from_string(load_tally(string).string)
+        tally = load_tally(string)
+        comp_t = components_from_string(tally.string, kinds=tally.kinds)
     elif string is not None:
         comp_t = components_from_string(read_section(string, "string", "--string", StringConfig))
     else:
@@ -159,23 +161,25 @@ def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), 
     folder = OutputFolder(out, TWIN_KIND, "--out")
     c = res.components
     write_csv(c, folder.file("components_damage.csv"))
-    worst = c.loc[c["damage"].idxmax()]
-    write_json({
-        "duration_h": res.duration_s / 3600.0,
-        "n_components": int(len(c)),
-        "criterion": sur.metadata["criterion"],
-        "coverage": sur.coverage,
-        "max_damage": float(worst["damage"]),
-        "max_damage_serial": str(worst["serial"]),
-        "total_ood_time_s": float(c["ood_time_s"].sum()),
-        "ignored_log_channels": list(res.ignored_channels),
-        "log": imported.report(),
-    }, folder.file("summary.json"))
+    summary = replay_summary(res)
+    write_json({**summary, "criterion": sur.metadata["criterion"], "coverage": sur.coverage,
+                "log": imported.report()}, folder.file("summary.json"))
     plot_damage_along_string(res, str(folder.file("damage_along_string.png")), display)
-    s_worst = display.value("length", float(worst["s_from_bit_m"]))
-    print(f"replayed {res.duration_s / 3600.0:.3g} h for {len(c)} components; "
-          f"max damage {float(worst['damage']):.3g} at {worst['serial']} "
-          f"({s_worst:.1f} {display.unit('length')} from the bit); wrote {out}/")
+    if summary["max_damage_serial"] is None:
+        print(f"replayed {summary['duration_h']:.3g} h for {len(c)} locations; no answer: "
+              f"no covered location was ever in the model's domain; wrote {out}/")
+    else:
+        s_worst = display.value("length", summary["max_damage_s_from_bit_m"])
+        print(f"replayed {summary['duration_h']:.3g} h for {len(c)} locations; max damage in "
+              f"domain {summary['max_damage_in_domain']:.3g} at {summary['max_damage_serial']} "
+              f"({s_worst:.1f} {display.unit('length')} from the bit); wrote {out}/")
+    if summary["n_locations_some_time_ood"]:
+        print(f"{summary['n_locations_some_time_ood']} of {summary['n_locations_covered']} "
+              f"covered locations spent time out of the model's domain (no damage counted "
+              f"then; up to {summary['max_ood_time_h']:.3g} h): ood_time_s in "
+              "components_damage.csv")
+    for entry in summary["not_covered"]:
+        print(f"not covered: {entry['item']}: {entry['reason']}")
     if res.ignored_channels or imported.ignored:
         print("log channels not used by the model: "
               + ", ".join([*res.ignored_channels, *imported.ignored]))

@@ -62,12 +62,17 @@ _SIZE = re.compile(r"(?<![\d.])(\d+(?:\.\d+)?)(?:[- ](\d+)/(\d+))?\s*(?:in\b|inc
 _WEIGHT = re.compile(r"(\d+(?:\.\d+)?)\s*(?:ppf|#|lbs?/ft|lbm/ft)", re.I)
 _GRADE = re.compile(r"\b([EXGS])\s*-?\s*(75|95|105|135)\b", re.I)
 _CONN = re.compile(r"\b(NC\s*\d{2})\b|\b(\d(?:-\d/\d)?)\s*(FH|IF|REG)\b", re.I)
+#: Tally kinds the string model has no type for, and the type simulated in their place.
+UNMODELLED_KINDS = {"motor": "sub"}
 _KINDS: tuple[tuple[str, str], ...] = (
     (r"\b(hwdp|hw|heavy[- ]?weight)\b", "hwdp"),
     (r"\b(dc|collars?|drill collars?|nmdc)\b", "collar"),
     (r"\b(stab|stabili[sz]er|nb stab|string stab)\b", "stabilizer"),
     (r"\b(bit|pdc|tricone)\b", "bit"),
-    (r"\b(mwd|lwd|motor|pdm|jar|jars|sub|x-?o|crossover|shock sub|float sub)\b", "sub"),
+    (r"\b(mwd|lwd)\b", "mwd"),
+    (r"\b(jar|jars)\b", "jar"),
+    (r"\b(motor|pdm|mud motor|turbine|rss|rotary steerable)\b", "motor"),
+    (r"\b(sub|x-?o|crossover|shock sub|float sub)\b", "sub"),
     (r"\b(dp|drill ?pipe|pipe)\b", "drill_pipe"),
 )
 
@@ -113,6 +118,10 @@ class ComponentSpec:
     tj_od_in: float | None = None
     tj_id_in: float | None = None
     references: tuple[str, ...] = ()
+    #: what the tally calls it where the string model has no such type: a mud motor or
+    #: rotary-steerable tool is simulated as a sub of its size (its power section or
+    #: steering is not modelled), and the twin lists it as not covered
+    kind: str | None = None
 
 
 def parse_description(text: str, where: str = "description") -> ComponentSpec:
@@ -126,6 +135,8 @@ def parse_description(text: str, where: str = "description") -> ComponentSpec:
         if re.search(pattern, low):
             spec.type = kind
             break
+    if spec.type in UNMODELLED_KINDS:
+        spec.kind, spec.type = spec.type, UNMODELLED_KINDS[spec.type]
     conn = _CONN.search(t)
     rest = t
     if conn is not None:
@@ -277,7 +288,7 @@ _TALLY_UNITS = {"length": ("length", "ft"), "joint_length": ("length", "ft"),
 _TYPE_WORDS = {"drill_pipe": "drill_pipe", "dp": "drill_pipe", "drill pipe": "drill_pipe",
                "hwdp": "hwdp", "hw": "hwdp", "collar": "collar", "dc": "collar",
                "stabilizer": "stabilizer", "stab": "stabilizer", "bit": "bit", "sub": "sub",
-               "mwd": "sub", "motor": "sub", "jar": "sub"}
+               "mwd": "mwd", "lwd": "mwd", "motor": "motor", "jar": "jar"}
 
 
 @dataclass(frozen=True)
@@ -287,6 +298,9 @@ class TallyImport:
     string: StringConfig
     references: tuple[tuple[str, ...], ...]
     ignored_columns: tuple[str, ...] = ()
+    #: per component: what the tally calls it (the string type, or an unmodelled kind
+    #: such as ``motor``, :data:`UNMODELLED_KINDS`)
+    kinds: tuple[str, ...] = ()
 
 
 def load_tally(path: str | Path) -> TallyImport:
@@ -337,6 +351,7 @@ def load_tally(path: str | Path) -> TallyImport:
         raise InputError(f"{p}:1", "no length column", "Length (ft) or Joint Length (ft)")
     comps = []
     refs = []
+    kinds: list[str] = []
     for r, row in enumerate(rows[first:], start=first + 1):
         where = f"{p}:{r}"
 
@@ -376,6 +391,8 @@ def load_tally(path: str | Path) -> TallyImport:
             if t not in _TYPE_WORDS:
                 raise InputError(f"{where}:type", f"unknown type {t!r}", ", ".join(_TYPE_WORDS))
             spec.type = _TYPE_WORDS[t]
+            if spec.type in UNMODELLED_KINDS:
+                spec.kind, spec.type = spec.type, UNMODELLED_KINDS[spec.type]
         for role, attr in (("od", "od_in"), ("id", "id_in"), ("tj_od", "tj_od_in"),
                            ("tj_id", "tj_id_in")):
             v = si(role)
@@ -423,5 +440,7 @@ def load_tally(path: str | Path) -> TallyImport:
                                       n_segments=None if seg is None else int(seg),
                                       tj_length_fraction=frac, field=where))
         refs.append(spec.references)
+        kinds.append(spec.kind or spec.type)
     string = validate(StringConfig, {"components": [c.model_dump() for c in comps]}, str(p))
-    return TallyImport(string=string, references=tuple(refs), ignored_columns=tuple(ignored))
+    return TallyImport(string=string, references=tuple(refs), ignored_columns=tuple(ignored),
+                       kinds=tuple(kinds))

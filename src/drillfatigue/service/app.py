@@ -76,6 +76,8 @@ from drillfatigue.surrogate.twin import (
     components_from_string,
     components_from_table,
     replay_log,
+    replay_summary,
+    retire_list,
     survey_from_well,
 )
 from drillfatigue.surrogate.window import Axis, WindowMap, operating_window, window_png
@@ -408,29 +410,10 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
                     else _survey_table(req.survey, "survey"))
         res = replay_log(log_t, comp_t, lm.surrogate, req.constants, survey_t)
         c = res.components
-        worst = c.loc[c["damage"].idxmax()]
-        retire = []
-        for _, row in c.sort_values("damage", ascending=False).iterrows():
-            reasons = []
-            if row["damage_upper"] >= req.retire_at_damage:
-                reasons.append(f"upper-bound damage {row['damage_upper']:.3g} >= "
-                               f"{req.retire_at_damage:g}")
-            life_lo = float(row["remaining_life_h_lower"])
-            if req.retire_within_h is not None and life_lo < req.retire_within_h:
-                reasons.append(f"lower-bound remaining life {life_lo:.3g} h < "
-                               f"{req.retire_within_h:g} h")
-            if reasons:
-                retire.append(RetireEntry(serial=str(row["serial"]),
-                                          s_from_bit_m=float(row["s_from_bit_m"]),
-                                          damage=float(row["damage"]),
-                                          damage_upper=float(row["damage_upper"]),
-                                          remaining_life_h_lower=_cell(life_lo),
-                                          reason="; ".join(reasons)))
-        return ReplayResponse(**_answer(lm), duration_h=res.duration_s / 3600.0,
-                              n_components=len(c), max_damage=float(worst["damage"]),
-                              max_damage_serial=str(worst["serial"]),
-                              total_ood_time_s=float(c["ood_time_s"].sum()),
-                              ignored_log_channels=list(res.ignored_channels),
+        retire = [RetireEntry(**{k: _cell(v) if isinstance(v, float) else v
+                                 for k, v in e.items()})
+                  for e in retire_list(res, req.retire_at_damage, req.retire_within_h)]
+        return ReplayResponse(**_answer(lm), **replay_summary(res),
                               columns=[str(k) for k in c.columns], components=_records(c),
                               retire=retire)
 

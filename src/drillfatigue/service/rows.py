@@ -112,8 +112,9 @@ def predict_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "
     x_num, x_cat = encode_rows(lm, rows, field)
     r = sur.predict_array(x_num, x_cat)
     if len(rows) == 1 and r["ood"][0]:
-        raise sur.domain.refusal(x_num[0], float(r["knn_distance"][0]), f"{field}[0].")
-    reasons = sur.domain.reasons(x_num, r["knn_distance"], r["ood"])
+        raise sur.domain.refusal(x_num[0], float(r["knn_distance"][0]), f"{field}[0].",
+                                 cat_row=x_cat[0])
+    reasons = sur.domain.reasons(x_num, r["knn_distance"], r["ood"], x_cat)
     cols = prediction_columns(r, reasons, refuse=True)
     lists = {c: np.asarray(cols[c]).tolist() for c in PREDICTION_COLUMNS}
     out = []

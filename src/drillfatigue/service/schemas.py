@@ -105,19 +105,34 @@ class ReplayRequest(Request):
 
 class RetireEntry(BaseModel):
     serial: str
+    action: str = Field(description="retire, inspect (time out of the model's domain) or "
+                        "not covered (an item the model does not cover)")
     s_from_bit_m: float
-    damage: float
-    damage_upper: float
+    damage: float | None
+    damage_upper: float | None
     remaining_life_h_lower: float | None
+    reason: str
+
+
+class NotCovered(BaseModel):
+    item: str
     reason: str
 
 
 class ReplayResponse(Answer):
     duration_h: float
-    n_components: int
-    max_damage: float
-    max_damage_serial: str
-    total_ood_time_s: float
+    n_locations: int
+    n_locations_covered: int
+    n_locations_answered: int
+    max_damage_in_domain: float | None = Field(description="largest damage accumulated in the "
+                                               "model's domain; null: none was in domain")
+    max_damage_serial: str | None
+    max_damage_s_from_bit_m: float | None
+    ood_location_hours: float = Field(description="sum over covered locations of their hours "
+                                      "out of domain (location-hours, not a duration)")
+    max_ood_time_h: float = Field(description="longest time one location spent out of domain")
+    n_locations_some_time_ood: int
+    not_covered: list[NotCovered]
     ignored_log_channels: list[str]
     columns: list[str]
     components: list[dict[str, Cell]] = Field(description="one row per component, columns "

@@ -75,6 +75,10 @@ PLAN_KIND = "plan"
 #: Tolerance on the shared end point, m.
 END_POINT_TOL_M = 1.0
 INPUT_SECTIONS = ("well", "operation", "friction", "bit", "rig")
+#: Largest share of a candidate's query rows out of the surrogate's domain for which it is
+#: ranked (on its in-domain rows); a candidate above it gets no surrogate life, and a best
+#: plan is named only when every candidate is ranked.
+MAX_OOD_FRACTION = 0.1
 
 
 class CandidateFile(StrictModel):
@@ -156,6 +160,7 @@ def _flat_inputs(case: dict[str, Any]) -> dict[str, Any]:
     elif rig.get("block_mode") == "autodriller" and rig.get("autodriller"):
         ad = rig["autodriller"]
         row["operation.rop_m_per_s"] = ad["rop_limit_m_per_s"]
+        row["operation.wob_N"] = ad["wob_set_N"]  # the driller's set-point, as the sweep names it
         for key, value in ad.items():
             if isinstance(value, bool | int | float | str):
                 row[f"rig.autodriller.{key}"] = value
@@ -218,9 +223,9 @@ def predict_candidates(cset: CandidateFile, surrogate: Any) -> pd.DataFrame:
             raise InputError("surrogate", f"model needs column(s) {', '.join(missing)} that a "
                              "well-plan query cannot supply", "a surrogate trained on case, "
                              "location and well-curvature features")
-        # numbers also where out of domain: the ranking reports ood_fraction and the
-        # simulator confirms the top candidates
-        pred = surrogate.predict(q, refuse=False)
+        # no number out of domain: a candidate is ranked only when at most
+        # MAX_OOD_FRACTION of its rows are out of domain, on its in-domain rows
+        pred = surrogate.predict(q, refuse=True)
         # trapezoid weights over the bit positions
         wts = np.full(cset.surrogate_bit_positions, dt_h)
         wts[[0, -1]] *= 0.5
@@ -229,10 +234,23 @@ def predict_candidates(cset: CandidateFile, surrogate: Any) -> pd.DataFrame:
                      lo=pred["damage_rate_per_h_lower"].to_numpy(),
                      hi=pred["damage_rate_per_h_upper"].to_numpy(),
                      ood=pred["ood"].to_numpy(dtype=bool))
+        for col in ("rate", "lo", "hi"):
+            q[col] = q[col].where(~q["ood"], 0.0)
         q["d"], q["d_lo"], q["d_hi"] = q["rate"] * q["wt"], q["lo"] * q["wt"], q["hi"] * q["wt"]
         comp = q.groupby(["joint", "location"]).agg(
             d=("d", "sum"), d_lo=("d_lo", "sum"), d_hi=("d_hi", "sum"),
             s_from_bit_m=("s_from_bit_m", "mean"), component_type=("component_type", "first"))
+        ood_fraction = float(q["ood"].mean())
+        if ood_fraction > MAX_OOD_FRACTION:
+            rows.append({"candidate": name, "critical_s_from_bit_m": math.nan,
+                         "critical_component": "", "life_windows_surrogate": math.nan,
+                         "life_windows_surrogate_lower": math.nan,
+                         "life_windows_surrogate_upper": math.nan,
+                         "ood_fraction": ood_fraction,
+                         "no_answer": f"{100 * ood_fraction:.0f} % of the query rows are out "
+                                      f"of the surrogate's domain (at most "
+                                      f"{100 * MAX_OOD_FRACTION:.0f} % ranked)"})
+            continue
         k = comp["d"].idxmax()
         c = comp.loc[k]
         rows.append({
@@ -241,7 +259,7 @@ def predict_candidates(cset: CandidateFile, surrogate: Any) -> pd.DataFrame:
             "life_windows_surrogate": 1.0 / c["d"] if c["d"] > 0 else math.inf,
             "life_windows_surrogate_lower": 1.0 / c["d_hi"] if c["d_hi"] > 0 else math.inf,
             "life_windows_surrogate_upper": 1.0 / c["d_lo"] if c["d_lo"] > 0 else math.inf,
-            "ood_fraction": float(q["ood"].mean()),
+            "ood_fraction": ood_fraction, "no_answer": "",
         })
     return pd.DataFrame(rows)
 
@@ -316,10 +334,15 @@ def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int 
     out_dir = Path(out_dir)
     folder = OutputFolder(out_dir, PLAN_KIND)
     table = predict_candidates(cset, surrogate)
-    table = table.sort_values("life_windows_surrogate", ascending=False, kind="stable")
-    table["rank_surrogate"] = np.arange(1, len(table) + 1)
+    table = table.sort_values("life_windows_surrogate", ascending=False, kind="stable",
+                              na_position="last")
+    answered = table["no_answer"] == ""
+    table["rank_surrogate"] = pd.array(np.where(answered, np.cumsum(answered), 0),
+                                       dtype="Int64").where(answered.to_numpy(), pd.NA)
     table = table.reset_index(drop=True)
-    k = min(confirm, len(table))
+    # a best plan only when the surrogate answers for every candidate
+    best = table["candidate"].iloc[0] if bool(answered.all()) else None
+    k = min(confirm, int(answered.sum()))
     if k:
         conf = pd.DataFrame([confirm_candidate(cset, n, folder.file("runs"))
                              for n in table["candidate"].iloc[:k]])
@@ -332,7 +355,14 @@ def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int 
         sub = table.iloc[:k]
         agree = bool(list(sub.sort_values("life_windows_simulator", ascending=False)["candidate"])
                      == list(sub["candidate"]))
-    write_json(folder.file("ranking.json"), {"best": table["candidate"].iloc[0],
+    write_json(folder.file("ranking.json"), {
+                                          "best": best,
+                                          "no_best_reason": None if best is not None else
+                                          "the surrogate has no answer for "
+                                          + ", ".join(table.loc[table["no_answer"] != "",
+                                                                "candidate"])
+                                          + f" (more than {100 * MAX_OOD_FRACTION:.0f} % of "
+                                          "their query rows out of its domain)",
                                           "order_surrogate": list(table["candidate"]),
                                           "confirmed": k, "simulator_agrees": agree,
                                           "window_s": cset.window.window_s,

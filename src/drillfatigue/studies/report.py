@@ -368,11 +368,10 @@ def _plan_section(d: Path, out: OutputFolder) -> list[str]:
     if meta.get("simulator_agrees") is not None:
         lines.append(f"Simulator order of the confirmed candidates agrees with the surrogate's: "
                      f"{_fmt(bool(meta['simulator_agrees']))}.\n")
-    if "ood_fraction" in table and float(table["ood_fraction"].mean()) > 0.5:
-        lines.append("**Most query rows are outside the surrogate's training domain** (the "
-                     "sweep it was trained on does not cover these wells and windows): its "
-                     "life values are extrapolations and only the simulator's are to be "
-                     "trusted; the order is the part worth reading.\n")
+    if meta.get("best") is None and meta.get("no_best_reason"):
+        lines.append(f"**No best plan**: {meta['no_best_reason']}. The surrogate gives no "
+                     "number outside the domain it was trained on; only simulator lives "
+                     "can compare these candidates.\n")
     figs = _copy_figures(d, out, ["ranking.png"])
     lines += _fig_lines(figs, {"ranking.png": "Well-plan ranking: surrogate (interval) and "
                                               "simulator lives"})

@@ -190,10 +190,12 @@ class Surrogate:
                                         min(cfg.conformal_folds,
                                             int(np.unique(groups[fit_rows]).size)),
                                         cfg.split_seed),
-                             p.mean_, p.scale_, design_bounds)
+                             p.mean_, p.scale_, design_bounds,
+                             cat=p.category_codes(fit_frame), categories=p.categories_)
         else:
             domain.fit(p.numeric_array(tr), p.numeric_array(cal), p.mean_, p.scale_,
-                       design_bounds)
+                       design_bounds, cat_train=p.category_codes(tr),
+                       cat_cal=p.category_codes(cal), categories=p.categories_)
         hist = reg.history_
         meta = {
             "format_version": FORMAT_VERSION,
@@ -311,7 +313,7 @@ class Surrogate:
             map_chunks(run, range(0, n, share))
         res = {"log10": out[:, 0].astype(np.float64), "sigma": out[:, 1].astype(np.float64),
                "lower": out[:, 2].astype(np.float64), "upper": out[:, 3].astype(np.float64)}
-        return self._finish(res, x_num, ood, knn, distances)
+        return self._finish(res, x_num, x_cat, ood, knn, distances)
 
     def _predict_gbm(self, x_num: np.ndarray, x_cat: np.ndarray, ood: bool,
                      knn: bool, distances: bool) -> dict[str, np.ndarray]:
@@ -342,16 +344,16 @@ class Surrogate:
         half = half_width(mu, g, self._bins, scale)
         res = {"log10": mu, "sigma": np.full(mu.shape, float(g["sigma_log10"])),
                "lower": mu - half, "upper": mu + half}
-        return self._finish(res, x_num, ood, knn, distances)
+        return self._finish(res, x_num, x_cat, ood, knn, distances)
 
-    def _finish(self, res: dict[str, np.ndarray], x_num: np.ndarray, ood: bool,
-                knn: bool, distances: bool) -> dict[str, np.ndarray]:
+    def _finish(self, res: dict[str, np.ndarray], x_num: np.ndarray, x_cat: np.ndarray,
+                ood: bool, knn: bool, distances: bool) -> dict[str, np.ndarray]:
         """Add ``beyond_horizon``, ``ood`` and ``knn_distance`` to a prediction."""
         h = self.horizon_h
         res["beyond_horizon"] = (res["log10"] < -math.log10(h) if h is not None
                                  else np.zeros(x_num.shape[0], dtype=bool))
         if ood:
-            flag, dist = self.domain.check(x_num, knn=knn, distances=distances)
+            flag, dist = self.domain.check(x_num, x_cat, knn=knn, distances=distances)
         else:
             flag, dist = np.zeros(x_num.shape[0], dtype=bool), np.full(x_num.shape[0], np.nan)
         res["ood"] = flag
@@ -380,7 +382,7 @@ class Surrogate:
         """
         x_num, x_cat = self.encode(frame)
         r = self.predict_array(x_num, x_cat)
-        reasons = self.domain.reasons(x_num, r["knn_distance"], r["ood"])
+        reasons = self.domain.reasons(x_num, r["knn_distance"], r["ood"], x_cat)
         return prediction_frame(r, reasons, frame.index, refuse=refuse)
 
     # -- persistence --------------------------------------------------------

@@ -235,8 +235,33 @@ def knn_distance(z: np.ndarray, reference: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
+#: Fewest distances of a group's own for its k-NN threshold; a group with fewer (a
+#: combination that few cases have) takes the quantile pooled over every group.
+MIN_GROUP_THRESHOLD_ROWS = 30
+#: Code base of the combined categorical key (levels per categorical below it).
+_CODE_BASE = 1 << 16
+
+
 class DomainChecker:
-    """Per-feature range and k-NN distance out-of-domain test.
+    """Out-of-domain test per combination of the categorical features.
+
+    The training rows are grouped by their categorical combination (component
+    type x location). A query row is out of domain when
+
+    - its combination is not in the training data (a collar ``upset``), or
+    - a numeric feature is outside its range: the design range of a design
+      variable (a dotted configuration path such as ``operation.rpm``, the
+      same for every group), and for a feature of the location (the
+      location's MD, its distance from the bit, the hole geometry there) the
+      [min, max] of that group's training rows (a collar 550 m behind the
+      bit, drill pipe 5 m behind it), or
+    - its mean distance to the ``k`` nearest training rows *of its group*, in
+      standardised numeric features, exceeds the group's threshold: the
+      ``quantile`` of the same distance of held-out (or cross-fitted) rows of
+      that group (pooled over every group for a group with fewer than
+      :data:`MIN_GROUP_THRESHOLD_ROWS` such rows).
+
+    Without categorical features (``cat`` not given at fit) there is one group.
 
     Parameters
     ----------
@@ -247,7 +272,7 @@ class DomainChecker:
     quantile : float
         Calibration quantile of the k-NN distance used as threshold.
     reference_rows : int
-        Largest reference subsample.
+        Largest reference subsample per group.
     seed : int
         Subsampling seed.
     """
@@ -260,38 +285,48 @@ class DomainChecker:
         self.reference_rows = reference_rows
         self.seed = seed
 
+    # -- fitting ---------------------------------------------------------------
     def fit(self, x_train: np.ndarray, x_cal: np.ndarray, mean: np.ndarray,
             scale: np.ndarray,
-            design_bounds: Mapping[str, tuple[float, float]] | None = None) -> DomainChecker:
-        """Ranges and threshold (raw SI arrays (n, d)).
+            design_bounds: Mapping[str, tuple[float, float]] | None = None,
+            cat_train: np.ndarray | None = None, cat_cal: np.ndarray | None = None,
+            categories: Mapping[str, Sequence[str]] | None = None) -> DomainChecker:
+        """Ranges and thresholds (raw SI arrays (n, d); category codes (n, n_cat)).
 
         ``design_bounds``: per feature name the design range (low, high) of
-        the sweep; a feature not in it takes the [min, max] of ``x_train``.
-        The k-NN threshold comes from ``x_cal``.
+        the sweep; a feature not in it takes the [min, max] of its group's
+        rows of ``x_train``. The k-NN thresholds come from ``x_cal``.
+        ``categories``: the level names per categorical feature, in code order.
         """
-        self._fit_reference(x_train, mean, scale, design_bounds)
-        d_cal = np.empty(x_cal.shape[0])
-        self.index.mean_distance(np.ascontiguousarray(x_cal, dtype=np.float64), self.mean_,
-                                 self.scale_, self.k, d_cal)
-        self.threshold_ = float(np.quantile(d_cal, self.quantile))
-        self.threshold_source_ = "calibration rows"
+        self._fit_reference(x_train, cat_train, mean, scale, design_bounds, categories)
+        g_cal = self._group_of(cat_cal, x_cal.shape[0])
+        d_cal = np.full(x_cal.shape[0], np.nan)
+        x_cal = np.ascontiguousarray(x_cal, dtype=np.float64)
+        for gi in range(self.n_groups):
+            rows = np.flatnonzero(g_cal == gi)
+            if rows.size:
+                d = np.empty(rows.size)
+                self._index(gi).mean_distance(np.ascontiguousarray(x_cal[rows]), self.mean_,
+                                              self.scale_, self.k, d)
+                d_cal[rows] = d
+        self._set_thresholds(d_cal, g_cal, "calibration rows")
         return self
 
     def fit_cross(self, x: np.ndarray, folds: np.ndarray, mean: np.ndarray,
                   scale: np.ndarray,
-                  design_bounds: Mapping[str, tuple[float, float]] | None = None
-                  ) -> DomainChecker:
-        """Reference of every row of ``x``, threshold cross-fitted over ``folds`` of whole cases.
+                  design_bounds: Mapping[str, tuple[float, float]] | None = None,
+                  cat: np.ndarray | None = None,
+                  categories: Mapping[str, Sequence[str]] | None = None) -> DomainChecker:
+        """Reference of every row of ``x``, thresholds cross-fitted over ``folds`` of whole cases.
 
         The served reference is the seeded subsample of all of ``x`` (every
         case the served model trains on), so no case is spent on
-        calibration. The threshold is the ``quantile`` of the out-of-fold
-        distances: each row's k-NN distance to the reference rows of the
-        other folds' cases, the distance a new case of the design has to
-        cases it is not part of. That reference holds (K - 1)/K of the
-        served one, so its distances are a little longer (by about
-        (K/(K - 1))^(1/d) in d dimensions of uniform density) and the
-        threshold errs towards answering, not towards refusing in-design
+        calibration. A group's threshold is the ``quantile`` of its rows'
+        out-of-fold distances: each row's k-NN distance to the reference rows
+        of its group from the other folds' cases, the distance a new case of
+        the design has to cases it is not part of. That reference holds
+        (K - 1)/K of the served one, so its distances are a little longer and
+        the threshold errs towards answering, not towards refusing in-design
         queries.
 
         Parameters
@@ -302,151 +337,288 @@ class DomainChecker:
             Fold per row, whole cases per fold
             (:func:`drillfatigue.surrogate.data.case_folds`), at least two folds.
         mean, scale : ndarray, shape (d,)
-        design_bounds : mapping, optional
-            As in :meth:`fit`.
+        design_bounds, categories : as in :meth:`fit`.
+        cat : ndarray of int, shape (n, n_cat), optional
+            Category codes of the rows.
         """
         folds = np.asarray(folds)
         labels = np.unique(folds)
         if labels.size < 2:
             raise ValueError("fit_cross needs rows of two folds or more")
-        keep = self._fit_reference(x, mean, scale, design_bounds)
-        ref_fold = folds[keep]
+        keep = self._fit_reference(x, cat, mean, scale, design_bounds, categories)
+        g_all = self._group_of(cat, x.shape[0])
         x = np.ascontiguousarray(x, dtype=np.float64)
-        d_oof = np.empty(x.shape[0])
-        for f in labels:
-            other = ref_fold != f
-            if not other.any():
-                raise ValueError(f"fold {f} holds every reference row")
-            rows = np.flatnonzero(folds == f)
-            d = np.empty(rows.size)
-            KnnIndex(self.reference_[other]).mean_distance(
-                np.ascontiguousarray(x[rows]), self.mean_, self.scale_, self.k, d)
-            d_oof[rows] = d
-        self.threshold_ = float(np.quantile(d_oof, self.quantile))
-        self.threshold_source_ = f"cross-fitted, {labels.size} folds of whole cases"
+        d_oof = np.full(x.shape[0], np.nan)
+        for gi in range(self.n_groups):
+            ref_rows = keep[gi]
+            ref = self.reference_[self.group_offsets_[gi]:self.group_offsets_[gi + 1]]
+            ref_fold = folds[ref_rows]
+            for f in labels:
+                other = ref_fold != f
+                rows = np.flatnonzero((folds == f) & (g_all == gi))
+                if not rows.size or not other.any():
+                    continue  # a combination of one fold's cases only: pooled threshold
+                d = np.empty(rows.size)
+                KnnIndex(ref[other]).mean_distance(np.ascontiguousarray(x[rows]), self.mean_,
+                                                   self.scale_, self.k, d)
+                d_oof[rows] = d
+        self._set_thresholds(d_oof, g_all, f"cross-fitted, {labels.size} folds of whole cases")
         return self
 
-    def _fit_reference(self, x_train: np.ndarray, mean: np.ndarray, scale: np.ndarray,
-                       design_bounds: Mapping[str, tuple[float, float]] | None
-                       ) -> np.ndarray:
-        """Ranges, standardisation and the reference subsample; the rows kept (indices)."""
-        self.min_ = x_train.min(axis=0).astype(np.float64)
-        self.max_ = x_train.max(axis=0).astype(np.float64)
+    def _set_thresholds(self, dist: np.ndarray, groups: np.ndarray, source: str) -> None:
+        ok = np.isfinite(dist) & (groups >= 0)
+        if not ok.any():
+            raise ValueError("no distances to set the out-of-domain threshold from")
+        self.threshold_ = float(np.quantile(dist[ok], self.quantile))  # pooled
+        self.threshold_source_ = source
+        self.group_threshold_ = np.full(self.n_groups, self.threshold_)
+        self.group_threshold_own_ = np.zeros(self.n_groups, dtype=bool)
+        for gi in range(self.n_groups):
+            d = dist[ok & (groups == gi)]
+            if d.size >= MIN_GROUP_THRESHOLD_ROWS:
+                self.group_threshold_[gi] = float(np.quantile(d, self.quantile))
+                self.group_threshold_own_[gi] = True
+
+    def _fit_reference(self, x_train: np.ndarray, cat: np.ndarray | None, mean: np.ndarray,
+                       scale: np.ndarray,
+                       design_bounds: Mapping[str, tuple[float, float]] | None,
+                       categories: Mapping[str, Sequence[str]] | None) -> list[np.ndarray]:
+        """Groups, ranges, standardisation and the reference subsample per group; the rows
+        kept per group (indices into ``x_train``)."""
+        n, d = x_train.shape
+        self.cat_names_ = list(categories) if categories else []
+        self.levels_ = [list(map(str, categories[c])) for c in self.cat_names_] \
+            if categories else []
+        if cat is None or not self.cat_names_:
+            codes = np.zeros((1, 0), dtype=np.int64)
+            inverse = np.zeros(n, dtype=np.int64)
+        else:
+            cat = np.asarray(cat, dtype=np.int64).reshape(n, -1)
+            codes, inverse = np.unique(cat, axis=0, return_inverse=True)
+            inverse = np.asarray(inverse).reshape(-1)
+        self.group_codes_ = codes.astype(np.int64)
+        self._set_group_keys()
         self.source_ = ["training"] * len(self.names)
+        design = np.zeros(d, dtype=bool)
+        lo_d = np.zeros(d)
+        hi_d = np.zeros(d)
         for j, name in enumerate(self.names):
-            if design_bounds and name in design_bounds:
-                lo, hi = design_bounds[name]
-                self.min_[j], self.max_[j] = float(lo), float(hi)
+            # a design input is a dotted configuration path (operation.rpm); the location's
+            # features (md_m, s_from_bit_m, the hole geometry there) take their group's range
+            if design_bounds and name in design_bounds and "." in name:
+                lo_d[j], hi_d[j] = (float(v) for v in design_bounds[name])
+                design[j] = True
                 self.source_[j] = "design"
         self.mean_ = np.asarray(mean, dtype=np.float64)
         self.scale_ = np.asarray(scale, dtype=np.float64)
-        z = (x_train - self.mean_) / self.scale_
-        keep = np.arange(z.shape[0])
-        if z.shape[0] > self.reference_rows:
-            rng = np.random.default_rng(self.seed)
-            keep = np.sort(rng.choice(z.shape[0], self.reference_rows, replace=False))
-            z = z[keep]
-        self.reference_ = z.astype(np.float32)
+        rng = np.random.default_rng(self.seed)
+        g_min, g_max, refs, keep = [], [], [], []
+        for gi in range(self.n_groups):
+            rows = np.flatnonzero(inverse == gi)
+            xg = x_train[rows]
+            g_min.append(np.where(design, lo_d, xg.min(axis=0)))
+            g_max.append(np.where(design, hi_d, xg.max(axis=0)))
+            if rows.size > self.reference_rows:
+                rows = np.sort(rng.choice(rows, self.reference_rows, replace=False))
+            keep.append(rows)
+            refs.append(((x_train[rows] - self.mean_) / self.scale_).astype(np.float32))
+        self.group_min_ = np.asarray(g_min, dtype=np.float64)
+        self.group_max_ = np.asarray(g_max, dtype=np.float64)
+        self.min_ = self.group_min_.min(axis=0)
+        self.max_ = self.group_max_.max(axis=0)
+        self.group_offsets_ = np.concatenate([[0], np.cumsum([r.shape[0] for r in refs])]
+                                             ).astype(np.int64)
+        self.reference_ = np.concatenate(refs, axis=0)
+        self._indexes: dict[int, KnnIndex] = {}
         return keep
+
+    def _set_group_keys(self) -> None:
+        key = self._keys(self.group_codes_)
+        self._key_order = np.argsort(key, kind="stable")
+        self._key_sorted = key[self._key_order]
+
+    @staticmethod
+    def _keys(codes: np.ndarray) -> np.ndarray:
+        codes = np.asarray(codes, dtype=np.int64)
+        if codes.shape[1] == 0:
+            return np.zeros(codes.shape[0], dtype=np.int64)
+        base = np.int64(_CODE_BASE) ** np.arange(codes.shape[1], dtype=np.int64)
+        return codes @ base
+
+    @property
+    def n_groups(self) -> int:
+        """Number of categorical combinations in the training data."""
+        return int(self.group_codes_.shape[0])
 
     @property
     def index(self) -> KnnIndex:
-        """The k-NN index of :attr:`reference_` (built on first use, rebuilt if replaced)."""
-        if getattr(self, "_index_of", None) is not self.reference_:
-            self._index = KnnIndex(self.reference_)
-            self._index_of = self.reference_
-        return self._index
+        """The k-NN index of the first group (the only one without categorical features)."""
+        return self._index(0)
 
-    def check(self, x: np.ndarray, knn: bool = True, distances: bool = False
-              ) -> tuple[np.ndarray, np.ndarray]:
-        """Flag rows of ``x`` (raw SI, shape (n, d)).
+    def _index(self, gi: int) -> KnnIndex:
+        """The k-NN index of group ``gi``'s reference rows (built on first use)."""
+        idx = self.__dict__.setdefault("_indexes", {})
+        if gi not in idx:
+            idx[gi] = KnnIndex(self.reference_[self.group_offsets_[gi]:self.group_offsets_[gi + 1]])
+        return idx[gi]
+
+    def _group_of(self, x_cat: np.ndarray | None, n: int) -> np.ndarray:
+        """Group of each row (-1: a combination not in the training data)."""
+        if self.group_codes_.shape[1] == 0 or x_cat is None:
+            return np.zeros(n, dtype=np.int64)
+        x_cat = np.asarray(x_cat, dtype=np.int64).reshape(n, -1)
+        if x_cat.shape[1] != self.group_codes_.shape[1]:
+            raise ValueError(f"{x_cat.shape[1]} categorical columns, the domain has "
+                             f"{self.group_codes_.shape[1]}")
+        key = self._keys(x_cat)
+        pos = np.searchsorted(self._key_sorted, key)
+        pos_c = np.minimum(pos, self._key_sorted.size - 1)
+        hit = self._key_sorted[pos_c] == key
+        return np.where(hit, self._key_order[pos_c], -1).astype(np.int64)
+
+    # -- checking --------------------------------------------------------------
+    def check(self, x: np.ndarray, x_cat: np.ndarray | None = None, knn: bool = True,
+              distances: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Flag rows of ``x`` (raw SI, shape (n, d)) with category codes ``x_cat`` (n, n_cat).
 
         ``distances``: the k-NN distance of every row; by default only that
-        of the rows beyond the threshold (the number their refusal names),
-        NaN for the others, whose search stops as soon as they are certainly
-        within it (:meth:`KnnIndex.distance_beyond`: the flags are the same).
+        of the rows beyond their group's threshold (the number their refusal
+        names), NaN for the others, whose search stops as soon as they are
+        certainly within it (:meth:`KnnIndex.distance_beyond`: the flags are
+        the same). A row of a combination not in the training data is
+        flagged, its distance NaN.
 
         Returns
         -------
         flag : ndarray of bool, shape (n,)
         distance : ndarray, shape (n,)
-            k-NN distance (NaN when ``knn`` is False, and within the
-            threshold unless ``distances``).
+            k-NN distance within the row's group (NaN when ``knn`` is False,
+            and within the threshold unless ``distances``).
         """
         x = np.ascontiguousarray(x, dtype=np.float64)
         n = x.shape[0]
-        span = self.max_ - self.min_
-        tol = 1e-9 * np.where(span > 0, span, np.abs(self.max_) + 1.0)
-        lo = np.asarray(self.min_ - tol, dtype=np.float64)
-        hi = np.asarray(self.max_ + tol, dtype=np.float64)
-        flag = np.empty(n, dtype=bool)
+        g = self._group_of(x_cat, n)
+        flag = np.ones(n, dtype=bool)
         dist = np.full(n, np.nan)
-        index = self.index if knn else None
+        present = np.unique(g[g >= 0]) if n else np.zeros(0, dtype=np.int64)
+        if present.size == 1 and present[0] >= 0 and not (g < 0).any():
+            self._check_group(int(present[0]), x, knn, distances, flag, dist)
+            return flag, dist
+        for gi in present:
+            rows = np.flatnonzero(g == gi)
+            f = np.empty(rows.size, dtype=bool)
+            dd = np.full(rows.size, np.nan)
+            self._check_group(int(gi), np.ascontiguousarray(x[rows]), knn, distances, f, dd)
+            flag[rows] = f
+            dist[rows] = dd
+        return flag, dist
+
+    def _bounds(self, gi: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        lo, hi = self.group_min_[gi], self.group_max_[gi]
+        span = hi - lo
+        tol = 1e-9 * np.where(span > 0, span, np.abs(hi) + 1.0)
+        return lo, hi, tol
+
+    def _check_group(self, gi: int, x: np.ndarray, knn: bool, distances: bool,
+                     flag: np.ndarray, dist: np.ndarray) -> None:
+        lo, hi, tol = self._bounds(gi)
+        lo_t = np.ascontiguousarray(lo - tol, dtype=np.float64)
+        hi_t = np.ascontiguousarray(hi + tol, dtype=np.float64)
+        n = x.shape[0]
+        index = self._index(gi) if knn else None
         mean = np.ascontiguousarray(self.mean_, dtype=np.float64)
         scale = np.ascontiguousarray(self.scale_, dtype=np.float64)
+        threshold = float(self.group_threshold_[gi])
 
         def run(a: int, b: int) -> None:
-            f = outside_ranges(x[a:b], lo, hi)
+            f = outside_ranges(x[a:b], lo_t, hi_t)
             if index is not None:
                 if distances:
                     index.mean_distance(x[a:b], mean, scale, self.k, dist[a:b])
                 else:
-                    index.distance_beyond(x[a:b], mean, scale, self.k, self.threshold_,
-                                          dist[a:b])
-                f |= dist[a:b] > self.threshold_
+                    index.distance_beyond(x[a:b], mean, scale, self.k, threshold, dist[a:b])
+                f |= dist[a:b] > threshold
             flag[a:b] = f
 
         if n <= _ONE_THREAD_ROWS:  # few rows: no pool to wake
             run(0, n)
         else:  # both kernels release the GIL: chunks on the pool's threads
             map_chunks(lambda a: run(a, min(a + _CHUNK, n)), range(0, n, _CHUNK))
-        return flag, dist
 
-    def reasons(self, x: np.ndarray, dist: np.ndarray, flag: np.ndarray) -> np.ndarray:
-        """One text per row: why it is out of domain ('' when in domain)."""
-        out = np.full(x.shape[0], "", dtype=object)
-        span = self.max_ - self.min_
-        tol = 1e-9 * np.where(span > 0, span, np.abs(self.max_) + 1.0)
-        for i in np.flatnonzero(flag):
-            bits = []
-            for j, name in enumerate(self.names):
-                if x[i, j] < self.min_[j] - tol[j] or x[i, j] > self.max_[j] + tol[j]:
-                    bits.append(f"{name}={x[i, j]:.6g} {self._outside(j, x[i, j])}")
-            if np.isfinite(dist[i]) and dist[i] > self.threshold_:
-                bits.append(f"far from training data (kNN distance {dist[i]:.3g} "
-                            f"> {self.threshold_:.3g})")
-            out[i] = "; ".join(bits)
-        return out
+    # -- explaining ------------------------------------------------------------
+    def combination_text(self, cat_row: np.ndarray) -> str:
+        """``component_type=collar, location=upset`` for a row of category codes."""
+        parts = []
+        for j, name in enumerate(self.cat_names_):
+            code = int(cat_row[j])
+            lv = self.levels_[j]
+            parts.append(f"{name}={lv[code] if 0 <= code < len(lv) else code}")
+        return ", ".join(parts)
 
-    def _outside(self, j: int, v: float) -> str:
-        side = "below" if v < self.min_[j] else "above"
-        what = ("the design range" if self.source_[j] == "design"
-                else "the range of the training data")
-        return f"{side} {what} {self.min_[j]:.6g} .. {self.max_[j]:.6g}"
+    def seen_combinations(self) -> list[str]:
+        """The categorical combinations of the training data, as text."""
+        return [" ".join(self.levels_[j][int(c[j])] for j in range(len(self.cat_names_)))
+                for c in self.group_codes_]
 
-    def refusal(self, x_row: np.ndarray, dist: float, field_prefix: str = "") -> InputError:
-        """The one-line error refusing an out-of-domain row (raw SI, shape (d,)).
-
-        Field: the first feature outside its range (its design range, or the
-        training data's for a derived feature), with that range as the allowed
-        values; a row inside every range but far from the training data names
-        the k-NN distance and its threshold.
-        """
-        span = self.max_ - self.min_
-        tol = 1e-9 * np.where(span > 0, span, np.abs(self.max_) + 1.0)
+    def _why(self, x_row: np.ndarray, dist: float, gi: int, cat_row: np.ndarray | None
+             ) -> list[tuple[str, str, str]]:
+        """(field, problem, allowed) for each reason a row is out of domain."""
+        if gi < 0:
+            combo = self.combination_text(cat_row) if cat_row is not None else "?"
+            return [(self.cat_names_[0] if self.cat_names_ else "query",
+                     f"{combo}: a combination the training data does not have: no answer",
+                     "one of " + ", ".join(self.seen_combinations()))]
+        lo, hi, tol = self._bounds(gi)
+        where = (f" for {self.seen_combinations()[gi]}" if self.cat_names_ else "")
+        out = []
         for j, name in enumerate(self.names):
             v = float(x_row[j])
-            if v < self.min_[j] - tol[j] or v > self.max_[j] + tol[j]:
-                what = "design range" if self.source_[j] == "design" else "training data"
-                return InputError(field_prefix + name,
-                                  f"{v:.6g} is outside the surrogate's {what}: no answer",
-                                  f"{self.min_[j]:.6g} <= {name} <= {self.max_[j]:.6g}")
-        return InputError(field_prefix + "query",
-                          f"far from the training data (kNN distance {dist:.3g} in "
-                          "standardised features): no answer",
-                          f"kNN distance <= {self.threshold_:.3g}, a condition like "
-                          "the simulated ones")
+            if v < lo[j] - tol[j] or v > hi[j] + tol[j]:
+                what = ("design range" if self.source_[j] == "design"
+                        else f"training data{where}")
+                out.append((name, f"{v:.6g} is outside the surrogate's {what}: no answer",
+                            f"{lo[j]:.6g} <= {name} <= {hi[j]:.6g}"))
+        thr = float(self.group_threshold_[gi])
+        if np.isfinite(dist) and dist > thr:
+            out.append(("query", f"far from the training data{where} (kNN distance "
+                        f"{dist:.3g} in standardised features): no answer",
+                        f"kNN distance <= {thr:.3g}, a condition like the simulated ones"))
+        return out
 
+    def reasons(self, x: np.ndarray, dist: np.ndarray, flag: np.ndarray,
+                x_cat: np.ndarray | None = None) -> np.ndarray:
+        """One text per row: why it is out of domain ('' when in domain)."""
+        out = np.full(x.shape[0], "", dtype=object)
+        rows = np.flatnonzero(flag)
+        if not rows.size:
+            return out
+        g = self._group_of(None if x_cat is None else np.asarray(x_cat)[rows], rows.size)
+        for r, i in enumerate(rows):
+            cat_row = None if x_cat is None else np.asarray(x_cat)[i]
+            why = self._why(x[i], float(dist[i]), int(g[r]), cat_row)
+            out[i] = "; ".join(f"{f}: {p.replace(': no answer', '')} (allowed: {a})"
+                               for f, p, a in why)
+        return out
+
+    def refusal(self, x_row: np.ndarray, dist: float, field_prefix: str = "",
+                cat_row: np.ndarray | None = None) -> InputError:
+        """The one-line error refusing an out-of-domain row (raw SI, shape (d,)).
+
+        Field: the categorical feature of an unseen combination, else the
+        first feature outside its range (its design range, or its group's
+        training data for a derived feature), with that range as the allowed
+        values; a row inside every range but far from its group's training
+        data names the k-NN distance and its threshold.
+        """
+        gi = int(self._group_of(None if cat_row is None else np.asarray(cat_row)[None, :], 1)[0])
+        why = self._why(np.asarray(x_row, dtype=np.float64), float(dist), gi, cat_row)
+        if not why:  # flagged by a distance not computed here: name the threshold
+            why = [("query", "far from the training data: no answer",
+                    f"kNN distance <= {float(self.group_threshold_[max(gi, 0)]):.3g}")]
+        field, problem, allowed = why[0]
+        return InputError(field_prefix + field, problem, allowed)
+
+    # -- persistence -----------------------------------------------------------
     def to_dict(self) -> dict:
         return {"names": self.names, "k": self.k, "quantile": self.quantile,
                 "reference_rows": self.reference_rows, "seed": self.seed,
@@ -454,7 +626,18 @@ class DomainChecker:
                 "source": list(self.source_),
                 "mean": self.mean_.tolist(), "scale": self.scale_.tolist(),
                 "threshold": self.threshold_,
-                "threshold_source": getattr(self, "threshold_source_", "calibration rows")}
+                "threshold_source": getattr(self, "threshold_source_", "calibration rows"),
+                "categorical": self.cat_names_, "levels": self.levels_,
+                "groups": [{"codes": self.group_codes_[gi].tolist(),
+                            "combination": (self.combination_text(self.group_codes_[gi])
+                                            if self.cat_names_ else ""),
+                            "min": self.group_min_[gi].tolist(),
+                            "max": self.group_max_[gi].tolist(),
+                            "threshold": float(self.group_threshold_[gi]),
+                            "threshold_own": bool(self.group_threshold_own_[gi]),
+                            "reference_rows": int(self.group_offsets_[gi + 1]
+                                                  - self.group_offsets_[gi])}
+                           for gi in range(self.n_groups)]}
 
     @classmethod
     def from_dict(cls, d: dict, reference: np.ndarray) -> DomainChecker:
@@ -467,4 +650,19 @@ class DomainChecker:
         c.threshold_ = float(d["threshold"])
         c.threshold_source_ = d.get("threshold_source", "calibration rows")
         c.reference_ = np.asarray(reference, dtype=np.float32)
+        c.cat_names_ = list(d.get("categorical", []))
+        c.levels_ = [list(v) for v in d.get("levels", [])]
+        groups = d.get("groups") or [{"codes": [], "min": d["min"], "max": d["max"],
+                                      "threshold": d["threshold"], "threshold_own": True,
+                                      "reference_rows": int(c.reference_.shape[0])}]
+        c.group_codes_ = np.asarray([gr["codes"] for gr in groups], dtype=np.int64
+                                    ).reshape(len(groups), -1)
+        c.group_min_ = np.asarray([gr["min"] for gr in groups], dtype=np.float64)
+        c.group_max_ = np.asarray([gr["max"] for gr in groups], dtype=np.float64)
+        c.group_threshold_ = np.asarray([gr["threshold"] for gr in groups], dtype=np.float64)
+        c.group_threshold_own_ = np.asarray([gr.get("threshold_own", True) for gr in groups])
+        c.group_offsets_ = np.concatenate(
+            [[0], np.cumsum([gr["reference_rows"] for gr in groups])]).astype(np.int64)
+        c._set_group_keys()
+        c._indexes = {}
         return c

@@ -40,7 +40,9 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue import units
+from drillfatigue.config.fatigue import FatigueConfig
 from drillfatigue.errors import InputError
+from drillfatigue.fatigue.run import joint_locations
 from drillfatigue.io.display import Display
 from drillfatigue.io.logs import log_bit_md_m, log_times_s
 from drillfatigue.io.names import Vocabulary, channel_stem, force_column
@@ -63,10 +65,16 @@ class ReplayResult:
     Attributes
     ----------
     components : DataFrame
-        One row per component: serial, s_from_bit_m, component columns,
-        damage, damage_lower, damage_upper, last_damage_rate_per_h,
-        remaining_life_h (+ _lower/_upper, at the last rate),
-        time_in_hole_s, ood_time_s.
+        One row per tracked location of every item of the string: serial,
+        s_from_bit_m, component columns; ``damage``, ``damage_lower``,
+        ``damage_upper`` (Miner damage accumulated while in the model's
+        domain: an out-of-domain step adds no number, its time goes to
+        ``ood_time_s``), ``last_damage_rate_per_h`` and ``remaining_life_h``
+        (+ _lower/_upper) at the last in-domain rate, ``time_in_hole_s``,
+        ``ood_time_s`` (this location's time in the hole out of domain);
+        ``covered`` and ``not_covered_reason``: an item the model does not
+        cover (:func:`not_covered_reasons`) is listed with NaN numbers and the
+        reason.
     duration_s : float
         Log span (last - first time).
     ignored_channels : tuple of str
@@ -100,25 +108,34 @@ def components_from_table(table: pd.DataFrame) -> pd.DataFrame:
     return out.reset_index(drop=True)
 
 
-def components_from_string(string_cfg: Any,
-                           locations: tuple[str, ...] = ("body", "connection")) -> pd.DataFrame:
+def components_from_string(string_cfg: Any, locations: tuple[str, ...] | None = None,
+                           kinds: tuple[str, ...] | None = None) -> pd.DataFrame:
     """Tracked locations of a string configuration: every rigid segment x location.
 
     Parameters
     ----------
     string_cfg : drillfatigue.config.StringConfig
         The ``string`` section (components from the bit up).
-    locations : tuple of str
-        Locations tracked per segment (the surrogate's ``location`` levels).
+    locations : tuple of str, optional
+        Locations tracked per segment; default those the fatigue chain
+        evaluates for the segment's type (body and connection; the upset
+        run-out too on drill pipe and heavy-weight pipe,
+        :func:`drillfatigue.fatigue.run.joint_locations`).
+    kinds : tuple of str, optional
+        Per component, what the tally calls it
+        (:attr:`drillfatigue.io.tally.TallyImport.kinds`: ``motor`` for a mud
+        motor simulated as a sub); default the component types.
 
     Returns
     -------
     DataFrame
-        Columns ``serial`` (``<component>-<segment>-<B|C>``, segment counted
-        from the bit within its component), ``component``, ``component_type``,
-        ``location`` and ``s_from_bit_m`` (segment centre, m), as
-        :func:`components_from_table` expects.
+        Columns ``serial`` (``<component>-<segment>-<B|C|U>``, segment counted
+        from the bit within its component), ``component`` (the item: a tally
+        row's serial or name), ``kind``, ``component_type``, ``location`` and
+        ``s_from_bit_m`` (segment centre, m), as :func:`components_from_table`
+        expects.
     """
+    fat = FatigueConfig()
     seg = build_segments(string_cfg, 1000.0)  # mud density only sets buoyancy: unused here
     rows = []
     counter: dict[int, int] = {}
@@ -128,9 +145,11 @@ def components_from_string(string_cfg: Any,
         label = (comp.name or f"{comp.type}{ci}").strip().replace(" ", "_")
         k = counter.get(ci, 0)
         counter[ci] = k + 1
-        for loc in locations:
+        ctype = str(seg.component_type[i])
+        for loc in (locations if locations is not None else joint_locations(ctype, fat)):
             rows.append({"serial": f"{label}-{k:03d}-{loc[:1].upper()}", "component": label,
-                         "component_type": seg.component_type[i], "location": loc,
+                         "kind": kinds[ci] if kinds is not None else ctype,
+                         "component_type": ctype, "location": loc,
                          S_COLUMN: float(seg.s_from_bit_m[i])})
     return pd.DataFrame(rows)
 
@@ -265,6 +284,58 @@ class _ConditionCache:
         return {k: self.values[k][pos] for k in self._KEYS}
 
 
+#: Why an item of a string is not covered, by what the tally calls it.
+NOT_MODELLED = {
+    "bit": "the bit: not a fatigue location of the model (no tube body or connection "
+           "the fatigue chain evaluates)",
+    "motor": "mud motor or rotary-steerable tool: not modelled by the simulator (placed as a "
+             "plain sub of its size for the string's mechanics)",
+}
+
+
+def not_covered_reasons(components: pd.DataFrame, model: Surrogate) -> np.ndarray:
+    """Why each tracked location gets no damage from ``model`` ('' where it is covered).
+
+    Not covered: a bit or an unmodelled tool (:data:`NOT_MODELLED`), a component
+    type or location the model was not trained on, or a combination of the two
+    its training data does not have (a collar ``upset``).
+    """
+    n = len(components)
+    out = np.full(n, "", dtype=object)
+    kinds = (components["kind"].astype(str).to_numpy() if "kind" in components.columns
+             else np.full(n, "", dtype=object))
+    levels = model.categories
+    cat_cols = [c for c in model.categorical if c in components.columns]
+    known = np.ones(n, dtype=bool)
+    for i in range(n):
+        for kind in (kinds[i], str(components["component_type"].iloc[i])
+                     if "component_type" in components.columns else ""):
+            if kind in NOT_MODELLED:
+                out[i] = NOT_MODELLED[kind]
+                break
+        if out[i]:
+            known[i] = False
+            continue
+        for col in cat_cols:
+            v = str(components[col].iloc[i])
+            if v not in levels.get(col, []):
+                out[i] = (f"{col} {v!r}: not in the model's training data (trained on "
+                          f"{', '.join(levels.get(col, []))})")
+                known[i] = False
+                break
+    rows = np.flatnonzero(known)
+    if rows.size and len(cat_cols) == len(model.categorical) and model.categorical:
+        codes = np.column_stack([model.preprocessor.codes_for(
+            col, components[col].astype(str).to_numpy()[rows]) for col in model.categorical])
+        group = model.domain._group_of(codes, rows.size)
+        for r in np.flatnonzero(group < 0):
+            i = rows[r]
+            combo = " ".join(str(components[c].iloc[i]) for c in model.categorical)
+            out[i] = (f"{combo}: a combination the model was not trained on (trained on "
+                      f"{', '.join(model.domain.seen_combinations())})")
+    return out
+
+
 def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
                constants: Mapping[str, Any] | None = None,
                survey: pd.DataFrame | None = None) -> ReplayResult:
@@ -288,7 +359,10 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     -------
     ReplayResult
     """
-    comps = components_from_table(components)
+    all_comps = components_from_table(components)
+    reasons = not_covered_reasons(all_comps, model)
+    covered = reasons == ""
+    comps = all_comps[covered].reset_index(drop=True)
     log, constants = wob_from_hook_load(log, constants)
     t = log_times_s(log)
     bit_md = log_bit_md_m(log)
@@ -387,36 +461,121 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         lo = np.zeros(idx_t.size)
         hi = np.zeros(idx_t.size)
         ood = np.zeros(idx_t.size, dtype=bool)
-        rate[in_hole] = 10.0 ** r["log10"]
-        lo[in_hole] = 10.0 ** r["lower"]
-        hi[in_hole] = 10.0 ** r["upper"]
         ood[in_hole] = r["ood"]
+        # out of domain: no number, the time is counted instead
+        answered = np.flatnonzero(in_hole)[~r["ood"]]
+        rate[answered] = 10.0 ** r["log10"][~r["ood"]]
+        lo[answered] = 10.0 ** r["lower"][~r["ood"]]
+        hi[answered] = 10.0 ** r["upper"][~r["ood"]]
         w = dt_h[idx_t]
         dmg += np.bincount(idx_c, rate * w, minlength=n_c)
         dmg_lo += np.bincount(idx_c, lo * w, minlength=n_c)
         dmg_hi += np.bincount(idx_c, hi * w, minlength=n_c)
         ood_s += np.bincount(idx_c, ood * dt_s[idx_t], minlength=n_c)
         in_hole_s += np.bincount(idx_c, in_hole * dt_s[idx_t], minlength=n_c)
-        last_rows = np.flatnonzero(in_hole)
+        last_rows = answered
         if last_rows.size:
             # later rows overwrite earlier ones: the last in-hole step per component
             last[idx_c[last_rows], 0] = rate[last_rows]
             last[idx_c[last_rows], 1] = lo[last_rows]
             last[idx_c[last_rows], 2] = hi[last_rows]
     remaining = np.clip(1.0 - dmg, 0.0, None)
-    out = comps.copy()
-    out["damage"] = dmg
-    out["damage_lower"] = dmg_lo
-    out["damage_upper"] = dmg_hi
-    out["last_damage_rate_per_h"] = last[:, 0]
+    res = comps.copy()
+    res["damage"] = dmg
+    res["damage_lower"] = dmg_lo
+    res["damage_upper"] = dmg_hi
+    res["last_damage_rate_per_h"] = last[:, 0]
     with np.errstate(divide="ignore", invalid="ignore"):
-        out["remaining_life_h"] = remaining / last[:, 0]
-        out["remaining_life_h_lower"] = np.clip(1.0 - dmg_hi, 0.0, None) / last[:, 2]
-        out["remaining_life_h_upper"] = np.clip(1.0 - dmg_lo, 0.0, None) / last[:, 1]
-    out["time_in_hole_s"] = in_hole_s
-    out["ood_time_s"] = ood_s
+        res["remaining_life_h"] = remaining / last[:, 0]
+        res["remaining_life_h_lower"] = np.clip(1.0 - dmg_hi, 0.0, None) / last[:, 2]
+        res["remaining_life_h_upper"] = np.clip(1.0 - dmg_lo, 0.0, None) / last[:, 1]
+    res["time_in_hole_s"] = in_hole_s
+    res["ood_time_s"] = ood_s
+    # every item of the string, the ones the model does not cover with the reason
+    out = all_comps.copy()
+    for col in res.columns.difference(all_comps.columns, sort=False):
+        full = np.full(len(out), np.nan)
+        full[covered] = res[col].to_numpy(dtype=np.float64)
+        out[col] = full
+    out["covered"] = covered
+    out["not_covered_reason"] = reasons
     return ReplayResult(components=out, duration_s=float(t[-1] - t[0]),
                         ignored_channels=ignored)
+
+
+def replay_summary(result: ReplayResult) -> dict[str, Any]:
+    """The figures of a replay that its summary (CLI ``summary.json``, the service) reports.
+
+    ``max_damage_in_domain`` is the largest damage accumulated in the model's
+    domain (None when no covered location was ever in domain);
+    ``ood_location_hours`` sums every covered location's hours out of domain
+    (location-hours, not a duration: ``max_ood_time_h`` is the longest of one
+    location); ``not_covered`` lists each item the model does not cover, with
+    the reason.
+    """
+    c = result.components
+    cov = c[c["covered"]]
+    answered = cov[cov["ood_time_s"] < cov["time_in_hole_s"]]
+    worst = answered.loc[answered["damage"].idxmax()] if len(answered) else None
+    items = c[~c["covered"]].groupby("component", sort=False)["not_covered_reason"].first() \
+        if "component" in c.columns else c[~c["covered"]].set_index("serial")["not_covered_reason"]
+    return {
+        "duration_h": result.duration_s / units.HOUR_S,
+        "n_locations": int(len(c)),
+        "n_locations_covered": int(len(cov)),
+        "n_locations_answered": int(len(answered)),
+        "max_damage_in_domain": None if worst is None else float(worst["damage"]),
+        "max_damage_serial": None if worst is None else str(worst["serial"]),
+        "max_damage_s_from_bit_m": None if worst is None else float(worst[S_COLUMN]),
+        "ood_location_hours": float(cov["ood_time_s"].sum()) / units.HOUR_S,
+        "max_ood_time_h": float(cov["ood_time_s"].max()) / units.HOUR_S if len(cov) else 0.0,
+        "n_locations_some_time_ood": int((cov["ood_time_s"] > 0).sum()),
+        "not_covered": [{"item": str(k), "reason": str(v)} for k, v in items.items()],
+        "ignored_log_channels": list(result.ignored_channels),
+    }
+
+
+def retire_list(result: ReplayResult, retire_at_damage: float,
+                retire_within_h: float | None = None) -> list[dict[str, Any]]:
+    """Locations to retire, and every location or item whose damage is not known.
+
+    A covered location is listed to retire when its upper-bound damage reaches
+    ``retire_at_damage`` or its lower-bound remaining life is shorter than
+    ``retire_within_h``; one that spent time out of the model's domain is
+    listed to inspect (its damage then is unknown, none is counted); an item
+    the model does not cover is listed with the reason. Most damaged first,
+    then the inspections, then the items not covered: nothing is left out
+    silently.
+    """
+    c = result.components
+    out: list[dict[str, Any]] = []
+    cov = c[c["covered"]].sort_values("damage", ascending=False, kind="stable")
+    for _, row in cov.iterrows():
+        why = []
+        if row["damage_upper"] >= retire_at_damage:
+            why.append(f"upper-bound damage {row['damage_upper']:.3g} >= {retire_at_damage:g}")
+        life_lo = float(row["remaining_life_h_lower"])
+        if retire_within_h is not None and life_lo < retire_within_h:
+            why.append(f"lower-bound remaining life {life_lo:.3g} h < {retire_within_h:g} h")
+        if why:
+            out.append({"serial": str(row["serial"]), "action": "retire",
+                        S_COLUMN: float(row[S_COLUMN]), "damage": float(row["damage"]),
+                        "damage_upper": float(row["damage_upper"]),
+                        "remaining_life_h_lower": life_lo, "reason": "; ".join(why)})
+    for _, row in cov[cov["ood_time_s"] > 0].iterrows():
+        out.append({"serial": str(row["serial"]), "action": "inspect",
+                    S_COLUMN: float(row[S_COLUMN]), "damage": float(row["damage"]),
+                    "damage_upper": float(row["damage_upper"]),
+                    "remaining_life_h_lower": float(row["remaining_life_h_lower"]),
+                    "reason": f"{row['ood_time_s'] / units.HOUR_S:.3g} h out of the model's "
+                              "domain: no damage known for that time (the damage shown is "
+                              "the in-domain part)"})
+    for _, row in c[~c["covered"]].iterrows():
+        out.append({"serial": str(row["serial"]), "action": "not covered",
+                    S_COLUMN: float(row[S_COLUMN]), "damage": None, "damage_upper": None,
+                    "remaining_life_h_lower": None,
+                    "reason": f"not covered: {row['not_covered_reason']}"})
+    return out
 
 
 def plot_damage_along_string(result: ReplayResult, path: str, display: Any = None) -> None:

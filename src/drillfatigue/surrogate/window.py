@@ -65,6 +65,19 @@ class Axis:
         return cls(name, np.linspace(float(start), float(stop), n))
 
     @classmethod
+    def in_domain(cls, name: str, model: Surrogate, n: int = 31, field: str = "axis") -> Axis:
+        """``n`` nodes over the model's domain of feature ``name`` (a user name with its unit):
+        the design range of a design variable, else the training data's."""
+        vocab = Vocabulary(model.features, model.categorical)
+        term = vocab.terms.get(name)
+        if term is None or term.categorical:
+            raise InputError(field, f"{name!r} is not a numeric input of the model",
+                             ", ".join(vocab.names_for(c)[0] for c in model.features))
+        j = model.features.index(term.column)
+        lo, hi = float(model.domain.min_[j]), float(model.domain.max_[j])
+        return cls.linear(name, lo / term.factor, hi / term.factor, n, field)
+
+    @classmethod
     def parse(cls, spec: str, option: str) -> Axis:
         """``'rpm=60:200:29'`` (name=start:stop:nodes) as given on the command line."""
         allowed = "NAME=START:STOP:NODES, e.g. rpm=60:200:29"
@@ -223,7 +236,8 @@ def operating_window(model: Surrogate, x: Axis, y: Axis, fixed: Mapping[str, Any
             added[col] = float(geo[col][0])
     x_num, x_cat = model.encode(frame)
     r = model.predict_array(x_num, x_cat)
-    pred = prediction_frame(r, np.full(n, "", dtype=object))
+    # out of domain: no number (NaN lives), the cell only marked
+    pred = prediction_frame(r, np.full(n, "", dtype=object), refuse=True)
     shape = (n_y, n_x)
 
     def grid(col: str) -> np.ndarray:

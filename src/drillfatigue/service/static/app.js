@@ -198,13 +198,16 @@ async function replay() {
   if (body.survey) { dropGeometry(body.constants); }
   const res = await api("POST", "/v1/twin/replay", body);
   plotDamage(res);
-  $("replay-summary").innerHTML = "<b>" + res.n_components + "</b> components over <b>" + fmt(res.duration_h) +
-    " h</b>; largest damage " + fmt(res.max_damage) + " at <b>" + res.max_damage_serial + "</b>; " +
-    (res.total_ood_time_s > 0 ? "<span class='bad'>" + fmt(res.total_ood_time_s) + " component-seconds out of domain</span>" : "all in the training domain") +
+  $("replay-summary").innerHTML = "<b>" + res.n_locations + "</b> locations over <b>" + fmt(res.duration_h) +
+    " h</b>; " + (res.max_damage_serial === null ? "<span class='bad'>no answer: no covered location was in the model's domain</span>" :
+    "largest damage in domain " + fmt(res.max_damage_in_domain) + " at <b>" + res.max_damage_serial + "</b>") + "; " +
+    (res.n_locations_some_time_ood > 0 ? "<span class='bad'>" + res.n_locations_some_time_ood + " locations spent time out of domain (up to " +
+      fmt(res.max_ood_time_h) + " h; no damage counted then)</span>" : "all in the training domain") +
+    (res.not_covered.length ? "; <span class='bad'>not covered: " + res.not_covered.map((n) => n.item + " (" + n.reason + ")").join("; ") + "</span>" : "") +
     (res.ignored_log_channels.length ? "; unused log channels: " + res.ignored_log_channels.join(", ") : "");
   const notInHole = res.components.filter((c) => !(c.damage > 0)).length;
   if (notInHole) { $("replay-summary").innerHTML += "; " + notInHole + " without damage (not in the hole), not plotted"; }
-  fillTable($("retire-table"), [["serial", "serial"], ["s_from_bit_m", "s from bit (m)"], ["damage", "damage"],
+  fillTable($("retire-table"), [["serial", "serial"], ["action", "action"], ["s_from_bit_m", "s from bit (m)"], ["damage", "damage"],
     ["damage_upper", "upper bound"], ["remaining_life_h_lower", "remaining life, lower (h)"], ["reason", "reason"]],
     res.retire, "none: no component reaches the retirement limits");
   const worst = res.components.slice().sort((a, b) => b.damage - a.damage).slice(0, 8);
