@@ -180,15 +180,16 @@ def test_design_bounds_replace_the_training_range() -> None:
     rng = np.random.default_rng(0)
     x = rng.uniform(0, 1, (3000, 3))
     tr, cal = x[:2000], x[2000:]
-    dc = DomainChecker(["rpm", "wob", "mu"]).fit(tr, cal, tr.mean(axis=0), tr.std(axis=0),
-                                                 design_bounds={"rpm": (0.0, 2.0)})
+    dc = DomainChecker(["operation.rpm", "wob", "mu"]).fit(tr, cal, tr.mean(axis=0), tr.std(axis=0),
+                                                 design_bounds={"operation.rpm": (0.0, 2.0)})
     flag, _ = dc.check(np.array([[1.5, 0.5, 0.5], [2.5, 0.5, 0.5], [0.5, 1.2, 0.5]]), knn=False)
     assert flag.tolist() == [False, True, True]
     again = DomainChecker.from_dict(dc.to_dict(), dc.reference_)
     assert again.source_ == ["design", "training", "training"]
     err = again.refusal(np.array([2.5, 0.5, 0.5]), 0.0)
     assert isinstance(err, InputError)
-    assert err.field == "rpm" and "design range" in err.problem and err.allowed == "0 <= rpm <= 2"
+    assert err.field == "operation.rpm" and "design range" in err.problem
+    assert err.allowed == "0 <= operation.rpm <= 2"
     err = again.refusal(np.array([0.5, 1.2, 0.5]), 0.0)
     assert err.field == "wob" and "training data" in err.problem
 
@@ -349,9 +350,10 @@ def test_cross_fitted_domain_answers_new_cases_and_refuses_the_empty_corner() ->
     # of); 5 % allows for 600 rows in 50 correlated groups of 12 (the
     # binomial std of 1 % over 50 independent cases is 1.4 %)
     x, case = _corner_cases(200, 2)
-    dc = DomainChecker(["rpm", "wob", "md"], k=5, quantile=0.99, reference_rows=1500,
+    dc = DomainChecker(["operation.rpm", "operation.wob", "md"], k=5, quantile=0.99, reference_rows=1500,
                        seed=3).fit_cross(x, case % 5, x.mean(axis=0), x.std(axis=0),
-                                         design_bounds={"rpm": (0.0, 1.0), "wob": (0.0, 1.0)})
+                                         design_bounds={"operation.rpm": (0.0, 1.0),
+                                                        "operation.wob": (0.0, 1.0)})
     new, _ = _corner_cases(50, 9)
     flag, _ = dc.check(new)
     assert flag.mean() <= 0.05

@@ -8,6 +8,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from testkit.tiny_surrogate import open_domain
+
 from drillfatigue.cli import main
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
@@ -27,7 +29,7 @@ CONSTANTS = {"mu_static": 0.35, "mu_dynamic": 0.28, "mud_density_sg": 1.25,
 
 @pytest.fixture(scope="module")
 def model() -> Surrogate:
-    return fit_surrogate(make_synthetic_dataset(30, seed=4), TINY)
+    return open_domain(fit_surrogate(make_synthetic_dataset(30, seed=4), TINY))
 
 
 def _components() -> pd.DataFrame:
@@ -168,7 +170,8 @@ def test_components_and_survey_from_config_and_hook_load(model: Surrogate, tmp_p
     case = tmp_path / "case.yaml"
     case.write_text(STRING_YAML)
     data = read_yaml(case)
-    comps = components_from_string(validate(StringConfig, data["string"], "string"))
+    comps = components_from_string(validate(StringConfig, data["string"], "string"),
+                                   locations=("body", "connection"))
     # one body and one connection row per rigid segment, at the segment centres
     assert len(comps) == 2 * 6 and comps["serial"].is_unique
     np.testing.assert_allclose(sorted(set(comps["s_from_bit_m"])),
@@ -196,7 +199,10 @@ def test_components_and_survey_from_config_and_hook_load(model: Surrogate, tmp_p
                "--out", str(out)])
     assert rc == 0, capsys.readouterr().err
     table = pd.read_csv(out / "components_damage.csv")
-    assert len(table) == 12 and (table["damage"] > 0).all()
+    # body and connection of every segment, and the upset of the heavy-weight pipe, which
+    # this model (trained without upsets) lists as not covered
+    assert len(table) == 14 and (table.loc[table["covered"], "damage"] > 0).all()
+    assert set(table.loc[~table["covered"], "location"]) == {"upset"}
     # both a string and a component table: exit 2, one line, nothing written
     out2 = tmp_path / "twin2"
     rc = main(["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model",
@@ -238,7 +244,7 @@ def test_survey_geometry_features_reach_the_model() -> None:
     md = data["md_m"].to_numpy()
     data = data.assign(**geometry(md, md + data["s_from_bit_m"].to_numpy()))
     cfg = TINY.model_copy(update={"features": TINY.features + cols})
-    geo_model = fit_surrogate(data, cfg)
+    geo_model = open_domain(fit_surrogate(data, cfg))
     log = pd.DataFrame({"time_s": [0.0, 3600.0], "bit_md_m": 800.0, "rpm": 130.0,
                         "wob_kN": 90.0, "rop_m_per_h": 15.0})
     consts = {k: v for k, v in CONSTANTS.items() if k != "local_dls_deg_per_30m"}

@@ -43,9 +43,10 @@ def test_grid_node_is_the_plain_prediction_in_si(model: Surrogate) -> None:
                          "well.dls_deg_per_30m": 5.0, "md_m": 1400.0, "s_from_bit_m": 40.0,
                          "local_dls_deg_per_30m": 0.0, "component_type": "collar",
                          "location": "connection", "well.profile": "build_hold"})
-    ref = model.predict(pd.DataFrame(rows), refuse=False)  # the map keeps flagged cells
+    ref = model.predict(pd.DataFrame(rows))  # out of domain: no number, in both
     np.testing.assert_allclose(w.life_h.ravel(), ref["life_h"], rtol=RTOL)
     np.testing.assert_allclose(w.life_h_lower.ravel(), ref["life_h_lower"], rtol=RTOL)
+    assert np.all(np.isnan(w.life_h[w.ood]))
     np.testing.assert_array_equal(w.ood.ravel(), ref["ood"].to_numpy(dtype=bool))
     # rpm 20 and 220 are outside the training range: those columns are flagged
     assert w.ood[:, 0].all() and w.ood[:, -1].all()

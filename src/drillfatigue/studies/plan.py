@@ -336,12 +336,13 @@ def rank_plans(cset: CandidateFile, surrogate: Any, out_dir: Path, confirm: int 
     table = predict_candidates(cset, surrogate)
     table = table.sort_values("life_windows_surrogate", ascending=False, kind="stable",
                               na_position="last")
-    answered = table["no_answer"] == ""
-    table["rank_surrogate"] = pd.array(np.where(answered, np.cumsum(answered), 0),
-                                       dtype="Int64").where(answered.to_numpy(), pd.NA)
     table = table.reset_index(drop=True)
+    answered = (table["no_answer"] == "").to_numpy()
+    ranks = pd.array(np.cumsum(answered), dtype="Int64")
+    ranks[~answered] = pd.NA
+    table["rank_surrogate"] = ranks
     # a best plan only when the surrogate answers for every candidate
-    best = table["candidate"].iloc[0] if bool(answered.all()) else None
+    best = str(table["candidate"].iloc[0]) if bool(answered.all()) else None
     k = min(confirm, int(answered.sum()))
     if k:
         conf = pd.DataFrame([confirm_candidate(cset, n, folder.file("runs"))

@@ -249,9 +249,10 @@ class DomainChecker:
     type x location). A query row is out of domain when
 
     - its combination is not in the training data (a collar ``upset``), or
-    - a numeric feature is outside its range: the design range of a design
-      variable (a dotted configuration path such as ``operation.rpm``, the
-      same for every group), and for a feature of the location (the
+    - a numeric feature is outside its range: for an operating input (a
+      dotted configuration path such as ``operation.rpm``) its design range,
+      or the range of all training rows when it was not designed, the same
+      for every group; for a feature of the location (the
       location's MD, its distance from the bit, the hole geometry there) the
       [min, max] of that group's training rows (a collar 550 m behind the
       bit, drill pipe 5 m behind it), or
@@ -403,12 +404,17 @@ class DomainChecker:
         lo_d = np.zeros(d)
         hi_d = np.zeros(d)
         for j, name in enumerate(self.names):
-            # a design input is a dotted configuration path (operation.rpm); the location's
-            # features (md_m, s_from_bit_m, the hole geometry there) take their group's range
-            if design_bounds and name in design_bounds and "." in name:
+            # an operating input is a dotted configuration path (operation.rpm): its design
+            # range, else the range of all training rows; the location's features (md_m,
+            # s_from_bit_m, the hole geometry there) take their group's training range
+            if "." not in name:
+                continue
+            if design_bounds and name in design_bounds:
                 lo_d[j], hi_d[j] = (float(v) for v in design_bounds[name])
-                design[j] = True
                 self.source_[j] = "design"
+            else:
+                lo_d[j], hi_d[j] = float(x_train[:, j].min()), float(x_train[:, j].max())
+            design[j] = True
         self.mean_ = np.asarray(mean, dtype=np.float64)
         self.scale_ = np.asarray(scale, dtype=np.float64)
         rng = np.random.default_rng(self.seed)
@@ -575,7 +581,7 @@ class DomainChecker:
             v = float(x_row[j])
             if v < lo[j] - tol[j] or v > hi[j] + tol[j]:
                 what = ("design range" if self.source_[j] == "design"
-                        else f"training data{where}")
+                        else "training data" + ("" if "." in name else where))
                 out.append((name, f"{v:.6g} is outside the surrogate's {what}: no answer",
                             f"{lo[j]:.6g} <= {name} <= {hi[j]:.6g}"))
         thr = float(self.group_threshold_[gi])
@@ -594,10 +600,27 @@ class DomainChecker:
             return out
         g = self._group_of(None if x_cat is None else np.asarray(x_cat)[rows], rows.size)
         for r, i in enumerate(rows):
-            cat_row = None if x_cat is None else np.asarray(x_cat)[i]
-            why = self._why(x[i], float(dist[i]), int(g[r]), cat_row)
-            out[i] = "; ".join(f"{f}: {p.replace(': no answer', '')} (allowed: {a})"
-                               for f, p, a in why)
+            gi = int(g[r])
+            if gi < 0:
+                combo = self.combination_text(np.asarray(x_cat)[i])
+                out[i] = f"{combo}: a combination the training data does not have"
+                continue
+            lo, hi, tol = self._bounds(gi)
+            where = f" for {self.seen_combinations()[gi]}" if self.cat_names_ else ""
+            bits = []
+            for j, name in enumerate(self.names):
+                v = float(x[i, j])
+                if v < lo[j] - tol[j] or v > hi[j] + tol[j]:
+                    what = ("the design range" if self.source_[j] == "design"
+                            else "the range of the training data"
+                            + ("" if "." in name else where))
+                    bits.append(f"{name}={v:.6g} {'below' if v < lo[j] else 'above'} {what} "
+                                f"{lo[j]:.6g} .. {hi[j]:.6g}")
+            thr = float(self.group_threshold_[gi])
+            if np.isfinite(dist[i]) and dist[i] > thr:
+                bits.append(f"far from training data{where} (kNN distance {dist[i]:.3g} "
+                            f"> {thr:.3g})")
+            out[i] = "; ".join(bits)
         return out
 
     def refusal(self, x_row: np.ndarray, dist: float, field_prefix: str = "",
