@@ -39,7 +39,7 @@ from drillfatigue.files import atomic_write_json
 from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
 
 RESULT = Path(__file__).parent / "results" / "service.json"
-CATEGORIES = {"component_type": ["collar", "hwdp", "pipe", "stabilizer"],
+CATEGORIES = {"component_type": ["collar", "drill_pipe", "hwdp", "stabilizer"],
               "location": ["body", "connection"],
               "profile": ["build_hold", "double_bend", "late_kickoff"]}
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from testkit.tiny_surrogate import train_tiny_surrogate
 
 from drillfatigue import units
 from drillfatigue.cli import main
@@ -18,7 +19,8 @@ from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_data
 
 TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
                        n_threads=1)
-EXAMPLES = Path(__file__).resolve().parents[2] / "data" / "examples"
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "data" / "examples"
 FLAGS = ["--rpm", "120", "--wob-kN", "80", "--rop-m-per-h", "20", "--mu-static", "0.35",
          "--mu-dynamic", "0.28", "--mud-density-sg", "1.25", "--amplitude-mm", "1.0",
          "--lobes", "3", "--kop-m", "500", "--dls-deg-per-30m", "5", "--md-m", "1400",
@@ -31,6 +33,12 @@ def model_dir(tmp_path_factory) -> Path:
     d = tmp_path_factory.mktemp("q") / "model"
     fit_surrogate(make_synthetic_dataset(30, seed=3), TINY).save(d, export=False)
     return d
+
+
+@pytest.fixture(scope="module")
+def params_model_dir(tmp_path_factory) -> Path:
+    """A model with the inputs of params.yaml (those of data/examples/conditions.csv)."""
+    return train_tiny_surrogate(ROOT / "params.yaml", tmp_path_factory.mktemp("p") / "model")
 
 
 def test_vocabulary_converts_user_units() -> None:
@@ -100,23 +108,23 @@ def test_out_of_domain_query_is_refused(model_dir: Path, capsys, json_flag) -> N
                        f"no answer (allowed: {lo:.6g} <= operation.rpm <= {hi:.6g})\n")
 
 
-def test_batch_out_of_domain_row_has_no_number(model_dir: Path, tmp_path: Path,
+def test_batch_out_of_domain_row_has_no_number(params_model_dir: Path, tmp_path: Path,
                                                capsys) -> None:
     table = pd.read_csv(EXAMPLES / "conditions.csv")
     table.loc[1, "rpm"] = 400.0
     cond = tmp_path / "cond.csv"
     table.to_csv(cond, index=False)
     out = tmp_path / "pred.csv"
-    assert main(["query", "--model", str(model_dir), "--csv", str(cond), "--out", str(out)]) == 0
+    assert main(["query", "--model", str(params_model_dir), "--csv", str(cond), "--out", str(out)]) == 0
     p = pd.read_csv(out)
     assert p["ood"].tolist()[1] and "operation.rpm=400" in p["ood_reason"][1]
     assert p.loc[1, ["damage_rate_per_h", "life_h", "life_h_lower"]].isna().all()
     assert p.loc[[0, 2], "damage_rate_per_h"].notna().all()
 
 
-def test_batch_csv(model_dir: Path, tmp_path: Path, capsys) -> None:
+def test_batch_csv(params_model_dir: Path, tmp_path: Path, capsys) -> None:
     out = tmp_path / "pred.csv"
-    assert main(["query", "--model", str(model_dir), "--csv", str(EXAMPLES / "conditions.csv"),
+    assert main(["query", "--model", str(params_model_dir), "--csv", str(EXAMPLES / "conditions.csv"),
                  "--out", str(out)]) == 0
     p = pd.read_csv(out)
     assert len(p) == 3
@@ -271,31 +279,29 @@ def test_batch_absurd_row_named(model_dir: Path, tmp_path: Path, capsys) -> None
     assert not out.exists()
 
 
-def test_batch_out_an_existing_folder_is_one_line(model_dir: Path, tmp_path: Path,
+def test_batch_out_an_existing_folder_is_one_line(params_model_dir: Path, tmp_path: Path,
                                                   capsys) -> None:
     out = tmp_path / "pred"
     out.mkdir()
     (out / "mine.csv").write_text("x\n")
-    assert main(["query", "--model", str(model_dir), "--csv", str(EXAMPLES / "conditions.csv"),
+    assert main(["query", "--model", str(params_model_dir), "--csv", str(EXAMPLES / "conditions.csv"),
                  "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err == f"error: --out: {out} is a folder, not a file (allowed: a file path)\n"
     assert [p.name for p in out.iterdir()] == ["mine.csv"]
 
 
-def test_batch_csv_with_field_headers(model_dir: Path, tmp_path: Path) -> None:
+def test_batch_csv_with_field_headers(params_model_dir: Path, tmp_path: Path) -> None:
     # the example conditions with an engineer's headers and units give the same predictions
     si = pd.read_csv(EXAMPLES / "conditions.csv")
     field = si.rename(columns={"rpm": "RPM", "wob_kN": "WOB (klbf)",
-                               "rop_m_per_h": "ROP (ft/h)", "mud_density_sg": "Mud Density (ppg)",
-                               "md_m": "MD (ft)"})
+                               "mud_density_sg": "Mud Density (ppg)", "md_m": "MD (ft)"})
     field["WOB (klbf)"] = si["wob_kN"] * units.KN_N / units.KLBF_N
-    field["ROP (ft/h)"] = si["rop_m_per_h"] * units.M_PER_H_M_PER_S / units.FT_PER_H_M_PER_S
     field["Mud Density (ppg)"] = si["mud_density_sg"] * units.SG_KG_PER_M3 / units.PPG_KG_PER_M3
     field["MD (ft)"] = si["md_m"] / units.FT_M
     field.to_csv(tmp_path / "f.csv", index=False)
     for name, src in (("a.csv", EXAMPLES / "conditions.csv"), ("b.csv", tmp_path / "f.csv")):
-        assert main(["query", "--model", str(model_dir), "--csv", str(src), "--out",
+        assert main(["query", "--model", str(params_model_dir), "--csv", str(src), "--out",
                      str(tmp_path / name)]) == 0
     a, b = pd.read_csv(tmp_path / "a.csv"), pd.read_csv(tmp_path / "b.csv")
     # unit conversions there and back differ from the SI inputs by ~1e-16 relative,

@@ -218,7 +218,7 @@ def test_surface_channels_the_model_does_not_use_are_ignored() -> None:
 
     cfg = TINY.model_copy(update={"features": tuple(f for f in DEFAULT_FEATURES
                                                     if f != "operation.wob_N")})
-    no_wob = fit_surrogate(make_synthetic_dataset(20, seed=5), cfg)
+    no_wob = open_domain(fit_surrogate(make_synthetic_dataset(20, seed=5), cfg))
     log = pd.read_csv(EXAMPLES / "operating_log.csv").assign(standpipe_pressure_psi=3000.0)
     res = replay_log(log, _components(), no_wob, CONSTANTS)
     assert set(res.ignored_channels) == {"wob_kN", "standpipe_pressure_psi"}

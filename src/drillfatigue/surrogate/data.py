@@ -158,11 +158,11 @@ def case_folds(groups: np.ndarray, n_folds: int, seed: int) -> np.ndarray:
 # ---------------------------------------------------------------------------
 # synthetic data
 # ---------------------------------------------------------------------------
-_TYPE_OFFSET = {"collar": 0.3, "hwdp": 0.15, "pipe": 0.0, "stabilizer": 0.5}
+_TYPE_OFFSET = {"collar": 0.3, "hwdp": 0.15, "drill_pipe": 0.0, "stabilizer": 0.5}
 _PROFILE_OFFSET = {"build_hold": 0.0, "late_kickoff": 0.25, "double_bend": 0.45}
 #: component positions (m behind the bit) and types of the synthetic string
 _POSITIONS = ((2.0, "stabilizer"), (8.0, "collar"), (20.0, "collar"), (40.0, "collar"),
-              (80.0, "hwdp"), (120.0, "hwdp"), (200.0, "pipe"), (350.0, "pipe"))
+              (80.0, "hwdp"), (120.0, "hwdp"), (200.0, "drill_pipe"), (350.0, "drill_pipe"))
 
 
 def synthetic_log10_rate(frame: pd.DataFrame) -> np.ndarray:
