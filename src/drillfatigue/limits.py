@@ -95,6 +95,10 @@ FEATURE_BOUNDS: dict[str, Bound] = {
     "s_from_bit_m": Bound(0.0, MD_MAX_M, "distance behind the bit along the string: >= 0, "
                                          "at most the longest string"),
     "bit_md_m": Bound(0.0, MD_MAX_M, "measured depth of the bit, at most the deepest well"),
+    "od_m": Bound(0.025, 1.0, "outside diameter of a string item (tally OD): the thinnest "
+                              "string, 1 in coiled tubing, is 25.4 mm; 1 m is above the "
+                              "largest hole openers (the string model's limit)"),
+    "tool_joint_od_m": Bound(0.025, 1.0, "as od_m"),
     "hook_load_N": Bound(0.0, 1.5e7, "the hook carries the string: >= 0; 15 MN (1500 t) is "
                                      "above the largest rigs' hoisting rating"),
     "off_bottom_hook_load_N": Bound(0.0, 1.5e7, "as hook_load_N"),

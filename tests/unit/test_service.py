@@ -240,6 +240,12 @@ BAD = [
                     "y": {"name": "wob_kN", "start": 20, "stop": 200},
                     "fixed": {k: v for k, v in CONDITION.items() if k not in ("rpm", "wob_kN")}},
      "x.start: -10 is outside the physical range (allowed: 0 <= rpm <= 1000)"),
+    ("/v1/twin/replay", _replay_body(
+        components_csv="serial,s_from_bit_m,component_type,location\na,,collar,body"),
+     "components_csv.s_from_bit_m: empty cell (row 1)"),
+    ("/v1/twin/replay", _replay_body(log={"format": "csv",
+                                          "text": "time_s,bit_md_m,rpm\n0,1,120\n60,2"}),
+     "log.text: row 2 has 2 cells, the header 3"),
     ("/v1/window", {"x": {"name": "rpm", "start": True, "stop": 200},
                     "y": {"name": "wob_kN", "start": 20, "stop": 200}, "fixed": {}},
      "x.start: true is a JSON boolean"),

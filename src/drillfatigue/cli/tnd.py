@@ -24,6 +24,7 @@ from drillfatigue.config import load_case
 from drillfatigue.dynamics.buckling import BucklingProfile, buckling_for_case
 from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
+from drillfatigue.limits import check_value
 from drillfatigue.files import atomic_output, check_output_file
 from drillfatigue.io.display import Display, check_system
 from drillfatigue.plotting import figure
@@ -102,8 +103,8 @@ def tnd(
     output = pick_out(out, legacy_output)
     if not (math.isfinite(cell_m) and 0.01 <= cell_m <= 1000.0):
         raise InputError("--cell-m", f"got {cell_m}", "0.01 <= cell_m <= 1000")
-    if wob_kN is not None and not (math.isfinite(wob_kN) and 0.0 <= wob_kN <= 1e5):
-        raise InputError("--wob-kN", f"got {wob_kN}", "0 <= wob_kN <= 1e5")
+    if wob_kN is not None:  # the physical bound of every entry point (drillfatigue.limits)
+        check_value("--wob-kN", "wob_N", wob_kN * KN_N, "wob_kN", KN_N)
     d = Display(check_system(unit_system))
     if output is not None:
         _check_plot_path(output)

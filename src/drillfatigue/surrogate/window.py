@@ -181,7 +181,8 @@ def operating_window(model: Surrogate, x: Axis, y: Axis, fixed: Mapping[str, Any
     ------
     InputError
         Unknown or duplicated names, an axis that is categorical or reaches
-        beyond a physical bound (:mod:`drillfatigue.limits`), a missing fixed input, a grid larger than ``max_nodes``, a bad survey.
+        beyond a physical bound (:mod:`drillfatigue.limits`), a missing fixed input,
+        a grid larger than ``max_nodes``, a bad survey.
     """
     vocab = Vocabulary(model.features, model.categorical)
     n_x, n_y = x.values.size, y.values.size
