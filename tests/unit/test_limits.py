@@ -150,3 +150,27 @@ def test_reference_cases_are_within_bounds() -> None:
     for f in sorted(CASES.glob("*.yaml")):
         cfg = load_case(f)
         assert cfg.operation.bit_md_m <= _wellpath(cfg).node_md_m[-1], f.name
+
+
+def test_record_starting_at_or_after_the_end_is_a_case_error(tmp_path, monkeypatch,
+                                                            capsys) -> None:
+    """recording.start_s >= operation.duration_s used to run to completion with no loads
+    (and `fatigue` then failed on the missing file)."""
+    with pytest.raises(InputError) as e:
+        case_from_dict({"string": STRING, "operation": {"bit_md_m": 60.0, "duration_s": 5.0},
+                        "recording": {"start_s": 5.0}})
+    assert e.value.field == "recording.start_s"
+    assert str(e.value).endswith("(allowed: 0 <= start_s < operation.duration_s)")
+    case_from_dict({"string": STRING, "operation": {"bit_md_m": 60.0, "duration_s": 5.0},
+                    "recording": {"start_s": 4.9}})
+    case = load_case(CASES / "vertical_quick.yaml")
+    data = case.model_dump(mode="json")
+    data["recording"]["start_s"] = data["operation"]["duration_s"] + 1.0
+    import yaml
+
+    (tmp_path / "case.yaml").write_text(yaml.safe_dump(data))
+    monkeypatch.chdir(tmp_path)
+    assert main(["simulate", "case.yaml", "--out", "run", "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: recording.start_s: ") and err.count("\n") == 1
+    assert sorted(os.listdir(tmp_path)) == ["case.yaml"]
