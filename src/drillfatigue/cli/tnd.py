@@ -19,7 +19,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out
+from drillfatigue.cli.app import app
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.buckling import BucklingProfile, buckling_for_case
 from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
@@ -97,10 +97,9 @@ def tnd(
                                         "(default: from the operation section)"),
     unit_system: str = typer.Option("si", "--units", help="table and plot units: si (kN, "
                                     "kN m, m) or field (klbf, kft lbf, ft); --json stays SI"),
-    legacy_output: Path | None = LegacyOutputOpt,
 ) -> None:
     """Soft-string (Johancsik) hook loads and surface torque; tension/torque vs MD plot."""
-    output = pick_out(out, legacy_output)
+    output = out
     if not (math.isfinite(cell_m) and 0.01 <= cell_m <= 1000.0):
         raise InputError("--cell-m", f"got {cell_m}", "0.01 <= cell_m <= 1000")
     if wob_kN is not None:  # the physical bound of every entry point (drillfatigue.limits)
