@@ -98,10 +98,10 @@ def encode_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "r
         else:
             col = x_num[:, num_index[term.column]]
             col[:] = [_number(v, name, field) * term.factor for v in values]
-            i = first_outside(term.column, col)
-            if i is not None:
-                where = f"{field}[{i}].{name}" if n > 1 else f"{field}.{name}"
-                check_feature_values(name, term.column, col[i:i + 1], term.factor,
+            bad = first_outside(term.column, col)
+            if bad is not None:
+                where = f"{field}[{bad}].{name}" if n > 1 else f"{field}.{name}"
+                check_feature_values(name, term.column, col[bad:bad + 1], term.factor,
                                      field=where, rows=False)
     return x_num, x_cat
 
