@@ -17,7 +17,8 @@ from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.studies.plan import CandidateFile, candidate_rows
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "data" / "examples"
+# the synthetic model's inputs (tests/data/synthetic_twin/README.md), not data/examples
+EXAMPLES = Path(__file__).resolve().parent / "data" / "synthetic_twin"
 TINY = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
                        n_threads=1)
 #: the constant inputs of the example log (data/examples/README.md)

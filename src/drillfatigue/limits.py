@@ -61,6 +61,7 @@ FEATURE_BOUNDS: dict[str, Bound] = {
                               "speed; negative would back off the connections"),
     "wob_N": Bound(0.0, 1.0e6, "weight on bit is a compression >= 0; 1000 kN (225 klbf) is "
                                "above the rating of the largest bits"),
+    "wob_set_N": Bound(0.0, 1.0e6, "as wob_N: the autodriller's set-point"),
     "rop_m_per_s": Bound(0.0, 1.0, "rate of penetration >= 0; 1 m/s (3600 m/h) is an order of "
                                    "magnitude above the fastest top-hole drilling"),
     "mu_static": Bound(0.0, 1.5, "friction coefficients of steel on rock or casing in mud are "
@@ -69,18 +70,41 @@ FEATURE_BOUNDS: dict[str, Bound] = {
     "mud_density_kg_per_m3": Bound(0.0, 3000.0, "from air or foam (about 0) to the heaviest "
                                                  "weighted muds (about 2.6 sg); negative is "
                                                  "impossible"),
-    "amplitude_m": Bound(0.0, 0.05, "bit-rock axial lobe amplitude, as operation."
-                                    "lobe_amplitude_m"),
-    "lobes": Bound(0.0, 20.0, "lobes of the bottom-hole pattern, as operation.lobe_count"),
+    "lobe_amplitude_m": Bound(0.0, 0.05, "axial amplitude of the lobed bottom-hole pattern "
+                                         "under the bit: >= 0; 50 mm is above any bit's "
+                                         "bounce (the simulator's own limit)"),
+    "amplitude_m": Bound(0.0, 0.05, "as lobe_amplitude_m"),
+    "lobe_count": Bound(0.0, 20.0, "lobes of the bottom-hole pattern (a roller-cone bit "
+                                   "makes 3); the simulator's own limit"),
+    "lobes": Bound(0.0, 20.0, "as lobe_count"),
     "kop_m": Bound(0.0, MD_MAX_M, "a kick-off point lies within the deepest well"),
     "dls_deg_per_30m": Bound(0.0, 60.0, "dogleg severity >= 0; above 60 deg/30 m no drill "
                                         "string passes (the well profiles' limit)"),
     "local_dls_deg_per_30m": Bound(0.0, 60.0, "as dls_deg_per_30m"),
+    "local_max_dls_deg_per_30m": Bound(0.0, 60.0, "as dls_deg_per_30m"),
+    "bit_dls_deg_per_30m": Bound(0.0, 60.0, "as dls_deg_per_30m"),
+    "build_to_bit_deg_per_30m": Bound(-60.0, 60.0, "a mean build (or drop, < 0) rate between "
+                                                   "two points of the hole: within the "
+                                                   "largest dogleg severity"),
+    "inc_deg": Bound(0.0, 180.0, "hole inclination: 0 (vertical, down) to 180 (straight "
+                                 "up); horizontal is 90"),
+    "local_inc_deg": Bound(0.0, 180.0, "as inc_deg"),
+    "bit_inc_deg": Bound(0.0, 180.0, "as inc_deg"),
     "md_m": Bound(0.0, MD_MAX_M, "measured depth of a location in the hole: 0 at the rig "
                                  "floor, at most the deepest well"),
     "s_from_bit_m": Bound(0.0, MD_MAX_M, "distance behind the bit along the string: >= 0, "
                                          "at most the longest string"),
     "bit_md_m": Bound(0.0, MD_MAX_M, "measured depth of the bit, at most the deepest well"),
+    "od_m": Bound(0.025, 1.0, "outside diameter of a string item (tally OD): the thinnest "
+                              "string, 1 in coiled tubing, is 25.4 mm; 1 m is above the "
+                              "largest hole openers (the string model's limit)"),
+    "tool_joint_od_m": Bound(0.025, 1.0, "as od_m"),
+    "hook_load_N": Bound(0.0, 1.5e7, "the hook carries the string: >= 0; 15 MN (1500 t) is "
+                                     "above the largest rigs' hoisting rating"),
+    "off_bottom_hook_load_N": Bound(0.0, 1.5e7, "as hook_load_N"),
+    "rop_c1_m_per_N_sqrt_s": Bound(0.0, 1.0e-6, "drillability c1 of the bit law ROP = c1 WOB "
+                                                "sqrt(Omega) + c2: >= 0; 1e-6 gives 1400 m/h at "
+                                                "100 kN and 150 rpm, far above any rock"),
 }
 
 
@@ -89,13 +113,34 @@ def feature_bound(column: str) -> Bound | None:
     return FEATURE_BOUNDS.get(column.rsplit(".", 1)[-1])
 
 
+def first_outside(column: str, values_si: np.ndarray | Sequence[float]) -> int | None:
+    """Index of the first value of ``column`` (SI) outside its physical bound, or None."""
+    bound = feature_bound(column)
+    if bound is None:
+        return None
+    v = np.asarray(values_si, dtype=np.float64).reshape(-1)
+    bad = ~((v >= bound.lo) & (v <= bound.hi))
+    return int(np.argmax(bad)) if bad.any() else None
+
+
 def check_feature_values(name: str, column: str, values_si: np.ndarray | Sequence[float],
-                         factor: float = 1.0) -> None:
+                         factor: float = 1.0, *, field: str | None = None,
+                         rows: bool | None = None, first_row: int = 1) -> None:
     """Raise InputError if a value of ``column`` (SI) lies outside its physical bound.
 
     ``name`` is what the user called the column (``rpm``, ``wob_kN``) and
     ``factor`` that unit's factor to SI; the message states the value and the
-    allowed range in the user's unit.
+    allowed range in the user's unit: ``wob_kN: -5 is outside the physical
+    range (row 2) (allowed: 0 <= wob_kN <= 1000)``.
+
+    Parameters
+    ----------
+    field : str, optional
+        The error's field (default ``name``), e.g. ``--x`` or ``rows[3].rpm``.
+    rows : bool, optional
+        Name the row of the first bad value (default: when more than one value
+        is given). Rows count data rows from ``first_row`` (1: the first row
+        after a table's header).
     """
     bound = feature_bound(column)
     if bound is None:
@@ -104,9 +149,22 @@ def check_feature_values(name: str, column: str, values_si: np.ndarray | Sequenc
     bad = ~((v >= bound.lo) & (v <= bound.hi))
     if bad.any():
         i = int(np.argmax(bad))
-        where = f" (row {i + 1})" if v.size > 1 else ""
-        raise InputError(name, f"{_num(v[i] / factor)} is outside the physical range{where}",
+        named = v.size > 1 if rows is None else rows
+        where = f" (row {i + first_row})" if named else ""
+        raise InputError(field or name,
+                         f"{_num(v[i] / factor)} is outside the physical range{where}",
                          bound.text(name, factor))
+
+
+def check_value(field: str, column: str, value_si: float, name: str | None = None,
+                factor: float = 1.0) -> None:
+    """One value (a command-line option, a ``--set`` constant) against its bound.
+
+    ``field`` names the option (``--rpm``), ``name`` the quantity in the
+    user's unit (default: the last part of ``column``).
+    """
+    check_feature_values(name or column.rsplit(".", 1)[-1], column, [value_si], factor,
+                         field=field, rows=False)
 
 
 def check_recording_rates(recording: Any, dt_s: float) -> None:

@@ -83,7 +83,7 @@ def test_page_replays_a_log_and_maps_a_window(browser, tmp_path: Path) -> None: 
             ".reduce((n, t) => n + t.x.length, 0)")
         assert plotted == n_components
         summary = browser.find_element(By.ID, "replay-summary").text
-        assert summary.startswith(f"{n_components} components over 2 h;"), summary
+        assert summary.startswith(f"{n_components} locations over 2 h;"), summary
         rows = browser.find_elements(By.CSS_SELECTOR, "#damage-table tbody tr")
         assert len(rows) == min(8, n_components)
         # operating window of the first component: heat map with hatched OOD cells

@@ -176,3 +176,23 @@ def test_cli_bad_tally_one_line_exit_2_nothing_written(tmp_path: Path, monkeypat
     err = capsys.readouterr().err
     assert err.startswith("error: t.csv:6:grade: unknown grade") and err.count("\n") == 1
     assert set(os.listdir(tmp_path)) == before
+
+
+MM_TALLY = """Description,Type,Joints,Length,OD,ID
+,,,ft,mm,mm
+Drill collar,collar,6,180.00,{od},71.4
+"""
+
+
+def test_od_in_mm_below_a_drill_string_size_is_refused(tmp_path: Path) -> None:
+    """A unit row saying mm over an OD of 6.75 (inches) used to make a 6.75 mm collar; an
+    OD outside 25 mm to 1 m (the physical bound of drillfatigue.limits) is refused."""
+    p = tmp_path / "t.csv"
+    p.write_text(MM_TALLY.format(od="6.75"))
+    with pytest.raises(InputError) as exc:
+        load_tally(p)
+    assert str(exc.value) == (f"{p}:3:OD: 6.75 is outside the physical range: no drill-string "
+                              "item is that size (a value in another unit than the header's?) "
+                              "(allowed: 25 <= od_mm <= 1000)")
+    p.write_text(MM_TALLY.format(od="171.45"))  # the same collar in mm reads
+    assert load_tally(p).string.components[0].od_m == pytest.approx(0.17145, rel=1e-12)

@@ -279,6 +279,50 @@ def test_batch_absurd_row_named(model_dir: Path, tmp_path: Path, capsys) -> None
     assert not out.exists()
 
 
+def _csv_with(text_of: object, tmp_path: Path) -> Path:
+    lines = (EXAMPLES / "conditions.csv").read_text().splitlines()
+    bad = tmp_path / "bad.csv"
+    bad.write_text("\n".join(text_of(lines)) + "\n")
+    return bad
+
+
+def _cells(line: str, j: int, value: str) -> str:
+    cells = line.split(",")
+    cells[j] = value
+    return ",".join(cells)
+
+
+@pytest.mark.parametrize("edit, message", [
+    # an empty cell: pandas reads NaN, the message named no row
+    (lambda ls: [ls[0], ls[1], _cells(ls[2], 1, "")] + ls[3:],
+     "error: {col1}: empty cell (row 2) (allowed: a value in every row)"),
+    # a row a cell short: pandas fills NaN
+    (lambda ls: [ls[0], ls[1], ls[2], ls[3].rsplit(",", 1)[0]] + ls[4:],
+     "error: {csv}: row 3 has {short} cells, the header {n} (allowed: one cell per column "
+     "in every row)"),
+    # a row a cell long: pandas shifts the first column into the index
+    (lambda ls: [ls[0], ls[1] + ",7"] + ls[2:],
+     "error: {csv}: row 1 has {long} cells, the header {n} (allowed: one cell per column "
+     "in every row)"),
+    # a column named twice: pandas renames the second rpm.1
+    (lambda ls: [ls[0] + ",rpm"] + [line + ",100" for line in ls[1:]],
+     "error: {csv}: column 'rpm' named twice in the header (allowed: each name once)"),
+    # a non-numeric cell names its row
+    (lambda ls: [ls[0], ls[1], ls[2], _cells(ls[3], 0, "fast")] + ls[4:],
+     "error: {col0}: non-numeric value 'fast' (row 3) (allowed: a finite number)"),
+])
+def test_batch_csv_shape_errors_name_the_row(params_model_dir: Path, tmp_path: Path, capsys,
+                                             edit: object, message: str) -> None:
+    bad = _csv_with(edit, tmp_path)
+    header = (EXAMPLES / "conditions.csv").read_text().splitlines()[0].split(",")
+    out = tmp_path / "pred.csv"
+    assert main(["query", "--model", str(params_model_dir), "--csv", str(bad), "--out", str(out)]) == 2
+    n = len(header)
+    assert capsys.readouterr().err == message.format(
+        csv=bad, n=n, short=n - 1, long=n + 1, col0=header[0], col1=header[1]) + "\n"
+    assert not out.exists()
+
+
 def test_batch_out_an_existing_folder_is_one_line(params_model_dir: Path, tmp_path: Path,
                                                   capsys) -> None:
     out = tmp_path / "pred"

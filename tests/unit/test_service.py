@@ -220,6 +220,35 @@ BAD = [
                     "y": {"name": "wob_kN", "start": 20, "stop": 200},
                     "fixed": CONDITION}, "fixed.rpm"),
     ("/v1/model/reload", {"model": "other"}, "model"),
+    # physical bounds (drillfatigue.limits), in a batch as in a single row; booleans
+    ("/v1/query", {"rows": [{**CONDITION, "rpm": -5}]},
+     "rows.rpm: -5 is outside the physical range (allowed: 0 <= rpm <= 1000)"),
+    ("/v1/query", {"rows": [CONDITION, {**CONDITION, "rpm": -5}]},
+     "rows[1].rpm: -5 is outside the physical range (allowed: 0 <= rpm <= 1000)"),
+    ("/v1/query", {"rows": [CONDITION, {**CONDITION, "mud_density_sg": 4}]},
+     "rows[1].mud_density_sg: 4 is outside the physical range (allowed: 0 <= mud_density_sg "
+     "<= 3)"),
+    ("/v1/query", {"rows": [{**CONDITION, "rpm": True}]},
+     "rows[0].rpm: true is a JSON boolean, not a number (allowed: a number)"),
+    ("/v1/twin/replay", _replay_body(constants={**CONSTANTS, "amplitude_mm": -1000.0}),
+     "amplitude_mm: -1000 is outside the physical range (allowed: 0 <= amplitude_mm <= 50)"),
+    ("/v1/twin/replay", _replay_body(constants={**CONSTANTS, "amplitude_mm": 5000.0}),
+     "amplitude_mm: 5000 is outside the physical range"),
+    ("/v1/twin/replay", _replay_body(constants={**CONSTANTS, "mu_static": False}),
+     "constants.mu_static: false is a JSON boolean"),
+    ("/v1/window", {"x": {"name": "rpm", "start": -10, "stop": 200},
+                    "y": {"name": "wob_kN", "start": 20, "stop": 200},
+                    "fixed": {k: v for k, v in CONDITION.items() if k not in ("rpm", "wob_kN")}},
+     "x.start: -10 is outside the physical range (allowed: 0 <= rpm <= 1000)"),
+    ("/v1/twin/replay", _replay_body(
+        components_csv="serial,s_from_bit_m,component_type,location\na,,collar,body"),
+     "components_csv.s_from_bit_m: empty cell (row 1)"),
+    ("/v1/twin/replay", _replay_body(log={"format": "csv",
+                                          "text": "time_s,bit_md_m,rpm\n0,1,120\n60,2"}),
+     "log.text: row 2 has 2 cells, the header 3"),
+    ("/v1/window", {"x": {"name": "rpm", "start": True, "stop": 200},
+                    "y": {"name": "wob_kN", "start": 20, "stop": 200}, "fixed": {}},
+     "x.start: true is a JSON boolean"),
 ]
 
 
@@ -297,7 +326,7 @@ def test_replay_equals_library_and_cli(client: TestClient, registry: ModelRegist
     ref = replay_log(pd.read_csv(EXAMPLES / "operating_log.csv"), comps,
                      registry.get().surrogate, CONSTANTS).components
     api = pd.DataFrame(body["components"], columns=body["columns"])
-    assert list(api["serial"]) == list(ref["serial"]) and body["n_components"] == len(comps)
+    assert list(api["serial"]) == list(ref["serial"]) and body["n_locations"] == len(comps)
     for col in ("damage", "damage_lower", "damage_upper", "remaining_life_h"):
         np.testing.assert_allclose(api[col].astype(float), ref[col], rtol=RTOL)
     np.testing.assert_array_equal(api["ood_time_s"], ref["ood_time_s"])
@@ -545,3 +574,20 @@ def test_serve_process_answers_and_reloads_on_sighup(folders: dict[str, Path]) -
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def test_impossible_lobe_amplitude_is_422_with_the_pipelines_features(
+        tmp_path_factory: pytest.TempPathFactory) -> None:
+    """The pipeline's model names the lobe amplitude lobe_amplitude_m: -1 m (or 5 m) in the
+    replay's constants used to be answered with a retire list."""
+    from testkit.tiny_surrogate import train_tiny_surrogate
+
+    root = Path(__file__).resolve().parents[2]
+    folder = train_tiny_surrogate(root / "params.yaml", tmp_path_factory.mktemp("tiny") / "m")
+    c = TestClient(create_app(ModelRegistry({"tiny": folder})))
+    for value in (-1.0, 5.0):
+        r = c.post("/v1/twin/replay", json=_replay_body(
+            constants={"lobe_amplitude_m": value, "mu_dynamic": 0.3}))
+        assert r.status_code == 422, r.text
+        assert r.json()["detail"] == (f"lobe_amplitude_m: {value:g} is outside the physical "
+                                      "range (allowed: 0 <= lobe_amplitude_m <= 0.05)")

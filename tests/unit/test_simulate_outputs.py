@@ -182,3 +182,57 @@ def test_sigint_prints_one_line_and_leaves_no_final_histories(tmp_path: Path) ->
         assert not (run / rundir.history_name(stem)).exists(), stem
     assert list((run / rundir.PARTS).glob("loads.*.parquet"))
     assert np.isfinite(json.loads((run / rundir.SUMMARY).read_text())["duration_s"])
+
+
+def test_sigint_after_the_final_rename_reports_a_complete_run(tmp_path: Path, capsys,
+                                                              monkeypatch) -> None:
+    """A Ctrl-C that lands while a complete run writes its summary (every history renamed)
+    used to exit 130 "incomplete ... continue it with --resume" beside a summary saying
+    complete; the run is complete and is reported so."""
+    (tmp_path / "case.yaml").write_text(yaml.safe_dump(_case(duration_s=0.06)))
+    real = api.atomic_write_json
+
+    def write_after_ctrl_c(path: Path, data: object) -> object:
+        if Path(path).name == rundir.SUMMARY:
+            assert all((tmp_path / "run" / rundir.history_name(k)).exists()
+                       for k in ("loads", "channels"))
+            os.kill(os.getpid(), signal.SIGINT)  # held by the simulator until it has written
+        return real(path, data)
+
+    monkeypatch.setattr(api, "atomic_write_json", write_after_ctrl_c)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        rc = main(["simulate", str(tmp_path / "case.yaml"), "--out", str(tmp_path / "run"),
+                   "--no-progress"])
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    assert out.startswith("complete: ") and err == ""
+    assert json.loads((tmp_path / "run" / rundir.SUMMARY).read_text())["status"] == "complete"
+
+
+def test_ctrl_c_after_simulate_returned_finds_the_complete_run(tmp_path: Path, capsys,
+                                                               monkeypatch) -> None:
+    """The CLI's side: a KeyboardInterrupt that reaches it after the run wrote a complete
+    summary (in this command) reports the run complete; an earlier run's summary does not
+    count."""
+    (tmp_path / "case.yaml").write_text(yaml.safe_dump(_case(duration_s=0.06)))
+    real = api.Runner.run
+
+    def run_then_ctrl_c(self, *args: object, **kwargs: object) -> object:
+        real(self, *args, **kwargs)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(api.Runner, "run", run_then_ctrl_c)
+    argv = ["simulate", str(tmp_path / "case.yaml"), "--out", str(tmp_path / "run"),
+            "--no-progress"]
+    assert main(argv) == 0
+    assert capsys.readouterr().out.startswith("complete: ")
+
+    def ctrl_c_at_once(self, *args: object, **kwargs: object) -> object:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(api.Runner, "run", ctrl_c_at_once)  # the old summary stays
+    assert main(argv) == 130
+    assert capsys.readouterr().err.startswith("error: interrupted: ")

@@ -117,3 +117,22 @@ def test_sweep_run_refuses_a_foreign_dataset_folder_before_any_case(tmp_path, ca
     assert err.startswith("error: sweep.dataset_dir:") and err.count("\n") == 1
     assert _files(tmp_path) == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dataset", "params.yaml"]
+
+
+def test_sweep_design_out_elsewhere_writes_only_there(tmp_path, monkeypatch, capsys):
+    """`sweep design --out elsewhere` used to create the configured adaptive cache
+    (data/design/adaptive/.drillfatigue.json) in the working directory."""
+    work = tmp_path / "work"
+    work.mkdir()
+    (work / "params.yaml").write_text(yaml.safe_dump({"sweep": {
+        "n_cases": 4, "variables": {"operation.rpm": {"low": 60, "high": 120}},
+        "adaptive": {"cache_dir": "data/design/adaptive"}}}))
+    monkeypatch.chdir(work)
+    out = tmp_path / "elsewhere" / "cases.parquet"
+    assert main(["sweep", "design", "--out", str(out)]) == 0, capsys.readouterr().err
+    assert sorted(p.name for p in work.iterdir()) == ["params.yaml"]
+    assert sorted(p.name for p in out.parent.iterdir()) == ["cases.parquet", "coverage.csv",
+                                                             "design.json"]
+    # the configured table still claims the configured cache (the pipeline's output)
+    assert main(["sweep", "design"]) == 0, capsys.readouterr().err
+    assert (work / "data" / "design" / "adaptive").is_dir()

@@ -245,3 +245,43 @@ def test_optional_fields_not_given_leave_the_case_id_unchanged() -> None:
     assert case_id_of(base) == case_id_of(with_none)
     assert case_id_of(base) != case_id_of({**with_none, "string": {"components": [],
                                                                      "bha": "slick"}})
+
+
+def _params_yaml() -> dict:
+    from pathlib import Path
+
+    import yaml
+
+    return yaml.safe_load((Path(__file__).resolve().parents[2] / "params.yaml").read_text())
+
+
+def test_default_design_records_inside_every_case() -> None:
+    """params.yaml's design passes the recording-window and bit-in-well checks."""
+    params = Params.model_validate(_params_yaml())
+    assert params.sweep.window_s > params.recording.start_s
+    design_cases(params.sweep.model_copy(update={"n_cases": 4}), base_case_from_params(params))
+
+
+def test_bit_depth_bound_beyond_the_wells_td_is_an_error() -> None:
+    """A design whose bit can start below a well's TD used to pass and fail per case at
+    simulation time; it is refused before sampling, naming the variable and the TD."""
+    data = _params_yaml()
+    data["sweep"]["variables"]["operation.bit_md_m"] = {"low": 560.0, "high": 5000.0}
+    params = Params.model_validate(data)
+    with pytest.raises(InputError) as exc:
+        design_cases(params.sweep, base_case_from_params(params))
+    assert exc.value.field == "sweep.variables.operation.bit_md_m"
+    assert exc.value.problem.startswith("5000 m is beyond the total depth ")
+    assert "the shallowest TD of the design's well profiles" in exc.value.allowed
+
+
+def test_window_ending_before_the_record_starts_is_an_error() -> None:
+    """sweep.window_s sets each case's duration: at or before recording.start_s no case
+    would record anything (the runs completed without loads, fatigue then failed)."""
+    data = _params_yaml()
+    data["sweep"]["window_s"] = data["recording"]["start_s"]
+    params = Params.model_validate(data)  # the file alone is fine: the sweep sets durations
+    with pytest.raises(InputError) as exc:
+        design_cases(params.sweep, base_case_from_params(params))
+    assert exc.value.field == "sweep.window_s"
+    assert "no case would record anything" in exc.value.problem

@@ -314,3 +314,48 @@ def test_cli_replay_out_with_a_users_file(model: Surrogate, tmp_path: Path, caps
     assert main([*argv, str(out)]) == 0
     assert (out / "notes.txt").read_text() == "kept"
     assert (out / ".drillfatigue.json").is_file()
+
+
+@pytest.fixture(scope="module")
+def tiny_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A stand-in of the pipeline's model (params.yaml's features, lobe_amplitude_m)."""
+    from testkit.tiny_surrogate import train_tiny_surrogate
+
+    return train_tiny_surrogate(Path(__file__).resolve().parents[2] / "params.yaml",
+                                tmp_path_factory.mktemp("tiny") / "model")
+
+
+@pytest.mark.parametrize("setting, message", [
+    ("lobe_amplitude_m=-1", "lobe_amplitude_m: -1 is outside the physical range "
+                            "(allowed: 0 <= lobe_amplitude_m <= 0.05)"),
+    ("lobe_amplitude_m=5", "lobe_amplitude_m: 5 is outside the physical range "
+                           "(allowed: 0 <= lobe_amplitude_m <= 0.05)"),
+    ("lobe_amplitude_mm=-1", "lobe_amplitude_mm: -1 is outside the physical range "
+                             "(allowed: 0 <= lobe_amplitude_mm <= 50)"),
+    ("mud_density_sg=-1.2", "mud_density_sg: -1.2 is outside the physical range "
+                            "(allowed: 0 <= mud_density_sg <= 3)"),
+])
+def test_cli_set_constant_beyond_its_bound_exit_2(tiny_dir: Path, tmp_path: Path, capsys,
+                                                  setting: str, message: str) -> None:
+    """`twin --set lobe_amplitude_m=-1` (or 5) used to be replayed: the same one-line
+    bounds error as every other entry point, exit 2, nothing written."""
+    out = tmp_path / "twin"
+    rc = main(["twin", "replay", str(EXAMPLES / "operating_log.csv"), "--model", str(tiny_dir),
+               "--components", str(EXAMPLES / "components.csv"), "--set", setting,
+               "--out", str(out)])
+    assert rc == 2
+    assert capsys.readouterr().err == f"error: {message}\n"
+    assert not out.exists()
+
+
+def test_hook_load_beyond_its_bound_is_an_input_error(model: Surrogate) -> None:
+    log = pd.DataFrame({"time_s": [0.0, 60.0, 120.0], "bit_md_m": [1200.0, 1201.0, 1202.0],
+                        "rpm": 120.0, "hook_load_kN": [900.0, -5.0, 900.0],
+                        "rop_m_per_h": 10.0})
+    consts = dict(CONSTANTS, off_bottom_hook_load_kN=1000.0)
+    with pytest.raises(InputError, match=r"^hook_load_kN: -5 is outside the physical range "
+                                         r"\(row 2\) \(allowed: 0 <= hook_load_kN <= 15000\)$"):
+        replay_log(log, _components(), model, consts)
+    log["hook_load_kN"] = 900.0
+    with pytest.raises(InputError, match=r"^off_bottom_hook_load_klbf: 1e\+06 is outside"):
+        replay_log(log, _components(), model, dict(CONSTANTS, off_bottom_hook_load_klbf=1e6))

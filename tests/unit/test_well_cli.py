@@ -55,3 +55,22 @@ def test_out_is_the_option_name_and_output_a_hidden_old_spelling(tmp_path, monke
     assert main(["well", "plot", "--help"]) == 0
     text = capsys.readouterr().out
     assert "--out" in text and "--output" not in text
+    # tnd took --output too: the same rule
+    assert main(["tnd", str(case), "--out", "a.png", "--output", "b.png"]) == 2
+    assert "given twice" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", ["plot", "export"])
+def test_out_is_shown_as_required(tmp_path, monkeypatch, capsys, command: str) -> None:
+    """`well plot` / `well export` need --out: their help says so (it used to show an
+    optional option), and a call without it is a one-line usage error, exit 2."""
+    assert main(["well", command, "--help"]) == 0
+    line = next(t for t in capsys.readouterr().out.splitlines() if "--out" in t)
+    assert "[required]" in line and line.lstrip("│ ").startswith("*"), line
+    case = tmp_path / "case.yaml"
+    case.write_text("well: {}\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["well", command, str(case)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--out" in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["case.yaml"]

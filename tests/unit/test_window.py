@@ -95,6 +95,19 @@ def test_axis_spec_errors(spec: str, problem: str) -> None:
         Axis.parse(spec, "--x")
 
 
+def test_axis_beyond_a_physical_bound_is_an_input_error(model: Surrogate) -> None:
+    """rpm -10 on an axis used to be mapped (and hatched as out of domain)."""
+    with pytest.raises(InputError) as e:
+        operating_window(model, Axis.linear("rpm", -10, 200, 5, "x"),
+                         Axis.linear("wob_kN", 20, 200, 5, "y"), FIXED)
+    assert str(e.value) == ("x.start: -10 is outside the physical range "
+                            "(allowed: 0 <= rpm <= 1000)")
+    with pytest.raises(InputError, match=r"^y\.stop: 1200 is outside the physical range "
+                                         r"\(allowed: 0 <= wob_kN <= 1000\)$"):
+        operating_window(model, Axis.linear("rpm", 40, 200, 5, "x"),
+                         Axis.linear("wob_kN", 20, 1200, 5, "y"), FIXED)
+
+
 def test_cli_writes_png_and_csv(model: Surrogate, tmp_path: Path, capsys) -> None:
     model.save(tmp_path / "m", export=False)
     out, csv = tmp_path / "maps" / "window.png", tmp_path / "maps" / "grid.csv"
@@ -117,6 +130,11 @@ def test_cli_writes_png_and_csv(model: Surrogate, tmp_path: Path, capsys) -> Non
     (["--out", "map.jpg"], "--out"),
     (["--set", "rpm=100"], "rpm"),
     (["--set", "mu_static"], "--set"),
+    # a value no rig can have on an axis is the one-line bounds error, not a hatched cell
+    (["--x", "rpm=-10:200:5"], "--x: -10 is outside the physical range (allowed: 0 <= rpm "
+                               "<= 1000)"),
+    (["--y", "wob_klbf=10:300:5"], "--y: 300 is outside the physical range (allowed: 0 <= "
+                                   "wob_klbf <= 224.809)"),
 ])
 def test_cli_bad_input_exit_2_nothing_written(model: Surrogate, tmp_path: Path, capsys,
                                               change: list[str], field: str) -> None:

@@ -14,7 +14,7 @@ import sys
 import click
 import typer
 
-from drillfatigue.cli.app import app
+from drillfatigue.cli.app import app, legacy_out_args
 from drillfatigue.errors import InputError, Interrupted
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -53,7 +53,8 @@ def main(argv: list[str] | None = None) -> int:
     scope_numba_cache()  # before the command modules import any kernel
     _load_commands()
     try:
-        result = app(args=argv, standalone_mode=False)
+        args = legacy_out_args(list(sys.argv[1:] if argv is None else argv))
+        result = app(args=args, standalone_mode=False)
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)
         return 2

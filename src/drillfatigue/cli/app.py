@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import typer
 
 from drillfatigue.errors import InputError
@@ -17,22 +15,24 @@ app = typer.Typer(
 )
 
 
-#: ``--output``: the spelling some commands used before every command took
-#: ``--out``; still accepted, hidden from the help.
-LegacyOutputOpt = typer.Option(None, "--output", hidden=True,
-                               help="deprecated spelling of --out")
+#: ``--output``: the spelling some commands (``well plot``, ``well export``, ``tnd``)
+#: used before every command took ``--out``; still accepted, never shown in the help.
+LEGACY_OUT = "--output"
 
 
-def pick_out(out: Path | None, legacy_output: Path | None) -> Path | None:
-    """The ``--out`` path, or the deprecated ``--output`` one (None if neither); error if both."""
-    if out is not None and legacy_output is not None:
+def legacy_out_args(args: list[str]) -> list[str]:
+    """``args`` with ``--output X`` / ``--output=X`` spelled ``--out``.
+
+    Done before parsing, so that a command's ``--out`` can be a required option
+    (shown so in its help) and the old spelling still fills it. Both spellings
+    at once is an InputError.
+    """
+    head, sep, tail = (args, [], []) if "--" not in args else (
+        args[:args.index("--")], ["--"], args[args.index("--") + 1:])
+    old = [a for a in head if a == LEGACY_OUT or a.startswith(LEGACY_OUT + "=")]
+    if not old:
+        return args
+    if any(a in ("--out", "-o") or a.startswith("--out=") for a in head):
         raise InputError("--out", "given twice (--out and its old spelling --output)", "one --out")
-    return out if out is not None else legacy_output
-
-
-def require_out(out: Path | None, legacy_output: Path | None) -> Path:
-    """Like :func:`pick_out` for a command that needs an output: error if neither is given."""
-    chosen = pick_out(out, legacy_output)
-    if chosen is None:
-        raise InputError("--out", "missing", "--out FILE")
-    return chosen
+    new = ["--out" + a[len(LEGACY_OUT):] if a in old else a for a in head]
+    return new + sep + tail

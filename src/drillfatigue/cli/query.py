@@ -41,6 +41,7 @@ from drillfatigue.config import WellConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
 from drillfatigue.io.names import Vocabulary, vocabulary_name
+from drillfatigue.io.tables import read_csv_file
 from drillfatigue.well import build_survey
 
 _CONTEXT = {"allow_extra_args": True, "ignore_unknown_options": True,
@@ -166,11 +167,8 @@ def query(ctx: typer.Context,
     need = [c for c in sur.features + sur.categorical
             if geometry is None or c not in geometry[0]]
     if csv is not None:
-        try:
-            table = pd.read_csv(csv)
-        except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-            raise InputError(str(csv), f"unreadable CSV ({type(exc).__name__})",
-                             "a comma-separated table with a header") from None
+        # an empty cell, a ragged row or a column named twice: refused, naming the row
+        table = read_csv_file(csv)
         if len(table) == 0:
             raise InputError(str(csv), "no rows", ">= 1 condition row")
         # field-style headers ('WOB (klbf)', 'ROP (ft/h)') to vocabulary names

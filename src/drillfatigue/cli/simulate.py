@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import json
 import sys
+import time
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -12,6 +15,24 @@ from drillfatigue import rundir
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.api import simulate
 from drillfatigue.errors import InputError, Interrupted, SimulationError
+
+
+def _completed_summary(out: Path, started: float) -> dict[str, Any] | None:
+    """The summary of a run this command completed in ``out`` (written after ``started``,
+    status complete), or None: a Ctrl-C that lands after the last history is renamed
+    finds every final file written, and the run is reported complete, not interrupted."""
+    path = out / rundir.SUMMARY
+    try:
+        if path.stat().st_mtime < started:
+            return None  # an earlier run's summary
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(summary, dict) or summary.get("status") != "complete":
+        return None
+    if any(not (out / name).is_file() for name in summary.get("files") or []):
+        return None
+    return summary
 
 
 @app.command("simulate")
@@ -28,14 +49,18 @@ def simulate_cmd(
     if resume and not (out / rundir.CHECKPOINT).is_file():
         raise InputError("--resume", f"no checkpoint in {str(out)!r}",
                          f"a run directory with {rundir.CHECKPOINT} (set solver.checkpoint_every_s)")
+    started = time.time()
     try:
         res = simulate(cfg, out, progress=progress, resume=resume)
     except SimulationError as exc:
         print(f"error: simulation failed: {exc}", file=sys.stderr)
         raise typer.Exit(1) from None
     except KeyboardInterrupt:
-        raise Interrupted(f"the run in {str(out)!r} is incomplete (no final files written); "
-                          "continue it with --resume") from None
-    s = res.summary
+        s = _completed_summary(out, started)
+        if s is None:
+            raise Interrupted(f"the run in {str(out)!r} is incomplete (no final files "
+                              "written); continue it with --resume") from None
+    else:
+        s = res.summary
     print(f"{s['status']}: {s['duration_s']:.3f} s simulated in {s['wall_time_s']:.1f} s "
           f"({s['real_time_factor']:.3g}x real time) -> {out}")

@@ -19,11 +19,12 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import LegacyOutputOpt, app, pick_out
+from drillfatigue.cli.app import app
 from drillfatigue.config import load_case
 from drillfatigue.dynamics.buckling import BucklingProfile, buckling_for_case
 from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
+from drillfatigue.limits import check_value
 from drillfatigue.files import atomic_output, check_output_file
 from drillfatigue.io.display import Display, check_system
 from drillfatigue.plotting import figure
@@ -96,14 +97,13 @@ def tnd(
                                         "(default: from the operation section)"),
     unit_system: str = typer.Option("si", "--units", help="table and plot units: si (kN, "
                                     "kN m, m) or field (klbf, kft lbf, ft); --json stays SI"),
-    legacy_output: Path | None = LegacyOutputOpt,
 ) -> None:
     """Soft-string (Johancsik) hook loads and surface torque; tension/torque vs MD plot."""
-    output = pick_out(out, legacy_output)
+    output = out
     if not (math.isfinite(cell_m) and 0.01 <= cell_m <= 1000.0):
         raise InputError("--cell-m", f"got {cell_m}", "0.01 <= cell_m <= 1000")
-    if wob_kN is not None and not (math.isfinite(wob_kN) and 0.0 <= wob_kN <= 1e5):
-        raise InputError("--wob-kN", f"got {wob_kN}", "0 <= wob_kN <= 1e5")
+    if wob_kN is not None:  # the physical bound of every entry point (drillfatigue.limits)
+        check_value("--wob-kN", "wob_N", wob_kN * KN_N, "wob_kN", KN_N)
     d = Display(check_system(unit_system))
     if output is not None:
         _check_plot_path(output)

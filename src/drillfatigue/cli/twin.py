@@ -26,7 +26,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pandas as pd
 import typer
 
 from drillfatigue.cli.app import app
@@ -37,6 +36,7 @@ from drillfatigue.files import OutputFolder
 from drillfatigue.io.display import Display, check_system
 from drillfatigue.io.logs import DEFAULT_MAX_FILL_S, DEFAULT_MAX_GAP_S, load_log
 from drillfatigue.io.surveys import twin_survey_table
+from drillfatigue.io.tables import read_csv_file
 from drillfatigue.io.tally import load_tally
 
 #: Kind of the ownership marker of a twin output folder.
@@ -50,11 +50,7 @@ app.add_typer(twin_app, name="twin")
 def _read_csv(path: Path, option: str):  # noqa: ANN202
     if not path.is_file():
         raise InputError(option, f"file {str(path)!r} not found", "an existing CSV file")
-    try:
-        table = pd.read_csv(path)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(str(path), f"unreadable CSV ({type(exc).__name__})",
-                         "a comma-separated table with a header") from None
+    table = read_csv_file(path)  # ragged rows, empty cells, a column twice: refused
     if len(table) == 0:
         raise InputError(str(path), "no rows", ">= 1 row")
     return table

@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from drillfatigue.cli.app import LegacyOutputOpt, app, require_out
+from drillfatigue.cli.app import app
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
@@ -84,11 +84,10 @@ def show(case: Path = CaseArg, profile: str | None = ProfileOpt,
 
 @well_app.command("plot")
 def plot(case: Path = CaseArg,
-         out: Path | None = typer.Option(None, "--out", "-o", help="figure file (.png/.pdf/.svg)"),
-         profile: str | None = ProfileOpt, unit_system: str = UnitsOpt,
-         legacy_output: Path | None = LegacyOutputOpt) -> None:
+         out: Path = typer.Option(..., "--out", "-o", help="figure file (.png/.pdf/.svg)"),
+         profile: str | None = ProfileOpt, unit_system: str = UnitsOpt) -> None:
     """Draw the 3D view, the vertical section and DLS vs MD."""
-    output = require_out(out, legacy_output)
+    output = out
     d = Display(check_system(unit_system))
     _check_output(output, _PLOT_FORMATS)
     _, name, sv = _load(case, profile)
@@ -97,12 +96,11 @@ def plot(case: Path = CaseArg,
 
 @well_app.command("export")
 def export(case: Path = CaseArg,
-           out: Path | None = typer.Option(None, "--out", "-o", help="survey CSV file"),
-           profile: str | None = ProfileOpt, unit_system: str = UnitsOpt,
-           legacy_output: Path | None = LegacyOutputOpt) -> None:
+           out: Path = typer.Option(..., "--out", "-o", help="survey CSV file"),
+           profile: str | None = ProfileOpt, unit_system: str = UnitsOpt) -> None:
     """Write the profile's survey as CSV: md_m,inc_deg,azi_deg, or in field units
     (MD and TVD in ft, DLS in deg/100ft; reads back to the same SI stations)."""
-    output = require_out(out, legacy_output)
+    output = out
     system = check_system(unit_system)
     _check_output(output, ("csv",))
     _, _, sv = _load(case, profile)

@@ -139,6 +139,17 @@ class CaseConfig(StrictModel):
         return self
 
     @model_validator(mode="after")
+    def _check_recording_window(self) -> CaseConfig:
+        """A record that starts at or after the end of the run holds nothing: the run would
+        complete without loads and ``fatigue`` fail on the missing file."""
+        start, end = self.recording.start_s, self.operation.duration_s
+        if start >= end:
+            raise ValueError(f"recording.start_s: {start:g} s is at or beyond the end of the "
+                             f"run (operation.duration_s = {end:g} s): nothing would be "
+                             "recorded (allowed: 0 <= start_s < operation.duration_s)")
+        return self
+
+    @model_validator(mode="after")
     def _check_hole_clears_string(self) -> CaseConfig:
         """Every component's contact radius must be smaller than the smallest hole radius."""
         r_hole = 0.5 * min(h.diameter_m for h in self.well.hole)
@@ -165,6 +176,14 @@ class Params(CaseConfig):
     case3: Case3Config = Field(default_factory=Case3Config)
     plan: PlanConfig = Field(default_factory=PlanConfig)
     report: ReportConfig = Field(default_factory=ReportConfig)
+
+    @model_validator(mode="after")
+    def _check_recording_window(self) -> Params:
+        """Not checked on the whole file: the sweep sets each case's duration
+        (``sweep.window_s`` at ``sweep.window_path``) and every case is checked as it is
+        assembled (:func:`drillfatigue.sweep.design.design_space`), as is the case
+        ``simulate params.yaml`` runs (:func:`load_case`)."""
+        return self
 
 
 def load_params(path: str | Path = "params.yaml") -> Params:

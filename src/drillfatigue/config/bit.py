@@ -15,6 +15,7 @@ from typing import Literal
 from pydantic import Field
 
 from drillfatigue.config.base import StrictModel
+from drillfatigue.limits import FEATURE_BOUNDS
 from drillfatigue.units import INCH_M
 
 #: Bit radius of an 8 1/2 in bit, m.
@@ -46,7 +47,9 @@ class BitConfig(StrictModel):
         Shape constants of mu_b(Omega) = mu0 [tanh(b1 Omega) + b2 Omega / (1 + b3 Omega^2)].
     rop_c1_m_per_N_sqrt_s : float
         c1 of ROP = c1 WOB sqrt(Omega) + c2, m/(N sqrt(s)) (Omega in rad/s).
-        Default 1.4e-8: 20 m/h at 100 kN and 150 rpm.
+        Default 1.4e-8: 20 m/h at 100 kN and 150 rpm. At most 1e-6 (1400 m/h at
+        100 kN and 150 rpm: no rock drills that fast), the bound of
+        :data:`drillfatigue.limits.FEATURE_BOUNDS`.
     rop_c2_m_per_s : float
         c2, m/s (may be negative: a drilling threshold).
     wob_threshold_N, omega_threshold_rad_s : float
@@ -81,7 +84,9 @@ class BitConfig(StrictModel):
     tob_b1_s_per_rad: float = Field(1.91, gt=0.0, le=1e3)
     tob_b2_s_per_rad: float = Field(8.5, ge=0.0, le=1e3)
     tob_b3_s2_per_rad2: float = Field(5.47, ge=0.0, le=1e4)
-    rop_c1_m_per_N_sqrt_s: float = Field(1.4e-8, ge=0.0, le=1e-3)
+    rop_c1_m_per_N_sqrt_s: float = Field(
+        1.4e-8, ge=0.0, le=FEATURE_BOUNDS["rop_c1_m_per_N_sqrt_s"].hi,
+        description="drillability; physical bound: drillfatigue.limits (docs/trust.md)")
     rop_c2_m_per_s: float = Field(0.0, ge=-1.0, le=1.0)
     wob_threshold_N: float = Field(5e3, ge=0.0, le=1e7)
     omega_threshold_rad_s: float = Field(0.05, ge=0.0, le=100.0)

@@ -184,12 +184,16 @@ class RunFigures:
 
 
 @contextlib.contextmanager
-def _interrupt_after() -> Iterator[None]:
+def _interrupt_after(deliver: bool = True) -> Iterator[None]:
     """Hold Ctrl-C (SIGINT) until the block has finished, then raise KeyboardInterrupt.
 
     Around writing a checkpoint and the final files, so that an interrupt never
     leaves a half-renamed part or a checkpoint without its parts. Only in the
-    main thread (elsewhere signals are not delivered to Python anyway).
+    main thread (elsewhere signals are not delivered to Python anyway). With
+    ``deliver=False`` a Ctrl-C held over the block is dropped: around the final
+    files of a complete run, where nothing is left to stop (every history is
+    renamed and the summary says complete), it must not turn the run into an
+    "interrupted" one.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
@@ -200,7 +204,7 @@ def _interrupt_after() -> Iterator[None]:
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
-    if caught:
+    if caught and deliver:
         raise KeyboardInterrupt
 
 
@@ -498,7 +502,9 @@ class Runner:
             if bar is not None:
                 bar.close()
             wall = self.wall_before + time.perf_counter() - t_wall0
-            with _interrupt_after():
+            # a Ctrl-C while a complete run writes its final files arrives after the
+            # work is done: the run is reported complete (its summary says so)
+            with _interrupt_after(deliver=status != "complete"):
                 result = self._finish(status, wall, error)
         if error is not None:
             raise error

@@ -70,6 +70,7 @@ import numpy as np
 import pandas as pd
 
 from drillfatigue.errors import InputError
+from drillfatigue.io.tables import read_csv_file
 from drillfatigue.limits import check_feature_values
 from drillfatigue.io.headers import UNIT_SPELLINGS, split_header, unit_factor
 from drillfatigue.io.names import CHANNEL_FAMILIES, UNIT_FAMILIES, channel_stem
@@ -609,12 +610,10 @@ def _put(numeric: Mapping[str, Any], text: Mapping[str, Any], label: str, key: s
 
 
 def _read_csv(p: Path) -> tuple[_Raw, dict[str, np.ndarray]]:
-    try:
-        table = pd.read_csv(p, encoding="utf-8-sig", skipinitialspace=True, dtype=str,
-                            keep_default_na=False)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(str(p), f"unreadable CSV ({type(exc).__name__})",
-                         "a comma-separated table with a header") from None
+    # a ragged row or a column named twice is refused naming the row; an empty cell is
+    # a null sample (held from the previous one, see _fill)
+    table = read_csv_file(p, allow_empty=True, skipinitialspace=True, dtype=str,
+                          keep_default_na=False)
     if len(table) == 0:
         raise InputError(str(p), "no rows", ">= 2 rows")
     # a units row under the header ('s, ft, klbf'): no cell of it is a number or a date-time

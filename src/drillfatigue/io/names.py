@@ -154,18 +154,25 @@ class Vocabulary:
                                  "one name per feature")
             source[term.column] = key
             col = table[name]
+            many = len(col) > 1  # a table: name the data row (from 1) of an error
             if term.categorical:
                 vals = col.to_numpy(dtype=object)
-                if any(v is None or (isinstance(v, float) and math.isnan(v)) for v in vals):
-                    raise InputError(key, "missing value", "a category name")
+                gaps = [v is None or (isinstance(v, float) and math.isnan(v)) for v in vals]
+                if any(gaps):
+                    where = f" (row {gaps.index(True) + 1})" if many else ""
+                    raise InputError(key, f"missing value{where}", "a category name")
                 out[term.column] = np.asarray([str(v).strip() for v in vals], dtype=object)
                 continue
             num = pd.to_numeric(col, errors="coerce").to_numpy(dtype=np.float64)
             bad = ~np.isfinite(num)
             if bad.any():
                 i = int(np.argmax(bad))
-                self._number(key, col.iloc[i])  # raises with the offending value
-                raise InputError(key, "NaN or infinite value", "a finite number")
+                where = f" (row {i + 1})" if many else ""
+                try:
+                    self._number(key, col.iloc[i])  # raises with the offending value
+                except InputError as exc:
+                    raise InputError(key, exc.problem + where, exc.allowed) from None
+                raise InputError(key, f"NaN or infinite value{where}", "a finite number")
             si = num * term.factor
             check_feature_values(key, term.column, si, term.factor)
             out[term.column] = si

@@ -33,6 +33,9 @@ Rules:
   else 0.05 for drill pipe and HWDP (the project's default) and 0 otherwise.
 * ``Segments`` defaults to ``ceil(length / 9 m)`` (the default string's
   segment length, docs/model.md#bodies).
+* An ``OD`` or ``TJ OD`` outside 25 mm to 1 m (after its unit: the physical
+  bound of :mod:`drillfatigue.limits`) is refused naming the row: ``6.75``
+  under a unit row that says ``mm`` is an OD in inches, not a 6.75 mm collar.
 """
 
 from __future__ import annotations
@@ -49,7 +52,8 @@ from drillfatigue.config.base import validate
 from drillfatigue.config.string import ComponentConfig, StringConfig
 from drillfatigue.errors import InputError
 from drillfatigue.io.catalogue import API_GRADES, COLLARS, DRILL_PIPE, HWDP, TOOL_JOINTS
-from drillfatigue.io.headers import split_header, unit_factor
+from drillfatigue.io.headers import normalise_unit, split_header, unit_factor
+from drillfatigue.limits import check_value
 
 __all__ = ["ComponentSpec", "describe", "load_tally", "parse_description",
            "normalise_grade"]
@@ -285,6 +289,9 @@ TALLY_ALIASES: dict[str, tuple[str, ...]] = {
 _TALLY_UNITS = {"length": ("length", "ft"), "joint_length": ("length", "ft"),
                 "od": ("length", "in"), "id": ("length", "in"), "tj_od": ("length", "in"),
                 "tj_id": ("length", "in"), "tj_length": ("length", "in")}
+#: Diameter columns checked against the physical bounds of :mod:`drillfatigue.limits`
+#: in SI: an OD below 25 mm or above 1 m is refused whatever its unit.
+_DIAMETER_BOUNDS = {"od": "od_m", "tj_od": "tool_joint_od_m"}
 _TYPE_WORDS = {"drill_pipe": "drill_pipe", "dp": "drill_pipe", "drill pipe": "drill_pipe",
                "hwdp": "hwdp", "hw": "hwdp", "collar": "collar", "dc": "collar",
                "stabilizer": "stabilizer", "stab": "stabilizer", "bit": "bit", "sub": "sub",
@@ -382,7 +389,16 @@ def load_tally(path: str | Path) -> TallyImport:
             if u is None:
                 raise InputError(f"{where}:{header[col[role]].strip()}", "no unit in the header",
                                  f"e.g. '{header[col[role]].strip()} ({default})'")
-            return v * unit_factor(quantity, u, f"{p}:1:{header[col[role]].strip()}")
+            factor = unit_factor(quantity, u, f"{p}:1:{header[col[role]].strip()}")
+            if role in _DIAMETER_BOUNDS:  # 6.75 under 'mm' is no 6.75 mm collar
+                try:
+                    check_value(f"{where}:{header[col[role]].strip()}", _DIAMETER_BOUNDS[role],
+                                v * factor, f"{role}_{normalise_unit(u)}", factor)
+                except InputError as exc:
+                    raise InputError(exc.field, f"{exc.problem}: no drill-string item is that "
+                                     "size (a value in another unit than the header's?)",
+                                     exc.allowed) from None
+            return v * factor
 
         desc = cell("description")
         spec = parse_description(desc, f"{where}:description") if desc else ComponentSpec()

@@ -127,6 +127,9 @@ def _validation_error(exc: RequestValidationError) -> InputError:
         union_branch = True
     err["loc"] = loc
     exc1 = input_error_from_error(err)
+    if isinstance(err.get("input"), bool):  # schemas.Value / Number: true is not rpm 1
+        return InputError(exc1.field, f"{json.dumps(err['input'])} is a JSON boolean, not a "
+                          "number", "a number")
     if union_branch:
         return InputError(exc1.field, f"got {err.get('input')!r}", "a number or text")
     if exc1.allowed is None:

@@ -14,7 +14,6 @@ of ``POST /v1/twin/replay``::
 
 from __future__ import annotations
 
-import io
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -23,6 +22,7 @@ import pandas as pd
 
 from drillfatigue.errors import InputError
 from drillfatigue.io.logs import load_log
+from drillfatigue.io.tables import read_csv_text
 
 LogReader = Callable[[bytes], pd.DataFrame]
 
@@ -62,16 +62,21 @@ def read_log(fmt: str, data: bytes, field: str = "log") -> pd.DataFrame:
     return table
 
 
-def read_csv_table(data: bytes, what: str = "table") -> pd.DataFrame:
-    """A comma-separated table with a header line (UTF-8)."""
+def read_csv_table(data: bytes, what: str = "table", allow_empty: bool = False
+                   ) -> pd.DataFrame:
+    """A comma-separated table with a header line (UTF-8), read strictly
+    (:func:`drillfatigue.io.tables.read_csv_text`: a ragged row, a column named twice
+    and, unless ``allow_empty``, an empty cell are refused, naming the row)."""
     try:
-        return pd.read_csv(io.BytesIO(data))
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError("text", f"unreadable CSV {what} ({type(exc).__name__})",
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError("text", f"unreadable CSV {what} (not UTF-8 text, byte "
+                         f"0x{data[exc.start]:02x} at offset {exc.start})",
                          "a comma-separated table with a header line") from None
+    return read_csv_text(text, "text", allow_empty)
 
 
-register_log_reader("csv", lambda data: read_csv_table(data, "log"))
+register_log_reader("csv", lambda data: read_csv_table(data, "log", allow_empty=True))
 
 
 def _field_log_reader(suffix: str) -> LogReader:

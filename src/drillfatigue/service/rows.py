@@ -5,7 +5,10 @@ condition, and building DataFrames for one row costs several times the
 network's own time. These functions apply the rules of
 :meth:`drillfatigue.io.names.Vocabulary.frame_from_table` (one name
 per feature, every feature given, finite numbers, known categories) with the
-same messages, directly on the parsed JSON rows.
+same messages, directly on the parsed JSON rows, and the physical bounds of
+:mod:`drillfatigue.limits` (HTTP 422 for a value no rig can have, in a batch as in
+a single row; the field names the row, ``rows[3].rpm``, counted from 0 as JSON
+arrays are).
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from drillfatigue.errors import InputError
+from drillfatigue.limits import check_feature_values, first_outside
 from drillfatigue.service.registry import LoadedModel
 from drillfatigue.surrogate.facade import PREDICTION_COLUMNS, prediction_columns
 from drillfatigue.io.names import Term
@@ -92,8 +96,13 @@ def encode_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "r
                                  "training", ", ".join(levels))
             x_cat[:, cat_index[term.column]] = sur.preprocessor.codes_for(term.column, text)
         else:
-            x_num[:, num_index[term.column]] = [_number(v, name, field) * term.factor
-                                                for v in values]
+            col = x_num[:, num_index[term.column]]
+            col[:] = [_number(v, name, field) * term.factor for v in values]
+            bad = first_outside(term.column, col)
+            if bad is not None:
+                where = f"{field}[{bad}].{name}" if n > 1 else f"{field}.{name}"
+                check_feature_values(name, term.column, col[bad:bad + 1], term.factor,
+                                     field=where, rows=False)
     return x_num, x_cat
 
 

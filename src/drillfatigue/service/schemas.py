@@ -11,16 +11,28 @@ well-plan candidates are the CLI's own configuration models
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
 from drillfatigue.config import StringConfig, WellConfig
 from drillfatigue.studies.plan import CandidateFile
 from drillfatigue.surrogate.window import MAX_NODES, MIN_NODES
 
-#: a feature value: a number in the unit its name carries, or a category name
-Value = float | str
+
+
+def _not_a_boolean(value: Any) -> Any:
+    """Refuse a JSON ``true``/``false`` where a number is expected (pydantic reads it as 1/0)."""
+    if isinstance(value, bool):
+        raise ValueError("a JSON boolean is not a number")
+    return value
+
+
+#: a feature value: a number in the unit its name carries, or a category name (never a
+#: JSON boolean: true is not rpm 1)
+Value = Annotated[float | str, BeforeValidator(_not_a_boolean)]
+#: a number (never a JSON boolean)
+Number = Annotated[float, BeforeValidator(_not_a_boolean)]
 #: one output cell: numbers (None for an infinite life), flags, texts
 Cell = float | bool | str | None
 
@@ -91,7 +103,7 @@ class ReplayRequest(Request):
     string: StringConfig | None = Field(
         default=None, description="a string section: every segment's body and connection "
         "is tracked")
-    survey: list[dict[str, float]] | None = Field(
+    survey: list[dict[str, Number]] | None = Field(
         default=None, description="survey rows: md_m, dls_deg_per_30m (and inc_deg)")
     well: WellConfig | None = Field(default=None, description="a well section, instead of survey")
     constants: dict[str, Value] = Field(default_factory=dict,
@@ -160,8 +172,8 @@ class AxisSpec(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     name: str = Field(description="numeric feature, user name (rpm, wob_kN, rop_m_per_h, ...)")
-    start: float
-    stop: float
+    start: Number
+    stop: Number
     n: int = Field(default=21, ge=MIN_NODES, le=MAX_NODES, description="nodes, ends included")
 
 
@@ -172,7 +184,7 @@ class WindowRequest(Request):
     y: AxisSpec = Field(examples=[{"name": "wob_kN", "start": 20, "stop": 200, "n": 31}])
     fixed: dict[str, Value] = Field(description="every other feature, user names: md_m, "
                                     "s_from_bit_m, component_type, location, ...")
-    survey: list[dict[str, float]] | None = Field(
+    survey: list[dict[str, Number]] | None = Field(
         default=None, description="survey rows (md_m, dls_deg_per_30m, inc_deg): the hole geometry "
         "at md_m and at the bit instead of fixed values")
 

@@ -46,6 +46,7 @@ from drillfatigue.fatigue.run import joint_locations
 from drillfatigue.io.display import Display
 from drillfatigue.io.logs import log_bit_md_m, log_times_s
 from drillfatigue.io.names import Vocabulary, channel_stem, force_column
+from drillfatigue.limits import check_feature_values, check_value
 from drillfatigue.plotting import subplots
 from drillfatigue.string.segments import build_segments
 from drillfatigue.surrogate.facade import Surrogate
@@ -210,13 +211,17 @@ def wob_from_hook_load(log: pd.DataFrame, constants: Mapping[str, Any] | None
         raise InputError(OFF_BOTTOM_STEM + "_kN", "needed to turn hook load into WOB",
                          "--set off_bottom_hook_load_kN=VALUE (free-rotating hook load)")
     h = pd.to_numeric(log[hl[0]], errors="coerce").to_numpy(dtype=np.float64) * hl[1]
+    check_feature_values(hl[0], "hook_load_N", np.nan_to_num(h), hl[1])  # NaN: refused below
     if ob_c is not None:
         try:
             off = float(consts.pop(ob_c[0])) * ob_c[1]
         except (TypeError, ValueError):
             raise InputError(ob_c[0], "non-numeric value", "a finite number") from None
+        check_value(ob_c[0], "off_bottom_hook_load_N", off, ob_c[0], ob_c[1])
     else:
         off = pd.to_numeric(log[ob_l[0]], errors="coerce").to_numpy(dtype=np.float64) * ob_l[1]
+        check_feature_values(ob_l[0], "off_bottom_hook_load_N", np.nan_to_num(off),
+                             ob_l[1])
     wob = off - h
     if not np.all(np.isfinite(wob)):
         raise InputError(hl[0], "non-numeric or NaN value", "finite hook loads")

@@ -34,6 +34,7 @@ from matplotlib.patches import Patch, Rectangle
 
 from drillfatigue.errors import InputError
 from drillfatigue.files import atomic_write_bytes
+from drillfatigue.limits import check_feature_values, first_outside
 from drillfatigue.surrogate.facade import Surrogate, prediction_frame
 from drillfatigue.io.names import Vocabulary
 from drillfatigue.well.features import POSITION_COLUMNS, check_survey, position_features
@@ -49,6 +50,10 @@ class Axis:
 
     name: str
     values: np.ndarray
+    #: what an error names: ``x`` (its ends ``x.start``, ``x.stop``) or an option, ``--x``
+    field: str = "axis"
+    #: name the end (``.start``/``.stop``) in errors; an option's text has no such parts
+    named_ends: bool = True
 
     @classmethod
     def linear(cls, name: str, start: float, stop: float, n: int, field: str = "axis") -> Axis:
@@ -62,7 +67,7 @@ class Axis:
                              "start < stop")
         if not isinstance(n, int) or not MIN_NODES <= n <= MAX_NODES:
             raise InputError(f"{field}.n", f"got {n!r}", f"{MIN_NODES} <= n <= {MAX_NODES}")
-        return cls(name, np.linspace(float(start), float(stop), n))
+        return cls(name, np.linspace(float(start), float(stop), n), field)
 
     @classmethod
     def in_domain(cls, name: str, model: Surrogate, n: int = 31, field: str = "axis") -> Axis:
@@ -92,7 +97,19 @@ class Axis:
             n = int(parts[2])
         except ValueError:
             raise InputError(option, f"{spec!r} has a non-numeric part", allowed) from None
-        return cls.linear(name.strip().replace("-", "_"), start, stop, n, option)
+        ax = cls.linear(name.strip().replace("-", "_"), start, stop, n, option)
+        return cls(ax.name, ax.values, option, named_ends=False)
+
+    def check_bounds(self, column: str, factor: float) -> None:
+        """Raise the one-line InputError of :mod:`drillfatigue.limits` if an end of the
+        axis (values in the name's unit, ``factor`` to SI) lies outside the physical
+        bound of the model column ``column``."""
+        ends = (("start", float(self.values[0])), ("stop", float(self.values[-1])))
+        for end, v in ends:
+            if first_outside(column, [v * factor]) is not None:
+                field = f"{self.field}.{end}" if self.named_ends else self.field
+                check_feature_values(self.name, column, [v * factor], factor, field=field,
+                                     rows=False)
 
 
 @dataclass(frozen=True)
@@ -176,8 +193,9 @@ def operating_window(model: Surrogate, x: Axis, y: Axis, fixed: Mapping[str, Any
     Raises
     ------
     InputError
-        Unknown or duplicated names, an axis that is categorical, a missing
-        fixed input, a grid larger than ``max_nodes``, a bad survey.
+        Unknown or duplicated names, an axis that is categorical or reaches
+        beyond a physical bound (:mod:`drillfatigue.limits`), a missing fixed input,
+        a grid larger than ``max_nodes``, a bad survey.
     """
     vocab = Vocabulary(model.features, model.categorical)
     n_x, n_y = x.values.size, y.values.size
@@ -189,6 +207,8 @@ def operating_window(model: Surrogate, x: Axis, y: Axis, fixed: Mapping[str, Any
         if term.categorical:
             raise InputError(f"{label}.name", f"{ax.name!r} is categorical",
                              "a numeric feature")
+    for ax in (x, y):  # a value no rig can have is an input error, not a hatched cell
+        ax.check_bounds(vocab.terms[ax.name].column, vocab.terms[ax.name].factor)
     if vocab.terms[x.name].column == vocab.terms[y.name].column:
         raise InputError("y.name", f"{y.name!r} is the same feature as x ({x.name!r})",
                          "two different features")

@@ -344,6 +344,7 @@ def design_space(cfg: SweepConfig, base_case: Mapping[str, Any], *,
     names = list(cfg.variables)
     finish = _boundaries(cfg, names)
     base = apply_overrides(base_case, fixed, prefix="sweep.fixed")
+    _check_window(cfg, base)
     if cfg.boundaries == "rig":
         # The variables address the operation form of the case; each case is
         # moved onto the rig section before it is validated, with the
@@ -366,7 +367,52 @@ def design_space(cfg: SweepConfig, base_case: Mapping[str, Any], *,
         for value in _extremes(cfg.variables[path]):
             trial = apply_overrides(probe, {path: value})
             _validate_case(finish(trial), f"sweep.variables.{path}", model)
+    if model is CaseConfig:
+        _check_bit_in_wells(cfg, finish(probe))
     return DesignSpace(cfg, names, base, finish, model)
+
+
+def _check_bit_in_wells(cfg: SweepConfig, probe: Mapping[str, Any]) -> None:
+    """The deepest bit of the design must lie within every well profile it can be paired
+    with (``well.profile`` choices, or the base case's profile): a case whose bit starts
+    below TD fails when it is simulated (:func:`drillfatigue.limits.check_bit_in_well`),
+    so a design that samples one is refused before any work, naming the variable and
+    the shallowest TD."""
+    from drillfatigue.well import build_survey  # scipy: only when a real case is designed
+
+    case = case_from_dict(dict(probe))
+    spec = cfg.variables.get("operation.bit_md_m")
+    if spec is not None and spec.choices is None:
+        deepest = float(max(_extremes(spec)))
+        field = "sweep.variables.operation.bit_md_m"
+    else:
+        deepest = float(case.operation.bit_md_m)
+        field = ("sweep.fixed.operation.bit_md_m" if "operation.bit_md_m" in cfg.fixed
+                 else "operation.bit_md_m")
+    pspec = cfg.variables.get("well.profile")
+    profiles = ([str(c) for c in pspec.choices] if pspec is not None and pspec.choices
+                else [case.well.profile])
+    tds = {name: float(build_survey(case.well, name).md_m[-1]) for name in profiles}
+    name, td = min(tds.items(), key=lambda kv: kv[1])
+    if deepest > td * (1.0 + 1e-12):
+        raise InputError(field, f"{deepest:g} m is beyond the total depth {td:.6g} m of well "
+                         f"profile {name!r}", f"bit_md_m <= {td:.6g} m (the shallowest TD of "
+                         "the design's well profiles)")
+
+
+def _check_window(cfg: SweepConfig, base: Mapping[str, Any]) -> None:
+    """``sweep.window_s`` (each case's ``operation.duration_s``) must end after the record
+    starts (``recording.start_s``, at its largest if it is a design variable): a case
+    that records nothing completes without loads and its fatigue fails."""
+    if cfg.window_s is None or cfg.window_path != "operation.duration_s":
+        return
+    spec = cfg.variables.get("recording.start_s")
+    start = (max(_extremes(spec)) if spec is not None and spec.choices is None
+             else float((base.get("recording") or {}).get("start_s", 0.0)))
+    if cfg.window_s <= start:
+        raise InputError("sweep.window_s", f"{cfg.window_s:g} s ends at or before the record "
+                         f"starts (recording.start_s = {start:g} s): no case would record "
+                         "anything", f"window_s > {start:g} s")
 
 
 def design_cases(cfg: SweepConfig, base_case: Mapping[str, Any], *,

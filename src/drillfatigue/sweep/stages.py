@@ -141,8 +141,12 @@ def design_stage(params: Params, cases_path: str | Path | None = None, *,
                                 censor_log10=censor, rows=adaptive_rows(params, cases_path))
     else:
         frame = design_cases(cfg, base_case_from_params(params))
-        OutputFolder(adaptive_cache_dir(params, cases_path), ADAPTIVE_KIND,
-                     "sweep.adaptive.cache_dir")
+        if _is_configured_table(params, cases_path):
+            # the pipeline's stage output (dvc.yaml), claimed empty; a table written
+            # elsewhere (sweep design --out) leaves it alone: a command writes only
+            # under its outputs
+            OutputFolder(adaptive_cache_dir(params, cases_path), ADAPTIVE_KIND,
+                         "sweep.adaptive.cache_dir")
     path = write_cases(frame, cases_path)
     numeric = [c for c in frame.columns if c not in ("case_id", "design_index", "case_json")
                and pd.api.types.is_numeric_dtype(frame[c])]
@@ -160,10 +164,18 @@ def design_stage(params: Params, cases_path: str | Path | None = None, *,
     return frame
 
 
+def _is_configured_table(params: Params, cases_path: str | Path | None) -> bool:
+    """Whether ``cases_path`` (None: the configured one) is ``sweep.cases_path``."""
+    configured = Path(params.sweep.cases_path)
+    return cases_path is None or Path(cases_path).resolve() == configured.resolve()
+
+
 def adaptive_cache_dir(params: Params, cases_path: str | Path | None = None) -> Path:
-    """``sweep.adaptive.cache_dir``, or ``adaptive/`` beside the case table when unset."""
+    """``sweep.adaptive.cache_dir`` for the configured case table (``sweep.cases_path``);
+    ``adaptive/`` beside the case table when unset or when the table goes elsewhere
+    (``sweep design --out``: a command writes only under its outputs)."""
     cfg = params.sweep
-    if cfg.adaptive.cache_dir is not None:
+    if cfg.adaptive.cache_dir is not None and _is_configured_table(params, cases_path):
         return Path(cfg.adaptive.cache_dir)
     return Path(cases_path or cfg.cases_path).parent / "adaptive"
 
