@@ -3,48 +3,37 @@
 Blocks marked ``<!-- readme-test: skip (...) -->`` are the two make targets
 (the whole pipeline, and the suite this test is part of). Blocks marked
 ``needs-model`` get a tiny surrogate trained here in place of the pipeline's
-``data/surrogate/model``.
+``data/surrogate/model`` (:mod:`testkit.doc_blocks`, which runs the other
+documents' commands the same way).
 """
 
 from __future__ import annotations
 
-import os
-import re
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from testkit.doc_blocks import ROOT, blocks, scratch
 from testkit.tiny_surrogate import train_tiny_surrogate
-
-ROOT = Path(__file__).resolve().parents[2]
-FENCE = re.compile(r"(?:<!-- readme-test: (?P<mark>[a-z-]+)[^>]*-->\n)?```(?P<lang>\w+)\n(?P<code>.*?)```",
-                   re.S)
-INPUTS = ("params.yaml", "data/cases", "data/examples", "data/plans", "data/wells/inputs")
 
 
 def readme_blocks() -> list[tuple[str, str, str]]:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    return [(m["mark"] or "", m["lang"], m["code"]) for m in FENCE.finditer(text)]
+    return [(b.mark, b.lang, b.code) for b in blocks(ROOT / "README.md")]
 
 
 def test_the_readme_has_the_blocks_this_test_expects() -> None:
-    blocks = readme_blocks()
-    assert [lang for _, lang, _ in blocks].count("python") >= 1
-    assert sum(lang == "bash" and mark == "" for mark, lang, _ in blocks) >= 1
-    assert {mark for mark, _, _ in blocks} <= {"", "skip", "needs-model"}
-    assert all("make " in code for mark, _, code in blocks if mark == "skip")
+    found = readme_blocks()
+    assert [lang for _, lang, _ in found].count("python") >= 1
+    assert sum(lang == "bash" and mark == "" for mark, lang, _ in found) >= 1
+    assert {mark for mark, _, _ in found} <= {"", "skip", "needs-model"}
+    assert all("make " in code for mark, _, code in found if mark == "skip")
 
 
 @pytest.mark.slow
 @pytest.mark.timeout(900)  # the first run of the kernels on a fresh cache compiles them
 def test_every_readme_code_block_runs(tmp_path: Path) -> None:
-    for rel in INPUTS:
-        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / rel).symlink_to(ROOT / rel)
-    env = dict(os.environ)
-    env["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), env.get("PATH", "")])
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
+    env = scratch(tmp_path)
     model_ready = False
     for i, (mark, lang, code) in enumerate(readme_blocks()):
         if mark == "skip":

@@ -378,7 +378,7 @@ def _check_bit_in_wells(cfg: SweepConfig, probe: Mapping[str, Any]) -> None:
     below TD fails when it is simulated (:func:`drillfatigue.limits.check_bit_in_well`),
     so a design that samples one is refused before any work, naming the variable and
     the shallowest TD."""
-    from drillfatigue.well import build_survey  # scipy: only when a real case is designed
+    from drillfatigue.well import build_survey  # start-up: scipy, only when a real case is designed
 
     case = case_from_dict(dict(probe))
     spec = cfg.variables.get("operation.bit_md_m")
