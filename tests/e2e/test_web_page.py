@@ -17,6 +17,7 @@ import pytest
 from drillfatigue.service import ModelRegistry, create_app
 
 from service_helpers import EXAMPLES, running_server, synthetic_model
+from testkit.tiny_surrogate import train_tiny_surrogate
 
 pytestmark = [pytest.mark.slow, pytest.mark.filterwarnings("ignore::DeprecationWarning")]
 FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -86,15 +87,23 @@ def test_page_replays_a_log_and_maps_a_window(browser, tmp_path: Path) -> None: 
         assert summary.startswith(f"{n_components} locations over 2 h;"), summary
         rows = browser.find_elements(By.CSS_SELECTOR, "#damage-table tbody tr")
         assert len(rows) == min(8, n_components)
-        # operating window of the first component: heat map with hatched OOD cells
+        # the window's axes start on the model's domain (rpm and WOB from the model card)
+        card_rpm = browser.execute_script(
+            "return [document.getElementById('x-start').value, "
+            "document.getElementById('x-stop').value, document.getElementById('y-name').value]")
+        assert card_rpm[2] == "wob_kN" and float(card_rpm[0]) < float(card_rpm[1])
+        # operating window of the first component over a grid reaching past the training
+        # ranges: heat map with hatched out-of-domain cells
+        browser.execute_script("document.getElementById('x-start').value = 20;"
+                               "document.getElementById('x-stop').value = 240;")
         browser.find_element(By.ID, "window-button").click()
         wait.until(lambda d: "window map ready" in status.text or "error" in status.text)
         assert status.text == "window map ready", status.text
         traces = browser.execute_script(
             "return document.getElementById('window-plot').data.map(t => [t.type, t.name])")
         assert traces[0][0] == "heatmap"
-        # the default grid (40-200 rpm, 20-200 kN) reaches past the synthetic training
-        # ranges, so some cells are out of domain and drawn hatched
+        # 20-240 rpm reaches past the synthetic training range: some cells are out of
+        # domain, drawn hatched
         assert ["scatter", "outside training domain"] in traces
         browser.execute_script("window.scrollTo(0, 0)")
         shot = tmp_path / "web_page.png"
@@ -103,3 +112,28 @@ def test_page_replays_a_log_and_maps_a_window(browser, tmp_path: Path) -> None: 
         # the interactive API docs render from the shipped Swagger UI
         browser.get(url + "/docs")
         wait.until(lambda d: len(d.find_elements(By.CSS_SELECTOR, ".opblock")) >= 9)
+
+
+def test_the_field_example_button_replays_every_tally_item(browser, tmp_path: Path
+                                                           ) -> None:  # noqa: ANN001
+    """One click loads data/examples/field (LAS log, tally, survey) and replays it with a
+    model of params.yaml's inputs: the bit is listed as not covered, nothing is dropped."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    root = Path(__file__).resolve().parents[2]
+    model = train_tiny_surrogate(root / "params.yaml", tmp_path / "model")
+    with running_server(create_app(ModelRegistry({"pipeline": model}))) as url:
+        browser.get(url + "/")
+        wait = WebDriverWait(browser, 120)
+        wait.until(lambda d: d.find_element(By.ID, "constants-text").get_attribute("value"))
+        browser.find_element(By.ID, "example-button").click()
+        status = browser.find_element(By.ID, "status")
+        wait.until(lambda d: "replayed" in status.text or "error" in status.text)
+        assert status.text.startswith("replayed"), status.text
+        assert browser.find_element(By.ID, "log-text").get_attribute("value").startswith(
+            "~VERSION")
+        summary = browser.find_element(By.ID, "replay-summary").text
+        assert "not covered: BIT-01" in summary, summary
+        retire = browser.find_element(By.ID, "retire-table").text
+        assert "not covered" in retire and "BIT-01" in retire

@@ -25,6 +25,7 @@ readers' fill rules.
 from __future__ import annotations
 
 import math
+import tempfile
 from pathlib import Path
 from xml.sax.saxutils import escape
 
@@ -33,6 +34,7 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.files import atomic_write_text
+from drillfatigue.io.surveys import twin_survey_table
 from drillfatigue.well.survey import minimum_curvature
 
 NULL = -999.25
@@ -323,3 +325,27 @@ def write_field_examples(folder: str | Path) -> list[Path]:
     for name, text in files.items():
         out.append(atomic_write_text(d / name, text))
     return out
+
+
+#: Constant inputs of the field example's replay (user units): what the log does not carry.
+FIELD_EXAMPLE_CONSTANTS: dict[str, float] = {"mu_dynamic": 0.28, "mud_density_sg": 1.25,
+                                             "lobe_amplitude_mm": 1.0}
+
+
+def field_example() -> dict[str, object]:
+    """The field example as a twin replay takes it: the rig day's LAS text, the tally CSV,
+    the survey as SI rows (``md_m``, ``inc_deg``, ``dls_deg_per_30m``, read from the
+    example's field-unit CSV by :func:`drillfatigue.io.surveys.twin_survey_table`) and
+    the constant inputs (:data:`FIELD_EXAMPLE_CONSTANTS`)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "survey_ft.csv"
+        path.write_text(survey_csv_text(survey_stations_ft()), encoding="utf-8")
+        survey = twin_survey_table(path)
+    return {"log": {"format": "las", "text": las_text(synthetic_day(), LOG_CURVES)},
+            "tally_csv": TALLY_CSV,
+            "survey": [{k: float(v) for k, v in row.items()}
+                       for row in survey.to_dict(orient="records")],
+            "constants": dict(FIELD_EXAMPLE_CONSTANTS),
+            "description": "data/examples/field: a synthetic 24 h rig day (LAS 2.0), the "
+                           "string tally (bit, collars, heavy-weight and drill pipe) and a J "
+                           "well survey in ft"}

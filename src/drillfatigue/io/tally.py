@@ -41,6 +41,7 @@ Rules:
 from __future__ import annotations
 
 import csv
+import io
 import math
 import re
 from dataclasses import dataclass
@@ -55,7 +56,7 @@ from drillfatigue.io.catalogue import API_GRADES, COLLARS, DRILL_PIPE, HWDP, TOO
 from drillfatigue.io.headers import normalise_unit, split_header, unit_factor
 from drillfatigue.limits import check_value
 
-__all__ = ["ComponentSpec", "describe", "load_tally", "parse_description",
+__all__ = ["ComponentSpec", "describe", "load_tally", "load_tally_text", "parse_description",
            "normalise_grade"]
 
 DEFAULT_SEGMENT_LENGTH_M = 9.0
@@ -324,10 +325,16 @@ def load_tally(path: str | Path) -> TallyImport:
     if not p.is_file():
         raise InputError(str(p), "tally file not found", "an existing CSV file")
     try:
-        with p.open(newline="", encoding="utf-8-sig") as fh:
-            rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
+        text = p.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
         raise InputError(str(p), "not a UTF-8 text file", "a CSV tally") from None
+    return load_tally_text(text, str(p))
+
+
+def load_tally_text(text: str, name: str = "tally") -> TallyImport:
+    """:func:`load_tally` of the CSV text ``text``; ``name`` stands for the file in errors."""
+    p = Path(name)
+    rows = [r for r in csv.reader(io.StringIO(text)) if r and any(c.strip() for c in r)]
     if len(rows) < 2:
         raise InputError(str(p), "no items", "a header row, then one row per item")
     header = rows[0]

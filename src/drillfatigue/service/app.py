@@ -48,12 +48,15 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from drillfatigue import __version__
 from drillfatigue.config.base import input_error_from_error, validate
 from drillfatigue.errors import InputError
+from drillfatigue.io.examples import field_example
+from drillfatigue.io.tally import load_tally_text
 from drillfatigue.service.logs import log_formats, read_csv_table, read_log
 from drillfatigue.service.registry import LoadedModel, ModelRegistry
 from drillfatigue.service.rows import predict_rows
 from drillfatigue.service.schemas import (
     AxisValues,
     ErrorResponse,
+    ExampleResponse,
     FeatureInfo,
     HealthResponse,
     ModelCard,
@@ -379,19 +382,31 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
         columns, rows = predict_rows(lm, req.rows)
         return QueryResponse(**_answer(lm), columns=columns, rows=rows)
 
+    @app.get("/v1/example", response_model=ExampleResponse)
+    def example() -> ExampleResponse:
+        """The field example (data/examples/field): the rig day's LAS log, the tally and
+        the survey (SI rows), as a replay request takes them."""
+        return ExampleResponse(**field_example())
+
     @app.post("/v1/twin/replay", response_model=ReplayResponse, responses=errors)
     def twin_replay(req: ReplayRequest) -> ReplayResponse:
         lm = registry.get(req.model)
         log_t = read_log(req.log.format, req.log.text.encode("utf-8"))
         if len(log_t) > lim.max_log_rows:
             raise InputError("log.text", f"{len(log_t)} rows", f"at most {lim.max_log_rows}")
-        given = [k for k in ("components", "components_csv", "string")
+        given = [k for k in ("components", "components_csv", "string", "tally_csv")
                  if getattr(req, k) is not None]
         if len(given) != 1:
             raise InputError("components", f"given {len(given)} of components, "
-                             "components_csv, string", "exactly one of them")
+                             "components_csv, string, tally_csv", "exactly one of them")
         if req.string is not None:
             comp_t = components_from_string(req.string)
+        elif req.tally_csv is not None:
+            try:
+                tally = load_tally_text(req.tally_csv, "tally_csv")
+            except InputError as exc:
+                raise _prefixed(exc, "tally_csv") from None
+            comp_t = components_from_string(tally.string, kinds=tally.kinds)
         elif req.components is not None:
             comp_t = _table(req.components, "components")
         else:

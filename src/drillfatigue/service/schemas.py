@@ -103,6 +103,9 @@ class ReplayRequest(Request):
     string: StringConfig | None = Field(
         default=None, description="a string section: every segment's body and connection "
         "is tracked")
+    tally_csv: str | None = Field(default=None, description="a string tally as CSV text, "
+                                  "from the bit up (drillfatigue.io.tally): every item is "
+                                  "tracked, those the model does not cover listed as such")
     survey: list[dict[str, Number]] | None = Field(
         default=None, description="survey rows: md_m, dls_deg_per_30m (and inc_deg)")
     well: WellConfig | None = Field(default=None, description="a well section, instead of survey")
@@ -129,6 +132,16 @@ class RetireEntry(BaseModel):
 class NotCovered(BaseModel):
     item: str
     reason: str
+
+
+class ExampleResponse(BaseModel):
+    """The field example, as the replay request takes it."""
+
+    log: LogInput
+    tally_csv: str
+    survey: list[dict[str, float]]
+    constants: dict[str, float]
+    description: str
 
 
 class ReplayResponse(Answer):

@@ -109,6 +109,30 @@ async function loadCard() {
   fmtSel.innerHTML = "";
   card.log_formats.forEach((f) => { const o = document.createElement("option"); o.value = f; o.textContent = f; fmtSel.appendChild(o); });
   if (state.autoConstants) { prefillConstants(card); }
+  fillAxes(card);
+}
+
+// -- the field example ------------------------------------------------------------------
+async function loadExample() {
+  setStatus("loading the field example ...");
+  const ex = await api("GET", "/v1/example");
+  $("log-format").value = ex.log.format;
+  $("log-text").value = ex.log.text;
+  $("components-text").value = ex.tally_csv;
+  $("survey-text").value = "md_m,inc_deg,dls_deg_per_30m\n" +
+    ex.survey.map((r) => [r.md_m, r.inc_deg, r.dls_deg_per_30m].join(",")).join("\n");
+  // the example's constants replace the prefilled ones of the same input
+  const columnOf = (name) => {
+    const f = state.card ? state.card.features.find((g) => g.names.includes(name)) : null;
+    return f ? f.column : name;
+  };
+  const given = new Set(Object.keys(ex.constants).map(columnOf));
+  const consts = parseConstants($("constants-text").value);
+  Object.keys(consts).forEach((k) => { if (given.has(columnOf(k))) { delete consts[k]; } });
+  Object.assign(consts, ex.constants);
+  $("constants-text").value = Object.entries(consts).map(([k, v]) => k + "=" + v).join("\n");
+  state.autoConstants = false;
+  await replay();
 }
 
 async function loadModels() {
@@ -186,10 +210,14 @@ function setComponents(rows) {
 async function replay() {
   setStatus("replaying ...");
   const surveyText = $("survey-text").value.trim();
+  const listText = $("components-text").value;
+  // a tally (Description / Serial columns) or a component list (serial, s_from_bit_m, ...)
+  const isTally = /description/i.test(listText.split("\n", 1)[0]);
   const body = {
     model: $("model-select").value,
     log: { format: $("log-format").value || "csv", text: $("log-text").value },
-    components_csv: $("components-text").value,
+    components_csv: isTally ? null : listText,
+    tally_csv: isTally ? listText : null,
     survey: surveyText ? parseCsv(surveyText) : null,
     constants: parseConstants($("constants-text").value),
     retire_at_damage: Number($("retire-damage").value),
@@ -217,20 +245,38 @@ async function replay() {
   setComponents(res.components);
   const bit = parseCsv($("log-text").value).map((r) => r.bit_md_m).filter((v) => typeof v === "number");
   if (bit.length) { $("window-bit-md").value = Math.round(bit[bit.length - 1]); }
-  setStatus("replayed " + res.n_components + " components with model " + res.model, "ok");
+  setStatus("replayed " + res.n_locations + " locations with model " + res.model, "ok");
 }
 
 // -- operating window ---------------------------------------------------------------------
-function otherAxis() {
-  return $("y-name").value === "wob_kN" ? ["rop_m_per_h", "ROP (m/h)", 20] : ["wob_kN", "WOB (kN)", 80];
+// the y axes: every numeric input but rpm, in a user unit (kN for a force), from the card
+function axisUnit(f) {
+  const kn = f.names.find((n) => n.endsWith("_kN"));
+  return kn ? [kn, 1000] : [f.names[0], 1];
 }
 
-function updateFixedLabel() {
-  const o = otherAxis();
-  $("fixed-label").firstChild.textContent = o[1] + " held at ";
-  if ($("y-name").value === "wob_kN") { $("y-start").value = 20; $("y-stop").value = 200; }
-  else { $("y-start").value = 4; $("y-stop").value = 72; }
-  $("fixed-value").value = o[2];
+function fillAxes(card) {
+  const sel = $("y-name");
+  sel.innerHTML = "";
+  card.features.forEach((f) => {
+    if (stemOf(f.names[0]) === "rpm" || /^(md_m|s_from_bit_m|local_|bit_|build_to_bit)/.test(f.column)) { return; }
+    const [name, k] = axisUnit(f);
+    const o = document.createElement("option");
+    o.value = name; o.textContent = name;
+    o.dataset.min = String(f.min / k); o.dataset.max = String(f.max / k);
+    if (stemOf(name) === "wob") { o.selected = true; }
+    sel.appendChild(o);
+  });
+  updateAxisRange();
+  const rpm = card.features.find((f) => stemOf(f.names[0]) === "rpm");
+  if (rpm) { $("x-start").value = Number(rpm.min.toPrecision(4)); $("x-stop").value = Number(rpm.max.toPrecision(4)); }
+}
+
+function updateAxisRange() {
+  const o = $("y-name").selectedOptions[0];
+  if (!o) { return; }
+  $("y-start").value = Number(Number(o.dataset.min).toPrecision(4));
+  $("y-stop").value = Number(Number(o.dataset.max).toPrecision(4));
 }
 
 function cellEdges(v) {
@@ -277,18 +323,24 @@ async function mapWindow() {
   if (!c) { throw new Error("window: no component; replay a log or fill in the component list first"); }
   const accepted = acceptedNames();
   const yName = $("y-name").value;
-  const other = otherAxis();
   const fixed = {};
   Object.entries(parseConstants($("constants-text").value)).forEach(([k, v]) => {
     const s = stemOf(k);
-    if (s === "rpm" || s === "wob" || s === "rop") { return; }
+    if (s === "rpm" || s === stemOf(yName) || k === yName) { return; }
     fixed[k] = v;
+  });
+  // a logged input on neither axis (ROP, for a model that has it): held at its domain's centre
+  const held = [];
+  state.card.features.forEach((f) => {
+    const st = stemOf(f.names[0]);
+    if (!st || st === "rpm" || st === stemOf(yName) || f.names.some((n) => n in fixed)) { return; }
+    fixed[f.names[0]] = Number((0.5 * (f.min + f.max)).toPrecision(4));
+    held.push(f.names[0] + " " + fixed[f.names[0]]);
   });
   const bit = Number($("window-bit-md").value);
   const s = Number(c.s_from_bit_m);
   const place = { md_m: bit - s, s_from_bit_m: s, component_type: c.component_type, location: c.location };
   Object.entries(place).forEach(([k, v]) => { if (accepted.has(k) && v !== undefined) { fixed[k] = v; } });
-  fixed[other[0]] = Number($("fixed-value").value);
   const surveyText = $("survey-text").value.trim();
   const body = {
     model: $("model-select").value,
@@ -304,6 +356,7 @@ async function mapWindow() {
   const b = res.best_in_domain;
   $("window-summary").innerHTML = (c.serial || "component") + " at " + fmt(bit - s, 5) + " m MD: " +
     Math.round(100 * res.ood_fraction) + " % of the grid out of domain" +
+    (held.length ? " (held at the domain's centre: " + held.join(", ") + ")" : "") +
     (b ? "; longest life in domain at <b>" + fmt(b[res.x.name]) + " " + res.x.name + ", " + fmt(b[res.y.name]) + " " + res.y.name +
          "</b>: " + fmt(b.life_h) + " h (lower bound " + fmt(b.life_h_lower) + " h)" : "");
   setStatus("window map ready", "ok");
@@ -362,6 +415,7 @@ document.addEventListener("DOMContentLoaded", () => {
   $("replay-button").addEventListener("click", guarded(replay));
   $("window-button").addEventListener("click", guarded(mapWindow));
   $("plan-button").addEventListener("click", guarded(rankPlans));
-  $("y-name").addEventListener("change", updateFixedLabel);
+  $("y-name").addEventListener("change", updateAxisRange);
+  $("example-button").addEventListener("click", guarded(loadExample));
   guarded(loadModels)();
 });
