@@ -64,6 +64,12 @@ def test_deciding_rows_are_chosen_by_the_predicted_life() -> None:
     bh = e["beyond_horizon"]
     assert bh == {"n_predicted": 2, "n_simulated": 3, "precision": 1.0,
                   "recall": pytest.approx(2 / 3)}
+    # per component type x location: collar connection rows 0 and 3 (errors -0.1, +1.5),
+    # collar body row 1 (+1.0); drill pipe predicted beyond the horizon only
+    t = e["by_component_type_location"]
+    assert set(t) == {"collar connection", "collar body"}
+    assert t["collar connection"]["n"] == 2 and t["collar body"]["n"] == 1
+    assert t["collar body"]["mae"] == pytest.approx(1.0)
 
 
 def test_governing_damage_per_component_type() -> None:

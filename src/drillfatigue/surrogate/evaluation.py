@@ -312,6 +312,7 @@ def deciding_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", 
         not per decade of the truth, which regression to the mean moves:
         rows simulated at low rates and predicted within the horizon are
         over-predicted by selection), ``by_profile``, ``by_component_type``,
+        ``by_component_type_location`` (``"collar connection"``, ...),
         ``beyond_horizon`` (precision, recall and counts of the "longer than
         the horizon" answers against the simulation) and ``governing`` (per
         case and component type: the largest predicted against the largest
@@ -346,12 +347,17 @@ def deciding_metrics(pred: pd.DataFrame, models: tuple[str, ...] = ("ensemble", 
             for k in sorted(set(dec[within]), key=float):
                 sel = within & (dec == k)
                 res[key][str(k)] = _errs(mu[sel] - y[sel], cov[sel], wid[sel], cov_c[sel])
-        for col, key in (("well.profile", "by_profile"), ("component_type", "by_component_type")):
-            if col in pred:
-                g = pred[col].astype(str).to_numpy()
-                res[key] = {str(k): _errs(mu[within & (g == k)] - y[within & (g == k)],
-                                          cov[within & (g == k)])
-                            for k in sorted(set(g[within]))}
+        groups = [(pred[col].astype(str).to_numpy(), key) for col, key in
+                  (("well.profile", "by_profile"), ("component_type", "by_component_type"))
+                  if col in pred]
+        if "component_type" in pred and "location" in pred:
+            groups.append(((pred["component_type"].astype(str) + " "
+                            + pred["location"].astype(str)).to_numpy(),
+                           "by_component_type_location"))
+        for g, key in groups:
+            res[key] = {str(k): _errs(mu[within & (g == k)] - y[within & (g == k)],
+                                      cov[within & (g == k)])
+                        for k in sorted(set(g[within]))}
         pb, tb = ~within, y < c
         res["beyond_horizon"] = {
             "n_predicted": int(pb.sum()), "n_simulated": int(tb.sum()),
