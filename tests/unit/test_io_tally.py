@@ -126,7 +126,29 @@ def test_hand_made_tally(tmp_path: Path) -> None:
 
 def test_example_tally_reads() -> None:
     t = load_tally(EXAMPLES / "tally.csv")
-    assert [c.type for c in t.string.components] == ["bit", "collar", "hwdp", "drill_pipe"]
+    assert [c.type for c in t.string.components] == [
+        "bit", "stabilizer", "mwd", "stabilizer", "collar", "jar", "collar", "hwdp",
+        "drill_pipe"]
+    assert t.kinds == tuple(c.type for c in t.string.components)
+    stab = t.string.components[1]
+    assert stab.blade_od_m == pytest.approx(8.4375 * units.INCH_M, rel=1e-15)
+    assert stab.blade_length_m == pytest.approx(17.7 * units.INCH_M, rel=1e-15)
+
+
+def test_a_motor_is_a_sub_of_its_size_the_twin_lists_as_not_covered(tmp_path: Path) -> None:
+    p = tmp_path / "t.csv"
+    p.write_text("Description,Length,OD,ID\n,ft,in,in\n6-3/4in mud motor,30,6.75,3.0\n"
+                 "6-3/4in x 2-13/16in DC NC50,90,,\n")
+    t = load_tally(p)
+    assert [c.type for c in t.string.components] == ["sub", "collar"]
+    assert t.kinds == ("motor", "collar")
+
+
+def test_a_blade_on_a_collar_row_is_refused(tmp_path: Path) -> None:
+    p = tmp_path / "t.csv"
+    p.write_text("Description,Length,Blade OD\n,ft,in\n6-3/4in x 2-13/16in DC NC50,90,8.4\n")
+    with pytest.raises(InputError, match="blade"):
+        load_tally(p)
 
 
 @pytest.mark.parametrize(("text", "field", "word"), [

@@ -172,10 +172,11 @@ def test_components_and_survey_from_config_and_hook_load(model: Surrogate, tmp_p
     data = read_yaml(case)
     comps = components_from_string(validate(StringConfig, data["string"], "string"),
                                    locations=("body", "connection"))
-    # one body and one connection row per rigid segment, at the segment centres
-    assert len(comps) == 2 * 6 and comps["serial"].is_unique
+    # one body and one connection row per joint between segments, at the joints (the
+    # dataset's locations): stabilizer/collar, two collar joints, collar/HWDP, HWDP/HWDP
+    assert len(comps) == 2 * 5 and comps["serial"].is_unique
     np.testing.assert_allclose(sorted(set(comps["s_from_bit_m"])),
-                               [1.0, 12.0, 32.0, 52.0, 84.5, 129.5])
+                               [2.0, 22.0, 42.0, 62.0, 107.0])
     sv = survey_from_well(validate(WellConfig, data["well"], "well"))
     inside = (sv["md_m"] > 510) & (sv["md_m"] < 800)
     np.testing.assert_allclose(sv.loc[inside, "dls_deg_per_30m"], 5.0, rtol=1e-6)
@@ -199,9 +200,9 @@ def test_components_and_survey_from_config_and_hook_load(model: Surrogate, tmp_p
                "--out", str(out)])
     assert rc == 0, capsys.readouterr().err
     table = pd.read_csv(out / "components_damage.csv")
-    # body and connection of every segment, and the upset of the heavy-weight pipe, which
-    # this model (trained without upsets) lists as not covered
-    assert len(table) == 14 and (table.loc[table["covered"], "damage"] > 0).all()
+    # body and connection of every joint, and the upset of the heavy-weight pipe's two,
+    # which this model (trained without upsets) lists as not covered
+    assert len(table) == 12 and (table.loc[table["covered"], "damage"] > 0).all()
     assert set(table.loc[~table["covered"], "location"]) == {"upset"}
     # both a string and a component table: exit 2, one line, nothing written
     out2 = tmp_path / "twin2"

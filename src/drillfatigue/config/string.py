@@ -205,7 +205,8 @@ def _paper_bha_components() -> list[ComponentConfig]:
 PRESETS = {"bare_collars": _default_components, "paper_bha": _paper_bha_components}
 
 # Typical 8 1/2 in hole BHA items (API RP 7G tables and makers' catalogues; typical
-# values, not one maker's): 6 3/4 in collars and MWD collar (OD 171.45 mm, ID 71.4 mm),
+# values, not one maker's): 6 3/4 in collars (OD 171.45 mm, ID 71.4 mm), a 6 3/4 in MWD
+# collar (ID 82.6 mm, 3 1/4 in: the tool's flow bore),
 # integral-blade stabilizers 1.8 m long with 8 7/16 in blades (1/16 in under gauge)
 # 0.45 m long, a 6 1/2 in drilling jar (OD 165.1 mm, ID 69.9 mm, 9.4 m), 5 in
 # heavy-weight drill pipe (ID 76.2 mm, 6 5/8 in tool joints, 5 1/2 in centre upset,
@@ -215,7 +216,7 @@ _STAB = {"type": "stabilizer", "length_m": 1.8, "blade_od_m": 0.2143, "blade_len
          **_DC}
 _JAR = {"type": "jar", "name": "6.5in drilling jar", "od_m": 0.1651, "id_m": 0.0699,
         "length_m": 9.4}
-_MWD = {"type": "mwd", "name": "6.75in MWD", "length_m": 9.0, **_DC}
+_MWD = {"type": "mwd", "name": "6.75in MWD", "od_m": 0.17145, "id_m": 0.08255, "length_m": 9.0}
 
 
 def _hwdp(n_joints: int) -> dict[str, Any]:

@@ -43,7 +43,10 @@ STEP_S = 60.0
 _BLOCK_KLBF = 45.0
 _BF = 0.85  # buoyancy factor, 10.5 ppg mud
 _STAND_FT = 93.0
-_BHA_FT = 640.0
+_BHA_FT = 340.0
+#: hole depth at midnight and the depth the wiper trip pulls back to, ft
+_START_FT = 1900.0
+_TRIP_TO_FT = 1000.0
 
 #: LAS mnemonic -> (unit, decimals, description) of the time log.
 LOG_CURVES: dict[str, tuple[str, int, str]] = {
@@ -62,7 +65,7 @@ LOG_CURVES: dict[str, tuple[str, int, str]] = {
 
 
 def _string_weight_klbf(bit_ft: np.ndarray) -> np.ndarray:
-    """Buoyed weight of 640 ft of BHA (80 lb/ft) and drill pipe (22 lb/ft) above the bit."""
+    """Buoyed weight of 340 ft of BHA (80 lb/ft) and drill pipe (22 lb/ft) above the bit."""
     bha = np.minimum(bit_ft, _BHA_FT) * 80.0
     dp = np.maximum(bit_ft - _BHA_FT, 0.0) * 22.0
     return (bha + dp) * _BF / 1000.0
@@ -80,7 +83,7 @@ def synthetic_day(seed: int = 11) -> pd.DataFrame:
     rop = np.zeros(n)
     flow = np.zeros(n)
     drag = np.zeros(n)
-    hole_ft = 6000.0
+    hole_ft = _START_FT
     since_conn = 40.0  # ft drilled in the current stand
     phase_left = 0
     phase = "drill"
@@ -94,7 +97,7 @@ def synthetic_day(seed: int = 11) -> pd.DataFrame:
         elif 8.5 <= h < 14.5:
             tt = t[i] - 8.5 * 3600
             half = 3 * 3600
-            stands = (hole_ft - 3000.0) / _STAND_FT
+            stands = (hole_ft - _TRIP_TO_FT) / _STAND_FT
             per_stand = 300.0  # 3 min moving + 2 min slips
             if tt < half:
                 k, r = divmod(tt, per_stand)
@@ -105,7 +108,7 @@ def synthetic_day(seed: int = 11) -> pd.DataFrame:
                 k, r = divmod(tt - half, per_stand)
                 moved = min(k * _STAND_FT + min(r / 180.0, 1.0) * _STAND_FT,
                             stands * _STAND_FT - 15.0)
-                bit[i], drag[i] = 3000.0 + moved, -0.08 if r < 180 else 0.0
+                bit[i], drag[i] = _TRIP_TO_FT + moved, -0.08 if r < 180 else 0.0
             trip_depth = bit[i]
         else:
             if phase == "drill" and since_conn >= _STAND_FT:
@@ -123,7 +126,7 @@ def synthetic_day(seed: int = 11) -> pd.DataFrame:
                 rpm[i], flow[i] = 40.0, 600.0
                 trip_depth = bit[i]
             else:
-                r_fth = max(20.0, (60.0 if h < 7 else 45.0) + rng.normal(0.0, 4.0))
+                r_fth = max(10.0, (30.0 if h < 7 else 25.0) + rng.normal(0.0, 3.0))
                 hole_ft += r_fth * STEP_S / 3600.0
                 since_conn += r_fth * STEP_S / 3600.0
                 bit[i], rop[i], flow[i] = hole_ft, r_fth, 650.0
@@ -250,11 +253,14 @@ def depth_log(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def survey_stations_ft() -> pd.DataFrame:
-    """A J well in ft: vertical to 1500 ft, build 3 deg/100 ft to 60 deg at azimuth 135, hold."""
-    md = np.arange(0.0, 9000.0 + 1, 95.0)
-    md = np.unique(np.concatenate([md, [1500.0, 3500.0, 9000.0]]))
-    inc = np.clip((md - 1500.0) * 3.0 / 100.0, 0.0, 60.0)
-    azi = np.where(md > 1500.0, 135.0, 0.0)
+    """A build to horizontal in ft: vertical to 1150 ft, build 5.8 deg/100 ft to 90 deg at
+    azimuth 135 (2702 ft), hold to 3350 ft (the shape of ``params.yaml``'s profile_1)."""
+    kop, dls, td = 1150.0, 5.8, 3350.0
+    end = kop + 90.0 / dls * 100.0
+    md = np.arange(0.0, td + 1, 95.0)
+    md = np.unique(np.concatenate([md, [kop, end, td]]))
+    inc = np.clip((md - kop) * dls / 100.0, 0.0, 90.0)
+    azi = np.where(md > kop, 135.0, 0.0)
     sv = minimum_curvature(md * units.FT_M, np.radians(inc), np.radians(azi))
     return pd.DataFrame({"MD": md, "Inc": inc, "Azi": azi, "TVD": sv.pos_m[:, 2] / units.FT_M,
                          "NS": sv.pos_m[:, 0] / units.FT_M, "EW": sv.pos_m[:, 1] / units.FT_M,
@@ -290,12 +296,17 @@ def witsml_trajectory_text(st: pd.DataFrame) -> str:
     return "\n".join(out) + "\n"
 
 
-TALLY_CSV = """Description,Joints,Length,Grade,Serial
-,,ft,,
-8-1/2in PDC bit,1,1.0,,BIT-01
-6-3/4in x 2-13/16in DC NC50,6,182.4,,DC-01
-5in HWDP NC50,15,463.5,,HW-01
-5in 19.5ppf G-105 NC50,90,2790.0,G-105,DP-01
+TALLY_CSV = """Description,Joints,Length,OD,ID,Blade OD,Blade Length,Grade,Serial
+,,ft,in,in,in,in,,
+8-1/2in PDC bit,1,1.0,,,,,,BIT-01
+near-bit stabilizer,1,5.9,6.75,2.8125,8.4375,17.7,,NBS-01
+MWD,1,29.5,6.75,3.25,,,,MWD-01
+string stabilizer,1,5.9,6.75,2.8125,8.4375,17.7,,STB-01
+6-3/4in x 2-13/16in DC NC50,3,88.6,,,,,,DC-01
+drilling jar,1,30.8,6.5,2.75,,,,JAR-01
+6-3/4in x 2-13/16in DC NC50,1,29.5,,,,,,DC-02
+5in HWDP NC50,5,150.0,,,,,,HW-01
+5in 19.5ppf G-105 NC50,60,1860.0,,,,,G-105,DP-01
 """
 
 _CSV_HEADERS = {"TIME": "Time", "BITDEP": "Bit Depth", "DMEA": "Hole Depth",

@@ -18,7 +18,8 @@ units in the header or in a units row below it):
 ``Joints``/``Count``/``Qty`` (number of joints, default 1), ``Length``
 (total length of the item) or ``Joint Length`` (per joint; ft or m),
 ``OD``, ``ID``, ``TJ OD``, ``TJ ID`` (in or mm), ``TJ Length`` (combined
-pin and box length per joint, in), ``Weight`` (lb/ft or kg/m),
+pin and box length per joint, in), ``Blade OD`` and ``Blade Length`` (in or mm,
+stabilizers: ``OD`` is then the body's), ``Weight`` (lb/ft or kg/m),
 ``Grade``, ``Connection``, ``Segments``.
 
 Rules:
@@ -240,8 +241,10 @@ def describe(spec: ComponentSpec, where: str = "description") -> ComponentSpec:
 
 def component_config(spec: ComponentSpec, length_m: float, name: str = "",
                      n_segments: int | None = None, tj_length_fraction: float | None = None,
-                     field: str = "tally") -> ComponentConfig:
-    """A :class:`ComponentConfig` (SI) from a complete spec and a length in metres."""
+                     field: str = "tally", extra: dict[str, float] | None = None
+                     ) -> ComponentConfig:
+    """A :class:`ComponentConfig` (SI) from a complete spec and a length in metres;
+    ``extra``: further fields in SI (a stabilizer's ``blade_od_m``, ``blade_length_m``)."""
     if spec.od_in is None or spec.id_in is None:
         raise InputError(field, f"{spec.type}: outside and inside diameters are needed",
                          "OD and ID columns, or a catalogue size")
@@ -264,6 +267,7 @@ def component_config(spec: ComponentSpec, length_m: float, name: str = "",
         data["tool_joint_length_fraction"] = frac
     if spec.grade is not None:
         data["material"] = {"grade": spec.grade}
+    data.update(extra or {})
     return validate(ComponentConfig, data, field)
 
 
@@ -280,6 +284,8 @@ TALLY_ALIASES: dict[str, tuple[str, ...]] = {
     "tj_od": ("tj od", "tool joint od", "connection od", "tool joint outside diameter"),
     "tj_id": ("tj id", "tool joint id", "connection id", "tool joint inside diameter"),
     "tj_length": ("tj length", "tool joint length"),
+    "blade_od": ("blade od", "stab od", "gauge od", "blade outside diameter"),
+    "blade_length": ("blade length",),
     "weight": ("weight", "nominal weight", "wt", "ppf", "unit weight"),
     "adjusted_weight": ("adjusted weight", "adj weight", "air weight", "linear weight",
                         "weight in air"),
@@ -289,10 +295,11 @@ TALLY_ALIASES: dict[str, tuple[str, ...]] = {
 }
 _TALLY_UNITS = {"length": ("length", "ft"), "joint_length": ("length", "ft"),
                 "od": ("length", "in"), "id": ("length", "in"), "tj_od": ("length", "in"),
-                "tj_id": ("length", "in"), "tj_length": ("length", "in")}
+                "tj_id": ("length", "in"), "tj_length": ("length", "in"),
+                "blade_od": ("length", "in"), "blade_length": ("length", "in")}
 #: Diameter columns checked against the physical bounds of :mod:`drillfatigue.limits`
 #: in SI: an OD below 25 mm or above 1 m is refused whatever its unit.
-_DIAMETER_BOUNDS = {"od": "od_m", "tj_od": "tool_joint_od_m"}
+_DIAMETER_BOUNDS = {"od": "od_m", "tj_od": "tool_joint_od_m", "blade_od": "od_m"}
 _TYPE_WORDS = {"drill_pipe": "drill_pipe", "dp": "drill_pipe", "drill pipe": "drill_pipe",
                "hwdp": "hwdp", "hw": "hwdp", "collar": "collar", "dc": "collar",
                "stabilizer": "stabilizer", "stab": "stabilizer", "bit": "bit", "sub": "sub",
@@ -459,9 +466,14 @@ def load_tally_text(text: str, name: str = "tally") -> TallyImport:
         if seg is not None and (seg < 1 or seg != int(seg)):
             raise InputError(f"{where}:segments", f"{cell('segments')!r}", "a whole number >= 1")
         name = cell("name") or desc
+        blades = {k: v for k, v in (("blade_od_m", si("blade_od")),
+                                    ("blade_length_m", si("blade_length"))) if v is not None}
+        if blades and spec.type != "stabilizer":
+            raise InputError(f"{where}:blade od", f"a blade on a {spec.type}",
+                             "blade OD and length on stabilizer rows only")
         comps.append(component_config(spec, length_m, name=name,
                                       n_segments=None if seg is None else int(seg),
-                                      tj_length_fraction=frac, field=where))
+                                      tj_length_fraction=frac, field=where, extra=blades))
         refs.append(spec.references)
         kinds.append(spec.kind or spec.type)
     string = validate(StringConfig, {"components": [c.model_dump() for c in comps]}, str(p))

@@ -111,48 +111,67 @@ def components_from_table(table: pd.DataFrame) -> pd.DataFrame:
 
 def components_from_string(string_cfg: Any, locations: tuple[str, ...] | None = None,
                            kinds: tuple[str, ...] | None = None) -> pd.DataFrame:
-    """Tracked locations of a string configuration: every rigid segment x location.
+    """Tracked locations of a string configuration: every joint x location.
+
+    The locations are those the dataset has (:mod:`drillfatigue.fatigue.run`):
+    a joint between two rigid segments, at its distance from the bit, of the
+    type of its weaker side (:attr:`drillfatigue.string.segments.Segments.joint_component_type`).
 
     Parameters
     ----------
     string_cfg : drillfatigue.config.StringConfig
         The ``string`` section (components from the bit up).
     locations : tuple of str, optional
-        Locations tracked per segment; default those the fatigue chain
-        evaluates for the segment's type (body and connection; the upset
+        Locations tracked per joint; default those the fatigue chain
+        evaluates for the joint's type (body and connection; the upset
         run-out too on drill pipe and heavy-weight pipe,
         :func:`drillfatigue.fatigue.run.joint_locations`).
     kinds : tuple of str, optional
         Per component, what the tally calls it
         (:attr:`drillfatigue.io.tally.TallyImport.kinds`: ``motor`` for a mud
-        motor simulated as a sub); default the component types.
+        motor simulated as a sub); default the component types. A joint next
+        to a bit is of kind ``bit``: the bit's connection to the string.
 
     Returns
     -------
     DataFrame
-        Columns ``serial`` (``<component>-<segment>-<B|C|U>``, segment counted
+        Columns ``serial`` (``<component>-<joint>-<B|C|U>``, joint counted
         from the bit within its component), ``component`` (the item: a tally
         row's serial or name), ``kind``, ``component_type``, ``location`` and
-        ``s_from_bit_m`` (segment centre, m), as :func:`components_from_table`
-        expects.
+        ``s_from_bit_m`` (the joint's distance from the bit, m), as
+        :func:`components_from_table` expects.
     """
     fat = FatigueConfig()
     seg = build_segments(string_cfg, 1000.0)  # mud density only sets buoyancy: unused here
     rows = []
     counter: dict[int, int] = {}
-    for i in range(seg.n_segments):
-        ci = int(seg.component_index[i])
+    for j in range(seg.n_joints):
+        ci = int(seg.joint_component[j])
         comp = string_cfg.components[ci]
         label = (comp.name or f"{comp.type}{ci}").strip().replace(" ", "_")
         k = counter.get(ci, 0)
         counter[ci] = k + 1
-        ctype = str(seg.component_type[i])
+        ctype = str(seg.joint_component_type[j])
+        kind = kinds[ci] if kinds is not None else ctype
+        if "bit" in (seg.component_type[j], seg.component_type[j + 1]):
+            kind = "bit"
         for loc in (locations if locations is not None else joint_locations(ctype, fat)):
             rows.append({"serial": f"{label}-{k:03d}-{loc[:1].upper()}", "component": label,
-                         "kind": kinds[ci] if kinds is not None else ctype,
-                         "component_type": ctype, "location": loc,
-                         S_COLUMN: float(seg.s_from_bit_m[i])})
-    return pd.DataFrame(rows)
+                         "kind": kind, "component_type": ctype, "location": loc,
+                         S_COLUMN: float(seg.joint_s_from_bit_m[j])})
+    # an item without a joint of its own (a bit, a short sub between stiffer neighbours)
+    # is listed too: nothing of the string is left out
+    for ci, comp in enumerate(string_cfg.components):
+        if ci in counter:
+            continue
+        label = (comp.name or f"{comp.type}{ci}").strip().replace(" ", "_")
+        kind = kinds[ci] if kinds is not None else str(comp.type)
+        centre = seg.s_from_bit_m[seg.component_index == ci]
+        rows.append({"serial": label, "component": label,
+                     "kind": kind if kind in NOT_MODELLED else NO_JOINT, "component_type":
+                     str(comp.type), "location": "body",
+                     S_COLUMN: float(centre[0]) if centre.size else float("nan")})
+    return pd.DataFrame(rows).sort_values(S_COLUMN, kind="stable").reset_index(drop=True)
 
 
 def survey_from_well(well_cfg: Any, profile: str | None = None) -> pd.DataFrame:
@@ -289,10 +308,14 @@ class _ConditionCache:
         return {k: self.values[k][pos] for k in self._KEYS}
 
 
+#: Kind of an item with no joint of its own (:func:`components_from_string`).
+NO_JOINT = "no_joint"
 #: Why an item of a string is not covered, by what the tally calls it.
 NOT_MODELLED = {
-    "bit": "the bit: not a fatigue location of the model (no tube body or connection "
-           "the fatigue chain evaluates)",
+    NO_JOINT: "no joint of its own: the joints at both its ends are tracked under its "
+              "neighbours, whose sections are the weaker (as the dataset assigns them)",
+    "bit": "the bit and its connection to the string: not a location the model was trained "
+           "on (the design's strings end in the bit face)",
     "motor": "mud motor or rotary-steerable tool: not modelled by the simulator (placed as a "
              "plain sub of its size for the string's mechanics)",
 }
