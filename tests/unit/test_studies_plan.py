@@ -194,3 +194,33 @@ def test_params_without_plan_section_is_noted(tmp_path, capsys):
     err = capsys.readouterr().err.splitlines()
     assert err[0] == f"note: {params} has no 'plan' section; using its defaults"
     assert err[1].startswith("error: --surrogate:")
+
+
+def test_no_best_plan_when_the_candidates_are_out_of_the_domain(tmp_path):
+    """At 250 rpm (the design's rpm ends at 180) every query row is out of domain: no
+    candidate gets a surrogate life and no best plan is named (the old code named one)."""
+    import json
+    from pathlib import Path
+
+    from testkit.tiny_surrogate import train_tiny_surrogate
+
+    from drillfatigue.studies.plan import rank_plans
+    from drillfatigue.surrogate import Surrogate
+
+    root = Path(__file__).resolve().parents[2]
+    model = Surrogate.load(train_tiny_surrogate(root / "params.yaml", tmp_path / "model"))
+    data = yaml.safe_load((root / "data/plans/case2_candidates.yaml").read_text())
+    data["window"]["rpm"] = 250.0
+    data["surrogate_bit_positions"] = 3
+    path = tmp_path / "c.yaml"
+    path.write_text(yaml.safe_dump(data))
+    table = rank_plans(load_candidates(path), model, tmp_path / "out", confirm=0)
+    assert table["life_windows_surrogate"].isna().all()
+    assert (table["ood_fraction"] == 1.0).all() and table["rank_surrogate"].isna().all()
+    meta = json.loads((tmp_path / "out" / "ranking.json").read_text())
+    assert meta["best"] is None and "no answer" in meta["no_best_reason"].replace(
+        "has no answer", "no answer")
+    # a model whose domain admits these rows ranks them and names the best
+    table = rank_plans(load_candidates(path), open_domain(model), tmp_path / "out2", confirm=0)
+    meta = json.loads((tmp_path / "out2" / "ranking.json").read_text())
+    assert meta["best"] == table["candidate"].iloc[0] and table["rank_surrogate"].notna().all()

@@ -76,9 +76,10 @@ PLAN_KIND = "plan"
 END_POINT_TOL_M = 1.0
 INPUT_SECTIONS = ("well", "operation", "friction", "bit", "rig")
 #: Largest share of a candidate's query rows out of the surrogate's domain for which it is
-#: ranked (on its in-domain rows); a candidate above it gets no surrogate life, and a best
-#: plan is named only when every candidate is ranked.
-MAX_OOD_FRACTION = 0.1
+#: ranked: a candidate mostly out of domain gets no surrogate life, and a best plan is named
+#: only when every candidate is ranked. A ranked candidate's life is that of its in-domain
+#: locations (the rows out of domain add no number; their share is reported beside it).
+MAX_OOD_FRACTION = 0.5
 
 
 class CandidateFile(StrictModel):
@@ -376,6 +377,17 @@ def _plot(table: pd.DataFrame, path: Path, dpi: int) -> None:
     fig, ax = subplots(figsize=(max(5.0, 1.2 * len(table)), 4))
     x = np.arange(len(table))
     y = table["life_windows_surrogate"].to_numpy()
+    if not np.any(np.isfinite(y) & (y > 0)) and not (
+            "life_windows_simulator" in table
+            and np.any(np.isfinite(table["life_windows_simulator"].to_numpy(dtype=float)))):
+        ax.text(0.5, 0.5, "no answer: the surrogate's domain does not cover these\n"
+                "candidates (more than {:.0f} % of their rows out of it)".format(
+                    100 * MAX_OOD_FRACTION), ha="center", va="center", transform=ax.transAxes)
+        ax.set_xticks(x, table["candidate"], rotation=20)
+        ax.set_yticks([])
+        ax.set_title("Well-plan ranking: no best plan")
+        save_figure(fig, path, dpi)
+        return
     lo = y - table["life_windows_surrogate_lower"].to_numpy()
     hi = table["life_windows_surrogate_upper"].to_numpy() - y
     ax.errorbar(x - 0.1, y, yerr=[np.clip(lo, 0, None), np.clip(hi, 0, None)], fmt="o",
