@@ -381,7 +381,8 @@ def _plot(table: pd.DataFrame, path: Path, dpi: int) -> None:
             "life_windows_simulator" in table
             and np.any(np.isfinite(table["life_windows_simulator"].to_numpy(dtype=float)))):
         ax.text(0.5, 0.5, "no answer: the surrogate's domain does not cover these\n"
-                f"candidates (more than {100 * MAX_OOD_FRACTION:.0f} % of their rows out of it)", ha="center", va="center", transform=ax.transAxes)
+                f"candidates (more than {100 * MAX_OOD_FRACTION:.0f} % of their rows out "
+                "of it)", ha="center", va="center", transform=ax.transAxes)
         ax.set_xticks(x, table["candidate"], rotation=20)
         ax.set_yticks([])
         ax.set_title("Well-plan ranking: no best plan")
