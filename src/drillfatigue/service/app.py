@@ -49,6 +49,7 @@ from drillfatigue import __version__
 from drillfatigue.config.base import input_error_from_error, validate
 from drillfatigue.errors import InputError
 from drillfatigue.io.examples import field_example
+from drillfatigue.io.logs import log_bit_md_m
 from drillfatigue.io.tally import load_tally_text
 from drillfatigue.service.logs import log_formats, read_csv_table, read_log
 from drillfatigue.service.registry import LoadedModel, ModelRegistry
@@ -432,6 +433,7 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
                                  for k, v in e.items()})
                   for e in retire_list(res, req.retire_at_damage, req.retire_within_h)]
         return ReplayResponse(**_answer(lm), **replay_summary(res),
+                              last_bit_md_m=float(log_bit_md_m(log_t)[-1]),
                               columns=[str(k) for k in c.columns], components=_records(c),
                               retire=retire)
 

@@ -158,6 +158,7 @@ class ReplayResponse(Answer):
     max_ood_time_h: float = Field(description="longest time one location spent out of domain")
     n_locations_some_time_ood: int
     not_covered: list[NotCovered]
+    last_bit_md_m: float = Field(description="the bit's measured depth at the log's end, m")
     ignored_log_channels: list[str]
     columns: list[str]
     components: list[dict[str, Cell]] = Field(description="one row per component, columns "

@@ -196,7 +196,9 @@ function plotDamage(res) {
 }
 
 function setComponents(rows) {
-  state.components = rows.filter((r) => r.s_from_bit_m !== undefined && r.s_from_bit_m !== "");
+  // the window maps locations the model covers (a replay marks the others covered: false)
+  state.components = rows.filter((r) => r.s_from_bit_m !== undefined && r.s_from_bit_m !== "" &&
+                                        r.covered !== false);
   const sel = $("window-component");
   sel.innerHTML = "";
   state.components.forEach((c, i) => {
@@ -233,8 +235,8 @@ async function replay() {
       fmt(res.max_ood_time_h) + " h; no damage counted then)</span>" : "all in the training domain") +
     (res.not_covered.length ? "; <span class='bad'>not covered: " + res.not_covered.map((n) => n.item + " (" + n.reason + ")").join("; ") + "</span>" : "") +
     (res.ignored_log_channels.length ? "; unused log channels: " + res.ignored_log_channels.join(", ") : "");
-  const notInHole = res.components.filter((c) => !(c.damage > 0)).length;
-  if (notInHole) { $("replay-summary").innerHTML += "; " + notInHole + " without damage (not in the hole), not plotted"; }
+  const noDamage = res.components.filter((c) => c.covered && !(c.damage > 0)).length;
+  if (noDamage) { $("replay-summary").innerHTML += "; " + noDamage + " covered locations without damage (never in the hole, or out of domain the whole time), not plotted"; }
   fillTable($("retire-table"), [["serial", "serial"], ["action", "action"], ["s_from_bit_m", "s from bit (m)"], ["damage", "damage"],
     ["damage_upper", "upper bound"], ["remaining_life_h_lower", "remaining life, lower (h)"], ["reason", "reason"]],
     res.retire, "none: no component reaches the retirement limits");
@@ -243,8 +245,7 @@ async function replay() {
     ["s_from_bit_m", "s from bit (m)"], ["damage", "damage"], ["remaining_life_h", "remaining life (h)"]],
     worst, "no component");
   setComponents(res.components);
-  const bit = parseCsv($("log-text").value).map((r) => r.bit_md_m).filter((v) => typeof v === "number");
-  if (bit.length) { $("window-bit-md").value = Math.round(bit[bit.length - 1]); }
+  $("window-bit-md").value = Math.round(res.last_bit_md_m);
   setStatus("replayed " + res.n_locations + " locations with model " + res.model, "ok");
 }
 
@@ -329,18 +330,19 @@ async function mapWindow() {
     if (s === "rpm" || s === stemOf(yName) || k === yName) { return; }
     fixed[k] = v;
   });
-  // a logged input on neither axis (ROP, for a model that has it): held at its domain's centre
-  const held = [];
-  state.card.features.forEach((f) => {
-    const st = stemOf(f.names[0]);
-    if (!st || st === "rpm" || st === stemOf(yName) || f.names.some((n) => n in fixed)) { return; }
-    fixed[f.names[0]] = Number((0.5 * (f.min + f.max)).toPrecision(4));
-    held.push(f.names[0] + " " + fixed[f.names[0]]);
-  });
   const bit = Number($("window-bit-md").value);
   const s = Number(c.s_from_bit_m);
   const place = { md_m: bit - s, s_from_bit_m: s, component_type: c.component_type, location: c.location };
   Object.entries(place).forEach(([k, v]) => { if (accepted.has(k) && v !== undefined) { fixed[k] = v; } });
+  // a logged input on neither axis (ROP, for a model that has it): held at its domain's centre
+  const held = [];
+  state.card.features.forEach((f) => {
+    const st = stemOf(f.names[0]);
+    if (!st || st === "rpm" || st === stemOf(yName) || /^(md_m|s_from_bit_m)$/.test(f.column) ||
+        f.names.some((n) => n in fixed)) { return; }
+    fixed[f.names[0]] = Number((0.5 * (f.min + f.max)).toPrecision(4));
+    held.push(f.names[0] + " " + fixed[f.names[0]]);
+  });
   const surveyText = $("survey-text").value.trim();
   const body = {
     model: $("model-select").value,
