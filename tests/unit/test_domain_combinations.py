@@ -156,3 +156,26 @@ def test_the_window_map_has_no_life_out_of_domain(model_dir: Path) -> None:
     assert np.all(np.isnan(wmap.life_h[wmap.ood])) and np.all(wmap.life_h[~wmap.ood] > 0)
     y = Axis.in_domain("wob_kN", sur, 5).values
     assert y[0] == pytest.approx(30.0) and y[-1] == pytest.approx(120.0)
+
+
+def test_a_batch_answers_an_unseen_type_no_answer_row_by_row(model_dir: Path, tmp_path: Path
+                                                             ) -> None:
+    """A bit or a motor in a batch of conditions is that row's "no answer" with the reason;
+    the other rows are answered (the whole batch was refused before)."""
+    rows = pd.read_csv(ROOT / "data" / "examples" / "conditions.csv")
+    rows.loc[1, "component_type"] = "bit"
+    cond = tmp_path / "c.csv"
+    rows.to_csv(cond, index=False)
+    out = tmp_path / "p.csv"
+    assert main(["query", "--model", str(model_dir), "--csv", str(cond), "--out", str(out)]) == 0
+    p = pd.read_csv(out)
+    assert p.loc[1, "ood"] and "component_type 'bit'" in p.loc[1, "ood_reason"]
+    assert np.isnan(p.loc[1, "damage_rate_per_h"]) and p.loc[0, "damage_rate_per_h"] > 0
+    client = _service(model_dir)
+    body = client.post("/v1/query", json={"rows": rows.to_dict(orient="records")})
+    assert body.status_code == 200, body.text
+    api = body.json()["rows"]
+    assert api[1]["ood"] and api[1]["damage_rate_per_h"] is None
+    assert "component_type 'bit'" in api[1]["ood_reason"] and api[0]["damage_rate_per_h"] > 0
+    one = client.post("/v1/query", json={"rows": rows.iloc[[1]].to_dict(orient="records")})
+    assert one.status_code == 422 and "bit" in one.json()["detail"]

@@ -40,7 +40,7 @@ from drillfatigue.cli.twin import read_section
 from drillfatigue.config import WellConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
-from drillfatigue.io.names import Vocabulary, vocabulary_name
+from drillfatigue.io.names import Vocabulary, unseen_levels, vocabulary_name
 from drillfatigue.io.tables import read_csv_file
 from drillfatigue.well import build_survey
 
@@ -177,7 +177,21 @@ def query(ctx: typer.Context,
         if geometry is not None:
             frame = _add_geometry(frame, vocab, *geometry)
             table = table.assign(**{c: frame[c].to_numpy() for c in geometry[0]})
+        # a level the model never saw (a bit, a motor) is that row's "no answer", not the batch's
+        cats = {c: frame[c].tolist() for c in sur.categorical if c in frame.columns}
+        unseen, why = unseen_levels(cats, sur.categories)
+        if unseen.any():
+            frame = frame.copy()
+            for c in cats:
+                frame.loc[unseen, c] = sur.categories[c][0]
         pred = sur.predict(frame)
+        if unseen.any():
+            numbers = [c for c in pred.columns if c not in ("ood", "ood_reason",
+                                                            "beyond_horizon")]
+            pred.loc[unseen, numbers] = np.nan
+            pred.loc[unseen, "beyond_horizon"] = False
+            pred.loc[unseen, "ood"] = True
+            pred.loc[unseen, "ood_reason"] = why[unseen]
         result = pd.concat([table.reset_index(drop=True), pred.reset_index(drop=True)], axis=1)
         write_csv(result, out)
         n_ood = int(pred["ood"].sum())

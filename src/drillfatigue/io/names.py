@@ -236,3 +236,36 @@ def vocabulary_name(header: str, vocab: Vocabulary) -> str:
             if k.startswith(stem + "_") and "." not in k and term.factor in factors
             and channel_stem(k) == stem]
     return hits[0] if len(hits) == 1 else header
+
+
+def unseen_levels(values: Mapping[str, Sequence[object]],
+                  categories: Mapping[str, Sequence[str]]) -> tuple[np.ndarray, np.ndarray]:
+    """Rows whose categorical values a model was not trained on, and why.
+
+    Parameters
+    ----------
+    values : mapping
+        Per categorical column, the rows' values (any type, compared as text).
+    categories : mapping
+        Per categorical column, the model's levels.
+
+    Returns
+    -------
+    mask : ndarray of bool, shape (n,)
+        Rows with a level the model has not seen (a batch answers them "no answer").
+    reasons : ndarray of object, shape (n,)
+        ``"component_type 'bit': not in the model's training data (trained on ...)"``,
+        '' for the other rows.
+    """
+    n = len(next(iter(values.values()))) if values else 0
+    mask = np.zeros(n, dtype=bool)
+    reasons = np.full(n, "", dtype=object)
+    for col, vals in values.items():
+        levels = [str(v) for v in categories[col]]
+        text = np.asarray([str(v).strip() for v in vals], dtype=object)
+        bad = ~np.isin(text, levels) & ~mask
+        for i in np.flatnonzero(bad):
+            reasons[i] = (f"{col} {text[i]!r}: not in the model's training data (trained on "
+                          f"{', '.join(levels)})")
+        mask |= bad
+    return mask, reasons

@@ -23,7 +23,7 @@ from drillfatigue.errors import InputError
 from drillfatigue.limits import check_feature_values, first_outside
 from drillfatigue.service.registry import LoadedModel
 from drillfatigue.surrogate.facade import PREDICTION_COLUMNS, prediction_columns
-from drillfatigue.io.names import Term
+from drillfatigue.io.names import Term, unseen_levels
 
 
 def _plan(lm: LoadedModel, names: Sequence[str], field: str) -> list[Term]:
@@ -61,9 +61,14 @@ def _number(value: Any, name: str, field: str) -> float:
     return v
 
 
-def encode_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "rows"
-                ) -> tuple[np.ndarray, np.ndarray]:
+def encode_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "rows",
+                unseen: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Model arrays of ``rows`` (every row with the same names, user units).
+
+    ``unseen``: rows with a categorical level the model never saw
+    (:func:`drillfatigue.io.names.unseen_levels`) get the first level's code,
+    for the caller to answer them "no answer"; without it such a level is an
+    InputError.
 
     Returns
     -------
@@ -90,9 +95,11 @@ def encode_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "r
         if term.categorical:
             text = [str(v).strip() for v in values]
             levels = sur.preprocessor.categories_[term.column]
-            unseen = set(text).difference(levels)
-            if unseen:
-                raise InputError(f"{field}.{name}", f"value {sorted(unseen)[0]!r} not seen in "
+            if unseen is not None:
+                text = [levels[0] if u else t for t, u in zip(text, unseen, strict=True)]
+            new = set(text).difference(levels)
+            if new:
+                raise InputError(f"{field}.{name}", f"value {sorted(new)[0]!r} not seen in "
                                  "training", ", ".join(levels))
             x_cat[:, cat_index[term.column]] = sur.preprocessor.codes_for(term.column, text)
         else:
@@ -118,12 +125,23 @@ def predict_rows(lm: LoadedModel, rows: Sequence[dict[str, Any]], field: str = "
     CLI); in a batch the row's numbers are null, with ``ood`` and the reason.
     """
     sur = lm.surrogate
-    x_num, x_cat = encode_rows(lm, rows, field)
+    unseen = None
+    if len(rows) > 1:  # a batch answers a level the model never saw "no answer", row by row
+        cats = {}
+        for name in rows[0]:
+            term = lm.vocab.terms.get(name)
+            if term is not None and term.categorical:
+                cats[term.column] = [row.get(name) for row in rows]  # odd rows: refused below
+        unseen, why = unseen_levels(cats, sur.categories)
+    x_num, x_cat = encode_rows(lm, rows, field, unseen)
     r = sur.predict_array(x_num, x_cat)
     if len(rows) == 1 and r["ood"][0]:
         raise sur.domain.refusal(x_num[0], float(r["knn_distance"][0]), f"{field}[0].",
                                  cat_row=x_cat[0])
     reasons = sur.domain.reasons(x_num, r["knn_distance"], r["ood"], x_cat)
+    if unseen is not None and unseen.any():
+        r = {**r, "ood": r["ood"] | unseen}
+        reasons = np.where(unseen, why, reasons)
     cols = prediction_columns(r, reasons, refuse=True)
     lists = {c: np.asarray(cols[c]).tolist() for c in PREDICTION_COLUMNS}
     out = []
