@@ -2,7 +2,8 @@
 
 ``--db`` is a file path (SQLite, the default back-end) or a SQLAlchemy URL
 (``postgresql+psycopg://user@host/dbname``, ``sqlite:///path``). SQLite files
-run in WAL mode with foreign keys on and full synchronous commits, so a
+run in WAL mode (set when the ledger is created) with foreign keys on and
+full synchronous commits, so a
 process killed at any point leaves a consistent file; every write transaction
 starts with ``BEGIN IMMEDIATE`` (it takes the write lock first, so two writers
 wait for each other instead of failing on a lock upgrade). PostgreSQL runs
@@ -64,7 +65,6 @@ def _sqlite_events(engine: Engine) -> None:
         dbapi_conn.isolation_level = None
         cur = dbapi_conn.cursor()
         cur.execute(f"PRAGMA busy_timeout = {SQLITE_BUSY_TIMEOUT_MS}")
-        cur.execute("PRAGMA journal_mode = WAL")
         cur.execute("PRAGMA foreign_keys = ON")
         cur.execute("PRAGMA synchronous = FULL")
         cur.close()
@@ -189,6 +189,13 @@ def init_ledger(db: str, revision: str = "head") -> tuple[Ledger, bool]:
         ledger.dispose()
         raise InputError("--db", f"{str(db)!r} holds tables but no ledger",
                          "a new or empty database (the ledger never writes into others)")
+    if ledger.dialect == "sqlite":
+        # WAL is a property of the file, set once here (never on a file that is not a ledger)
+        raw = ledger.engine.raw_connection()  # outside a transaction, as SQLite requires
+        try:
+            raw.driver_connection.execute("PRAGMA journal_mode = WAL")  # type: ignore[union-attr]
+        finally:
+            raw.close()
     with ledger.engine.begin() as conn:
         command.upgrade(alembic_config(conn), revision)
     return ledger, True

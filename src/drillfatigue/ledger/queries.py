@@ -223,7 +223,7 @@ def retire_lists(ledger: Ledger, rules: RetireRules | None = None) -> pd.DataFra
     inv = inventory(ledger)
     with ledger.read() as conn:
         last = _last_inspections(conn)
-        ids = dict(conn.execute(select(joints.c.serial, joints.c.id)).tuples().all())
+        ids = {s: i for s, i in conn.execute(select(joints.c.serial, joints.c.id))}
     out = []
     for row in inv.to_dict("records"):
         li = last.loc[ids[row["serial"]]] if len(last) and ids[row["serial"]] in last.index else None

@@ -201,7 +201,7 @@ def swap_serials(ledger: Ledger, a: str, b: str, reason: str) -> None:
         raise InputError("B", "the same serial twice", "two different serials")
     with ledger.write() as conn:
         ja, jb = joint_row(conn, a), joint_row(conn, b)
-        tmp = f"\x00swap{ja.id}"  # the unique key holds at every statement
+        tmp = f"\x01swap{ja.id}"  # no serial has a control character: the unique key holds
         conn.execute(update(joints).where(joints.c.id == ja.id).values(serial=tmp))
         conn.execute(update(joints).where(joints.c.id == jb.id).values(serial=a))
         conn.execute(update(joints).where(joints.c.id == ja.id).values(serial=b))
