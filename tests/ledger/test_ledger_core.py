@@ -37,7 +37,7 @@ from drillfatigue.ledger import (
     start_run,
     swap_serials,
 )
-from drillfatigue.ledger.db import Ledger
+from drillfatigue.ledger.db import HEAD_REVISION, Ledger, script_revisions
 from drillfatigue.ledger.ingest import split_rows
 from drillfatigue.ledger.schema import metadata
 from drillfatigue.ledger.standin import BASE_RATE_PER_H, LOCATION_FACTOR, WOB_SCALE_N
@@ -84,7 +84,9 @@ def _totals(led: Ledger) -> pd.DataFrame:
 
 
 def test_schema_of_the_migrations_is_the_package_schema(db_url: str) -> None:
+    assert script_revisions() == (HEAD_REVISION, {"0001", "0002"})
     led, _ = init_ledger(db_url)
+    assert led.revision() == HEAD_REVISION
     with led.engine.connect() as conn:
         diff = compare_metadata(MigrationContext.configure(conn), metadata)
     led.dispose()

@@ -25,14 +25,15 @@ from testkit.ledger_logs import (
 )
 
 from drillfatigue.cli import main
+from drillfatigue.io.examples import LOG_CURVES, synthetic_day, witsml_log_text
 from drillfatigue.ledger import open_ledger
 from drillfatigue.ledger.schema import chunks
 
 SERIALS = ["B1", "DC1", "DC2", "DP1", "DP2", "DP3", "DP4"]
-#: effective kills per test (the process was still running when killed): 5 for
-#: an ingest and 5 for a follow give 10 per back-end
-KILLS = 5
-ROWS = 480
+#: kills that hit a running process, per test: 5 of an ingest, 3 of a follow of a
+#: growing file and 2 of a follow of a WITSML chunk folder: 10 per back-end
+KILLS = {"ingest": 5, "file": 3, "folder": 2}
+ROWS = 320
 CHUNK = 4
 
 
@@ -53,21 +54,21 @@ def _n_chunks(db: str) -> int:
 
 
 def _kill_and_restart(args: list[str], db: str, rng: random.Random,
-                      done: Callable[[], bool]) -> list[int]:
-    """Start ``ledger ARGS`` and kill -9 it at random points until KILLS kills hit a running
+                      done: Callable[[], bool], n_kills: int) -> list[int]:
+    """Start ``ledger ARGS`` and kill -9 it at random points until ``n_kills`` hit a running
     process; then run it to the end. Returns the chunk counts seen after each kill.
 
     Most kills land a random moment after the process reported its first chunk (mid-ingest);
     some during its start (before it touched the ledger, or while opening it)."""
     seen = []
     kills = 0
-    for _ in range(4 * KILLS):
-        if kills >= KILLS or done():
+    for _ in range(4 * n_kills):
+        if kills >= n_kills or done():
             break
         proc = subprocess.Popen(ledger_cmd(*args), env=cli_env(), stdout=subprocess.PIPE,
                                 stderr=subprocess.DEVNULL, text=True)
         if rng.random() < 0.25:
-            time.sleep(rng.uniform(0.2, 1.2))
+            time.sleep(rng.uniform(0.2, 0.9))
         else:
             assert proc.stdout is not None
             proc.stdout.readline()          # the first chunk is in (or the process ended)
@@ -83,7 +84,7 @@ def _kill_and_restart(args: list[str], db: str, rng: random.Random,
     final = subprocess.run(ledger_cmd(*args), env=cli_env(), capture_output=True, text=True,
                            timeout=120)
     assert final.returncode == 0, final.stderr
-    assert kills >= KILLS, f"only {kills} kills hit a running process"
+    assert kills >= n_kills, f"only {kills} kills hit a running process"
     return seen
 
 
@@ -95,7 +96,8 @@ def _assert_same_exports(a: str, b: str) -> None:
 
 
 def test_two_concurrent_ingesters_count_once(db_url: str, new_db, tmp_path: Path) -> None:
-    log = write_log(tmp_path / "log.csv", make_log(ROWS, seed=21))
+    n = ROWS // 4
+    log = write_log(tmp_path / "log.csv", make_log(n, seed=21))
     _setup(db_url, tmp_path)
     args = ["ingest", str(log), "--run", "R1", "--chunk-rows", str(CHUNK), "--db", db_url]
     procs = [subprocess.Popen(ledger_cmd(*args), env=cli_env(), stdout=subprocess.PIPE,
@@ -103,7 +105,7 @@ def test_two_concurrent_ingesters_count_once(db_url: str, new_db, tmp_path: Path
     outs = [p.communicate(timeout=120) for p in procs]
     assert all(p.returncode == 0 for p in procs), [o[1] for o in outs]
     ingested = sum(o[0].count(": chunk ") for o in outs)
-    assert ingested == ROWS // CHUNK      # every piece recorded by exactly one of the two
+    assert ingested == n // CHUNK      # every piece recorded by exactly one of the two
     ref = new_db()
     _setup(ref, tmp_path)
     assert main(["ledger", "ingest", str(log), "--run", "R1", "--chunk-rows", str(CHUNK),
@@ -123,7 +125,7 @@ def test_two_concurrent_ingesters_count_once(db_url: str, new_db, tmp_path: Path
     with led.read() as conn:
         rows = conn.execute(chunks.select().order_by(chunks.c.seq)).fetchall()
     led.dispose()
-    assert rows[0].counted_from_s == 0.0 and rows[-1].t_last_s == 5.0 * (ROWS - 1)
+    assert rows[0].counted_from_s == 0.0 and rows[-1].t_last_s == 5.0 * (n - 1)
     for prev, cur in zip(rows, rows[1:]):
         assert cur.counted_from_s == prev.t_last_s
 
@@ -137,7 +139,7 @@ def test_kill9_during_ingest_then_restart(db_url: str, new_db, tmp_path: Path) -
     assert main(["ledger", *args, "--db", ref]) == 0
     total = ROWS // CHUNK
     seen = _kill_and_restart([*args, "--db", db_url], db_url, random.Random(1),
-                             lambda: _n_chunks(db_url) == total)
+                             lambda: _n_chunks(db_url) == total, KILLS["ingest"])
     assert any(0 < n < total for n in seen), seen   # some kills landed mid-ingest
     _assert_same_exports(db_url, ref)
 
@@ -145,16 +147,18 @@ def test_kill9_during_ingest_then_restart(db_url: str, new_db, tmp_path: Path) -
 @pytest.mark.parametrize("mode", ["file", "folder"])
 def test_kill9_during_follow_then_restart(mode: str, db_url: str, new_db,
                                           tmp_path: Path) -> None:
-    log = make_log(ROWS, seed=23)
     if mode == "file":
-        source = write_log(tmp_path / "growing.csv", log)
+        source = write_log(tmp_path / "growing.csv", make_log(ROWS, seed=23))
         n_chunks = -(-ROWS // CHUNK)
     else:
-        source = tmp_path / "chunks"
+        # WITSML 1.4.1.1 chunks of the synthetic rig day (date-time index), 6 rows each
+        day = synthetic_day().iloc[:150].reset_index(drop=True)
+        source = tmp_path / "witsml"
         source.mkdir()
-        for k in range(0, ROWS, 10):
-            write_log(source / f"part{k // 10:03d}.csv", log.iloc[k:k + 10])
-        n_chunks = ROWS // 10
+        for k in range(0, len(day), 6):
+            (source / f"log_{k // 6:03d}.xml").write_text(
+                witsml_log_text(day.iloc[k:k + 6], LOG_CURVES), encoding="utf-8")
+        n_chunks = len(day) // 6
     _setup(db_url, tmp_path)
     ref = new_db()
     _setup(ref, tmp_path)
@@ -162,17 +166,7 @@ def test_kill9_during_follow_then_restart(mode: str, db_url: str, new_db,
             "--until-idle", "3"]
     assert main(["ledger", *args, "--db", ref]) == 0
     assert _n_chunks(ref) == n_chunks
-    kills = KILLS if mode == "file" else 0   # the folder mode's kills count towards the file's
-    if kills:
-        seen = _kill_and_restart([*args, "--db", db_url], db_url, random.Random(2),
-                                 lambda: _n_chunks(db_url) == n_chunks)
-        assert any(0 < n < n_chunks for n in seen), seen
-    else:
-        proc = subprocess.Popen(ledger_cmd(*args, "--db", db_url), env=cli_env(),
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(random.Random(3).uniform(1.0, 1.8))
-        if proc.poll() is None:
-            os.kill(proc.pid, signal.SIGKILL)
-        proc.wait()
-        assert main(["ledger", *args, "--db", db_url]) == 0
+    seen = _kill_and_restart([*args, "--db", db_url], db_url, random.Random(2),
+                             lambda: _n_chunks(db_url) == n_chunks, KILLS[mode])
+    assert any(0 < n < n_chunks for n in seen), seen
     _assert_same_exports(db_url, ref)

@@ -23,16 +23,21 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from alembic import command
-from alembic.config import Config
-from alembic.runtime.migration import MigrationContext
-from alembic.script import ScriptDirectory
-from sqlalchemy import Connection, Engine, create_engine, event, inspect
+from typing import TYPE_CHECKING
+
+from sqlalchemy import Connection, Engine, create_engine, event, inspect, text
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import ArgumentError, OperationalError
 
 from drillfatigue.errors import InputError
 
+if TYPE_CHECKING:
+    from alembic.config import Config
+
+#: The newest schema revision (the head of ``migrations/versions``; a test checks it).
+#: Opening a ledger compares with it without importing Alembic, which only
+#: ``init`` and ``migrate`` need.
+HEAD_REVISION = "0002"
 MIGRATIONS_DIR = Path(__file__).resolve().parent / "migrations"
 #: how long a SQLite writer waits for another writer's transaction, ms
 SQLITE_BUSY_TIMEOUT_MS = 60_000
@@ -77,18 +82,20 @@ def _sqlite_events(engine: Engine) -> None:
 
 def alembic_config(conn: Connection) -> Config:
     """Alembic's configuration for the packaged migrations, bound to ``conn``."""
+    from alembic.config import Config
+
     cfg = Config()
     cfg.set_main_option("script_location", str(MIGRATIONS_DIR))
     cfg.attributes["connection"] = conn
     return cfg
 
 
-def head_revision() -> str:
-    """The newest schema revision this package knows."""
+def script_revisions() -> tuple[str | None, set[str]]:
+    """The head and every revision of the packaged migration scripts (imports Alembic)."""
+    from alembic.script import ScriptDirectory
+
     script = ScriptDirectory(str(MIGRATIONS_DIR))
-    head = script.get_current_head()
-    assert head is not None  # the package ships its migrations
-    return head
+    return script.get_current_head(), {r.revision for r in script.walk_revisions()}
 
 
 class Ledger:
@@ -122,7 +129,10 @@ class Ledger:
     def revision(self) -> str | None:
         """The schema revision of the database (None if it is not a ledger)."""
         with self.engine.connect() as conn:
-            return MigrationContext.configure(conn).get_current_revision()
+            if "alembic_version" not in inspect(conn).get_table_names():
+                return None
+            rows = conn.execute(text("SELECT version_num FROM alembic_version")).fetchall()
+            return str(rows[0][0]) if len(rows) == 1 else None
 
     def table_names(self) -> list[str]:
         with self.engine.connect() as conn:
@@ -157,16 +167,14 @@ def open_ledger(db: str) -> Ledger:
     ledger = Ledger(db)
     _reachable(ledger)
     rev = ledger.revision()
-    head = head_revision()
+    head = HEAD_REVISION
     if rev == head:
         return ledger
     ledger.dispose()
     if rev is None:
         raise InputError("--db", f"{str(db)!r} is not a drillfatigue ledger",
                          f"a ledger (create one: drillfatigue ledger init --db {db})")
-    script = ScriptDirectory(str(MIGRATIONS_DIR))
-    known = {r.revision for r in script.walk_revisions()}
-    if rev not in known:
+    if rev not in script_revisions()[1]:
         raise InputError("--db", f"ledger schema revision {rev} is newer than this "
                          f"drillfatigue knows ({head})", "upgrade drillfatigue")
     raise InputError("--db", f"ledger schema revision {rev} is older than this drillfatigue's "
@@ -196,6 +204,8 @@ def init_ledger(db: str, revision: str = "head") -> tuple[Ledger, bool]:
             raw.driver_connection.execute("PRAGMA journal_mode = WAL")  # type: ignore[union-attr]
         finally:
             raw.close()
+    from alembic import command
+
     with ledger.engine.begin() as conn:
         command.upgrade(alembic_config(conn), revision)
     return ledger, True
@@ -212,7 +222,9 @@ def migrate_ledger(db: str) -> tuple[str, str]:
         ledger.dispose()
         raise InputError("--db", f"{str(db)!r} is not a drillfatigue ledger",
                          f"a ledger (create one: drillfatigue ledger init --db {db})")
+    from alembic import command
+
     with ledger.engine.begin() as conn:
         command.upgrade(alembic_config(conn), "head")
     ledger.dispose()
-    return old, head_revision()
+    return old, HEAD_REVISION
