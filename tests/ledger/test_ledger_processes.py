@@ -126,7 +126,7 @@ def test_two_concurrent_ingesters_count_once(db_url: str, new_db, tmp_path: Path
         rows = conn.execute(chunks.select().order_by(chunks.c.seq)).fetchall()
     led.dispose()
     assert rows[0].counted_from_s == 0.0 and rows[-1].t_last_s == 5.0 * (n - 1)
-    for prev, cur in zip(rows, rows[1:]):
+    for prev, cur in zip(rows, rows[1:], strict=False):
         assert cur.counted_from_s == prev.t_last_s
 
 

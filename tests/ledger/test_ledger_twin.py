@@ -81,7 +81,7 @@ def test_three_re_racked_runs_equal_the_replays_summed_by_hand(model_dir: Path,
     led, _ = init_ledger(str(tmp_path / "ledger.sqlite"))
     by_hand: dict[str, float] = {}
     hole_s: dict[str, float] = {}
-    for k, ((a, b), order) in enumerate(zip(bounds, ORDERS)):
+    for k, ((a, b), order) in enumerate(zip(bounds, ORDERS, strict=True)):
         run = f"R{k + 1}"
         tally = load_joint_tally(_tally(tmp_path / f"{run}.csv", order))
         start_run(led, run, "SYNTHETIC-1", tally, str(model_dir), model_id(str(model_dir)),

@@ -206,7 +206,8 @@ def _increments(seg: pd.DataFrame, ctx: RunContext, fn: DamageFunction,
     exp = exposure(seg, loc, ctx.constants)
     inc["time_in_hole_s"] = exp["time_in_hole_s"].to_numpy()
     inc["revolutions"] = exp["revolutions"].to_numpy()
-    ids = dict(zip(ctx.items["serial"].astype(str), ctx.items["joint_id"].astype(int)))
+    ids = dict(zip(ctx.items["serial"].astype(str), ctx.items["joint_id"].astype(int),
+                   strict=True))
     inc["joint_id"] = [ids[str(s)] for s in inc["serial"]]
     return inc
 
@@ -250,6 +251,12 @@ def ingest_chunk(ledger: Ledger, run: str, chunk: LogChunk,
     table = check_chunk(chunk.table, chunk.source)
     sha = table_sha256(table)
     t = table["time_s"].to_numpy()
+
+    def report(status: str, seq: int | None, n_new: int) -> IngestReport:
+        return IngestReport(run=run, source=chunk.source, status=status, seq=seq,
+                            n_rows=len(table), n_new_rows=n_new, t_first_s=float(t[0]),
+                            t_last_s=float(t[-1]))
+
     for _ in range(_MAX_ATTEMPTS):
         with ledger.read() as conn:
             r = run_row(conn, run)
@@ -257,13 +264,11 @@ def ingest_chunk(ledger: Ledger, run: str, chunk: LogChunk,
                 raise InputError("--run", f"run {run!r} has ended", "an open run")
             dup = conn.execute(select(chunks.c.seq).where(
                 chunks.c.run_id == r.id, chunks.c.content_sha256 == sha)).first()
-            base = dict(run=run, source=chunk.source, n_rows=len(table),
-                        t_first_s=float(t[0]), t_last_s=float(t[-1]))
             if dup is not None:
-                return IngestReport(status="duplicate", seq=int(dup[0]), n_new_rows=0, **base)
+                return report("duplicate", int(dup[0]), 0)
             new = table if r.last_t_s is None else table[table["time_s"] > r.last_t_s]
             if new.empty:
-                return IngestReport(status="nothing new", seq=None, n_new_rows=0, **base)
+                return report("nothing new", None, 0)
             ctx = run_context(conn, r)
         if r.last_sample_json is not None:
             prev = json.loads(r.last_sample_json)
@@ -300,7 +305,7 @@ def ingest_chunk(ledger: Ledger, run: str, chunk: LogChunk,
             if _retryable(exc):
                 continue
             raise
-        return IngestReport(status="ingested", seq=seq, n_new_rows=len(new), **base)
+        return report("ingested", seq, len(new))
     raise RuntimeError(f"{chunk.source}: run {run!r} kept changing under {_MAX_ATTEMPTS} attempts "
                        "to ingest this chunk")
 

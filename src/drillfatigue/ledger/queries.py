@@ -228,11 +228,12 @@ def retire_lists(ledger: Ledger, rules: RetireRules | None = None) -> pd.DataFra
     for row in inv.to_dict("records"):
         li = last.loc[ids[row["serial"]]] if len(last) and ids[row["serial"]] in last.index else None
         result = None if li is None else str(li["result"])
+        day = "" if li is None else str(li["inspected_on"])
         d, hi = row["damage"], row["damage_upper"]
         at = rules.downgraded_retire_at if result in DOWNGRADED else rules.retire_at
         action = reason = None
         if result in rules.retire_results:
-            action, reason = "retire", f"last inspection {li['inspected_on']}: {result}"
+            action, reason = "retire", f"last inspection {day}: {result}"
         elif np.isfinite(d) and d >= at:
             action = "retire"
             reason = f"damage {d:.3g} >= {at:g}" + (f" (last inspection: {result})"
@@ -243,7 +244,7 @@ def retire_lists(ledger: Ledger, rules: RetireRules | None = None) -> pd.DataFra
                 action = "inspect"
                 reason = (f"upper bound {hi:.3g} >= {rules.inspect_at:g}" if since is None else
                           f"upper bound {hi:.3g} grew {hi - since:.3g} since the inspection of "
-                          f"{li['inspected_on']}")
+                          f"{day}")
         elif not np.isfinite(d) and row["time_in_hole_h"] > 0:
             action, reason = "inspect", f"damage unknown: not covered ({row['not_covered']})"
         if action is not None:
@@ -262,9 +263,9 @@ def export_tables(ledger: Ledger) -> dict[str, pd.DataFrame]:
     """
     with ledger.read() as conn:
         jn = _frame(conn, select(joints.c.id, joints.c.serial))
-        serial_of = dict(zip(jn["id"], jn["serial"]))
+        serial_of = dict(zip(jn["id"], jn["serial"], strict=True))
         rn = _frame(conn, select(runs.c.id, runs.c.name))
-        run_of = dict(zip(rn["id"], rn["name"]))
+        run_of = dict(zip(rn["id"], rn["name"], strict=True))
         tables = {
             "joints": _frame(conn, select(joints).order_by(joints.c.serial)),
             "runs": _frame(conn, select(runs).order_by(runs.c.name)),

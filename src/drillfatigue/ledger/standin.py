@@ -53,7 +53,7 @@ def standin_increments(log: pd.DataFrame, context: RunContext) -> pd.DataFrame:
     return pd.DataFrame({
         "serial": loc["serial"].to_numpy(), "location": loc["location"].to_numpy(),
         "covered": covered,
-        "not_covered_reason": [None if c else NOT_COVERED[ct] for c, ct in zip(covered, types)],
+        "not_covered_reason": [None if c else NOT_COVERED[ct] for c, ct in zip(covered, types, strict=True)],
         "damage": np.where(covered, damage, np.nan),
         "damage_lower": np.where(covered, 0.5 * damage, np.nan),
         "damage_upper": np.where(covered, 2.0 * damage, np.nan),

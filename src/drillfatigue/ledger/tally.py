@@ -84,7 +84,7 @@ def load_joint_tally(path: str | Path) -> pd.DataFrame:
     if "description" not in col and "type" not in col:
         raise InputError(f"{p}:1", "neither a Description nor a Type column",
                          "Description (e.g. '5in 19.5ppf G-105 NC50') or Type (dp, hwdp, dc, ...)")
-    out = []
+    out: list[dict[str, object]] = []
     seen: dict[str, int] = {}
     s = 0.0
     for r, row in enumerate(rows[first:], start=first + 1):
