@@ -186,7 +186,10 @@ def init_ledger(db: str, revision: str = "head") -> tuple[Ledger, bool]:
 
     An existing ledger at the current revision is left as it is (False). A
     database with other tables, or a ledger at another revision, is refused.
+    The folder of a new SQLite file is created.
     """
+    if "://" not in str(db):
+        Path(str(db)).resolve().parent.mkdir(parents=True, exist_ok=True)
     ledger = Ledger(db)
     _reachable(ledger)
     rev = ledger.revision()

@@ -120,9 +120,9 @@ def start_run(ledger: Ledger, name: str, well: str, tally: pd.DataFrame, model_r
             if j is None:
                 jid = conn.execute(insert(joints).values(
                     serial=it.serial, component_type=it.component_type,
-                    description=it.description or "", od_m=_num(it.od_m), id_m=_num(it.id_m),
-                    length_m=float(it.length_m), grade=it.grade,
-                    connection=it.connection).returning(joints.c.id)).scalar_one()
+                    description=_text(it.description) or "", od_m=_num(it.od_m), id_m=_num(it.id_m),
+                    length_m=float(it.length_m), grade=_text(it.grade),
+                    connection=_text(it.connection)).returning(joints.c.id)).scalar_one()
                 new_joints += 1
             else:
                 if j.component_type != it.component_type:
@@ -159,6 +159,13 @@ def _num(v: Any) -> float | None:
         return None
     f = float(v)
     return None if math.isnan(f) else f
+
+
+def _text(v: Any) -> str | None:
+    """A tally cell as text, None where empty (pandas gives NaN for a missing value)."""
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return None
+    return str(v)
 
 
 def end_run(ledger: Ledger, name: str) -> bool:
