@@ -8,6 +8,8 @@ function of the log rows), so every expected number is computed here by hand.
 from __future__ import annotations
 
 import math
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -338,3 +340,75 @@ def test_cli_walkthrough_and_export_formats(db_url: str, tmp_path: Path, run_cli
     (tmp_path / "foreign" / "mine.txt").write_text("x")
     out = run_cli("export", "--out", str(tmp_path / "foreign"), "--db", db_url)
     assert out.returncode == 2 and (tmp_path / "foreign" / "mine.txt").read_text() == "x"
+
+
+def test_follow_a_file_while_it_grows(db_url: str, new_db, tmp_path: Path) -> None:
+    from drillfatigue.ledger import follow
+    from drillfatigue.ledger.schema import chunks
+
+    log = make_log(90, seed=8)
+    path = tmp_path / "growing.csv"
+    text = write_log(tmp_path / "whole.csv", log).read_text()
+    lines = text.splitlines(keepends=True)
+    path.write_text("".join(lines[:5]))            # header and 4 samples so far
+
+    def writer() -> None:
+        k = 5
+        while k < len(lines):
+            # a burst of 9 rows, the last one cut in the middle of a line at first
+            burst = "".join(lines[k:k + 9])
+            with path.open("a") as fh:
+                fh.write(burst[:-4])
+                fh.flush()
+                time.sleep(0.03)
+                fh.write(burst[-4:])
+            k += 9
+            time.sleep(0.05)
+
+    led = _ledger(db_url, tmp_path)
+    th = threading.Thread(target=writer)
+    th.start()
+    summary = follow(led, "R1", path, every_s=0.02, chunk_rows=10, until_idle=15)
+    th.join()
+    follow(led, "R1", path, every_s=0.0, chunk_rows=10, until_idle=2)
+    assert summary.ingested > 0
+    with led.read() as conn:
+        rows = conn.execute(chunks.select().order_by(chunks.c.seq)).fetchall()
+    # contiguous: every chunk counts from the previous chunk's last sample, to the log's end
+    assert rows[-1].t_last_s == float(log["time_s"].iloc[-1])
+    for prev, cur in zip(rows, rows[1:], strict=False):
+        assert cur.counted_from_s == prev.t_last_s
+    got = inventory(led).set_index("serial")
+    led.dispose()
+    ref = new_db()
+    led2 = _ledger(ref, tmp_path)
+    ingest_chunk(led2, "R1", LogChunk(_si(log), "whole"))
+    want = inventory(led2).set_index("serial")
+    led2.dispose()
+    for s in SERIALS[1:]:
+        assert got.loc[s, "damage"] == pytest.approx(want.loc[s, "damage"], rel=1e-12)
+        assert got.loc[s, "revolutions"] == pytest.approx(want.loc[s, "revolutions"], rel=1e-12)
+
+
+def test_follow_refuses_a_broken_chunk_file_and_goes_on(db_url: str, tmp_path: Path,
+                                                        run_cli) -> None:
+    _ledger(db_url, tmp_path).dispose()
+    folder = tmp_path / "chunks"
+    folder.mkdir()
+    log = make_log(30, seed=9)
+    write_log(folder / "a.csv", log.iloc[:15])
+    write_log(folder / "c.csv", log.iloc[15:])
+    (folder / "b.csv").write_text("Time (s),Bit Depth (m)\n1,abc\n")
+    out = run_cli("follow", str(folder), "--run", "R1", "--every", "0", "--until-idle", "3",
+                  "--db", db_url)
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and out.stderr.startswith("refused b.csv: ")
+    assert out.stdout.count(": chunk ") == 2
+
+
+def test_an_empty_ledger_answers_empty_tables(db_url: str) -> None:
+    led, _ = init_ledger(db_url)
+    assert inventory(led).empty and retire_lists(led).empty
+    with pytest.raises(InputError, match="no joint 'X'"):
+        history(led, "X")
+    led.dispose()

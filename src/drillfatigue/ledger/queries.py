@@ -73,38 +73,38 @@ def inventory(ledger: Ledger) -> pd.DataFrame:
         tot = _frame(conn, select(damage_totals))
         n_runs = _frame(conn, select(run_items.c.joint_id, run_items.c.run_id))
         last = _last_inspections(conn)
-    rows = []
-    for jt in j.itertuples(index=False):
-        t = tot[tot["joint_id"] == jt.id]
-        cov = t[(t["not_covered_time_s"] < t["time_in_hole_s"]) | (t["time_in_hole_s"] == 0)]
-        if len(cov):
-            g = cov.sort_values(["damage", "location"], ascending=[False, True]).iloc[0]
-            d, lo, hi, gl = float(g.damage), float(g.damage_lower), float(g.damage_upper), g.location
-        else:
-            d = lo = hi = math.nan
-            gl = ""
-        reasons = sorted({str(r) for r in t["not_covered_reason"].dropna()})
-        li = last.loc[jt.id] if len(last) and jt.id in last.index else None
-        rows.append({
-            "serial": jt.serial, "component_type": jt.component_type, "grade": jt.grade,
-            "od_m": jt.od_m, "length_m": jt.length_m, "governing_location": gl,
-            "damage": d, "damage_lower": lo, "damage_upper": hi,
-            "remaining_life": 1.0 - d, "remaining_life_lower": 1.0 - hi,
-            "remaining_life_upper": 1.0 - lo,
-            "time_in_hole_h": float(t["time_in_hole_s"].max() if len(t) else 0.0) / 3600.0,
-            "revolutions": float(t["revolutions"].max() if len(t) else 0.0),
-            "ood_h": float(t["ood_time_s"].max() if len(t) else 0.0) / 3600.0,
-            "not_covered": "; ".join(reasons),
-            "runs": int((n_runs["joint_id"] == jt.id).sum()) if len(n_runs) else 0,
-            "last_inspection": None if li is None else li["inspected_on"],
-            "last_result": None if li is None else li["result"],
-        })
-    out = pd.DataFrame(rows, columns=[
-        "serial", "component_type", "grade", "od_m", "length_m", "governing_location", "damage",
-        "damage_lower", "damage_upper", "remaining_life", "remaining_life_lower",
-        "remaining_life_upper", "time_in_hole_h", "revolutions", "ood_h", "not_covered", "runs",
-        "last_inspection", "last_result"])
-    return out.sort_values(["remaining_life", "serial"], na_position="last",
+    by = tot.groupby("joint_id")
+    # governing location: the largest best estimate among locations the model covered
+    cov = tot[(tot["not_covered_time_s"] < tot["time_in_hole_s"]) | (tot["time_in_hole_s"] == 0)]
+    gov = (cov.sort_values(["joint_id", "damage", "location"], ascending=[True, False, True],
+                           kind="stable")
+           .drop_duplicates("joint_id").set_index("joint_id"))
+    reasons = by["not_covered_reason"].agg(lambda r: "; ".join(sorted({str(x) for x in r.dropna()})))
+    runs_of = n_runs["joint_id"].value_counts() if len(n_runs) else pd.Series(dtype=int)
+    ids = j["id"]
+    g = gov.reindex(ids)
+    d = g["damage"].to_numpy(dtype=float)
+    lo = g["damage_lower"].to_numpy(dtype=float)
+    hi = g["damage_upper"].to_numpy(dtype=float)
+    li = last.reindex(ids) if len(last) else pd.DataFrame(index=ids,
+                                                          columns=["inspected_on", "result"])
+    frame = pd.DataFrame({
+        "serial": j["serial"].to_numpy(), "component_type": j["component_type"].to_numpy(),
+        "grade": j["grade"].to_numpy(), "od_m": j["od_m"].to_numpy(),
+        "length_m": j["length_m"].to_numpy(),
+        "governing_location": g["location"].fillna("").to_numpy(),
+        "damage": d, "damage_lower": lo, "damage_upper": hi,
+        "remaining_life": 1.0 - d, "remaining_life_lower": 1.0 - hi,
+        "remaining_life_upper": 1.0 - lo,
+        "time_in_hole_h": by["time_in_hole_s"].max().reindex(ids).fillna(0.0).to_numpy() / 3600.0,
+        "revolutions": by["revolutions"].max().reindex(ids).fillna(0.0).to_numpy(),
+        "ood_h": by["ood_time_s"].max().reindex(ids).fillna(0.0).to_numpy() / 3600.0,
+        "not_covered": reasons.reindex(ids).fillna("").to_numpy(),
+        "runs": runs_of.reindex(ids).fillna(0).astype(int).to_numpy(),
+        "last_inspection": li["inspected_on"].to_numpy(),
+        "last_result": li["result"].to_numpy(),
+    })
+    return frame.sort_values(["remaining_life", "serial"], na_position="last",
                            kind="stable").reset_index(drop=True)
 
 
