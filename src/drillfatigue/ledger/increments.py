@@ -24,7 +24,6 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from drillfatigue import units
 from drillfatigue.errors import InputError
 
 #: Locations the ledger tracks per joint and where along the joint they sit.
@@ -174,8 +173,3 @@ def check_increments(frame: pd.DataFrame, locations: pd.DataFrame, source: str) 
     out.loc[cov, "not_covered_reason"] = None
     out["ood_time_s"] = out["ood_time_s"].fillna(0.0)
     return out
-
-
-def hours(seconds: float) -> float:
-    """Seconds to hours (for display)."""
-    return seconds / units.HOUR_S
