@@ -11,7 +11,7 @@ export NUMBA_CACHE_DIR ?= $(CURDIR)/.numba_cache
 # mkdocs-material prints a banner about its successor on every build
 export NO_MKDOCS_2_WARNING := 1
 
-.PHONY: install repro test browser serve lint types imports docs docs-serve pytest bench bench-quick clean
+.PHONY: install repro test browser postgres serve lint types imports docs docs-serve pytest bench bench-quick clean
 
 $(STAMP): pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -27,7 +27,8 @@ repro: install
 
 # CI runs `make test`: lint, types, the import contract, the docs build
 # (warnings are errors) and the test suite, within the 10-minute budget.
-test: browser lint types imports docs pytest
+# `browser` and `postgres` install the system packages the tests drive.
+test: browser postgres lint types imports docs pytest
 
 lint: install
 	$(VENV)/bin/ruff check .
@@ -58,6 +59,12 @@ pytest: install
 browser:
 	@command -v chromium >/dev/null && command -v chromedriver >/dev/null || \
 	  { apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium chromium-driver; }
+
+# the ledger's tests start a throwaway PostgreSQL server from the system's
+# packages (tests/ledger/conftest.py): install it (as root, CI) when missing
+postgres:
+	@ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || command -v initdb >/dev/null || \
+	  { apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q postgresql; }
 
 # the digital twin's API and web page on http://127.0.0.1:8000/
 MODEL ?= data/surrogate/model

@@ -40,18 +40,23 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.sweep",
     "drillfatigue.cli.plan",
     "drillfatigue.cli.serve",
+    "drillfatigue.cli.ledger",
 )
 
 
-def _load_commands() -> None:
-    for name in COMMAND_MODULES:
+def _load_commands(modules: tuple[str, ...] = COMMAND_MODULES) -> None:
+    for name in modules:
         importlib.import_module(name)
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run the CLI; return the process exit code."""
+def main(argv: list[str] | None = None, modules: tuple[str, ...] = COMMAND_MODULES) -> int:
+    """Run the CLI; return the process exit code.
+
+    ``modules``: the command modules to load (all by default; one group's
+    ``python -m`` entry loads only its own).
+    """
     scope_numba_cache()  # before the command modules import any kernel
-    _load_commands()
+    _load_commands(modules)
     try:
         args = legacy_out_args(list(sys.argv[1:] if argv is None else argv))
         result = app(args=args, standalone_mode=False)

@@ -146,6 +146,11 @@ class LogImport:
         ISO date-time of the first row when the file gives it.
     notes : list of str
         Other rules applied (time derived from ROP, ...).
+    time_origin_s : float
+        The first row's time on the file's own clock, s: the elapsed time of
+        a numeric time channel, POSIX seconds of a date-time one, 0 for time
+        derived from depth. ``time_origin_s + time_s`` places rows of several
+        files of one log (chunks) on one time axis.
     """
 
     table: pd.DataFrame
@@ -157,6 +162,7 @@ class LogImport:
     dropped_repeated_rows: int = 0
     start_time: str | None = None
     notes: tuple[str, ...] = ()
+    time_origin_s: float = 0.0
 
     def report(self) -> dict[str, Any]:
         """JSON-ready summary of the import (for ``summary.json``)."""
@@ -273,6 +279,7 @@ def _finish(raw: _Raw, channel_map: Mapping[str, str], max_fill_s: float, max_ga
     if not (math.isfinite(max_gap_s) and max_gap_s > 0):
         raise InputError("--max-gap-s", f"got {max_gap_s}", "> 0 s")
     chosen, left = _assign(raw, channel_map)
+    clock_s = 0.0  # POSIX seconds of the first row of a date-time index
     labels: dict[str, str] = {}
     si: dict[str, np.ndarray] = {}
     for stem, name in chosen.items():
@@ -283,6 +290,7 @@ def _finish(raw: _Raw, channel_map: Mapping[str, str], max_fill_s: float, max_ga
                         else f"{name} [{unit or ''}]".replace(" []", ""))
         if stem == "time" and name in raw.text:
             si[stem], raw.start_time = _datetime_seconds(raw.text[name], label)
+            clock_s = pd.Timestamp(raw.start_time).timestamp()
             continue
         if name in raw.text:
             col = raw.text[name]
@@ -390,7 +398,8 @@ def _finish(raw: _Raw, channel_map: Mapping[str, str], max_fill_s: float, max_ga
     return LogImport(table=table, source=raw.source, index=index, channels=channels,
                      ignored=tuple(str(n) for n in left if n not in extra),
                      filled=filled, dropped_repeated_rows=dropped,
-                     start_time=raw.start_time, notes=tuple(notes))
+                     start_time=raw.start_time, notes=tuple(notes),
+                     time_origin_s=0.0 if index == "depth" else clock_s + float(t[0]))
 
 
 def _units_of(quantity: str) -> list[str]:
