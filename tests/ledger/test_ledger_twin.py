@@ -45,7 +45,13 @@ def model_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     cfg = SurrogateConfig(hidden_layers=(16,), max_epochs=6, patience=6, batch_size=128,
                           n_threads=1, censoring="none")
     out = tmp_path_factory.mktemp("model")
-    fit_surrogate(make_synthetic_dataset(30, seed=4), cfg).save(out)
+    # trained at the distances from the bit the test's tallies put their joints: the
+    # domain per component type x location then answers them (this test is about the
+    # ledger's bookkeeping, not about the domain)
+    places = ((1.5, "stabilizer"), (3.0, "stabilizer"), (5.0, "collar"), (14.0, "collar"),
+              (22.0, "collar"), (24.0, "hwdp"), (37.0, "hwdp"), (50.0, "hwdp"),
+              (48.0, "drill_pipe"), (70.0, "drill_pipe"))
+    fit_surrogate(make_synthetic_dataset(30, seed=4, components=places), cfg).save(out)
     return out
 
 
@@ -75,7 +81,10 @@ def test_three_re_racked_runs_equal_the_replays_summed_by_hand(model_dir: Path,
 
     model = Surrogate.load(model_dir)
     covered_types = set(model.categories["component_type"])
+    # the field day moved deeper and faster, into the synthetic model's training ranges
+    # (MD from about 950 m, ROP from 10 m/h): the sums below are then numbers, not zeros
     log = read_log_file(FIELD / "rig_day.csv").table
+    log = log.assign(bit_md_m=log["bit_md_m"] + 800.0, rop_m_per_s=log["rop_m_per_s"] * 2.0)
     n = len(log)
     bounds = [(0, n // 3), (n // 3, 2 * n // 3), (2 * n // 3, n)]
     led, _ = init_ledger(str(tmp_path / "ledger.sqlite"))
@@ -110,17 +119,19 @@ def test_three_re_racked_runs_equal_the_replays_summed_by_hand(model_dir: Path,
             select(joints.c.serial, damage_totals.c.location, damage_totals.c.damage,
                    damage_totals.c.time_in_hole_s, damage_totals.c.not_covered_reason)
             .join(joints, joints.c.id == damage_totals.c.joint_id))}
-    assert set(by_hand) == {k for k in got if k.split("/")[0][:2] in ("ST", "DC", "HW")}
+    assert set(by_hand) == {k for k in got if k.split("/")[0][:2] in ("ST", "DC", "HW", "DP")}
     for key, value in by_hand.items():
         # two chunks per run against one replay: the float32 network may answer a
         # condition a few 1e-7 apart in another batch (surrogate.twin._ConditionCache)
         assert got[key][0] == pytest.approx(value, rel=1e-6), key
-        assert value > 0
+    # a location out of the model's domain the whole time counts no damage; others do
+    assert sum(v > 0 for v in by_hand.values()) >= len(by_hand) // 2
     for key, seconds in hole_s.items():
         assert got[key][1] == pytest.approx(seconds, rel=1e-12), key
-    # the model knows no bit and no 'drill_pipe': listed as not covered, with the reason
+    # the model knows no bit: listed as not covered, with the reason
     assert "component_type 'bit' is not in the model's training data" in got["BIT/body"][2]
-    assert "'drill_pipe'" in got["DP1/connection"][2]
     inv = inventory(led).set_index("serial")
-    assert np.isnan(inv.loc["DP1", "damage"]) and inv.loc["DP1", "runs"] == 3
+    assert np.isnan(inv.loc["BIT", "damage"]) and inv.loc["DP1", "runs"] == 3
+    assert inv.loc["DP1", "damage"] == pytest.approx(
+        max(by_hand["DP1/body"], by_hand["DP1/connection"]), rel=1e-6)
     led.dispose()
