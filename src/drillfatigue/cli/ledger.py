@@ -75,6 +75,7 @@ def _shown(df: pd.DataFrame, display: Display) -> pd.DataFrame:
 @ledger_app.command("init")
 def init(db: str = DbOpt) -> None:
     """Create an empty ledger (a SQLite file, or the tables in an empty database)."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import init_ledger
 
     led, created = init_ledger(db)
@@ -86,6 +87,7 @@ def init(db: str = DbOpt) -> None:
 @ledger_app.command("migrate")
 def migrate(db: str = DbOpt) -> None:
     """Upgrade a ledger written by an older drillfatigue to this version's schema."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import migrate_ledger
 
     old, new = migrate_ledger(db)
@@ -123,6 +125,7 @@ def run_start(name: str = typer.Argument(..., help="run name, unique in the ledg
                                                  "for the twin (user units)"),
               db: str = DbOpt) -> None:
     """Register a run: its well, survey, tally (order from the bit up) and model."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import load_joint_tally, open_ledger, start_run
     from drillfatigue.ledger.twin_adapter import PYTHON_PREFIX, model_id
 
@@ -133,6 +136,7 @@ def run_start(name: str = typer.Argument(..., help="run name, unique in the ledg
         ref = str(model.resolve())
     else:
         ref = PYTHON_PREFIX + str(damage_function)
+        # start-up: SQLAlchemy and the ledger load only when a ledger command runs
         from drillfatigue.ledger.ingest import damage_function_for
 
         damage_function_for(ref)  # importable now, not at the first ingest
@@ -140,6 +144,7 @@ def run_start(name: str = typer.Argument(..., help="run name, unique in the ledg
     table = load_joint_tally(tally)
     survey_t = None
     if survey is not None:
+        # start-up: SQLAlchemy and the ledger load only when a ledger command runs
         from drillfatigue.io.surveys import twin_survey_table
 
         if not survey.is_file():
@@ -155,6 +160,7 @@ def run_start(name: str = typer.Argument(..., help="run name, unique in the ledg
 @run_app.command("end")
 def run_end(name: str = typer.Argument(..., help="run name"), db: str = DbOpt) -> None:
     """End a run (pulled out of hole): no more log data is taken for it."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import end_run, open_ledger
 
     led = open_ledger(db)
@@ -170,6 +176,7 @@ def ingest(logs: list[Path] = typer.Argument(..., help="log files (LAS 2.0, WITS
            chunk_rows: int = typer.Option(3600, "--chunk-rows", help="samples per transaction"),
            db: str = DbOpt) -> None:
     """Ingest a run's log, whole or in chunks; what was ingested before is not counted again."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import ingest_file, open_ledger
     from drillfatigue.ledger.ingest import read_log_file
 
@@ -194,6 +201,7 @@ def follow_cmd(source: Path = typer.Argument(..., help="a growing CSV/LAS log, o
                                                      "polls in a row with nothing new"),
                db: str = DbOpt) -> None:
     """Ingest a log as it grows, every N s; a restart resumes where the ledger stands."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import follow, open_ledger
 
     led = open_ledger(db)
@@ -214,6 +222,7 @@ def joints_cmd(units: str = UnitsOpt,
                                                "to this CSV file"),
                db: str = DbOpt) -> None:
     """The inventory: every joint by remaining life (least first), with intervals."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.files import atomic_output
     from drillfatigue.ledger import inventory, open_ledger
 
@@ -233,6 +242,7 @@ def joints_cmd(units: str = UnitsOpt,
 def history_cmd(serial: str = typer.Argument(..., help="joint serial"), units: str = UnitsOpt,
                 db: str = DbOpt) -> None:
     """One joint's history: its runs and positions, damage per run, serial events, inspections."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import history, open_ledger
 
     display = Display(check_system(units))
@@ -262,6 +272,7 @@ def retire_cmd(retire_at: float = typer.Option(0.8, "--retire-at", help="retire 
                                                           "inspected as RP 7G-2 class 2 or 3"),
                units: str = UnitsOpt, db: str = DbOpt) -> None:
     """Joints to retire and to inspect under the stated rules."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import RetireRules, open_ledger, retire_lists
 
     display = Display(check_system(units))
@@ -295,6 +306,7 @@ def inspect_cmd(serial: str = typer.Argument(..., help="joint serial"),
                                                       "condition, free text"),
                 units: str = UnitsOpt, db: str = DbOpt) -> None:
     """Record an inspection of a joint (written once per joint, date and method)."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import open_ledger, record_inspection
 
     display = Display(check_system(units))
@@ -313,6 +325,7 @@ def serial_correct(old: str = typer.Argument(..., help="the serial recorded"),
                    reason: str = typer.Option(..., "--reason", help="why"),
                    db: str = DbOpt) -> None:
     """Correct a joint's serial; its history stays with it and the event is recorded."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import correct_serial, open_ledger
 
     led = open_ledger(db)
@@ -327,6 +340,7 @@ def serial_swap(a: str = typer.Argument(..., help="one serial"),
                 reason: str = typer.Option(..., "--reason", help="why"),
                 db: str = DbOpt) -> None:
     """Two joints' tags were swapped: each joint takes the other's serial."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import open_ledger, swap_serials
 
     led = open_ledger(db)
@@ -340,6 +354,7 @@ def export_cmd(out: Path = typer.Option(..., "--out", help="output folder"),
                fmt: str = typer.Option("csv", "--format", help="csv or parquet"),
                db: str = DbOpt) -> None:
     """Export the ledger's tables (natural keys, fixed row order: comparable byte for byte)."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.ledger import export_ledger, open_ledger
 
     led = open_ledger(db)

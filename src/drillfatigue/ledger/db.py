@@ -82,6 +82,7 @@ def _sqlite_events(engine: Engine) -> None:
 
 def alembic_config(conn: Connection) -> Config:
     """Alembic's configuration for the packaged migrations, bound to ``conn``."""
+    # start-up: Alembic only to create or migrate a ledger
     from alembic.config import Config
 
     cfg = Config()
@@ -92,6 +93,7 @@ def alembic_config(conn: Connection) -> Config:
 
 def script_revisions() -> tuple[str | None, set[str]]:
     """The head and every revision of the packaged migration scripts (imports Alembic)."""
+    # start-up: Alembic only to create or migrate a ledger
     from alembic.script import ScriptDirectory
 
     script = ScriptDirectory(str(MIGRATIONS_DIR))
@@ -207,6 +209,7 @@ def init_ledger(db: str, revision: str = "head") -> tuple[Ledger, bool]:
             raw.driver_connection.execute("PRAGMA journal_mode = WAL")  # type: ignore[union-attr]
         finally:
             raw.close()
+    # start-up: Alembic only to create or migrate a ledger
     from alembic import command
 
     with ledger.engine.begin() as conn:
@@ -225,6 +228,7 @@ def migrate_ledger(db: str) -> tuple[str, str]:
         ledger.dispose()
         raise InputError("--db", f"{str(db)!r} is not a drillfatigue ledger",
                          f"a ledger (create one: drillfatigue ledger init --db {db})")
+    # start-up: Alembic only to create or migrate a ledger
     from alembic import command
 
     with ledger.engine.begin() as conn:

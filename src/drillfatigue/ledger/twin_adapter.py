@@ -69,6 +69,7 @@ def twin_increments(log: pd.DataFrame, context: RunContext) -> pd.DataFrame:
         ``damage``, ``damage_lower``, ``damage_upper`` (Miner sums over the
         log's intervals; NaN where not covered) and ``ood_time_s``.
     """
+    # optional extra [surrogate]: torch
     from drillfatigue.surrogate.twin import replay_log
 
     model = _load_model(context.model_ref, model_id(context.model_ref))
