@@ -14,6 +14,7 @@ from drillfatigue.cli import main
 from drillfatigue.config import case_from_dict, load_case, load_params
 from drillfatigue.config.bit import BitConfig
 from drillfatigue.config.operation import OperationConfig
+from drillfatigue.config.rig import AutodrillerConfig
 from drillfatigue.dynamics.api import simulate
 from drillfatigue.dynamics.model import straight_path
 from drillfatigue.errors import InputError
@@ -76,6 +77,8 @@ def test_every_model_input_has_a_bound() -> None:
     (OperationConfig, "rop_m_per_s", "rop_m_per_s"),
     (OperationConfig, "bit_md_m", "bit_md_m"),
     (BitConfig, "rop_c1_m_per_N_sqrt_s", "rop_c1_m_per_N_sqrt_s"),
+    (OperationConfig, "wob_N", "wob_N"),
+    (AutodrillerConfig, "wob_set_N", "wob_set_N"),
 ])
 def test_simulator_fields_use_the_same_bounds(model: type, field: str, name: str) -> None:
     """A simulator field of the same quantity has the table's range (one rule)."""

@@ -15,6 +15,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from drillfatigue.config.base import StrictModel
+from drillfatigue.limits import FEATURE_BOUNDS
 
 
 class OperationConfig(StrictModel):
@@ -48,7 +49,8 @@ class OperationConfig(StrictModel):
     bit_on_bottom: bool = True
     rop_m_per_s: float = Field(0.0, ge=0.0, le=1.0)
     wob_N: float | None = Field(
-        None, gt=0.0, le=2e6, description="weight-on-bit set-point, N: the driller's control. It "
+        None, gt=0.0, le=FEATURE_BOUNDS["wob_N"].hi,
+        description="weight-on-bit set-point, N: the driller's control. It "
         "is the autodriller's rig.autodriller.wob_set_N; the sweep's rig boundaries move it "
         "there (a simulated case gives it in the rig section)")
     tob_Nm: float = Field(0.0, ge=-1e6, le=1e6, description="given torque on bit (bit_on_bottom)")

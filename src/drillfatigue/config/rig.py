@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field, model_validator
 
 from drillfatigue.config.base import StrictModel
+from drillfatigue.limits import FEATURE_BOUNDS
 from drillfatigue.units import HOUR_S
 
 if TYPE_CHECKING:
@@ -95,7 +96,7 @@ class AutodrillerConfig(StrictModel):
     """
 
     measurement: Literal["hook_load", "wob"] = "hook_load"
-    wob_set_N: float = Field(100e3, gt=0.0, le=2e6)
+    wob_set_N: float = Field(100e3, gt=0.0, le=FEATURE_BOUNDS["wob_set_N"].hi)
     kp_m_per_s_per_N: float = Field(5.7e-7, ge=0.0, le=1e-3)
     ki_m_per_s2_per_N: float = Field(5.7e-8, gt=0.0, le=1e-3)
     rop_limit_m_per_s: float = Field(60.0 / HOUR_S, gt=0.0, le=1.0)

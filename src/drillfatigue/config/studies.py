@@ -25,6 +25,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from drillfatigue.config.base import StrictModel
+from drillfatigue.limits import FEATURE_BOUNDS
 
 _MD_MAX = 20000.0
 
@@ -108,7 +109,8 @@ class Case2Config(StrictModel):
                            "drills, and the bit cuts what the bit law lets it; prescribed_rop: the "
                            "bit guided at rop_m_per_s "
                            "(validation of the founding paper's set-up)")
-    wob_set_N: float = Field(100e3, gt=0.0, le=2e6, description="autodriller WOB set-point (rig)")
+    wob_set_N: float = Field(100e3, gt=0.0, le=FEATURE_BOUNDS["wob_set_N"].hi,
+                             description="autodriller WOB set-point (rig)")
     autodriller_measurement: Literal["wob", "hook_load"] = Field(
         "wob", description="what the autodriller measures (rig)")
     block_initial_travel_m: float = Field(
@@ -190,7 +192,8 @@ class Case3Config(StrictModel):
     span_bending: bool = Field(True, description="contact.span_bending: bending of the "
                                                  "pipe's weight between its supports")
     lateral_mud_mass: bool = Field(True, description="string.lateral_mud_mass")
-    wob_set_N: float = Field(100e3, gt=0.0, le=2e6, description="autodriller set-point (rig)")
+    wob_set_N: float = Field(100e3, gt=0.0, le=FEATURE_BOUNDS["wob_set_N"].hi,
+                             description="autodriller set-point (rig)")
     autodriller_measurement: Literal["wob", "hook_load"] = "wob"
     block_initial_travel_m: float = Field(5.0, ge=0.0, le=60.0, description="rig")
     lobe_amplitude_m: float = Field(0.001, ge=0.0, le=0.05,
