@@ -563,8 +563,12 @@ class DomainChecker:
 
     def seen_combinations(self) -> list[str]:
         """The categorical combinations of the training data, as text."""
-        return [" ".join(self.levels_[j][int(c[j])] for j in range(len(self.cat_names_)))
-                for c in self.group_codes_]
+        return [self._seen_combination(gi) for gi in range(len(self.group_codes_))]
+
+    def _seen_combination(self, gi: int) -> str:
+        """Training combination ``gi`` as text (``collar body``)."""
+        c = self.group_codes_[gi]
+        return " ".join(self.levels_[j][int(c[j])] for j in range(len(self.cat_names_)))
 
     def _why(self, x_row: np.ndarray, dist: float, gi: int, cat_row: np.ndarray | None
              ) -> list[tuple[str, str, str]]:
@@ -575,7 +579,7 @@ class DomainChecker:
                      f"{combo}: a combination the training data does not have: no answer",
                      "one of " + ", ".join(self.seen_combinations()))]
         lo, hi, tol = self._bounds(gi)
-        where = (f" for {self.seen_combinations()[gi]}" if self.cat_names_ else "")
+        where = (f" for {self._seen_combination(gi)}" if self.cat_names_ else "")
         out = []
         for j, name in enumerate(self.names):
             v = float(x_row[j])
@@ -599,6 +603,7 @@ class DomainChecker:
         if not rows.size:
             return out
         g = self._group_of(None if x_cat is None else np.asarray(x_cat)[rows], rows.size)
+        combos = self.seen_combinations() if self.cat_names_ else []  # once, not per row
         for r, i in enumerate(rows):
             gi = int(g[r])
             if gi < 0:
@@ -606,7 +611,7 @@ class DomainChecker:
                 out[i] = f"{combo}: a combination the training data does not have"
                 continue
             lo, hi, tol = self._bounds(gi)
-            where = f" for {self.seen_combinations()[gi]}" if self.cat_names_ else ""
+            where = f" for {combos[gi]}" if combos else ""
             bits = []
             for j, name in enumerate(self.names):
                 v = float(x[i, j])
