@@ -3,6 +3,7 @@
     drillfatigue ledger init --db ledger.sqlite
     drillfatigue ledger run start RUN1 --well W-1 --tally tally.csv --survey survey.csv \\
         --model data/surrogate/model --set mu_static=0.35 ... --db ledger.sqlite
+    drillfatigue ledger run list --db ledger.sqlite
     drillfatigue ledger ingest LOG.las --run RUN1 --db ledger.sqlite
     drillfatigue ledger follow LOG.csv --run RUN1 --every 10 --db ledger.sqlite
     drillfatigue ledger joints --units field --db ledger.sqlite
@@ -46,6 +47,9 @@ DbOpt = typer.Option(DEFAULT_DB, "--db", help="SQLite file or database URL "
                      "(postgresql+psycopg://USER@HOST/DB)")
 RunOpt = typer.Option(..., "--run", help="run name (from `ledger run start`)")
 UnitsOpt = typer.Option("si", "--units", help="units of lengths and diameters shown: si or field")
+#: the columns of the retire and inspect lists printed by ``ledger retire``
+RETIRE_SHOWN = ("serial", "component_type", "od_m", "damage", "damage_lower", "damage_upper",
+                "remaining_life", "last_result", "reason")
 
 
 def _print_table(df: pd.DataFrame) -> None:
@@ -55,21 +59,6 @@ def _print_table(df: pd.DataFrame) -> None:
     with pd.option_context("display.max_rows", None, "display.max_columns", None,
                            "display.width", 200):
         print(df.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-
-
-def _shown(df: pd.DataFrame, display: Display) -> pd.DataFrame:
-    """Lengths and diameters in the display units, the unit in the column name."""
-    out = df.copy()
-    for col in list(out.columns):
-        if col.endswith("_m") and col.startswith(("od", "id", "wall")):
-            q, base = "diameter", col[:-2]
-        elif col.endswith("_m"):
-            q, base = "length", col[:-2]
-        else:
-            continue
-        unit = display.unit(q).replace(" ", "_").replace("/", "_per_")
-        out[f"{base}_{unit}"] = display.value(q, pd.to_numeric(out.pop(col)).to_numpy(float))
-    return out
 
 
 @ledger_app.command("init")
@@ -169,6 +158,18 @@ def run_end(name: str = typer.Argument(..., help="run name"), db: str = DbOpt) -
     print(f"run {name} ended" if changed else f"run {name} had ended already")
 
 
+@run_app.command("list")
+def run_list(db: str = DbOpt) -> None:
+    """The runs, in the order started: well, open or ended, joints, chunks, log span, model."""
+    # start-up: SQLAlchemy and the ledger load only when a ledger command runs
+    from drillfatigue.ledger import open_ledger, runs_table
+
+    led = open_ledger(db)
+    table = runs_table(led)
+    led.dispose()
+    _print_table(table.drop(columns=["model_id", "started_at", "ended_at"]))
+
+
 @ledger_app.command("ingest")
 def ingest(logs: list[Path] = typer.Argument(..., help="log files (LAS 2.0, WITSML 1.4.1.1 "
                                              "log XML, CSV), in time order"),
@@ -224,13 +225,13 @@ def joints_cmd(units: str = UnitsOpt,
     """The inventory: every joint by remaining life (least first), with intervals."""
     # start-up: SQLAlchemy and the ledger load only when a ledger command runs
     from drillfatigue.files import atomic_output
-    from drillfatigue.ledger import inventory, open_ledger
+    from drillfatigue.ledger import in_units, inventory, open_ledger
 
-    display = Display(check_system(units))
+    check_system(units)
     if out is not None and out.suffix.lower() != ".csv":
         raise InputError("--out", f"{str(out)!r}", "a .csv file")
     led = open_ledger(db)
-    table = _shown(inventory(led), display)
+    table = in_units(inventory(led), units)
     led.dispose()
     _print_table(table)
     if out is not None:
@@ -243,20 +244,20 @@ def history_cmd(serial: str = typer.Argument(..., help="joint serial"), units: s
                 db: str = DbOpt) -> None:
     """One joint's history: its runs and positions, damage per run, serial events, inspections."""
     # start-up: SQLAlchemy and the ledger load only when a ledger command runs
-    from drillfatigue.ledger import history, open_ledger
+    from drillfatigue.ledger import history, in_units, open_ledger
 
-    display = Display(check_system(units))
+    check_system(units)
     led = open_ledger(db)
     h = history(led, serial)
     led.dispose()
     print(f"{h.serial} ({h.component_type})")
     print("runs:")
-    _print_table(_shown(h.runs, display))
+    _print_table(in_units(h.runs, units))
     if not h.events.empty:
         print("serial events:")
         _print_table(h.events)
     print("inspections:")
-    _print_table(_shown(h.inspections, display))
+    _print_table(in_units(h.inspections, units))
 
 
 @ledger_app.command("retire")
@@ -273,9 +274,9 @@ def retire_cmd(retire_at: float = typer.Option(0.8, "--retire-at", help="retire 
                units: str = UnitsOpt, db: str = DbOpt) -> None:
     """Joints to retire and to inspect under the stated rules."""
     # start-up: SQLAlchemy and the ledger load only when a ledger command runs
-    from drillfatigue.ledger import RetireRules, open_ledger, retire_lists
+    from drillfatigue.ledger import RetireRules, in_units, open_ledger, retire_lists
 
-    display = Display(check_system(units))
+    check_system(units)
     rules = RetireRules(retire_at=retire_at, inspect_at=inspect_at,
                         reinspect_after=reinspect_after,
                         downgraded_retire_at=downgraded_retire_at)
@@ -285,9 +286,7 @@ def retire_cmd(retire_at: float = typer.Option(0.8, "--retire-at", help="retire 
     for action in ("retire", "inspect"):
         part = lists[lists["action"] == action]
         print(f"{action} ({len(part)}):")
-        _print_table(_shown(part[["serial", "component_type", "od_m", "damage", "damage_lower",
-                                  "damage_upper", "remaining_life", "last_result", "reason"]],
-                            display))
+        _print_table(in_units(part[list(RETIRE_SHOWN)], units))
 
 
 @ledger_app.command("inspect")

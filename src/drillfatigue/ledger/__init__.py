@@ -6,8 +6,9 @@ up; log chunks are ingested exactly once (:mod:`drillfatigue.ledger.ingest`)
 and their damage, computed by the digital twin behind one adapter
 (:mod:`drillfatigue.ledger.twin_adapter`), is added to each joint by its
 serial. The query functions (:mod:`drillfatigue.ledger.queries`) answer the
-inventory, a joint's history and the retire and inspect lists. See
-``docs/ledger.md``.
+inventory, a joint's history, the retire and inspect lists and the runs, for
+the ``drillfatigue ledger`` commands and the service's ``/v1/ledger``
+endpoints alike. See ``docs/ledger.md``.
 """
 
 from drillfatigue.ledger.db import Ledger, init_ledger, migrate_ledger, open_ledger
@@ -26,10 +27,14 @@ from drillfatigue.ledger.queries import (
     export_ledger,
     export_tables,
     history,
+    in_units,
     inventory,
+    ledger_summary,
     retire_lists,
+    runs_table,
 )
 from drillfatigue.ledger.store import (
+    NotInLedger,
     correct_serial,
     end_run,
     record_inspection,
@@ -40,8 +45,9 @@ from drillfatigue.ledger.tally import load_joint_tally
 
 __all__ = [
     "DamageFunction", "FollowSummary", "IngestReport", "JointHistory", "Ledger", "LogChunk",
-    "RetireRules", "RunContext", "correct_serial", "end_run", "export_ledger", "export_tables",
-    "follow", "history", "ingest_chunk", "ingest_file", "init_ledger", "inventory",
-    "load_joint_tally", "migrate_ledger", "open_ledger", "read_log_file", "record_inspection",
-    "retire_lists", "start_run", "swap_serials",
+    "NotInLedger", "RetireRules", "RunContext", "correct_serial", "end_run", "export_ledger",
+    "export_tables", "follow", "history", "in_units", "ingest_chunk", "ingest_file",
+    "init_ledger", "inventory", "ledger_summary", "load_joint_tally", "migrate_ledger",
+    "open_ledger", "read_log_file", "record_inspection", "retire_lists", "runs_table",
+    "start_run", "swap_serials",
 ]

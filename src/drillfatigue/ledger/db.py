@@ -128,6 +128,12 @@ class Ledger:
             with conn.begin():
                 yield conn
 
+    def shown_name(self) -> str:
+        """The ledger's file path, or its URL with the password hidden (for a page or a log)."""
+        if self.dialect == "sqlite":
+            return make_url(self.url).database or self.db
+        return make_url(self.url).render_as_string(hide_password=True)
+
     def revision(self) -> str | None:
         """The schema revision of the database (None if it is not a ledger)."""
         with self.engine.connect() as conn:

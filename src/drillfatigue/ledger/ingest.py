@@ -55,6 +55,9 @@ from drillfatigue.ledger.twin_adapter import PYTHON_PREFIX, twin_increments
 
 #: Samples per chunk when a file is ingested in pieces (one hour of a 1 Hz log).
 DEFAULT_CHUNK_ROWS = 3600
+#: formats of a chunk given as content instead of a file (the service's ``log.format``),
+#: with the file suffix its reader (:func:`drillfatigue.io.logs.load_log`) goes by
+LOG_FORMATS: dict[str, str] = {"csv": ".csv", "las": ".las", "witsml": ".xml"}
 _MAX_ATTEMPTS = 200
 
 

@@ -1,7 +1,9 @@
-"""Questions to the ledger: the inventory, one joint's history, what to retire or inspect, exports.
+"""Questions to the ledger: the inventory, one joint's history, what to retire or inspect,
+the runs, exports.
 
 Plain functions returning DataFrames (SI: m, s; damage as a Miner fraction),
-for the CLI and for a service endpoint alike. A joint's damage is that of
+for the CLI and for the service's endpoints alike (:func:`in_units` shows
+lengths and diameters in field units for both). A joint's damage is that of
 its governing location (the largest best estimate over body and
 connection, with that location's interval); remaining life is
 ``1 - damage`` with the interval ``[1 - upper, 1 - lower]``.
@@ -15,10 +17,11 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from sqlalchemy import Connection, select
+from sqlalchemy import Connection, func, select
 
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output
+from drillfatigue.io.display import Display, check_system
 from drillfatigue.ledger.db import Ledger
 from drillfatigue.ledger.schema import (
     chunks,
@@ -30,7 +33,7 @@ from drillfatigue.ledger.schema import (
     runs,
     serial_events,
 )
-from drillfatigue.ledger.store import RP7G2_CLASSES, joint_row
+from drillfatigue.ledger.store import OPEN, RP7G2_CLASSES, joint_row
 
 EXPORT_KIND = "ledger-export"
 EXPORT_FORMATS = ("csv", "parquet")
@@ -39,6 +42,28 @@ EXPORT_FORMATS = ("csv", "parquet")
 def _frame(conn: Connection, stmt: object) -> pd.DataFrame:
     res = conn.execute(stmt)  # type: ignore[call-overload]
     return pd.DataFrame(res.fetchall(), columns=list(res.keys()))
+
+
+def in_units(frame: pd.DataFrame, units: str = "si", option: str = "--units") -> pd.DataFrame:
+    """``frame`` with its lengths and diameters shown in ``units`` (``si`` or ``field``).
+
+    A column ``NAME_m`` becomes ``NAME_<unit>``: diameters and walls (``od_m``,
+    ``id_m``, ``wall_m``) in mm or in, other lengths in m or ft. Other columns
+    are left as they are. ``option`` names the setting in the error of an
+    unknown unit system (``--units`` for the CLI, ``units`` for the service).
+    """
+    display = Display(check_system(units, option))
+    out = frame.copy()
+    for col in list(out.columns):
+        if col.endswith("_m") and col.startswith(("od", "id", "wall")):
+            q, base = "diameter", col[:-2]
+        elif col.endswith("_m"):
+            q, base = "length", col[:-2]
+        else:
+            continue
+        unit = display.unit(q).replace(" ", "_").replace("/", "_per_")
+        out[f"{base}_{unit}"] = display.value(q, pd.to_numeric(out.pop(col)).to_numpy(float))
+    return out
 
 
 def _last_inspections(conn: Connection) -> pd.DataFrame:
@@ -106,6 +131,55 @@ def inventory(ledger: Ledger) -> pd.DataFrame:
     })
     return frame.sort_values(["remaining_life", "serial"], na_position="last",
                            kind="stable").reset_index(drop=True)
+
+
+def runs_table(ledger: Ledger) -> pd.DataFrame:
+    """Every run, in the order it was started.
+
+    Returns
+    -------
+    DataFrame
+        ``run``, ``well``, ``status`` (open or ended), ``joints`` (tally
+        length), ``chunks`` (log chunks ingested), ``first_t_s`` and
+        ``last_t_s`` (the ingested log's time span on its own clock, s; NaN
+        before the first chunk), ``log_h`` (that span in hours), ``model``
+        (model folder or ``python:MODULE:FUNCTION``), ``model_id``,
+        ``started_at`` and ``ended_at`` (UTC, when recorded).
+    """
+    with ledger.read() as conn:
+        r = _frame(conn, select(runs.c.id, runs.c.name, runs.c.well, runs.c.status,
+                                runs.c.chunk_seq, runs.c.first_t_s, runs.c.last_t_s,
+                                runs.c.model_ref, runs.c.model_id, runs.c.started_at,
+                                runs.c.ended_at).order_by(runs.c.id))
+        n: dict[int, int] = {int(i): int(c) for i, c in conn.execute(
+            select(run_items.c.run_id, func.count()).group_by(run_items.c.run_id))}
+    first = pd.to_numeric(r["first_t_s"]).to_numpy(dtype=float)
+    last = pd.to_numeric(r["last_t_s"]).to_numpy(dtype=float)
+    return pd.DataFrame({
+        "run": r["name"].to_numpy(), "well": r["well"].to_numpy(),
+        "status": r["status"].to_numpy(),
+        "joints": np.array([n.get(int(i), 0) for i in r["id"]], dtype=np.int64),
+        "chunks": r["chunk_seq"].to_numpy(dtype=int), "first_t_s": first, "last_t_s": last,
+        "log_h": (last - first) / 3600.0, "model": r["model_ref"].to_numpy(),
+        "model_id": r["model_id"].to_numpy(), "started_at": r["started_at"].to_numpy(),
+        "ended_at": r["ended_at"].to_numpy()})
+
+
+def ledger_summary(ledger: Ledger) -> dict[str, object]:
+    """What the ledger holds: back-end, where (password hidden), schema revision and the
+    number of joints, runs, open runs, log chunks and inspections."""
+    with ledger.read() as conn:
+        def count(stmt: object) -> int:
+            return int(conn.execute(stmt).scalar_one())  # type: ignore[call-overload]
+
+        counts = {"joints": count(select(func.count()).select_from(joints)),
+                  "runs": count(select(func.count()).select_from(runs)),
+                  "open_runs": count(select(func.count()).select_from(runs)
+                                     .where(runs.c.status == OPEN)),
+                  "chunks": count(select(func.count()).select_from(chunks)),
+                  "inspections": count(select(func.count()).select_from(inspections))}
+    return {"backend": ledger.dialect, "database": ledger.shown_name(),
+            "schema_revision": ledger.revision(), **counts}
 
 
 @dataclass(frozen=True)

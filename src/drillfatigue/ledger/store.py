@@ -44,6 +44,10 @@ def now_utc() -> str:
     return dt.datetime.now(dt.UTC).isoformat(timespec="seconds")
 
 
+class NotInLedger(InputError):
+    """A run or a serial the ledger does not hold (the service answers 404 for a serial)."""
+
+
 def _name(value: str, field: str) -> str:
     v = str(value).strip()
     if not v or len(v) > _MAX_NAME or any(ord(c) < 32 for c in v):
@@ -56,7 +60,7 @@ def run_row(conn: Connection, name: str) -> Row[Any]:
     row = conn.execute(select(runs).where(runs.c.name == name)).first()
     if row is None:
         known = [r[0] for r in conn.execute(select(runs.c.name).order_by(runs.c.name).limit(10))]
-        raise InputError("--run", f"no run {name!r} in the ledger",
+        raise NotInLedger("--run", f"no run {name!r} in the ledger",
                          ", ".join(known) if known else "start one: drillfatigue ledger run start")
     return row
 
@@ -65,7 +69,7 @@ def joint_row(conn: Connection, serial: str) -> Row[Any]:
     """The row of the joint that now carries ``serial``; InputError if none."""
     row = conn.execute(select(joints).where(joints.c.serial == serial)).first()
     if row is None:
-        raise InputError("SERIAL", f"no joint {serial!r} in the ledger",
+        raise NotInLedger("SERIAL", f"no joint {serial!r} in the ledger",
                          "a serial from a run's tally (drillfatigue ledger joints)")
     return row
 
