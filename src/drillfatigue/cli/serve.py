@@ -2,14 +2,17 @@
 
 ::
 
-    drillfatigue serve --model data/surrogate/model [--model other=PATH] [--port 8000]
+    drillfatigue serve --model data/surrogate/model [--model other=PATH] [--port 8000] \
+        [--ledger ledger.sqlite]
     drillfatigue window --model data/surrogate/model --x rpm=60:180:25 --y wob_kN=30:120:19 \\
         --set md_m=1500 --set s_from_bit_m=8 --set component_type=collar ... --out map.png
 
 ``serve`` loads every model once, answers on ``http://HOST:PORT/`` (web page)
 and ``/v1/...`` (API, schema at ``/openapi.json``); SIGHUP or
 ``POST /v1/model/reload`` reloads the models from their folders without
-dropping requests. ``window`` writes the operating-window map
+dropping requests. ``--ledger`` opens a fatigue ledger (SQLite file or
+PostgreSQL URL) for the ``/v1/ledger`` endpoints and the page's inventory;
+a server may run with a ledger and no model. ``window`` writes the operating-window map
 (:mod:`drillfatigue.surrogate.window`) as a PNG and, with ``--csv``, the grid.
 """
 
@@ -28,8 +31,10 @@ from drillfatigue.files import atomic_output, check_output_file
 
 
 @app.command("serve")
-def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or NAME=FOLDER; "
+def serve(model: list[str] = typer.Option([], "--model", help="model folder, or NAME=FOLDER; "
                                           "repeat for several (the first is the default)"),
+          ledger: str | None = typer.Option(None, "--ledger", help="fatigue ledger to serve: "
+                                            "SQLite file or postgresql+psycopg://USER@HOST/DB"),
           host: str = typer.Option("127.0.0.1", "--host", help="address to listen on"),
           port: int = typer.Option(8000, "--port", help="TCP port"),
           max_body_mb: float = typer.Option(16.0, "--max-body-mb",
@@ -56,6 +61,9 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
         raise InputError("--max-query-rows", f"got {max_query_rows}", "1 to 10000000")
     if not 1 <= torch_threads <= 256:
         raise InputError("--torch-threads", f"got {torch_threads}", "1 to 256")
+    if not model and ledger is None:
+        raise InputError("--model", "no model and no ledger to serve",
+                         "--model FOLDER, --ledger PATH_OR_URL, or both")
     try:  # optional extra [service]: uvicorn, FastAPI (and torch through the surrogate)
         import uvicorn
 
@@ -66,15 +74,28 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
     specs = dict(parse_model_spec(s) for s in model)
     if len(specs) != len(model):
         raise InputError("--model", "two models with the same name", "distinct NAME=FOLDER")
-    import torch  # optional extra [surrogate]
+    led = None
+    if ledger is not None:
+        # optional extra [ledger]: SQLAlchemy, Alembic, psycopg
+        from drillfatigue.ledger import open_ledger
 
-    torch.set_num_threads(torch_threads)
-    registry = ModelRegistry(specs)
+        try:
+            led = open_ledger(ledger)
+        except InputError as exc:
+            raise InputError("--ledger", exc.problem, exc.allowed) from None
+    registry = None
+    if specs:
+        import torch  # optional extra [surrogate]
+
+        torch.set_num_threads(torch_threads)
+        registry = ModelRegistry(specs)
     limits = Limits(max_body_bytes=int(max_body_mb * 1024 * 1024),
                     max_query_rows=max_query_rows)
-    server_app = create_app(registry, limits)
+    server_app = create_app(registry, limits, ledger=led)
 
     def on_hup(signum: int, frame: object) -> None:
+        if registry is None:
+            return
         def work() -> None:
             try:
                 registry.reload()
@@ -85,8 +106,15 @@ def serve(model: list[str] = typer.Option(..., "--model", help="model folder, or
 
     if hasattr(signal, "SIGHUP"):
         signal.signal(signal.SIGHUP, on_hup)
-    print(f"serving {', '.join(registry.names)} on http://{host}:{port}/", flush=True)
-    uvicorn.run(server_app, host=host, port=port, log_level="warning")
+    parts = [] if registry is None else [", ".join(registry.names)]
+    if led is not None:
+        parts.append(f"the ledger {led.shown_name()}")
+    print(f"serving {' and '.join(parts)} on http://{host}:{port}/", flush=True)
+    try:
+        uvicorn.run(server_app, host=host, port=port, log_level="warning")
+    finally:
+        if led is not None:
+            led.dispose()
 
 
 @app.command("window")

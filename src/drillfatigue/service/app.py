@@ -12,15 +12,18 @@ Endpoints (OpenAPI schema at ``/openapi.json``, interactive docs at ``/docs``):
 ``POST /v1/plan/rank``         candidate well plans -> ranking by the critical life
 ``POST /v1/window``            operating-window map: life over a grid of two parameters
 ``POST /v1/window.png``        the same map as a PNG, out-of-domain cells hatched
+``/v1/ledger/...``             the fatigue ledger (:mod:`drillfatigue.service.ledger`)
 ``GET  /``                     the web page (static files under ``/static``)
 ``GET  /docs``                 interactive API documentation (Swagger UI, shipped)
 =============================  ===========================================================
 
-Every refused request is answered with a JSON body whose ``detail`` is one
-line ``field: problem (allowed: ...)``: 422 for invalid content, 413 for a
-body over the size limit, 404 for an unknown path. An unexpected failure is
-a 500 whose ``detail`` names the exception type only; the traceback goes to
-the server log, never to the client.
+A server runs with models, a ledger (``--ledger``) or both; an endpoint of a
+part it was not started with answers 503. Every refused request is answered
+with a JSON body whose ``detail`` is one line ``field: problem (allowed:
+...)``: 422 for invalid content, 413 for a body over the size limit, 404 for
+an unknown path or serial, 503 for a part not served. An unexpected failure
+is a 500 whose ``detail`` names the exception type only; the traceback goes
+to the server log, never to the client.
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ import math
 from dataclasses import asdict, dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -51,6 +54,8 @@ from drillfatigue.errors import InputError
 from drillfatigue.io.examples import field_example
 from drillfatigue.io.logs import log_bit_md_m
 from drillfatigue.io.tally import load_tally_text
+from drillfatigue.service.errors import NotServed, ServiceRefusal
+from drillfatigue.service.ledger import add_ledger_routes
 from drillfatigue.service.logs import log_formats, read_csv_table, read_log
 from drillfatigue.service.registry import LoadedModel, ModelRegistry
 from drillfatigue.service.rows import predict_rows
@@ -85,6 +90,9 @@ from drillfatigue.surrogate.twin import (
     survey_from_well,
 )
 from drillfatigue.surrogate.window import Axis, WindowMap, operating_window, window_png
+
+if TYPE_CHECKING:
+    from drillfatigue.ledger import Ledger
 
 log = logging.getLogger("drillfatigue.service")
 
@@ -316,30 +324,51 @@ def _candidates(req: PlanRankRequest, limits: Limits) -> CandidateFile:
     return cset
 
 
-def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI:
-    """The service answering with the models of ``registry``.
+def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
+               ledger: Ledger | None = None) -> FastAPI:
+    """The service answering with the models of ``registry`` and from ``ledger``.
 
     Parameters
     ----------
-    registry : ModelRegistry
-        Loaded models; reloads swap its entries.
+    registry : ModelRegistry or None
+        Loaded models; reloads swap its entries. None: the model endpoints
+        answer 503 (a server for a ledger alone).
     limits : Limits, optional
         Request size limits (defaults: :class:`Limits`).
+    ledger : Ledger, optional
+        An open ledger (:func:`drillfatigue.ledger.open_ledger`) for the
+        ``/v1/ledger`` endpoints; None: they answer 503.
     """
     lim = limits or Limits()
     errors: dict[int | str, dict[str, Any]] = {
         422: {"model": ErrorResponse, "description": "invalid request, one line"},
-        413: {"model": ErrorResponse, "description": "body over the size limit"}}
+        413: {"model": ErrorResponse, "description": "body over the size limit"},
+        503: {"model": ErrorResponse, "description": "the server was started without the "
+              "model or the ledger this needs"}}
     app = FastAPI(title="drillfatigue digital twin", version=__version__,
                   description="Fatigue damage of a drill string from the surrogate: "
-                  "queries, operating-log replay, operating-window maps, well-plan ranking.",
+                  "queries, operating-log replay, operating-window maps, well-plan ranking; "
+                  "the fatigue ledger of every joint by serial.",
                   docs_url=None, redoc_url=None)
     app.state.registry = registry
     app.state.limits = lim
+    app.state.ledger = ledger
+
+    def models() -> ModelRegistry:
+        if registry is None:
+            raise NotServed("model", "this server loaded no model",
+                            "start it with drillfatigue serve --model FOLDER")
+        return registry
 
     @app.exception_handler(InputError)
     async def _input_error(request: StarletteRequest, exc: InputError) -> JSONResponse:
         return _one_line(exc)
+
+    @app.exception_handler(ServiceRefusal)
+    async def _refusal(request: StarletteRequest, exc: ServiceRefusal) -> JSONResponse:
+        body = ErrorResponse(detail=exc.one_line(), field=exc.field, problem=exc.problem,
+                             allowed=exc.allowed)
+        return JSONResponse(status_code=exc.status, content=body.model_dump())
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(request: StarletteRequest, exc: RequestValidationError) -> JSONResponse:
@@ -357,27 +386,29 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
     @app.get("/healthz", response_model=HealthResponse)
     def healthz() -> HealthResponse:
         return HealthResponse(status="ok",
-                              models={m.name: m.generation for m in registry.all()})
+                              models={} if registry is None else
+                              {m.name: m.generation for m in registry.all()},
+                              ledger=None if ledger is None else ledger.dialect)
 
-    @app.get("/v1/models", response_model=ModelsResponse)
-    def models() -> ModelsResponse:
-        return ModelsResponse(default=registry.default,
-                              models=[_summary(m) for m in registry.all()])
+    @app.get("/v1/models", response_model=ModelsResponse, responses=errors)
+    def models_list() -> ModelsResponse:
+        reg = models()
+        return ModelsResponse(default=reg.default, models=[_summary(m) for m in reg.all()])
 
     @app.get("/v1/model", response_model=ModelCard, responses=errors)
     def model(name: str | None = None) -> ModelCard:
-        return model_card(registry.get(name, "name"), lim)
+        return model_card(models().get(name, "name"), lim)
 
     @app.post("/v1/model/reload", response_model=ReloadResponse, responses=errors)
     def reload(req: ReloadRequest | None = None) -> ReloadResponse:
-        fresh = registry.reload(req.model if req is not None else None)
+        fresh = models().reload(req.model if req is not None else None)
         log.info("reloaded %s", ", ".join(f"{m.name} (generation {m.generation})"
                                           for m in fresh))
         return ReloadResponse(reloaded=[_summary(m) for m in fresh])
 
     @app.post("/v1/query", response_model=QueryResponse, responses=errors)
     def query(req: QueryRequest) -> QueryResponse:
-        lm = registry.get(req.model)
+        lm = models().get(req.model)
         if len(req.rows) > lim.max_query_rows:
             raise InputError("rows", f"{len(req.rows)} rows", f"at most {lim.max_query_rows}")
         columns, rows = predict_rows(lm, req.rows)
@@ -391,7 +422,7 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
 
     @app.post("/v1/twin/replay", response_model=ReplayResponse, responses=errors)
     def twin_replay(req: ReplayRequest) -> ReplayResponse:
-        lm = registry.get(req.model)
+        lm = models().get(req.model)
         log_t = read_log(req.log.format, req.log.text.encode("utf-8"))
         if len(log_t) > lim.max_log_rows:
             raise InputError("log.text", f"{len(log_t)} rows", f"at most {lim.max_log_rows}")
@@ -439,7 +470,7 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
 
     @app.post("/v1/plan/rank", response_model=PlanRankResponse, responses=errors)
     def plan_rank(req: PlanRankRequest) -> PlanRankResponse:
-        lm = registry.get(req.model)
+        lm = models().get(req.model)
         cset = _candidates(req, lim)
         table = predict_candidates(cset, lm.surrogate)
         table = table.sort_values("life_windows_surrogate", ascending=False, kind="stable")
@@ -451,7 +482,7 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
 
     @app.post("/v1/window", response_model=WindowResponse, responses=errors)
     def window(req: WindowRequest) -> WindowResponse:
-        lm, wmap = _window(registry, req, lim)
+        lm, wmap = _window(models(), req, lim)
         return WindowResponse(**_answer(lm),
                               x=AxisValues(name=wmap.x.name, values=wmap.x.values.tolist()),
                               y=AxisValues(name=wmap.y.name, values=wmap.y.values.tolist()),
@@ -464,8 +495,10 @@ def create_app(registry: ModelRegistry, limits: Limits | None = None) -> FastAPI
     @app.post("/v1/window.png", response_class=Response, responses={
         **errors, 200: {"content": {"image/png": {}}, "description": "the map as PNG"}})
     def window_image(req: WindowRequest) -> Response:
-        _, wmap = _window(registry, req, lim)
+        _, wmap = _window(models(), req, lim)
         return Response(content=window_png(wmap), media_type="image/png")
+
+    add_ledger_routes(app, ledger, lim.max_log_rows, errors)
 
     static = Path(str(resources.files("drillfatigue.service") / "static"))
 

@@ -270,3 +270,103 @@ class ReloadResponse(BaseModel):
 class HealthResponse(BaseModel):
     status: str
     models: dict[str, int] = Field(description="model name -> generation")
+    ledger: str | None = Field(default=None, description="back-end of the ledger served "
+                               "(sqlite, postgresql); null: none")
+
+
+# -- fatigue ledger -------------------------------------------------------------------
+#: one cell of a ledger table: counts stay integers, NaN and infinities are null
+LedgerCell = bool | int | float | str | None
+
+
+class LedgerLog(BaseModel):
+    """A log chunk as the file's text, read as ``drillfatigue ledger ingest`` reads files."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    format: str = Field(default="csv", description="csv, las (LAS 2.0) or witsml "
+                        "(WITSML 1.4.1.1 log XML)")
+    text: str = Field(min_length=1, description="the chunk's content: a time channel, the bit "
+                      "depth, RPM (or the run's constant), WOB ... with units in the headers")
+
+
+class LedgerIngestRequest(BaseModel):
+    """One chunk of an open run's log; ingested exactly once (docs/ledger.md)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    run: str = Field(min_length=1, description="an open run (GET /v1/ledger/runs)")
+    log: LedgerLog
+    source: str = Field(default="upload", min_length=1, max_length=200,
+                        description="what the chunk is (a file name, a feed and its time "
+                        "range): recorded with it, and named in its errors")
+
+
+class LedgerIngestResponse(BaseModel):
+    """What the chunk did (the line ``drillfatigue ledger ingest`` prints for it)."""
+
+    run: str
+    source: str
+    status: str = Field(description="ingested, duplicate (this content was ingested before) "
+                        "or nothing new (every sample at or before the run's last one)")
+    seq: int | None = Field(description="the run's chunk number it was recorded as (null: "
+                            "nothing new)")
+    n_rows: int
+    n_new_rows: int = Field(description="samples after the run's last ingested one, counted")
+    t_first_s: float
+    t_last_s: float
+    line: str
+
+
+class LedgerTable(BaseModel):
+    columns: list[str]
+    rows: list[dict[str, LedgerCell]]
+
+
+class LedgerInfo(BaseModel):
+    """The ledger this server opened (``drillfatigue serve --ledger``)."""
+
+    backend: str = Field(description="sqlite or postgresql")
+    database: str = Field(description="file path, or URL without the password")
+    schema_revision: str | None
+    joints: int
+    runs: int
+    open_runs: int
+    chunks: int
+    inspections: int
+
+
+class LedgerJointsResponse(LedgerTable):
+    """The inventory (``drillfatigue ledger joints``): least remaining life first."""
+
+    units: str
+
+
+class JointHistoryResponse(BaseModel):
+    """One joint over its runs (``drillfatigue ledger history SERIAL``)."""
+
+    serial: str
+    component_type: str
+    units: str
+    runs: LedgerTable = Field(description="per run and location: position from the bit, "
+                              "damage with its interval, hours, revolutions, time out of domain")
+    events: LedgerTable = Field(description="serial corrections and swaps, with the reason")
+    inspections: LedgerTable
+
+
+class RetireRulesOut(BaseModel):
+    retire_at: float
+    inspect_at: float
+    reinspect_after: float
+    downgraded_retire_at: float
+    retire_results: list[str]
+
+
+class LedgerRetireResponse(BaseModel):
+    """Joints to retire and to inspect under the rules (``drillfatigue ledger retire``)."""
+
+    rules: RetireRulesOut
+    units: str
+    columns: list[str]
+    retire: list[dict[str, LedgerCell]]
+    inspect: list[dict[str, LedgerCell]]
