@@ -21,7 +21,11 @@ async function api(method, path, body) {
   }
   const resp = await fetch(path, opts);
   const data = await resp.json().catch(() => ({ detail: resp.status + " " + resp.statusText }));
-  if (!resp.ok) { throw new Error(data.detail || ("HTTP " + resp.status)); }
+  if (!resp.ok) {
+    const err = new Error(data.detail || ("HTTP " + resp.status));
+    err.status = resp.status;  // 503: the server was started without this part
+    throw err;
+  }
   return data;
 }
 
@@ -136,7 +140,17 @@ async function loadExample() {
 }
 
 async function loadModels() {
-  const data = await api("GET", "/v1/models");
+  let data;
+  try {
+    data = await api("GET", "/v1/models");
+  } catch (e) {
+    if (e.status !== 503) { throw e; }
+    // a server for a ledger alone: the model's sections have nothing to answer with
+    ["replay-section", "window-section", "plan-section", "model-select", "reload-button"]
+      .forEach((id) => { $(id).hidden = true; });
+    $("model-info").textContent = "no model served";
+    return;
+  }
   const sel = $("model-select");
   sel.innerHTML = "";
   data.models.forEach((m) => {
@@ -149,7 +163,10 @@ async function loadModels() {
 }
 
 // -- replay ----------------------------------------------------------------------------
-function fillTable(table, columns, rows, empty) {
+// columns: [key, heading] pairs; opts.link: [key, onClick(value)] makes that column's cells
+// links; opts.blank: a null cell is shown empty (unknown), not as "inf" (an infinite life)
+function fillTable(table, columns, rows, empty, opts) {
+  const link = opts && opts.link;
   table.innerHTML = "";
   if (rows.length === 0) {
     table.innerHTML = "<tbody><tr><td class='muted'>" + empty + "</td></tr></tbody>";
@@ -160,7 +177,18 @@ function fillTable(table, columns, rows, empty) {
   const body = document.createElement("tbody");
   rows.forEach((r) => {
     const tr = document.createElement("tr");
-    columns.forEach((c) => { const td = document.createElement("td"); td.textContent = fmt(r[c[0]]); tr.appendChild(td); });
+    columns.forEach((c) => {
+      const td = document.createElement("td");
+      if (link && c[0] === link[0] && r[c[0]] !== null) {
+        const a = document.createElement("a");
+        a.href = "#"; a.className = "serial"; a.textContent = String(r[c[0]]);
+        a.addEventListener("click", (ev) => { ev.preventDefault(); link[1](r[c[0]]); });
+        td.appendChild(a);
+      } else {
+        td.textContent = opts && opts.blank && r[c[0]] === null ? "" : fmt(r[c[0]]);
+      }
+      tr.appendChild(td);
+    });
     body.appendChild(tr);
   });
   table.appendChild(head);
@@ -386,6 +414,146 @@ async function rankPlans() {
   setStatus("ranked " + rows.length + " candidates", "ok");
 }
 
+// -- fatigue ledger ----------------------------------------------------------------------------
+const ledger = { units: "si", serial: null };
+
+// a ledger table: a serial opens its joint's history; a null cell is unknown or empty
+function ledgerTable(table, columns, rows, empty) {
+  fillTable(table, columns, rows, empty,
+            { link: ["serial", (v) => guarded(() => showHistory(v))()], blank: true });
+}
+
+// a length or diameter column in the units asked for ("od_mm" or "od_in"), headed with its unit
+function unitColumn(columns, base, heading) {
+  const c = columns.find((k) => k.startsWith(base + "_") && !k.slice(base.length + 1).includes("_"));
+  return c ? [c, heading + " (" + c.slice(base.length + 1) + ")"] : null;
+}
+
+function query(params) {
+  return Object.entries(params).map(([k, v]) => k + "=" + encodeURIComponent(v)).join("&");
+}
+
+async function loadLedger() {
+  let info;
+  try {
+    info = await api("GET", "/v1/ledger");
+  } catch (e) {
+    if (e.status !== 503) { throw e; }
+    $("ledger-summary").textContent = e.message;
+    $("ledger-body").hidden = true;
+    return;
+  }
+  $("ledger-body").hidden = false;
+  $("ledger-summary").innerHTML = (info.backend === "sqlite" ? "SQLite" : "PostgreSQL") + " ledger <b>" +
+    info.database + "</b> (schema " + info.schema_revision + "): <b>" + info.joints + "</b> joints, " +
+    info.runs + " runs (" + info.open_runs + " open), " + info.chunks + " log chunks, " + info.inspections + " inspections";
+  ledger.units = $("ledger-units").value;
+  const runs = await api("GET", "/v1/ledger/runs");
+  ledgerTable($("runs-table"), [["run", "run"], ["well", "well"], ["status", "status"], ["joints", "joints"],
+    ["chunks", "chunks"], ["log_h", "log (h)"]], runs.rows, "no run yet");
+  await loadInventory();
+  await loadLists();
+  if (ledger.serial) { await showHistory(ledger.serial); }
+  setStatus("ledger: " + info.joints + " joints, " + info.runs + " runs", "ok");
+}
+
+function plotInventory(res) {
+  const rows = res.rows.filter((r) => r.damage !== null);
+  Plotly.newPlot("inventory-plot", [{
+    type: "scatter", mode: "markers", name: "governing location",
+    x: rows.map((r) => r.serial), y: rows.map((r) => r.damage),
+    text: rows.map((r) => r.component_type + ", " + r.governing_location),
+    marker: { size: 8, color: "#2a6fdb" },
+    error_y: { type: "data", symmetric: false, array: rows.map((r) => r.damage_upper - r.damage),
+               arrayminus: rows.map((r) => r.damage - r.damage_lower) },
+    hovertemplate: "%{x}: %{text}<br>damage %{y:.3g}<extra></extra>",
+  }], {
+    title: { text: "Damage by joint, most damaged first (interval as bars)", font: { size: 13 } },
+    xaxis: { type: "category", title: { text: "serial" } },
+    yaxis: { type: "log", title: { text: "Miner damage (-)" }, exponentformat: "power" },
+    margin: { t: 36, r: 10, b: 70, l: 70 },
+  }, { displaylogo: false, responsive: true });
+}
+
+async function loadInventory() {
+  const res = await api("GET", "/v1/ledger/joints?" + query({ units: ledger.units }));
+  const cols = [["serial", "serial"], ["component_type", "type"], unitColumn(res.columns, "od", "OD"),
+    ["governing_location", "governing"], ["damage", "damage"], ["damage_lower", "lower"], ["damage_upper", "upper"],
+    ["remaining_life", "remaining life"], ["remaining_life_lower", "lower"], ["remaining_life_upper", "upper"],
+    ["time_in_hole_h", "in hole (h)"], ["ood_h", "out of domain (h)"], ["runs", "runs"],
+    ["last_result", "last inspection"], ["not_covered", "not covered"]].filter((c) => c !== null);
+  ledgerTable($("inventory-table"), cols, res.rows, "no joint yet: start a run (drillfatigue ledger run start)");
+  plotInventory(res);
+}
+
+async function loadLists() {
+  const params = { units: ledger.units };
+  [["retire_at", "rule-retire-at"], ["inspect_at", "rule-inspect-at"], ["reinspect_after", "rule-reinspect-after"],
+   ["downgraded_retire_at", "rule-downgraded-retire-at"]].forEach(([k, id]) => {
+    if ($(id).value !== "") { params[k] = $(id).value; }
+  });
+  const res = await api("GET", "/v1/ledger/retire?" + query(params));
+  // the rules the lists were made with (the ledger's defaults until changed here)
+  $("rule-retire-at").value = res.rules.retire_at;
+  $("rule-inspect-at").value = res.rules.inspect_at;
+  $("rule-reinspect-after").value = res.rules.reinspect_after;
+  $("rule-downgraded-retire-at").value = res.rules.downgraded_retire_at;
+  const cols = [["serial", "serial"], ["component_type", "type"], ["damage", "damage"], ["damage_upper", "upper"],
+    ["remaining_life", "remaining life"], ["last_result", "last inspection"], ["reason", "reason"]];
+  ledgerTable($("ledger-retire-table"), cols, res.retire, "none to retire under these rules");
+  ledgerTable($("ledger-inspect-table"), cols, res.inspect, "none to inspect under these rules");
+  return res;
+}
+
+function plotHistory(h) {
+  const runs = [...new Set(h.runs.rows.map((r) => r.run))];
+  const locs = [...new Set(h.runs.rows.map((r) => r.location).filter((l) => l))].sort();
+  const traces = locs.map((loc) => {
+    const rows = runs.map((run) => h.runs.rows.find((r) => r.run === run && r.location === loc) || null);
+    return {
+      type: "bar", name: loc, x: runs, y: rows.map((r) => (r && r.damage !== null ? r.damage : 0)),
+      error_y: { type: "data", symmetric: false,
+                 array: rows.map((r) => (r && r.damage !== null ? r.damage_upper - r.damage : 0)),
+                 arrayminus: rows.map((r) => (r && r.damage !== null ? r.damage - r.damage_lower : 0)) },
+      text: rows.map((r) => (r ? "position " + r.position + " from the bit" : "")), textposition: "none",
+      hovertemplate: "%{x}: %{text}<br>damage %{y:.3g}<extra>" + loc + "</extra>",
+    };
+  });
+  Plotly.newPlot("history-plot", traces, {
+    title: { text: h.serial + ": damage per run (interval as bars)", font: { size: 13 } },
+    barmode: "group", xaxis: { type: "category", title: { text: "run" } },
+    yaxis: { title: { text: "Miner damage (-)" }, exponentformat: "power" },
+    margin: { t: 36, r: 10, b: 46, l: 70 }, legend: { orientation: "h", y: 1.08, x: 1, xanchor: "right" },
+  }, { displaylogo: false, responsive: true });
+}
+
+async function showHistory(serial) {
+  const h = await api("GET", "/v1/ledger/joints/" + encodeURIComponent(serial) + "?" + query({ units: ledger.units }));
+  ledger.serial = h.serial;
+  const runs = [...new Set(h.runs.rows.map((r) => r.run))];
+  $("history-title").textContent = "Joint history: " + h.serial + " (" + h.component_type + ")";
+  $("history-summary").textContent = runs.length + " runs: " + runs.map((run) => {
+    const r = h.runs.rows.find((x) => x.run === run);
+    return run + " (" + r.well + ", position " + r.position + ")";
+  }).join(", ");
+  const cols = [["run", "run"], ["well", "well"], ["position", "position"], unitColumn(h.runs.columns, "s_bottom", "bottom from bit"),
+    ["location", "location"], ["damage", "damage"], ["damage_lower", "lower"], ["damage_upper", "upper"],
+    ["time_in_hole_h", "in hole (h)"], ["revolutions", "revolutions"], ["ood_h", "out of domain (h)"],
+    ["not_covered", "not covered"], ["chunks", "chunks"]].filter((c) => c !== null);
+  ledgerTable($("history-table"), cols, h.runs.rows, "in no run yet");
+  ledgerTable($("history-events"), [["kind", "kind"], ["old_serial", "old serial"], ["new_serial", "new serial"],
+    ["reason", "reason"], ["recorded_at", "recorded"]], h.events.rows, "none");
+  ledgerTable($("history-inspections"), [["inspected_on", "date"], ["method", "method"], ["standard", "standard"],
+    ["result", "result"], unitColumn(h.inspections.columns, "wall", "wall"), unitColumn(h.inspections.columns, "od", "OD"),
+    ["connection_condition", "connection"]].filter((c) => c !== null), h.inspections.rows, "none recorded");
+  document.querySelectorAll("#inventory-table tbody tr").forEach((tr) => {
+    const a = tr.querySelector("a.serial");
+    tr.classList.toggle("selected", a !== null && a.textContent === h.serial);
+  });
+  plotHistory(h);
+  setStatus("history of " + h.serial + ": " + runs.length + " runs", "ok");
+}
+
 // -- wiring -----------------------------------------------------------------------------------
 function readInto(fileInput, textarea, after) {
   fileInput.addEventListener("change", () => {
@@ -419,5 +587,12 @@ document.addEventListener("DOMContentLoaded", () => {
   $("plan-button").addEventListener("click", guarded(rankPlans));
   $("y-name").addEventListener("change", updateAxisRange);
   $("example-button").addEventListener("click", guarded(loadExample));
+  $("ledger-units").addEventListener("change", guarded(loadLedger));
+  $("ledger-refresh").addEventListener("click", guarded(loadLedger));
+  $("lists-button").addEventListener("click", guarded(async () => {
+    const res = await loadLists();
+    setStatus("lists: " + res.retire.length + " to retire, " + res.inspect.length + " to inspect", "ok");
+  }));
   guarded(loadModels)();
+  guarded(loadLedger)();
 });
