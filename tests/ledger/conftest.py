@@ -1,5 +1,5 @@
 """Ledger fixtures: a throwaway PostgreSQL server (:mod:`testkit.pg_server`), a fresh
-ledger on each back-end.
+ledger on each back-end, the ledger's commands run in this process.
 
 In CI (``CI=true``) a server that cannot start fails the PostgreSQL tests
 instead of skipping them.
@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 from testkit.pg_server import PgServer, start_server, stop_server
+
+from drillfatigue.cli import main
 
 
 def _in_ci() -> bool:
@@ -66,3 +68,19 @@ def new_db(request: pytest.FixtureRequest, tmp_path: Path, db_url: str):  # noqa
         server = request.getfixturevalue("pg_server")
         for name in made:
             server.drop_database(name)
+
+
+class CliResult:
+    def __init__(self, returncode: int, stdout: str, stderr: str) -> None:
+        self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
+
+
+@pytest.fixture
+def run_cli(capsys: pytest.CaptureFixture[str]):  # noqa: ANN201
+    """``drillfatigue ledger ARGS`` in this process (the kill tests start real processes)."""
+    def call(*args: str) -> CliResult:
+        capsys.readouterr()
+        rc = main(["ledger", *args])
+        out = capsys.readouterr()
+        return CliResult(rc, out.out, out.err)
+    return call

@@ -19,8 +19,6 @@ from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from testkit.ledger_logs import STANDIN, export_bytes, make_log, write_log, write_tally
 
-from drillfatigue.cli import main
-
 from drillfatigue.errors import InputError
 from drillfatigue.ledger import (
     LogChunk,
@@ -44,22 +42,6 @@ from drillfatigue.ledger.ingest import split_rows
 from drillfatigue.ledger.schema import metadata
 from drillfatigue.ledger.standin import BASE_RATE_PER_H, LOCATION_FACTOR, WOB_SCALE_N
 
-
-
-class _Out:
-    def __init__(self, returncode: int, stdout: str, stderr: str) -> None:
-        self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
-
-
-@pytest.fixture
-def run_cli(capsys: pytest.CaptureFixture[str]):  # noqa: ANN201
-    """``drillfatigue ledger ARGS`` in this process (the kill tests start real processes)."""
-    def call(*args: str) -> _Out:
-        capsys.readouterr()
-        rc = main(["ledger", *args])
-        out = capsys.readouterr()
-        return _Out(rc, out.out, out.err)
-    return call
 
 
 SERIALS = ["B1", "DC1", "DC2", "DP1", "DP2", "DP3"]
