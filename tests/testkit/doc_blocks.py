@@ -13,6 +13,11 @@ marker comment ``<!-- readme-test: MARK (reason) -->``:
 * ``needs-server``: as ``needs-model``, and ``drillfatigue serve`` answers on
   ``localhost:8000`` while the block runs.
 
+docs/ledger.md has a test of its own (:data:`OWN_TESTS`), which knows one more
+marker, ``needs-ledger-server``: ``drillfatigue serve --ledger
+runs/ledger.sqlite`` (the ledger its earlier blocks wrote) answers on
+``localhost:8000`` while the block runs (:func:`start_server`).
+
 Blocks of other languages (``yaml``, ``text``, output shown in a document) are
 not commands. README.md's Python block also runs (tests/pipeline/test_readme.py).
 """
@@ -86,10 +91,13 @@ def _port_open(port: int) -> bool:
         return s.connect_ex(("127.0.0.1", port)) == 0
 
 
-def _start_server(tmp: Path, env: dict[str, str]) -> subprocess.Popen:
+def start_server(tmp: Path, env: dict[str, str],
+                 serve_args: tuple[str, ...] = ("--model", "data/surrogate/model")
+                 ) -> subprocess.Popen:
+    """``drillfatigue serve SERVE_ARGS`` in ``tmp`` on ``localhost:8000``, once it answers."""
     if _port_open(SERVER_PORT):
         raise RuntimeError(f"port {SERVER_PORT} is taken: the documented curl needs it")
-    proc = subprocess.Popen(["drillfatigue", "serve", "--model", "data/surrogate/model",
+    proc = subprocess.Popen(["drillfatigue", "serve", *serve_args,
                              "--port", str(SERVER_PORT)], cwd=tmp, env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 60.0
@@ -119,7 +127,7 @@ def run_document(path: Path, tmp: Path) -> int:
         if b.mark in ("needs-model", "needs-server") and not model_ready:
             train_tiny_surrogate(ROOT / "params.yaml", tmp / "data" / "surrogate" / "model")
             model_ready = True
-        server = _start_server(tmp, env) if b.mark == "needs-server" else None
+        server = start_server(tmp, env) if b.mark == "needs-server" else None
         try:
             out = subprocess.run(["bash", "-euo", "pipefail", "-c", b.code], cwd=tmp, env=env,
                                  capture_output=True, text=True, timeout=600)
