@@ -26,6 +26,7 @@ import pytest
 from service_helpers import assert_one_line, free_port, running_server
 from testkit.ledger_logs import STANDIN, cli_env, export_bytes, make_log, write_log, write_tally
 
+from drillfatigue.cli import main
 from drillfatigue.ledger import (
     Ledger,
     LogChunk,
@@ -352,18 +353,15 @@ def test_without_a_ledger_every_ledger_endpoint_says_so(tmp_path: Path, run_cli)
             "/v1/ledger/ingest"} <= set(paths)
 
 
-def test_serve_opens_the_ledger_or_says_why_not(tmp_path: Path) -> None:
+def test_serve_opens_the_ledger_or_says_why_not(tmp_path: Path,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
     """``drillfatigue serve --ledger`` as a real process on the loopback; a missing
     ledger, or neither a model nor a ledger, is one line and exit code 2."""
-    def serve(*args: str, timeout: float = 60.0) -> subprocess.CompletedProcess[str]:
-        return subprocess.run([sys.executable, "-m", "drillfatigue", "serve", *args],
-                              capture_output=True, text=True, env=cli_env(), timeout=timeout)
-
-    for args, field in (((), "--model"), (("--ledger", str(tmp_path / "none.sqlite")),
+    for args, field in (([], "--model"), (["--ledger", str(tmp_path / "none.sqlite")],
                                           "--ledger")):
-        out = serve(*args)
-        assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
-        assert out.stderr.startswith(f"error: {field}: ")
+        assert main(["serve", *args]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith(f"error: {field}: "), err
     db = str(tmp_path / "ledger.sqlite")
     led = _new_run(db, tmp_path)
     ingest_chunk(led, "R1", LogChunk(_si(make_log(30, seed=6)), "a"))

@@ -6,7 +6,9 @@ Feature values use the user vocabulary of :mod:`drillfatigue.io.names`
 well-plan candidates are the CLI's own configuration models
 (:class:`~drillfatigue.config.StringConfig`,
 :class:`~drillfatigue.config.WellConfig`,
-:class:`~drillfatigue.studies.plan.CandidateFile`).
+:class:`~drillfatigue.studies.plan.CandidateFile`). The ledger's tables come
+as the columns and rows of the DataFrames its query functions return
+(:mod:`drillfatigue.ledger.queries`), SI with the unit in each column name.
 """
 
 from __future__ import annotations
