@@ -6,7 +6,8 @@ docs/case3.md) is run on the plan and on the same plan with the micro-doglegs of
 ``well.tortuosity`` (docs/wells.md#tortuosity) from the surface down:
 
 - soft string (:func:`drillfatigue.dynamics.torque_drag.torque_drag_for_case`,
-  friction and WOB of case 3's simulator case): surface torque rotating off bottom
+  string and friction of case 3's simulator case, drilling at its autodriller's WOB
+  set-point and the bit law's torque at 50 rpm): surface torque rotating off bottom
   and drilling, hook loads picking up, slacking off and rotating, largest side force;
 - sine waves of period 30 m adding a peak dogleg severity of 2 deg/30 m (amplitude
   0.318 deg), a mean of 2 deg/30 m (0.5 deg, what torque-and-drag programs call a
@@ -14,8 +15,12 @@ docs/case3.md) is run on the plan and on the same plan with the micro-doglegs of
   of 1 deg every 30 m in both planes (five seeds);
 - with ``--dynamics``, the case-3 simulation itself (the reduced window of
   ``params.yaml`` unless its section is changed) on the plan and with the 2 deg/30 m
-  peak and the 1 deg sine: the lives at 8, 40 and 80 m behind the bit, the load
-  that sets each, and the bending amplitude of the near-bit connection.
+  peak and the 1 deg sine: the lives at 8, 40 and 80 m behind the bit and at the
+  collar connection 10.5 m behind it (the near-bit collar's top, a joint whatever
+  the segmentation), the load that sets each, and each joint's bending amplitude.
+  The hole-fit rule of the segmentation (``string.segment_fit_fraction``) cuts the
+  collars shorter in a tortuous hole, so the joints nearest 8, 40 and 80 m may lie
+  elsewhere than on the plan: each row names its joint's distance from the bit.
 
 Usage: ``python benchmarks/tortuosity.py [--params params.yaml] [--dynamics]
 [--out benchmarks/results/tortuosity.json]``. The soft-string part takes seconds;
@@ -58,6 +63,8 @@ SINES = {"sine_peak_2deg_per_30m": PEAK_2_AMPLITUDE_DEG,
          "sine_1deg": 1.0}
 SEEDS = (0, 1, 2, 3, 4)
 DYNAMIC = ("plan", "sine_peak_2deg_per_30m", "sine_1deg")
+#: the collar connection at the top of the near-bit collar, m behind the bit (docs/case3.md)
+NEAR_BIT_CONNECTION_M = 10.5
 
 
 def _variants() -> dict[str, dict[str, Any] | None]:
@@ -78,9 +85,9 @@ def _hole(case: dict[str, Any]) -> dict[str, Any]:
     return {k: rep[k] for k in ("plan", "tortuous")}
 
 
-def soft_string(case: dict[str, Any]) -> dict[str, Any]:
+def soft_string(case: dict[str, Any], wob_N: float) -> dict[str, Any]:
     """Surface values and largest side force of the soft string in the case's hole."""
-    td = torque_drag_for_case(case_from_dict(case))
+    td = torque_drag_for_case(case_from_dict(case), wob_N=wob_N)
     s = td.summary()
     return {**s, "max_side_force_rotating_N_per_m": float(td.normal_rotating_N_per_m.max()),
             "hole": _hole(case)}
@@ -106,6 +113,7 @@ def _connection_bending(run_dir: Path, joint: int) -> dict[str, float]:
 def dynamics(params: Path, wells: dict[str, dict[str, Any]]) -> dict[str, Any]:
     """Case 3 on each well section of ``wells``: lives, dominant loads, near-bit bending."""
     cfg = load_section(params, "case3")
+    cfg = cfg.model_copy(update={"s_from_bit_m": [*cfg.s_from_bit_m, NEAR_BIT_CONNECTION_M]})
     _, fatigue = shared_sections(params)
     out: dict[str, Any] = {}
     with tempfile.TemporaryDirectory(prefix="tortuosity_case3_") as tmp:
@@ -123,8 +131,9 @@ def dynamics(params: Path, wells: dict[str, dict[str, Any]]) -> dict[str, Any]:
                     "tau_amplitude_MPa_axial_torsion")}
                     | _connection_bending(run_dir, int(r["joint"])))
             out[name] = {"rows": rows, "recorded_s": summ["recorded_s"],
-                         "n_segments": summ["n_segments"],
-                         "wall_s": time.perf_counter() - t0,
+                         "simulated_s": summ["simulated_s"], "n_segments": summ["n_segments"],
+                         "simulation_wall_s": summ["wall_s"],
+                         "wall_s_with_compilation_and_fatigue": time.perf_counter() - t0,
                          "drilling": {k: summ.get("drilling", {}).get(k) for k in
                                       ("mean_wob_N", "mean_surface_torque_Nm",
                                        "on_bottom_fraction", "mean_rop_m_per_h")}}
@@ -147,7 +156,8 @@ def main(argv: list[str] | None = None) -> int:
              for name, spec in _variants().items()}
     out: dict[str, Any] = {
         "case": {"section": "case3", "profile": cfg.profile, "bit_md_m": cfg.bit_md_end_m,
-                 "bha": cfg.bha, "rpm": cfg.rpm, "tortuosity_from_md_m": 0.0,
+                 "bha": cfg.bha, "rpm": cfg.rpm, "wob_N": cfg.wob_set_N,
+                 "tortuosity_from_md_m": 0.0,
                  "period_m": PERIOD_M},
         "machine": platform.processor() or platform.machine(),
         "soft_string": {},
@@ -156,7 +166,7 @@ def main(argv: list[str] | None = None) -> int:
         case, _ = case_dict(cfg, None, w)
         # the simulator's case turns by its rpm table; the bit law's torque wants the speed
         case["operation"]["rpm"] = cfg.rpm
-        out["soft_string"][name] = soft_string(case)
+        out["soft_string"][name] = soft_string(case, cfg.wob_set_N)
         s = out["soft_string"][name]
         print(f"{name}: rotating torque {s['surface_torque_rotating_Nm'] / 1e3:.2f} kN m, "
               f"drilling {s['surface_torque_drilling_Nm'] / 1e3:.2f} kN m, pick-up "
