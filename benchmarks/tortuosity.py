@@ -49,8 +49,8 @@ from drillfatigue import rundir  # noqa: E402
 from drillfatigue.config import case_from_dict  # noqa: E402
 from drillfatigue.dynamics.torque_drag import torque_drag_for_case  # noqa: E402
 from drillfatigue.studies.case3 import case_dict, run_case3  # noqa: E402
+from drillfatigue.studies.common import write_json  # noqa: E402
 from drillfatigue.studies.stages import load_section, shared_sections  # noqa: E402
-from drillfatigue.surrogate.io import write_json  # noqa: E402
 from drillfatigue.well import build_plan_survey, build_survey  # noqa: E402
 from drillfatigue.well.tortuosity import tortuosity_report  # noqa: E402
 
@@ -113,7 +113,7 @@ def _connection_bending(run_dir: Path, joint: int) -> dict[str, float]:
 def dynamics(params: Path, wells: dict[str, dict[str, Any]]) -> dict[str, Any]:
     """Case 3 on each well section of ``wells``: lives, dominant loads, near-bit bending."""
     cfg = load_section(params, "case3")
-    cfg = cfg.model_copy(update={"s_from_bit_m": [*cfg.s_from_bit_m, NEAR_BIT_CONNECTION_M]})
+    cfg = cfg.model_copy(update={"s_from_bit_m": (*cfg.s_from_bit_m, NEAR_BIT_CONNECTION_M)})
     _, fatigue = shared_sections(params)
     out: dict[str, Any] = {}
     with tempfile.TemporaryDirectory(prefix="tortuosity_case3_") as tmp:
@@ -186,7 +186,7 @@ def main(argv: list[str] | None = None) -> int:
         for name, s in out["soft_string"].items() if name != "plan"}
     if args.dynamics:
         out["case3_dynamics"] = dynamics(params, {k: wells[k] for k in DYNAMIC})
-    write_json(out, Path(args.out))
+    write_json(Path(args.out), out)  # NaN (no paper life at 10.5 m) as null
     return 0
 
 

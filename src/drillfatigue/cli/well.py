@@ -12,6 +12,7 @@ from rich.table import Table
 
 from drillfatigue.cli.app import app
 from drillfatigue.config import WellConfig, load_case
+from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
 from drillfatigue.io.display import Display, check_system
@@ -83,15 +84,13 @@ def show(case: Path = CaseArg, profile: str | None = ProfileOpt,
                   f"{sv.dls_deg_per_100ft.max():.3f} deg/100ft at MD {md[imax]:.1f} {lu}; "
                   f"TD {md[-1]:.1f} {lu}")
     if cfg.tortuosity is not None:
-        console.print(_tortuosity_table(cfg, name, sv, d))
+        console.print(_tortuosity_table(cfg.tortuosity, build_plan_survey(cfg, name), sv, d))
 
 
-def _tortuosity_table(cfg: WellConfig, name: str, sv: Survey, d: Display) -> Table:
+def _tortuosity_table(spec: TortuosityConfig, plan: Survey, sv: Survey, d: Display) -> Table:
     """The tortuosity model, and the plan's and the tortuous hole's dogleg severity below
     its start and tortuosity index, in the display's units."""
-    spec = cfg.tortuosity
-    assert spec is not None  # the caller checks
-    rep = tortuosity_report(build_plan_survey(cfg, name), sv, spec)
+    rep = tortuosity_report(plan, sv, spec)
     lu, du = d.unit("length"), d.unit("dogleg")
     per_length = float(d.value("length", 1.0))  # display length units in a metre
     seed = f", seed {spec.seed}" if spec.model == "random" else ""
