@@ -3,10 +3,11 @@
 A planned profile is a chain of smooth holds and arcs; a drilled hole is not.
 Torque-and-drag practice adds small, regular or random doglegs to the plan
 (micro-tortuosity) so that a smooth plan predicts the friction, torque and
-bending of a real hole (Samuel & Liu, "Wellbore tortuosity, torque and drag",
-SPE 2009; Gaynor et al., "Tortuosity versus micro-tortuosity", SPE 67818,
-2001). The model here tilts the plan's direction at every MD by a small angle
-``delta(md)``:
+bending of a real hole (Samuel & Liu, wellbore tortuosity in torque and drag,
+2009; Gaynor et al., "Tortuosity versus micro-tortuosity - why little things
+mean a lot", SPE/IADC 67818, 2001; Bang et al., "Analysis and quantification
+of wellbore tortuosity", SPE 173103, 2016). The model here tilts the plan's
+direction at every MD by a small angle ``delta(md)``:
 
 - in the plan's vertical plane, towards its high side ``h = dt/dinc``
   (``direction: inclination``; on a hole in a vertical plane ``delta`` adds to
