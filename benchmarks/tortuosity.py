@@ -22,9 +22,13 @@ docs/case3.md) is run on the plan and on the same plan with the micro-doglegs of
   collars shorter in a tortuous hole, so the joints nearest 8, 40 and 80 m may lie
   elsewhere than on the plan: each row names its joint's distance from the bit.
 
+With ``--figure PATH``: the dogleg severity along MD and the rotating soft-string
+torque along the string, plan beside the sine tortuosities (``docs/img/tortuosity.png``).
+
 Usage: ``python benchmarks/tortuosity.py [--params params.yaml] [--dynamics]
-[--out benchmarks/results/tortuosity.json]``. The soft-string part takes seconds;
-the dynamic part a few minutes (numba compilation on first use included).
+[--figure docs/img/tortuosity.png] [--out benchmarks/results/tortuosity.json]``. The
+soft-string part takes seconds; the dynamic part a few minutes (numba compilation on
+first use included).
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue.files import atomic_output
 from drillfatigue.numba_cache import scope_numba_cache
 
 # before any kernel module is imported (numba binds a kernel's cache folder then)
@@ -48,6 +53,7 @@ scope_numba_cache()
 from drillfatigue import rundir  # noqa: E402
 from drillfatigue.config import case_from_dict  # noqa: E402
 from drillfatigue.dynamics.torque_drag import torque_drag_for_case  # noqa: E402
+from drillfatigue.plotting import subplots  # noqa: E402
 from drillfatigue.studies.case3 import case_dict, run_case3  # noqa: E402
 from drillfatigue.studies.common import write_json  # noqa: E402
 from drillfatigue.studies.stages import load_section, shared_sections  # noqa: E402
@@ -91,6 +97,30 @@ def soft_string(case: dict[str, Any], wob_N: float) -> dict[str, Any]:
     s = td.summary()
     return {**s, "max_side_force_rotating_N_per_m": float(td.normal_rotating_N_per_m.max()),
             "hole": _hole(case)}
+
+
+def draw(cases: dict[str, dict[str, Any]], wob_N: float, path: Path) -> None:
+    """DLS along MD and rotating torque along the string, plan and sine tortuosities."""
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(12.0, 4.2))
+    for name, case in cases.items():
+        well = case_from_dict(case).well
+        sv = build_survey(well)
+        td = torque_drag_for_case(case_from_dict(case), wob_N=wob_N)
+        lw = 1.6 if name == "plan" else 0.9
+        ax1.plot(sv.md_m, sv.dls_deg_per_30m, lw=lw, label=name.replace("_", " "))
+        ax2.plot(td.md_m, td.torque_rotating_Nm / 1e3, lw=lw, label=name.replace("_", " "))
+    ax1.set_xlabel("MD, m")
+    ax1.set_ylabel("DLS, deg/30 m")
+    ax1.set_title("dogleg severity of the hole (case 3's well, profile_1)")
+    ax2.set_xlabel("MD, m")
+    ax2.set_ylabel("torque, kN m")
+    ax2.set_title("soft-string torque, rotating off bottom")
+    for ax in (ax1, ax2):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format=path.suffix.lstrip(".") or "png", dpi=100)
 
 
 def _connection_bending(run_dir: Path, joint: int) -> dict[str, float]:
@@ -148,12 +178,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--params", default="params.yaml")
     ap.add_argument("--out", default=str(RESULT))
     ap.add_argument("--dynamics", action="store_true", help="also run case 3 (minutes)")
+    ap.add_argument("--figure", default=None, help="also draw the DLS and torque (PNG)")
     args = ap.parse_args(argv)
     params = Path(args.params)
     cfg = load_section(params, "case3")
     well, _ = shared_sections(params)
     wells = {name: (well if spec is None else {**well, "tortuosity": spec})
              for name, spec in _variants().items()}
+    cases: dict[str, dict[str, Any]] = {}
     out: dict[str, Any] = {
         "case": {"section": "case3", "profile": cfg.profile, "bit_md_m": cfg.bit_md_end_m,
                  "bha": cfg.bha, "rpm": cfg.rpm, "wob_N": cfg.wob_set_N,
@@ -166,6 +198,7 @@ def main(argv: list[str] | None = None) -> int:
         case, _ = case_dict(cfg, None, w)
         # the simulator's case turns by its rpm table; the bit law's torque wants the speed
         case["operation"]["rpm"] = cfg.rpm
+        cases[name] = case
         out["soft_string"][name] = soft_string(case, cfg.wob_set_N)
         s = out["soft_string"][name]
         print(f"{name}: rotating torque {s['surface_torque_rotating_Nm'] / 1e3:.2f} kN m, "
@@ -184,6 +217,8 @@ def main(argv: list[str] | None = None) -> int:
                                            "surface_torque_drilling_Nm", "hookload_pickup_N",
                                            "hookload_slackoff_N")}
         for name, s in out["soft_string"].items() if name != "plan"}
+    if args.figure is not None:
+        draw({k: cases[k] for k in ("plan", *SINES)}, cfg.wob_set_N, Path(args.figure))
     if args.dynamics:
         out["case3_dynamics"] = dynamics(params, {k: wells[k] for k in DYNAMIC})
     write_json(Path(args.out), out)  # NaN (no paper life at 10.5 m) as null
