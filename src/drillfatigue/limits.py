@@ -102,6 +102,15 @@ FEATURE_BOUNDS: dict[str, Bound] = {
     "hook_load_N": Bound(0.0, 1.5e7, "the hook carries the string: >= 0; 15 MN (1500 t) is "
                                      "above the largest rigs' hoisting rating"),
     "off_bottom_hook_load_N": Bound(0.0, 1.5e7, "as hook_load_N"),
+    "tortuosity_amplitude_deg": Bound(0.0, 10.0, "angular amplitude of the micro-doglegs "
+                                                  "added to a plan (well.tortuosity): >= 0; "
+                                                  "high-resolution surveys show tenths of a "
+                                                  "degree to a few degrees, a larger tilt is a "
+                                                  "feature of the plan"),
+    "tortuosity_period_m": Bound(1.0, 1000.0, "length of one micro-dogleg wave "
+                                              "(well.tortuosity): spiralled holes repeat every "
+                                              "1-10 m, slide-rotate cycles every 10-100 m; "
+                                              "a longer wave is a feature of the plan"),
     "rop_c1_m_per_N_sqrt_s": Bound(0.0, 1.0e-6, "drillability c1 of the bit law ROP = c1 WOB "
                                                 "sqrt(Omega) + c2: >= 0; 1e-6 gives 1400 m/h at "
                                                 "100 kN and 150 rpm, far above any rock"),

@@ -15,6 +15,7 @@ from drillfatigue.config import case_from_dict, load_case, load_params
 from drillfatigue.config.bit import BitConfig
 from drillfatigue.config.operation import OperationConfig
 from drillfatigue.config.rig import AutodrillerConfig
+from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.dynamics.api import simulate
 from drillfatigue.dynamics.model import straight_path
 from drillfatigue.errors import InputError
@@ -79,6 +80,8 @@ def test_every_model_input_has_a_bound() -> None:
     (BitConfig, "rop_c1_m_per_N_sqrt_s", "rop_c1_m_per_N_sqrt_s"),
     (OperationConfig, "wob_N", "wob_N"),
     (AutodrillerConfig, "wob_set_N", "wob_set_N"),
+    (TortuosityConfig, "amplitude_deg", "tortuosity_amplitude_deg"),
+    (TortuosityConfig, "period_m", "tortuosity_period_m"),
 ])
 def test_simulator_fields_use_the_same_bounds(model: type, field: str, name: str) -> None:
     """A simulator field of the same quantity has the table's range (one rule)."""

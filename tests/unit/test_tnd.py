@@ -59,6 +59,29 @@ def test_vertical_hook_load_is_buoyed_weight_minus_wob():
     assert abs(td.tension_drilling_N[k]) < 1e-6 * buoyed
 
 
+def test_tortuous_vertical_hole_turns_the_string_against_the_wall():
+    """well.tortuosity reaches the soft string: in a vertical hole the plan gives no side
+    force, a 1 deg sine over 30 m gives T |kappa| (mean |kappa| = 4 A / P), so the rotating
+    torque is mu (4 A / P) times the integral of r T along the string (buoyed weight below
+    each point); 2 %: the weight's normal part and the partial last wave
+    (tests/validation/test_tortuosity_softstring.py)."""
+    data = {**VERTICAL, "well": {**VERTICAL["well"], "tortuosity": {
+        "model": "sine", "amplitude_deg": 1.0, "period_m": 30.0}}}
+    case = case_from_dict(data)
+    plan = torque_drag_for_case(case_from_dict(VERTICAL)).summary()
+    td = torque_drag_for_case(case).summary()
+    assert plan["surface_torque_rotating_Nm"] == 0.0
+    seg = build_segments(case.string, case.operation.mud_density_kg_per_m3)
+    below = np.concatenate([[0.0], np.cumsum(seg.buoyed_weight_N)[:-1]])  # at each bottom
+    r_t = np.sum(seg.contact_radius_m * (below * seg.length_m + 0.5 * seg.buoyed_weight_N
+                                         * seg.length_m))
+    kappa = 4.0 * math.radians(1.0) / 30.0
+    assert td["surface_torque_rotating_Nm"] == pytest.approx(
+        case.friction.mu_dynamic * kappa * r_t, rel=0.02)  # measured 0.06 %
+    assert td["hookload_pickup_N"] > plan["hookload_pickup_N"]
+    assert td["hookload_slackoff_N"] < plan["hookload_slackoff_N"]
+
+
 def test_given_hook_load_sets_wob():
     data = {**J_WELL, "operation": {**J_WELL["operation"], "top_axial": "hook_load",
                                     "hook_load_N": 1.5e5}}

@@ -27,6 +27,29 @@ def test_show_prints_key_points_and_max_dls(case: Path, capsys) -> None:
     assert "8.594 deg/30m" in out
 
 
+def test_show_reports_the_tortuosity(tmp_path: Path, monkeypatch, capsys) -> None:
+    """With well.tortuosity: the model, and max/mean DLS below its start and the
+    tortuosity index, plan beside tortuous hole; without it, no such table."""
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "t.yaml"
+    path.write_text("well:\n  tortuosity: {model: sine, amplitude_deg: 1.0, period_m: 30.0, "
+                    "md_start_m: 830.0}\n")
+    assert main(["well", "show", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "tortuosity: sine, amplitude 1 deg, period 30 m, inclination" in out
+    assert "adding up to 6.283 deg/30m" in out  # 2 pi 1 deg / 30 m
+    rows = {line.split("│")[1].strip(): [c.strip() for c in line.split("│")[2:4]]
+            for line in out.splitlines()
+            if (line.startswith("│") and "below MD" in line) or line.startswith("│ tortuosity")}
+    assert rows["max DLS below MD 830.0 m, deg/30m"][0] == "0.000"
+    assert 6.22 < float(rows["max DLS below MD 830.0 m, deg/30m"][1]) <= 6.283
+    assert float(rows["mean DLS below MD 830.0 m, deg/30m"][1]) == pytest.approx(4.0, abs=0.1)
+    assert float(rows["tortuosity index, 1/m"][1]) > float(rows["tortuosity index, 1/m"][0])
+    path.write_text("well:\n  profile: profile_1\n")
+    assert main(["well", "show", str(path)]) == 0
+    assert "tortuosity" not in capsys.readouterr().out
+
+
 def test_show_other_profile(case: Path, capsys) -> None:
     assert main(["well", "show", str(case), "--profile", "profile_3"]) == 0
     assert "end of tangent" in capsys.readouterr().out

@@ -47,6 +47,29 @@ def test_stage_writes_every_profile(tmp_path: Path) -> None:
         30.0 / 200.0 * 180.0 / 3.141592653589793, rel=1e-9)
 
 
+def test_stage_writes_the_tortuous_hole_and_its_report(tmp_path: Path) -> None:
+    """With well.tortuosity the survey file is the tortuous hole's (the plan's stations
+    plus 32 per period below the start) and the summary reports the tortuosity;
+    without it the summary has no such entry."""
+    (tmp_path / "params.yaml").write_text(
+        PARAMS + "  tortuosity: {model: random, amplitude_deg: 0.5, period_m: 10.0, "
+                 "md_start_m: 20.0, seed: 5}\n")
+    out = tmp_path / "wells"
+    assert _stage().main(["--params", str(tmp_path / "params.yaml"), "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())["profiles"]
+    rep = summary["v"]["tortuosity"]
+    assert (rep["model"], rep["seed"], rep["amplitude_deg"]) == ("random", 5, 0.5)
+    assert rep["plan"]["max_dls_deg_per_30m"] == 0.0
+    assert 0.0 < rep["tortuous"]["max_dls_deg_per_30m"] <= 2 * 0.5 / 10.0 * 30.0 + 1e-9
+    md = [float(r.split(",")[0]) for r in (out / "v" / "survey.csv").read_text().split()[1:]]
+    # the plan's 0, 25 and 50 m, and every 10/32 m from 20 m (25 m is one of them)
+    assert len(md) == rep["tortuous"]["n_stations"] == 3 + 3 * 32 - 1
+    (tmp_path / "params.yaml").write_text(PARAMS)
+    assert _stage().main(["--params", str(tmp_path / "params.yaml"), "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())["profiles"]
+    assert all("tortuosity" not in s for s in summary.values())
+
+
 def test_stage_bad_params_writes_nothing(tmp_path: Path, capsys) -> None:
     (tmp_path / "params.yaml").write_text("well:\n  profile: zz\n")
     out = tmp_path / "wells"

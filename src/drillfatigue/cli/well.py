@@ -12,13 +12,15 @@ from rich.table import Table
 
 from drillfatigue.cli.app import app
 from drillfatigue.config import WellConfig, load_case
+from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
 from drillfatigue.io.display import Display, check_system
 from drillfatigue.io.surveys import write_survey
-from drillfatigue.well import Survey, build_survey, key_points
+from drillfatigue.well import Survey, build_plan_survey, build_survey, key_points
 from drillfatigue.well.outputs import plot_survey
 from drillfatigue.well.profiles import resolve_profile
+from drillfatigue.well.tortuosity import tortuosity_report
 
 well_app = typer.Typer(help="Well profiles: show key points, plot, export the survey.",
                        no_args_is_help=True)
@@ -55,7 +57,8 @@ def _check_output(path: Path, suffixes: tuple[str, ...], option: str = "--out") 
 @well_app.command("show")
 def show(case: Path = CaseArg, profile: str | None = ProfileOpt,
          unit_system: str = UnitsOpt) -> None:
-    """Print MD, inclination, azimuth, TVD, N, E and DLS at the key points."""
+    """Print MD, inclination, azimuth, TVD, N, E and DLS at the key points, and the
+    hole tortuosity (well.tortuosity) with what it does to the plan when it is set."""
     d = Display(check_system(unit_system))
     cfg, name, sv = _load(case, profile)
     keys = key_points(cfg, name)
@@ -80,6 +83,32 @@ def show(case: Path = CaseArg, profile: str | None = ProfileOpt,
     console.print(f"max DLS: {sv.dls_deg_per_30m.max():.3f} deg/30m = "
                   f"{sv.dls_deg_per_100ft.max():.3f} deg/100ft at MD {md[imax]:.1f} {lu}; "
                   f"TD {md[-1]:.1f} {lu}")
+    if cfg.tortuosity is not None:
+        console.print(_tortuosity_table(cfg.tortuosity, build_plan_survey(cfg, name), sv, d))
+
+
+def _tortuosity_table(spec: TortuosityConfig, plan: Survey, sv: Survey, d: Display) -> Table:
+    """The tortuosity model, and the plan's and the tortuous hole's dogleg severity below
+    its start and tortuosity index, in the display's units."""
+    rep = tortuosity_report(plan, sv, spec)
+    lu, du = d.unit("length"), d.unit("dogleg")
+    per_length = float(d.value("length", 1.0))  # display length units in a metre
+    seed = f", seed {spec.seed}" if spec.model == "random" else ""
+    start = float(d.value("length", spec.md_start_m))
+    peak = float(d.value("dogleg", rep["peak_added_dls_deg_per_30m"]))
+    table = Table(title=f"tortuosity: {spec.model}, amplitude {spec.amplitude_deg:g} deg, period "
+                        f"{float(d.value('length', spec.period_m)):g} {lu}, {spec.direction}{seed}"
+                        f"; below MD {start:.1f} {lu}, adding up to {peak:.3f} {du}")
+    for col in ("", "plan", "tortuous hole"):
+        table.add_column(col, justify="left" if not col else "right", no_wrap=True)
+    for label, key in ((f"max DLS below MD {start:.1f} {lu}, {du}", "max_dls_deg_per_30m"),
+                       (f"mean DLS below MD {start:.1f} {lu}, {du}", "mean_dls_deg_per_30m")):
+        table.add_row(label, *(f"{float(d.value('dogleg', rep[k][key])):.3f}"
+                               for k in ("plan", "tortuous")))
+    table.add_row(f"tortuosity index, 1/{lu}",
+                  *(f"{rep[k]['tortuosity_index_per_m'] / per_length:.3e}"
+                    for k in ("plan", "tortuous")))
+    return table
 
 
 @well_app.command("plot")

@@ -31,18 +31,35 @@ specifications are a union discriminated on ``kind``:
     :mod:`drillfatigue.io.surveys` (``depth_unit`` for depth columns whose
     header names no unit).
 
+Hole tortuosity (``well.tortuosity``, off when absent): micro-doglegs added to
+every profile's plan below ``md_start_m``, a sine wave or seeded random tilts of
+the hole's direction with a stated amplitude and period
+(:mod:`drillfatigue.well.tortuosity`, docs/wells.md#tortuosity). The contact
+model, the soft-string torque and drag and the surrogate's geometry features
+then see the tortuous hole.
+
 Angles are given in degrees at this boundary and converted to radians once,
-in :mod:`drillfatigue.well.profiles`. Lengths are metres.
+in :mod:`drillfatigue.well.profiles` and :mod:`drillfatigue.well.tortuosity`.
+Lengths are metres.
 """
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+import math
+from typing import Annotated, Any, Literal
 
-from pydantic import Field, ValidationInfo, field_validator
+from pydantic import (
+    Field,
+    SerializerFunctionWrapHandler,
+    ValidationInfo,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 from pydantic_core import PydanticCustomError
 
 from drillfatigue.config.base import StrictModel
+from drillfatigue.limits import FEATURE_BOUNDS, MD_MAX_M
 
 # Typical oilfield build rates are 1-15 deg/30 m; short-radius wells reach
 # ~60 deg/30 m, the upper limit we accept.
@@ -180,6 +197,66 @@ class HoleSection(StrictModel):
     diameter_m: float = Field(0.2159, ge=0.05, le=1.0)
 
 
+_AMPLITUDE = FEATURE_BOUNDS["tortuosity_amplitude_deg"]
+_PERIOD = FEATURE_BOUNDS["tortuosity_period_m"]
+
+
+class TortuosityConfig(StrictModel):
+    """Micro-doglegs added to the plan: hole tortuosity (docs/wells.md#tortuosity).
+
+    Below ``md_start_m`` the direction of the hole is tilted away from the
+    plan's by an angle ``delta(md)`` in the plane of the plan's inclination
+    (``direction: inclination``, the high side), across it (``azimuth``, the
+    right side) or in both at once (``both``, the same wave in each, as
+    torque-and-drag programs add it to inclination and azimuth alike).
+
+    ``sine``
+        ``delta = amplitude sin(2 pi (md - md_start) / period)``: peak added
+        dogleg severity 2 pi amplitude / period (times sqrt 2 for ``both``),
+        mean 4 amplitude / period over whole periods.
+    ``random``
+        ``delta`` drawn uniformly in [-amplitude, amplitude] every ``period``
+        from ``md_start_m`` (0 there), linear in between; the draws come from
+        ``numpy.random.default_rng(seed)``, so a seed gives the same hole on
+        every run. Added dogleg severity at most 2 amplitude / period (times
+        sqrt 2 for ``both``).
+
+    ``stations_per_period`` survey stations per period carry the wave (the
+    plan's stations are kept); 32 resolve the sine's peak dogleg severity to
+    within 1 % by minimum curvature.
+    """
+
+    model: Literal["sine", "random"] = Field(description="shape of the micro-doglegs")
+    amplitude_deg: float = Field(ge=_AMPLITUDE.lo, le=_AMPLITUDE.hi,
+                                 description="largest tilt from the plan's direction, deg")
+    period_m: float = Field(ge=_PERIOD.lo, le=_PERIOD.hi,
+                            description="wave length (sine) or spacing of the draws "
+                                        "(random), m")
+    md_start_m: float = Field(0.0, ge=0.0, le=MD_MAX_M,
+                              description="MD where the tortuosity starts, m")
+    direction: Literal["inclination", "azimuth", "both"] = "inclination"
+    seed: int = Field(0, ge=0, le=2**32 - 1, description="random model only")
+    stations_per_period: int = Field(32, ge=8, le=256)
+
+    @model_validator(mode="after")
+    def _dls_within_bound(self) -> TortuosityConfig:
+        top = FEATURE_BOUNDS["dls_deg_per_30m"].hi
+        added = self.peak_added_dls_deg_per_30m
+        if added > top:
+            raise _bad(f"amplitude_deg: {self.amplitude_deg:g} deg over period_m "
+                       f"{self.period_m:g} m adds a dogleg severity of {added:.4g} deg/30m",
+                       f"a peak added dogleg severity <= {top:g} deg/30m")
+        return self
+
+    @property
+    def peak_added_dls_deg_per_30m(self) -> float:
+        """Largest dogleg severity the tortuosity adds to a straight hole, deg/30 m."""
+        rate = (2.0 * math.pi if self.model == "sine" else 2.0) * self.amplitude_deg / self.period_m
+        if self.direction == "both":
+            rate *= math.sqrt(2.0)
+        return 30.0 * rate
+
+
 def _default_profiles() -> dict[str, ProfileSpec]:
     return {
         "profile_1": FamilyMemberProfile(member=1, kop_m=350.0),
@@ -209,6 +286,8 @@ class WellConfig(StrictModel):
     max_cylinder_length_m: float = Field(10.0, gt=0.0, le=100.0)
     station_spacing_m: float = Field(30.0, gt=0.0, le=500.0,
                                      description="survey station spacing of built profiles")
+    tortuosity: TortuosityConfig | None = Field(
+        None, description="micro-doglegs added to every profile's plan; None: off")
 
     @field_validator("profile")
     @classmethod
@@ -239,6 +318,15 @@ class WellConfig(StrictModel):
                 raise _bad(f"hole[{i}].diameter_m={sec.diameter_m} m is too small for "
                            f"this clearance", "min_clearance_m < hole radius")
         return v
+
+    @model_serializer(mode="wrap")
+    def _leave_out_tortuosity_off(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """The dump without ``tortuosity`` while it is off, so that a well without it keeps
+        its case id, configuration hash and written configuration."""
+        data: dict[str, Any] = handler(self)
+        if self.tortuosity is None:
+            data.pop("tortuosity", None)
+        return data
 
     @property
     def active_profile(self) -> str:

@@ -20,8 +20,9 @@ from drillfatigue.config.well import WellConfig
 from drillfatigue.files import OutputFolder, atomic_output
 from drillfatigue.io.display import Display
 from drillfatigue.plotting import figure
-from drillfatigue.well.profiles import build_survey
+from drillfatigue.well.profiles import build_plan_survey
 from drillfatigue.well.survey import Survey, write_survey_csv
+from drillfatigue.well.tortuosity import apply_tortuosity, tortuosity_report
 from drillfatigue.well.wellbore import Wellbore, build_wellbore, resample_path
 
 __all__ = ["cylinder_table", "plot_survey", "write_well_outputs"]
@@ -105,17 +106,25 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
     (:class:`drillfatigue.files.OutputFolder`): one holding files drillfatigue
     did not write is refused, and only the profile's own files are replaced.
 
+    With ``cfg.tortuosity`` set, the survey, cylinders and plot are those of
+    the tortuous hole, and each profile's summary has a ``tortuosity`` entry
+    (:func:`drillfatigue.well.tortuosity.tortuosity_report`).
+
     Returns
     -------
     dict
         ``{name: {kind, td_m, end_north_m, end_east_m, end_tvd_m,
         max_dls_deg_per_30m, max_dls_deg_per_100ft, n_cylinders,
-        min_cylinder_length_m}}``.
+        min_cylinder_length_m[, tortuosity]}}``.
     """
     out = Path(out_dir)
     built = {}
+    reports: dict[str, dict[str, Any]] = {}
     for name, spec in cfg.profiles.items():
-        sv = build_survey(cfg, name)
+        plan = build_plan_survey(cfg, name)
+        sv = plan if cfg.tortuosity is None else apply_tortuosity(plan, cfg.tortuosity)
+        if cfg.tortuosity is not None:
+            reports[name] = tortuosity_report(plan, sv, cfg.tortuosity)
         built[name] = (spec.kind, sv, build_wellbore(cfg, name, survey=sv))
     for name in built:
         OutputFolder.check(out / name, WELL_KIND, f"{out / name}")
@@ -139,4 +148,6 @@ def write_well_outputs(cfg: WellConfig, out_dir: str | Path,
             "n_cylinders": wb.n,
             "min_cylinder_length_m": float(wb.length_m.min()),
         }
+        if name in reports:
+            summary[name]["tortuosity"] = reports[name]
     return summary

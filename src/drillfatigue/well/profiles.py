@@ -7,6 +7,12 @@ are placed at every leg boundary and every ``station_spacing_m`` inside legs,
 with tangents interpolated by slerp, so the survey reproduces the design
 exactly.
 
+With ``well.tortuosity`` set, :func:`build_survey` returns the plan with its
+micro-doglegs (:mod:`drillfatigue.well.tortuosity`): the hole every consumer
+(the contact's cylinder chain, the soft-string torque and drag, the
+surrogate's geometry features) sees; :func:`build_plan_survey` returns the
+plan itself.
+
 The case-2 family (founding paper, Liyanarachchi & Rideout) shares the
 surface point and a horizontal end point; the dogleg of each member is
 solved with :func:`scipy.optimize.brentq` so that it lands at the shared TVD,
@@ -39,9 +45,10 @@ from drillfatigue.well.survey import (
     minimum_curvature,
     tangent_vectors,
 )
+from drillfatigue.well.tortuosity import apply_tortuosity, tortuosity_report
 
-__all__ = ["FAMILY_END_TOLERANCE_M", "KeyPoint", "build_survey", "family_end_point", "key_points",
-           "profile_report", "resolve_profile"]
+__all__ = ["FAMILY_END_TOLERANCE_M", "KeyPoint", "build_plan_survey", "build_survey",
+           "family_end_point", "key_points", "profile_report", "resolve_profile"]
 
 _DEG_PER_30M_TO_RAD_PER_M = math.radians(1.0) / 30.0
 
@@ -237,8 +244,33 @@ def resolve_profile(cfg: WellConfig, name: str | None = None) -> str:
     return name
 
 
+def build_plan_survey(cfg: WellConfig, name: str | None = None) -> Survey:
+    """Survey of a named profile's plan, without ``cfg.tortuosity``.
+
+    Parameters
+    ----------
+    cfg : WellConfig
+        The ``well`` section.
+    name : str, optional
+        Profile name in ``cfg.profiles`` (default: ``cfg.profile`` or the first).
+
+    Returns
+    -------
+    Survey
+        Stations from the surface (0, 0, 0) to TD, positions by minimum
+        curvature.
+    """
+    name = resolve_profile(cfg, name)
+    return _design(cfg.profiles[name], cfg, f"well.profiles.{name}")[0]
+
+
 def build_survey(cfg: WellConfig, name: str | None = None) -> Survey:
-    """Survey of a named profile (default: ``cfg.profile`` or the first).
+    """Survey of the hole of a named profile (default: ``cfg.profile`` or the first).
+
+    The plan (:func:`build_plan_survey`) with the micro-doglegs of
+    ``cfg.tortuosity`` added when it is set
+    (:func:`drillfatigue.well.tortuosity.apply_tortuosity`); the plan itself
+    when it is not.
 
     Parameters
     ----------
@@ -253,8 +285,8 @@ def build_survey(cfg: WellConfig, name: str | None = None) -> Survey:
         Stations from the surface (0, 0, 0) to TD, positions by minimum
         curvature.
     """
-    name = resolve_profile(cfg, name)
-    return _design(cfg.profiles[name], cfg, f"well.profiles.{name}")[0]
+    plan = build_plan_survey(cfg, name)
+    return plan if cfg.tortuosity is None else apply_tortuosity(plan, cfg.tortuosity)
 
 
 def key_points(cfg: WellConfig, name: str | None = None) -> list[KeyPoint]:
@@ -268,11 +300,14 @@ def profile_report(cfg: WellConfig) -> dict[str, dict[str, object]]:
 
     For the case-2 family this is the report of the shared end point (every
     ``family_member``'s ``end_pos_m`` equals the family end to < 0.1 m) and of
-    each member's maximum dogleg.
+    each member's maximum dogleg. With ``cfg.tortuosity`` set, the numbers are
+    those of the tortuous hole and ``tortuosity`` holds
+    :func:`drillfatigue.well.tortuosity.tortuosity_report` (the plan beside it).
     """
     out: dict[str, dict[str, object]] = {}
     for name, spec in cfg.profiles.items():
-        sv = build_survey(cfg, name)
+        plan = build_plan_survey(cfg, name)
+        sv = plan if cfg.tortuosity is None else apply_tortuosity(plan, cfg.tortuosity)
         out[name] = {
             "kind": spec.kind,
             "td_m": float(sv.md_m[-1]),
@@ -281,4 +316,6 @@ def profile_report(cfg: WellConfig) -> dict[str, dict[str, object]]:
             "max_dls_deg_per_100ft": float(sv.dls_deg_per_100ft.max()),
             "n_stations": sv.n,
         }
+        if cfg.tortuosity is not None:
+            out[name]["tortuosity"] = tortuosity_report(plan, sv, cfg.tortuosity)
     return out
