@@ -99,6 +99,12 @@ TWIN_RPM = (60.0, 180.0)
 TWIN_WOB_KN = (30.0, 120.0)
 #: friction, mud and lobe amplitude, each inside its design range (--set of ``ledger run start``)
 TWIN_CONSTANTS = {"mu_dynamic": "0.28", "mud_density_sg": "1.25", "lobe_amplitude_mm": "1.0"}
+#: what the twin result's figures are (written into it)
+TWIN_NOTES = ("the twin queries only the locations in the hole (bit depth minus distance from "
+              "the bit >= 0): about 120-160 of the 600 here, where the model's design ends at "
+              "a 760 m bit depth; a string wholly in a deeper hole would cost the twin more "
+              "per piece. damage_sum and max_damage are the model's answers on these synthetic "
+              "inputs, a check that the configurations counted the same, not life estimates.")
 #: BHA from the bit up (serial, type, length m) at the distances the model was trained on
 TWIN_BHA = ([("BIT-1", "bit", 0.3), ("STB-1", "stab", 1.8), ("DC-01", "dc", 9.1),
              ("STB-2", "stab", 1.8)] + [(f"DC-{i:02d}", "dc", 9.1) for i in range(2, 8)]
@@ -361,6 +367,7 @@ def run_twin(model_path: Path, hours: float) -> None:
                   "ledger_own_s = wall_s - twin_s (log parse, bookkeeping, database)",
         "postgresql": ("PostgreSQL 15, Unix socket, fsync off" if not problem else
                        f"not run: {problem}"),
+        "notes": TWIN_NOTES,
         "results": results,
     })
     print(f"wrote {RESULT_TWIN}")
