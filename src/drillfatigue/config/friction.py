@@ -14,7 +14,7 @@ from pydantic import Field, model_validator
 from drillfatigue.config.base import StrictModel
 
 FrictionModelName = Literal[
-    "coulomb", "benson_hallquist", "karnopp", "tanh", "velocity_trig", "tanh_exp"
+    "coulomb", "benson_hallquist", "karnopp", "tanh", "velocity_trig", "tanh_exp", "stick_band"
 ]
 
 
@@ -26,7 +26,9 @@ class FrictionConfig(StrictModel):
     model : str
         ``coulomb`` (regularised), ``benson_hallquist``, ``karnopp``, ``tanh``
         (Mostaghel), ``velocity_trig`` (Wang & Rui style trigonometric shape),
-        ``tanh_exp`` (the paper's hybrid tanh-exponential). Default ``tanh_exp``.
+        ``tanh_exp`` (the paper's hybrid tanh-exponential), ``stick_band``
+        (Coulomb with a stick band of width ``karnopp_dv_m_per_s``: mu_s inside,
+        mu_d outside; Aarsnes & Shor 2018). Default ``tanh_exp``.
     mu_static, mu_dynamic : float
         Static and dynamic (kinetic) wall friction coefficients, 0..1.5,
         ``mu_dynamic <= mu_static``. Defaults 0.35 / 0.25 (water-base mud
@@ -36,12 +38,15 @@ class FrictionConfig(StrictModel):
         ``mu_dynamic``. Applied by scaling the axial component of the friction
         force by ``mu_axial / mu_dynamic`` (see ``friction_force_split``).
     v_reg_m_per_s : float
-        Regularisation velocity of Coulomb and Benson-Hallquist (linear ramp
-        below it), m/s.
+        Regularisation velocity of Coulomb, Benson-Hallquist and stick_band
+        (linear ramp below it), m/s.
     v_c_m_per_s : float
         Benson-Hallquist decay velocity, m/s.
     karnopp_dv_m_per_s : float
-        Karnopp stick band half-width, m/s.
+        Stick band of the Karnopp-style laws (``karnopp``, ``stick_band``): the
+        slip speed below which the wall holds the string, m/s. Aarsnes & Shor's
+        fits (0.5-2 rad/s) are 30-130 mm/s on a 5 in pipe; ``stick_band`` needs it
+        above the creep of a held point (docs/rig.md#off-bottom-stick-slip-and-the-stick-band).
     v_t_m_per_s : float
         tanh regularisation velocity (tanh and tanh_exp), m/s.
     v_s_m_per_s : float
