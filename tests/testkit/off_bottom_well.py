@@ -60,7 +60,7 @@ def case_dict(law: str = "tanh_exp", band_m_per_s: float = 0.095, damping: float
     """The simulator's case of the same well."""
     friction: dict[str, Any] = {"model": law, "mu_static": MU_S, "mu_dynamic": MU_D}
     if law == "stick_band":
-        friction["karnopp_dv_m_per_s"] = band_m_per_s
+        friction["stick_band_m_per_s"] = band_m_per_s
     return {
         "string": {"components": [
             {"type": "collar", "od_m": COLLAR.od_m, "id_m": COLLAR.id_m, "length_m": COLLAR.length_m,

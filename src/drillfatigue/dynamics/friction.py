@@ -47,7 +47,8 @@ its stick band, the force is anti-parallel to the slip,
 Invariants (tested): ``F.v <= 0``; ``|F| <= mu_s N`` exactly (no tolerance
 needed: every shape is bounded by mu_s); odd in ``v`` (jointly with
 ``f_other`` for Karnopp); ``|F| -> mu_d N`` at high slip.
-``KARNOPP`` and ``STICK_BAND`` share the band ``p[I_DV]``.
+``KARNOPP`` and ``STICK_BAND`` read their band from ``p[I_DV]`` (packed from
+``karnopp_dv_m_per_s`` or ``stick_band_m_per_s`` by the model chosen).
 
 Axial (drag) coefficient. :func:`friction_force_split` computes the force of
 the chosen model from the full 3D slip (so rotation reduces axial drag, as it
@@ -269,7 +270,7 @@ def pack_friction_params(cfg: FrictionConfig) -> tuple[int, np.ndarray]:
         p[I_AX_RATIO] = 1.0
     p[I_V_REG] = cfg.v_reg_m_per_s
     p[I_V_C] = cfg.v_c_m_per_s
-    p[I_DV] = cfg.karnopp_dv_m_per_s
+    p[I_DV] = cfg.stick_band_m_per_s if cfg.model == "stick_band" else cfg.karnopp_dv_m_per_s
     p[I_V_T] = cfg.v_t_m_per_s
     p[I_V_S] = cfg.v_s_m_per_s
     p[I_TRIG_PEAK] = cfg.trig_v_peak_m_per_s
