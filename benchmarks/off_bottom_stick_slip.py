@@ -7,7 +7,8 @@ the simulator (50 m segments) and by the distributed wave model of Aarsnes & Sho
 (10 m cells), with the default wall friction law (``tanh_exp``: mu_s 0.35, mu_d 0.25,
 v_t 1 mm/s, v_s 50 mm/s) and with ``stick_band`` (mu_s inside the stick band, mu_d
 outside it) at the band of Aarsnes & Shor's published script (1.5 rad/s, 95 mm/s at
-the pipe's surface) and of their field fit (0.9 rad/s, 57 mm/s), at 40 rpm with the
+the pipe's surface), at 90 mm/s, and at their field fit (0.9 rad/s on their 5 7/8 in
+pipe, 66 mm/s: the law's default), at 40 rpm with the
 torsional mud drag 0.05 (default), 0.03 and 0.01 N m s/rad per m, and at 60 rpm with
 0.05 and 0.03. Each run is 50 s; period, break-off torque and the fraction of time the
 bit is stuck (speed below 10 % of the set speed) are measured after 20 s
@@ -41,11 +42,12 @@ from drillfatigue.studies.common import write_json  # noqa: E402
 from testkit import off_bottom_well as W  # noqa: E402
 
 RESULT = Path(__file__).parent / "results" / "off_bottom_stick_slip.json"
-PUBLISHED_BAND_M_PER_S = 1.5 * W.PIPE.od_m / 2.0  # Aarsnes & Shor's script, omega_c = 1.5 rad/s
-FITTED_BAND_M_PER_S = 0.9 * W.PIPE.od_m / 2.0  # their fit to Well B, omega_c = 0.9 rad/s
+PUBLISHED_BAND_M_PER_S = 0.095  # Aarsnes & Shor's script, omega_c = 1.5 rad/s on the 5 in pipe
+NEAR_BAND_M_PER_S = 0.09  # a neighbour: the simulator's state is not robust to the band
+FITTED_BAND_M_PER_S = 0.066  # their fit to Well B, omega_c = 0.9 rad/s on its 5 7/8 in pipe
 RUNS: tuple[tuple[float, float, str, float], ...] = (
     (40.0, 0.05, "tanh_exp", 0.0), (40.0, 0.05, "stick_band", PUBLISHED_BAND_M_PER_S),
-    (40.0, 0.05, "stick_band", FITTED_BAND_M_PER_S),
+    (40.0, 0.05, "stick_band", NEAR_BAND_M_PER_S), (40.0, 0.05, "stick_band", FITTED_BAND_M_PER_S),
     (40.0, 0.03, "tanh_exp", 0.0), (40.0, 0.03, "stick_band", PUBLISHED_BAND_M_PER_S),
     (40.0, 0.01, "tanh_exp", 0.0), (40.0, 0.01, "stick_band", PUBLISHED_BAND_M_PER_S),
     (60.0, 0.05, "tanh_exp", 0.0), (60.0, 0.05, "stick_band", PUBLISHED_BAND_M_PER_S),
