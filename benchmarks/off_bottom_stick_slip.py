@@ -68,10 +68,11 @@ def _row(rpm: float, damping: float, law: str, band: float) -> tuple[dict[str, A
         row[model] = {**W.metrics(res, rpm), "wall_s": round(time.perf_counter() - t0, 1)}
         traces[model] = res
     s, r = row["simulator"], row["reference"]
-    print(f"{rpm:g} rpm, c {damping:g}, {law}{f' {band * 1e3:.0f} mm/s' if law == 'stick_band' else ''}: "
-          + "; ".join(f"{m} period {d['period_s']:.2f} s, break-off {d['break_off_Nm'] / 1e3:.2f} kN m, "
-                      f"stuck {d['stuck_fraction']:.2f} ({d['n_cycles']:g} cycles)" for m, d in (("sim", s), ("ref", r))),
-          flush=True)
+    parts = [f"{m} period {d['period_s']:.2f} s, break-off {d['break_off_Nm'] / 1e3:.2f} kN m, "
+             f"stuck {d['stuck_fraction']:.2f} ({d['n_cycles']:g} cycles)"
+             for m, d in (("sim", s), ("ref", r))]
+    label = f" {band * 1e3:.0f} mm/s" if law == "stick_band" else ""
+    print(f"{rpm:g} rpm, c {damping:g}, {law}{label}: " + "; ".join(parts), flush=True)
     return row, traces
 
 

@@ -46,7 +46,8 @@ pytestmark = pytest.mark.slow
 
 
 @functools.cache
-def _run(model: str, law: str, damping: float = 0.05, rpm: float = 40.0, band: float = 0.095) -> dict[str, float]:
+def _run(model: str, law: str, damping: float = 0.05, rpm: float = 40.0,
+         band: float = 0.095) -> dict[str, float]:
     run = W.simulate_case if model == "simulator" else W.simulate_reference
     res = run(law=law, damping=damping, rpm=rpm, band_m_per_s=band)
     if model == "simulator":
