@@ -71,7 +71,8 @@ def test_static_peak_exceeds_dynamic(model):
     speeds = np.geomspace(1e-5, 1.0, 400)
     mags = [np.linalg.norm(force(model, (s, 0, 0), 1.0)) for s in speeds]
     assert max(mags) > cfg.mu_dynamic + 0.8 * (cfg.mu_static - cfg.mu_dynamic)
-    assert max(mags) <= cfg.mu_static
+    # stick_band sits at mu_s itself inside its band: one rounding of -N mu v / |v|
+    assert max(mags) <= cfg.mu_static * (1.0 + 1e-12)
 
 
 @pytest.mark.parametrize("model", MODELS)

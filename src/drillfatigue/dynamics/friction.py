@@ -44,8 +44,8 @@ its stick band, the force is anti-parallel to the slip,
     sticks again; with ``mu_d`` flat outside it, the band's width sets how much of a
     stick-slip cycle the string spends stuck (docs/rig.md#off-bottom-stick-slip-and-the-stick-band).
 
-Invariants (tested): ``F.v <= 0``; ``|F| <= mu_s N`` exactly (no tolerance
-needed: every shape is bounded by mu_s); odd in ``v`` (jointly with
+Invariants (tested): ``F.v <= 0``; ``|F| <= mu_s N`` to round-off (every
+shape is bounded by mu_s; ``STICK_BAND`` reaches it); odd in ``v`` (jointly with
 ``f_other`` for Karnopp); ``|F| -> mu_d N`` at high slip.
 ``KARNOPP`` and ``STICK_BAND`` read their band from ``p[I_DV]`` (packed from
 ``karnopp_dv_m_per_s`` or ``stick_band_m_per_s`` by the model chosen).
