@@ -240,12 +240,14 @@ def torsional_with_kernels(w: TorsionalWell, tuning: str = "pi", t_end: float = 
 
 
 def stick_slip_metrics(res: dict[str, np.ndarray], omega_target: float, t_from: float) -> dict[str, float]:
-    """Stick-slip period (s), break-off torque (N m), severity, from ``t >= t_from``.
+    """Stick-slip period (s), break-off torque (N m), severity, stuck fraction, from ``t >= t_from``.
 
     A slip starts where the bit speed rises through half the target after
     having been below 10 % of it (stuck); the period is the median time
     between slip starts; the break-off torque is the median of the largest
-    surface torque of each cycle; the severity is (max - min) / mean bit speed.
+    surface torque of each cycle; the severity is (max - min) / mean bit speed;
+    the stuck fraction is the share of the (evenly spaced) samples with the bit's
+    speed below 10 % of the target in magnitude.
     """
     t = res["t"]
     sel = t >= t_from
@@ -259,7 +261,8 @@ def stick_slip_metrics(res: dict[str, np.ndarray], omega_target: float, t_from: 
             starts.append(i)
             armed = False
     out = {"severity": float((wb.max() - wb.min()) / max(abs(wb.mean()), 1e-12)),
-           "n_cycles": float(max(len(starts) - 1, 0)), "period_s": math.nan, "break_off_Nm": math.nan}
+           "n_cycles": float(max(len(starts) - 1, 0)), "period_s": math.nan, "break_off_Nm": math.nan,
+           "stuck_fraction": float(np.mean(np.abs(wb) < 0.1 * omega_target))}
     if len(starts) >= 3:
         st = np.array(starts)
         out["period_s"] = float(np.median(np.diff(t[st])))

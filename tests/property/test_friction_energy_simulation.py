@@ -20,7 +20,7 @@ from drillfatigue.dynamics import layout as L
 from drillfatigue.dynamics.examples import uniform_chain_case
 from drillfatigue.dynamics.model import advance_model, build_model, straight_path, total_energy
 
-MODELS = ("coulomb", "benson_hallquist", "karnopp", "tanh", "velocity_trig", "tanh_exp")
+MODELS = ("coulomb", "benson_hallquist", "karnopp", "tanh", "velocity_trig", "tanh_exp", "stick_band")
 
 
 @settings(max_examples=12, deadline=None)

@@ -1,4 +1,4 @@
-"""Property tests of the six wall-friction models (docs/model.md#friction)."""
+"""Property tests of the seven wall-friction models (docs/model.md#friction)."""
 
 from __future__ import annotations
 
@@ -64,27 +64,29 @@ def test_zero_normal_force_gives_zero(model):
     np.testing.assert_array_equal(force(model, (0.1, 0.2, 0.0), 0.0, (5.0, 0, 0)), 0.0)
 
 
-@pytest.mark.parametrize("model", ["benson_hallquist", "velocity_trig", "tanh_exp"])
+@pytest.mark.parametrize("model", ["benson_hallquist", "velocity_trig", "tanh_exp", "stick_band"])
 def test_static_peak_exceeds_dynamic(model):
     """The Stribeck-type models reach (close to) mu_s N at low slip: the stick-slip driver."""
     cfg = FrictionConfig(model=model)
     speeds = np.geomspace(1e-5, 1.0, 400)
     mags = [np.linalg.norm(force(model, (s, 0, 0), 1.0)) for s in speeds]
     assert max(mags) > cfg.mu_dynamic + 0.8 * (cfg.mu_static - cfg.mu_dynamic)
-    assert max(mags) <= cfg.mu_static
+    # stick_band sits at mu_s itself inside its band: one rounding of -N mu v / |v|
+    assert max(mags) <= cfg.mu_static * (1.0 + 1e-12)
 
 
 @pytest.mark.parametrize("model", MODELS)
 def test_continuous_in_slip_speed(model):
-    """Friction magnitude has no jumps except Karnopp's documented band edge."""
+    """Friction magnitude has no jumps except the documented band edge of the Karnopp-style laws."""
     speeds = np.linspace(0.0, 0.3, 30001)
     mags = np.array([np.linalg.norm(force(model, (s, 0, 0), 1.0)) for s in speeds])
     jumps = np.abs(np.diff(mags))
-    if model == "karnopp":
+    if model in ("karnopp", "stick_band"):
         cfg = FrictionConfig(model=model)
         # single jump at the band edge, from the stick value down to mu_d
         assert np.count_nonzero(jumps > 1e-2) == 1
-        assert mags[speeds > cfg.karnopp_dv_m_per_s][0] == pytest.approx(cfg.mu_dynamic)
+        band = cfg.karnopp_dv_m_per_s if model == "karnopp" else cfg.stick_band_m_per_s
+        assert mags[speeds > band][0] == pytest.approx(cfg.mu_dynamic)
     else:
         # the steepest slopes are ~mu/v_t = 0.25/1e-3 per m/s; step 1e-5 m/s
         assert jumps.max() < 4e-3

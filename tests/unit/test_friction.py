@@ -13,6 +13,7 @@ from drillfatigue.dynamics.friction import (
     I_MU_D,
     I_MU_S,
     MODEL_IDS,
+    STICK_BAND,
     TANH_EXP,
     pack_friction_params,
     slip_coefficient,
@@ -41,6 +42,7 @@ def test_mu_axial_ratio():
         ({"v_t_m_per_s": 0.1, "v_s_m_per_s": 0.05}, "friction"),
         ({"mu_dynamic": 0.0, "mu_static": 0.0, "mu_axial": 0.2}, "friction"),
         ({"unknown": 1}, "friction.unknown"),
+        ({"model": "stick_band", "stick_band_m_per_s": 1e-3, "v_reg_m_per_s": 1e-3}, "friction"),
     ],
 )
 def test_bad_input_names_field_and_allowed(data, field):
@@ -63,4 +65,17 @@ def test_velocity_trig_shape_points():
     assert slip_coefficient(mid, p, vp) == pytest.approx(cfg.mu_static)
     assert slip_coefficient(mid, p, vp + vw / 2) == pytest.approx(0.5 * (cfg.mu_static + cfg.mu_dynamic))
     assert slip_coefficient(mid, p, vp + vw) == pytest.approx(cfg.mu_dynamic)
-    assert set(MODEL_IDS.values()) == set(range(6))
+    assert set(MODEL_IDS.values()) == set(range(7))
+
+
+def test_stick_band_shape_points():
+    """mu_s (after the Coulomb ramp) up to the band, mu_d from its edge on."""
+    cfg = FrictionConfig(model="stick_band", stick_band_m_per_s=0.095)
+    mid, p = pack_friction_params(cfg)
+    assert mid == STICK_BAND
+    assert slip_coefficient(mid, p, 0.0) == 0.0
+    assert slip_coefficient(mid, p, 0.5 * cfg.v_reg_m_per_s) == pytest.approx(0.5 * cfg.mu_static)
+    assert slip_coefficient(mid, p, cfg.v_reg_m_per_s) == cfg.mu_static
+    assert slip_coefficient(mid, p, 0.094) == cfg.mu_static
+    assert slip_coefficient(mid, p, 0.095) == cfg.mu_dynamic
+    assert slip_coefficient(mid, p, 5.0) == cfg.mu_dynamic

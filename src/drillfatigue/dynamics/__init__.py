@@ -7,7 +7,7 @@ Kernel modules (numpy, numba and math only; map in ``docs/dynamics.md``):
 * :mod:`forces` -- the force assembly, one kernel per force kind (gravity, mud);
 * :mod:`joints` -- the joint spring-dampers between segments;
 * :mod:`contact` -- wall contact with its friction call and the Karnopp pre-pass;
-* :mod:`friction` -- the six wall-friction laws;
+* :mod:`friction` -- the seven wall-friction laws;
 * :mod:`bitrock` -- the bit-rock laws (torque on bit, rate of penetration);
 * :mod:`boundaries` -- the top drive and hoisting system; the bit guide;
 * :mod:`growth` -- drilling and tripping: the top segment grows, splits, merges;

@@ -1,4 +1,4 @@
-"""Wall friction: six switchable models behind one kernel signature.
+"""Wall friction: seven switchable models behind one kernel signature.
 
 All models return the tangential friction force on the string at a contact
 point, given the tangential slip velocity ``v`` (3D, the caller removes the
@@ -33,10 +33,22 @@ its stick band, the force is anti-parallel to the slip,
     C1-continuous at the peak and at the end of the decay.
 ``TANH_EXP`` (the paper's hybrid tanh-exponential, plausible form, docs/model.md#friction)
     ``mu = tanh(|v|/v_t) [mu_d + (mu_s - mu_d) exp(-|v|/v_s)]``, ``v_t << v_s``.
+``STICK_BAND`` (Coulomb friction with a stated stick band: the distributed inclusion of
+    Aarsnes & Shor, J. Petrol. Sci. Eng. 163 (2018) 712-721, eq. 4, a Karnopp-style law)
+    ``mu = mu_s min(|v|/v_reg, 1)`` inside the band ``|v| < Dv``, ``mu_d`` outside. Inside
+    the band the wall holds a point with up to ``mu_s N``; what holds it still is the
+    contact kernel's slip cap (:func:`drillfatigue.dynamics.contact.wall_contact`: the
+    force that stops the slip within a step, never more), so no estimate of the other
+    forces is needed and the band may be wide (Aarsnes & Shor fit 0.5-2 rad/s of the
+    pipe's speed, tens of mm/s at its surface). The band is where a slowing string
+    sticks again; with ``mu_d`` flat outside it, the band's width sets how much of a
+    stick-slip cycle the string spends stuck (docs/rig.md#off-bottom-stick-slip-and-the-stick-band).
 
-Invariants (tested): ``F.v <= 0``; ``|F| <= mu_s N`` exactly (no tolerance
-needed: every shape is bounded by mu_s); odd in ``v`` (jointly with
+Invariants (tested): ``F.v <= 0``; ``|F| <= mu_s N`` to round-off (every
+shape is bounded by mu_s; ``STICK_BAND`` reaches it); odd in ``v`` (jointly with
 ``f_other`` for Karnopp); ``|F| -> mu_d N`` at high slip.
+``KARNOPP`` and ``STICK_BAND`` read their band from ``p[I_DV]`` (packed from
+``karnopp_dv_m_per_s`` or ``stick_band_m_per_s`` by the model chosen).
 
 Axial (drag) coefficient. :func:`friction_force_split` computes the force of
 the chosen model from the full 3D slip (so rotation reduces axial drag, as it
@@ -69,6 +81,7 @@ KARNOPP = 2
 TANH = 3
 VELOCITY_TRIG = 4
 TANH_EXP = 5
+STICK_BAND = 6
 
 MODEL_IDS: dict[str, int] = {
     "coulomb": COULOMB,
@@ -77,6 +90,7 @@ MODEL_IDS: dict[str, int] = {
     "tanh": TANH,
     "velocity_trig": VELOCITY_TRIG,
     "tanh_exp": TANH_EXP,
+    "stick_band": STICK_BAND,
 }
 
 I_MU_S = 0
@@ -105,7 +119,8 @@ def slip_coefficient(model, p, speed):
     """Friction coefficient ``mu(|v|)`` of a sliding model at slip speed ``speed`` (m/s).
 
     For ``KARNOPP`` this is the sliding value outside the band (``mu_d``) and
-    ``mu_s`` inside it (the stiction cap). Returns a float in [0, mu_s].
+    ``mu_s`` inside it (the stiction cap); ``STICK_BAND`` the same with the
+    Coulomb ramp below ``v_reg``. Returns a float in [0, mu_s].
     """
     mu_s = p[I_MU_S]
     mu_d = p[I_MU_D]
@@ -129,6 +144,10 @@ def slip_coefficient(model, p, speed):
         return mu_d
     if model == TANH_EXP:
         return _tanh(speed / p[I_V_T]) * (mu_d + (mu_s - mu_d) * math.exp(-speed / p[I_V_S]))
+    if model == STICK_BAND:
+        if speed < p[I_DV]:
+            return mu_s * min(speed / p[I_V_REG], 1.0)
+        return mu_d
     return -1.0  # unknown model: caller checks
 
 
@@ -139,7 +158,8 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
     Parameters
     ----------
     model : int
-        One of ``COULOMB, BENSON_HALLQUIST, KARNOPP, TANH, VELOCITY_TRIG, TANH_EXP``.
+        One of ``COULOMB, BENSON_HALLQUIST, KARNOPP, TANH, VELOCITY_TRIG, TANH_EXP,
+        STICK_BAND``.
     p : ndarray, shape (N_PARAMS,)
         Parameters from :func:`pack_friction_params`.
     v_slip : ndarray, shape (3,)
@@ -170,7 +190,7 @@ def friction_force(model, p, v_slip, N, f_other, dt, out):
     out[0] = 0.0
     out[1] = 0.0
     out[2] = 0.0
-    if model < 0 or model > TANH_EXP:
+    if model < 0 or model > STICK_BAND:
         return UNKNOWN_FRICTION
     if N <= 0.0:
         return OK
@@ -250,7 +270,7 @@ def pack_friction_params(cfg: FrictionConfig) -> tuple[int, np.ndarray]:
         p[I_AX_RATIO] = 1.0
     p[I_V_REG] = cfg.v_reg_m_per_s
     p[I_V_C] = cfg.v_c_m_per_s
-    p[I_DV] = cfg.karnopp_dv_m_per_s
+    p[I_DV] = cfg.stick_band_m_per_s if cfg.model == "stick_band" else cfg.karnopp_dv_m_per_s
     p[I_V_T] = cfg.v_t_m_per_s
     p[I_V_S] = cfg.v_s_m_per_s
     p[I_TRIG_PEAK] = cfg.trig_v_peak_m_per_s

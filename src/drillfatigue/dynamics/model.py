@@ -242,7 +242,7 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
         vmin = {fr.COULOMB: fp[fr.I_V_REG], fr.BENSON_HALLQUIST: fp[fr.I_V_REG],
                 fr.KARNOPP: fp[fr.I_DV], fr.TANH: fp[fr.I_V_T],
                 fr.VELOCITY_TRIG: fp[fr.I_TRIG_PEAK] * 2.0 / math.pi,
-                fr.TANH_EXP: fp[fr.I_V_T]}[int(cpar[L.P_FMODEL])]
+                fr.TANH_EXP: fp[fr.I_V_T], fr.STICK_BAND: fp[fr.I_V_REG]}[int(cpar[L.P_FMODEL])]
         mu = max(fp[fr.I_MU_S], fp[fr.I_MU_D] * max(fp[fr.I_AX_RATIO], 1.0))
         w_seg = np.abs(seg[:, L.S_W]) + 1e-12
         if mu > 0.0 and int(cpar[L.P_FMODEL]) == fr.KARNOPP:
