@@ -332,12 +332,15 @@ def not_covered_reasons(components: pd.DataFrame, model: Surrogate) -> np.ndarra
     out = np.full(n, "", dtype=object)
     kinds = (components["kind"].astype(str).to_numpy() if "kind" in components.columns
              else np.full(n, "", dtype=object))
+    types = (components["component_type"].astype(str).to_numpy()
+             if "component_type" in components.columns else np.full(n, "", dtype=object))
     levels = model.categories
     cat_cols = [c for c in model.categorical if c in components.columns]
+    # one array per column, read once: this runs on every piece of a followed log
+    cats = {col: components[col].astype(str).to_numpy() for col in cat_cols}
     known = np.ones(n, dtype=bool)
     for i in range(n):
-        for kind in (kinds[i], str(components["component_type"].iloc[i])
-                     if "component_type" in components.columns else ""):
+        for kind in (kinds[i], types[i]):
             if kind in NOT_MODELLED:
                 out[i] = NOT_MODELLED[kind]
                 break
@@ -345,7 +348,7 @@ def not_covered_reasons(components: pd.DataFrame, model: Surrogate) -> np.ndarra
             known[i] = False
             continue
         for col in cat_cols:
-            v = str(components[col].iloc[i])
+            v = cats[col][i]
             if v not in levels.get(col, []):
                 out[i] = (f"{col} {v!r}: not in the model's training data (trained on "
                           f"{', '.join(levels.get(col, []))})")
@@ -353,14 +356,16 @@ def not_covered_reasons(components: pd.DataFrame, model: Surrogate) -> np.ndarra
                 break
     rows = np.flatnonzero(known)
     if rows.size and len(cat_cols) == len(model.categorical) and model.categorical:
-        codes = np.column_stack([model.preprocessor.codes_for(
-            col, components[col].astype(str).to_numpy()[rows]) for col in model.categorical])
+        codes = np.column_stack([model.preprocessor.codes_for(col, cats[col][rows])
+                                 for col in model.categorical])
         group = model.domain._group_of(codes, rows.size)
-        for r in np.flatnonzero(group < 0):
+        unseen = np.flatnonzero(group < 0)
+        seen = ", ".join(model.domain.seen_combinations()) if unseen.size else ""
+        for r in unseen:
             i = rows[r]
-            combo = " ".join(str(components[c].iloc[i]) for c in model.categorical)
+            combo = " ".join(cats[c][i] for c in model.categorical)
             out[i] = (f"{combo}: a combination the model was not trained on (trained on "
-                      f"{', '.join(model.domain.seen_combinations())})")
+                      f"{seen})")
     return out
 
 
