@@ -97,16 +97,17 @@ import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.contact import (
-    OUT_DELTA, OUT_SIZE, contact_point, deepest_point, find_contact,
+    OUT_DELTA, OUT_NX, OUT_SIZE, contact_point, deepest_point, find_contact,
 )
 from drillfatigue.dynamics.layout import (
-    CS_SQF, CS_SQON, MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS, P_SPANDYN, S_CL,
-    S_H, S_RB, S_W,
+    CS_SQF, CS_SQON, J_KB, MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS,
+    P_SPANDYN, S_CL, S_H, S_RB, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
-    BUCKLED_V, END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments, midspan_deflection,
+    END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments_settled, midspan_offset,
 )
+from drillfatigue.dynamics.span_chain import segment_of, chain_static_moments
 from drillfatigue.dynamics.span_dynamics import segment_axial_N
 
 #: supports closer than this along the string are one support, m
@@ -142,19 +143,105 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
 #: rounds of mid-span supports added where a span touches the wall or buckles
 #: (each round halves the offending spans: up to 2^rounds pieces)
 MAX_SPLIT_ROUNDS = 4
-#: internal: the supports were split, solve again
+#: wall supports the continuous beam would pull from the wall that are let go of, at
+#: most, in one sample (one per solve, the most pulled first)
+MAX_RELEASES = 32
+#: a wall support is let go of when the beam pulls it from the wall by more than this
+#: share of the largest span load q L (round-off of a support that carries nothing)
+RELEASE_TOL = 1e-9
+#: internal: the supports were changed, solve again
 STATUS_SPLIT = -1
+#: what a round of :func:`_solve_or_split` did
+ACT_NONE = 0
+ACT_SPLIT = 1
+ACT_RELEASE = 2
 
 
 @njit(cache=True)
-def _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s, rxy, rz,
-                    may_split):
-    """Solve the chain on ``sup_c`` (spans the solution cannot hold are cut,
-    :func:`~drillfatigue.dynamics.span_bending.chain_span_moments`). With ``may_split``,
-    where a span is at its Euler load in compression or its mid-span deflection exceeds
-    the room its body has to the wall, the elastic pipe lies on the wall there: add a
-    support at that span's middle and return ``(STATUS_SPLIT, new supports, cut)``;
-    else ``(status, supports, cut)`` with the per-span cut codes."""
+def _offsets(sup_P, d_xy, d_z):
+    """Support offsets of the (x, y) and z solves: the true positions from the first
+    support's, world frame, m (only their chord rotations matter)."""
+    for k in range(sup_P.shape[0]):
+        d_xy[k, 0] = sup_P[k, 0] - sup_P[0, 0]
+        d_xy[k, 1] = sup_P[k, 1] - sup_P[0, 1]
+        d_z[k, 0] = sup_P[k, 2] - sup_P[0, 2]
+        d_z[k, 1] = 0.0
+
+
+@njit(cache=True)
+def _most_pulled(sup_P, sup_n, span_L, span_T, span_q, span_qz, sup_M, sup_Mz, d_xy, d_z):
+    """The interior wall support the continuous beam pulls from the wall the most, or -1.
+
+    The reaction of support k on the beam, per world component c, is the jump of the
+    lateral force S = M' + T w' (M sagging positive, w the offset: (M' + T w')' = -q for
+    EI w'''' - T w'' = q), which integrated over a span gives S(0) = (M_b - M_a)/L
+    + T psi + q L/2 at its first support and S(L) = S(0) - q L at its second
+    (psi the chord rotation). Its part along the axis (the axial force's change, which
+    the transverse solution does not balance) is dropped; the wall can only push
+    towards the hole's axis, so a reaction along the outward normal ``sup_n`` (zero for
+    the bit) pulls."""
+    m = sup_P.shape[0]
+    scale = 1.0
+    for i in range(m - 1):
+        qq = math.sqrt(span_q[i, 0] ** 2 + span_q[i, 1] ** 2 + span_qz[i, 0] ** 2)
+        scale = max(scale, qq * span_L[i])
+    worst = -1
+    most = RELEASE_TOL * scale
+    Rv = np.zeros(3)
+    for k in range(1, m - 1):
+        if sup_n[k, 0] == 0.0 and sup_n[k, 1] == 0.0 and sup_n[k, 2] == 0.0:
+            continue
+        for c in range(3):
+            if c == 0:
+                ma, mb, mc = -sup_M[k - 1, 1], -sup_M[k, 1], -sup_M[k + 1, 1]
+                qa, qb = span_q[k - 1, 0], span_q[k, 0]
+                da, db, dc = d_xy[k - 1, 0], d_xy[k, 0], d_xy[k + 1, 0]
+            elif c == 1:
+                ma, mb, mc = sup_M[k - 1, 0], sup_M[k, 0], sup_M[k + 1, 0]
+                qa, qb = span_q[k - 1, 1], span_q[k, 1]
+                da, db, dc = d_xy[k - 1, 1], d_xy[k, 1], d_xy[k + 1, 1]
+            else:
+                ma, mb, mc = -sup_Mz[k - 1, 1], -sup_Mz[k, 1], -sup_Mz[k + 1, 1]
+                qa, qb = span_qz[k - 1, 0], span_qz[k, 0]
+                da, db, dc = d_z[k - 1, 0], d_z[k, 0], d_z[k + 1, 0]
+            La = span_L[k - 1]
+            Lb = span_L[k]
+            s_end = (mb - ma) / La + span_T[k - 1] * (db - da) / La + 0.5 * qa * La - qa * La
+            s_start = (mc - mb) / Lb + span_T[k] * (dc - db) / Lb + 0.5 * qb * Lb
+            Rv[c] = s_end - s_start
+        t0 = sup_P[k + 1, 0] - sup_P[k - 1, 0]
+        t1 = sup_P[k + 1, 1] - sup_P[k - 1, 1]
+        t2 = sup_P[k + 1, 2] - sup_P[k - 1, 2]
+        tn = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        if tn > 0.0:
+            ra = (Rv[0] * t0 + Rv[1] * t1 + Rv[2] * t2) / (tn * tn)
+            Rv[0] -= ra * t0
+            Rv[1] -= ra * t1
+            Rv[2] -= ra * t2
+        pull = Rv[0] * sup_n[k, 0] + Rv[1] * sup_n[k, 1] + Rv[2] * sup_n[k, 2]
+        if pull > most:
+            most = pull
+            worst = k
+    return worst
+
+
+@njit(cache=True)
+def _solve_or_split(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint,
+                    wall, read_s, rxy, rz, rok, may_split, may_release):
+    """Solve the chain on supports ``sup_c`` standing at ``sup_P`` (spans the solution
+    cannot hold are cut, :func:`~drillfatigue.dynamics.span_bending.chain_span_moments_settled`),
+    then check the solution against the wall (module docstring, step 5).
+
+    With ``may_release``, an interior wall support (outward normal ``sup_n`` not zero)
+    that the beam pulls from the wall is let go of (the most pulled one). Else, with
+    ``may_split``, where a span is at its Euler load in compression, or its middle
+    (the chord's middle plus the mid-span deflection) lies beyond the wall, the elastic
+    pipe lies on the wall there: a support is added at that span's middle (on the
+    wall where the body reaches it, with the wall's normal; at the chord's middle and
+    two-sided for a buckled span). Returns ``(status, supports, positions, normals,
+    cut, action)``: ``STATUS_SPLIT`` and ``ACT_RELEASE`` or ``ACT_SPLIT`` when the
+    supports changed, else the solve's status and ``ACT_NONE`` with the per-span cut
+    codes and ``rok`` the read points solved."""
     m = sup_c.shape[0]
     span_L = np.zeros(m - 1)
     span_ei = np.zeros(m - 1)
@@ -164,58 +251,99 @@ def _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s,
     work = np.zeros((m, 6))
     sup_M = np.zeros((m, 2))
     sup_Mz = np.zeros((m, 2))
+    d_xy = np.zeros((m, 2))
+    d_z = np.zeros((m, 2))
+    _offsets(sup_P, d_xy, d_z)
     cut = np.zeros(m - 1, dtype=np.int64)
-    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_q, END_PINNED, END_PINNED, read_s,
-                            span_L, span_ei, span_T, span_q, work, sup_M, rxy, cut)
+    rok_z = np.zeros(rok.shape[0], dtype=np.int64)
+    st = chain_span_moments_settled(sup_c, d_xy, top_s, seg_ei, seg_T, seg_q, END_PINNED,
+                                    END_PINNED, read_s, span_L, span_ei, span_T, span_q, work,
+                                    sup_M, rxy, cut, rok)
     if st != STATUS_OK:
-        return st, sup_c, cut
+        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
     # same spans, axial forces and stiffness: the same spans are cut
-    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED,
-                            read_s, span_L, span_ei, span_T, span_qz, work, sup_Mz, rz, cut)
-    if st != STATUS_OK or not may_split:
-        return st, sup_c, cut
-    split = np.zeros(m - 1, dtype=np.bool_)
-    nsplit = 0
+    st = chain_span_moments_settled(sup_c, d_z, top_s, seg_ei, seg_T, seg_qz, END_PINNED,
+                                    END_PINNED, read_s, span_L, span_ei, span_T, span_qz, work,
+                                    sup_Mz, rz, cut, rok_z)
+    if st != STATUS_OK:
+        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
     any_cut = False
+    for k in range(m - 1):
+        if cut[k] != STATUS_OK:
+            any_cut = True
+    if may_release and not any_cut and m > 2:
+        k = _most_pulled(sup_P, sup_n, span_L, span_T, span_q, span_qz, sup_M, sup_Mz, d_xy,
+                         d_z)
+        if k >= 0:
+            out = np.zeros(m - 1)
+            out_P = np.zeros((m - 1, 3))
+            out_n = np.zeros((m - 1, 3))
+            j = 0
+            for kk in range(m):
+                if kk == k:
+                    continue
+                out[j] = sup_c[kk]
+                for c in range(3):
+                    out_P[j, c] = sup_P[kk, c]
+                    out_n[j, c] = sup_n[kk, c]
+                j += 1
+            return STATUS_SPLIT, out, out_P, out_n, cut, ACT_RELEASE
+    if not may_split:
+        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
+    split = np.zeros(m - 1, dtype=np.bool_)
+    new_P = np.zeros((m - 1, 3))
+    new_n = np.zeros((m - 1, 3))
+    nsplit = 0
     for k in range(m - 1):
         if cut[k] == STATUS_SPAN_BUCKLED and span_L[k] > 2.0 * MERGE_M:
             split[k] = True
             nsplit += 1
-        if cut[k] != STATUS_OK:
-            any_cut = True
+            for c in range(3):
+                new_P[k, c] = 0.5 * (sup_P[k, c] + sup_P[k + 1, c])
     if not any_cut:
-        d_xy = np.zeros(m - 1)
-        d_z = np.zeros(m - 1)
-        if (midspan_deflection(span_L, span_ei, span_T, span_q, sup_M, d_xy) == STATUS_OK
-                and midspan_deflection(span_L, span_ei, span_T, span_qz, sup_Mz, d_z)
-                == STATUS_OK):
+        w_xy = np.zeros((m - 1, 2))
+        w_z = np.zeros((m - 1, 2))
+        if (midspan_offset(span_L, span_ei, span_T, span_q, sup_M, w_xy) == STATUS_OK
+                and midspan_offset(span_L, span_ei, span_T, span_qz, sup_Mz, w_z) == STATUS_OK):
+            p0 = wall[:, 0:3]
+            axc = wall[:, 3:6]
+            lnc = wall[:, 6]
+            rad = wall[:, 7]
+            X = np.zeros(3)
+            info = np.zeros(OUT_SIZE)
             for k in range(m - 1):
-                room = _span_gap(sup_c[k], sup_c[k + 1], top_s, seg_gap)
-                if (d_xy[k] * d_xy[k] + d_z[k] * d_z[k] > room * room
-                        and span_L[k] > 2.0 * MERGE_M):
+                if not span_L[k] > 2.0 * MERGE_M:
+                    continue
+                X[0] = 0.5 * (sup_P[k, 0] + sup_P[k + 1, 0]) + w_xy[k, 0]
+                X[1] = 0.5 * (sup_P[k, 1] + sup_P[k + 1, 1]) + w_xy[k, 1]
+                X[2] = 0.5 * (sup_P[k, 2] + sup_P[k + 1, 2]) + w_z[k, 0]
+                i = segment_of(top_s, 0.5 * (sup_c[k] + sup_c[k + 1]))
+                find_contact(X, seg_rb[i], p0, axc, lnc, rad, seg_hint[i], info)
+                if info[OUT_DELTA] > 0.0:
                     split[k] = True
                     nsplit += 1
+                    for c in range(3):
+                        new_P[k, c] = X[c] - info[OUT_DELTA] * info[OUT_NX + c]
+                        new_n[k, c] = info[OUT_NX + c]
     if nsplit == 0:
-        return st, sup_c, cut
+        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
     out = np.zeros(m + nsplit)
+    out_P = np.zeros((m + nsplit, 3))
+    out_n = np.zeros((m + nsplit, 3))
     j = 0
     for k in range(m):
         out[j] = sup_c[k]
+        for c in range(3):
+            out_P[j, c] = sup_P[k, c]
+            out_n[j, c] = sup_n[k, c]
         j += 1
         if k < m - 1 and split[k]:
             out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
+            for c in range(3):
+                out_P[j, c] = new_P[k, c]
+                out_n[j, c] = new_n[k, c]
             j += 1
-    return STATUS_SPLIT, out, cut
-
-
-@njit(cache=True)
-def _span_gap(a, b, top_s, seg_gap):
-    """Smallest room to the wall of the segments a span [a, b] crosses, m."""
-    g = np.inf
-    for i in range(seg_gap.shape[0]):
-        if top_s[i + 1] > a and top_s[i] < b:
-            g = min(g, seg_gap[i])
-    return g if np.isfinite(g) else 0.0
+    return STATUS_SPLIT, out, out_P, out_n, cut, ACT_SPLIT
 
 
 @njit(cache=True)
@@ -290,28 +418,40 @@ def _hole_curvature_vector(axc, lnc, ic, out):
 
 
 @njit(cache=True)
-def _solve_chain(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s, rxy, rz):
-    """The chain on supports ``sup_c`` pinned at both ends, with mid-span supports added
-    where a span reaches the wall or buckles (module docstring, step 5): ``(status, cut)``
-    with the read moments in ``rxy``, ``rz``."""
+def _solve_chain(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint,
+                 wall, read_s, rxy, rz, rok):
+    """The chain on supports ``sup_c`` at ``sup_P`` (outward wall normals ``sup_n``)
+    pinned at both ends, with the wall supports the beam pulls let go of and mid-span
+    supports added where a span reaches the wall or buckles (module docstring, step 5):
+    ``(status, cut)`` with the read moments in ``rxy``, ``rz`` and the read points
+    solved flagged in ``rok``."""
     st = STATUS_OK
     cut = np.zeros(sup_c.shape[0] - 1, dtype=np.int64)
-    for _round in range(MAX_SPLIT_ROUNDS + 1):
-        st, sup_c, cut = _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
-                                         read_s, rxy, rz, _round < MAX_SPLIT_ROUNDS)
-        if st != STATUS_SPLIT:
+    rounds = 0
+    releases = 0
+    while True:
+        st, sup_c, sup_P, sup_n, cut, act = _solve_or_split(
+            sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint, wall,
+            read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES)
+        if act == ACT_RELEASE:
+            releases += 1
+        elif act == ACT_SPLIT:
+            rounds += 1
+        else:
             break
     return st, cut
 
 
 @njit(cache=True)
 def span_sample(n, s, p, wk, sel, out):
-    """Span-bending moments at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
-    ``sel[a]``'s frame, N m (module docstring).
+    """Span correction at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
+    ``sel[a]``'s frame and in the convention of its recorded joint moment
+    (``bending_x/y_Nm``), N m: the continuous beam's moment there less the rigid
+    chain's own quasi-static moment (module docstring).
 
     Returns the number of spans handled locally (no correction in them, the chain
-    cut there), or minus a status code when no span could be solved (every
-    ``out`` zero)."""
+    cut there), or minus a status code when no span could be solved or the chain's
+    static moments could not be found (every ``out`` zero)."""
     for a in range(sel.size):
         out[a, 0] = 0.0
         out[a, 1] = 0.0
@@ -341,6 +481,8 @@ def span_sample(n, s, p, wk, sel, out):
     seg_qz = np.zeros((n, 2))
     seg_T = np.zeros(n)
     seg_ei = np.zeros(n)
+    seg_rb = np.zeros(n)
+    seg_hint = np.zeros(n, dtype=np.int64)
     Fw = s.Fw
     v = s.v
     cst = s.cst
@@ -370,16 +512,41 @@ def span_sample(n, s, p, wk, sel, out):
         seg_qz[i, 0] = (gz - ga * ez) * inv_l
         seg_T[i] = segment_axial_N(i, n, loads)
         seg_ei[i] = p.ei[i]
-    # supports: the bit and the contact points in the wall now
-    cap = 1 + n * (MAX_TABLE_POINTS + 1)
+        seg_rb[i] = seg[i, S_RB]
+        seg_hint[i] = hint[MAX_CONTACT_POINTS * i]
+    # the load the rigid chain carries (before the line-contact rule hands a segment's
+    # load to the wall)
+    q3 = np.zeros((n, 3))
+    for i in range(n):
+        q3[i, 0] = seg_q[i, 0]
+        q3[i, 1] = seg_q[i, 1]
+        q3[i, 2] = seg_qz[i, 0]
+    # supports of the continuous beam (sup, at their true positions supP: a point in or
+    # along the wall where the rigid wall puts the pipe's axis, the bit where it is) and
+    # holds of the rigid chain (hold, where the chain is: the bit, the points the wall
+    # pushes, the top end)
+    cap = 2 + n * (MAX_TABLE_POINTS + 1)
     sup = np.zeros(cap)
+    supP = np.zeros((cap, 3))
+    supN = np.zeros((cap, 3))
+    hold = np.zeros(cap)
+    holdY = np.zeros((cap, 3))
+    hold[1] = top_s[n]
+    for k in range(3):
+        supP[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
+        holdY[0, k] = supP[0, k]
+        holdY[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
     nsup = 1
+    nhold = 2
     X = np.zeros(3)
     info = np.zeros(OUT_SIZE)
-    pt_u = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
-    pt_gap = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
-    pt_g = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
-    pt_hint = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS, dtype=np.int64)
+    npmax = MAX_TABLE_POINTS + MAX_CONTACT_POINTS
+    pt_u = np.zeros(npmax)
+    pt_gap = np.zeros(npmax)
+    pt_g = np.zeros(npmax)
+    pt_hint = np.zeros(npmax, dtype=np.int64)
+    pt_X = np.zeros((npmax, 3))
+    pt_n = np.zeros((npmax, 3))
     deep = cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0
     seg_line = np.zeros(n, dtype=np.bool_)
     # the bit end's distance from the wall (the pendulum's offset r), m
@@ -411,11 +578,20 @@ def span_sample(n, s, p, wk, sel, out):
                 clr = min(clr, rad[ic] - rc)
             pt_u[pt] = off
             pt_gap[pt] = -info[OUT_DELTA]
+            for k in range(3):
+                pt_X[pt, k] = X[k]
+                pt_n[pt, k] = info[OUT_NX + k]
             if i == 0 and off >= h - MERGE_M:
                 bit_gap = -info[OUT_DELTA]
             if info[OUT_DELTA] > 0.0:
                 sup[nsup] = top_s[i] + h - off
+                hold[nhold] = sup[nsup]
+                for k in range(3):
+                    supP[nsup, k] = X[k] - info[OUT_DELTA] * info[OUT_NX + k]
+                    supN[nsup, k] = info[OUT_NX + k]
+                    holdY[nhold, k] = X[k]
                 nsup += 1
+                nhold += 1
                 ncon += 1
             pt_g[pt] = info[OUT_DELTA] - rc
             pt_hint[pt] = hi
@@ -434,7 +610,13 @@ def span_sample(n, s, p, wk, sel, out):
                 find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
                 if info[OUT_DELTA] > dpen:
                     sup[nsup] = top_s[i] + h - ud
+                    hold[nhold] = sup[nsup]
+                    for k in range(3):
+                        supP[nsup, k] = X[k] - info[OUT_DELTA] * info[OUT_NX + k]
+                        supN[nsup, k] = info[OUT_NX + k]
+                        holdY[nhold, k] = X[k]
                     nsup += 1
+                    nhold += 1
         line = npi >= 3 and ncon == npi
         if kap > STRAIGHT_KAPPA and not raised and not line and 0.5 * h * h * kap < clr:
             # along the wall of a curved hole: every point no further from the wall than
@@ -455,7 +637,11 @@ def span_sample(n, s, p, wk, sel, out):
                 line = True
                 for pt in range(npi):
                     if pt_gap[pt] >= 0.0:
+                        # the pipe lies on the wall there: its axis where the wall puts it
                         sup[nsup] = top_s[i] + h - pt_u[pt]
+                        for k in range(3):
+                            supP[nsup, k] = pt_X[pt, k] + pt_gap[pt] * pt_n[pt, k]
+                            supN[nsup, k] = pt_n[pt, k]
                         nsup += 1
         seg_line[i] = line
         if line:
@@ -464,36 +650,37 @@ def span_sample(n, s, p, wk, sel, out):
             seg_q[i, 1] = 0.0
             seg_qz[i, 0] = 0.0
     # clipped to the chain before merging, so that the kept supports stay strictly increasing
-    sup_s = np.sort(np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n]))
+    sup_s = np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n])
+    order = np.argsort(sup_s, kind="mergesort")
     keep = np.zeros(nsup, dtype=np.bool_)
     last = -1.0
     m = 0
-    for k in range(nsup):
-        if k == 0 or sup_s[k] - last > MERGE_M:
-            keep[k] = True
+    for kk in range(nsup):
+        k = order[kk]
+        if kk == 0 or sup_s[k] - last > MERGE_M:
+            keep[kk] = True
             last = sup_s[k]
             m += 1
     if m < 2:
         return 0
     sup_c = np.zeros(m)
+    sup_Pc = np.zeros((m, 3))
+    sup_Nc = np.zeros((m, 3))
     j = 0
-    for k in range(nsup):
-        if keep[k]:
-            sup_c[j] = sup_s[k]
+    for kk in range(nsup):
+        if keep[kk]:
+            sup_c[j] = sup_s[order[kk]]
+            for c in range(3):
+                sup_Pc[j, c] = supP[order[kk], c]
+                sup_Nc[j, c] = supN[order[kk], c]
             j += 1
     nr = sel.size
     read_s = np.zeros(nr)
     for a in range(nr):
         read_s[a] = top_s[min(sel[a], n - 1) + 1]
-    # per-segment room for the body to sag: hole radius at its cylinder - body radius
-    seg_gap = np.zeros(n)
-    rmin = rad.min()
-    for i in range(n):
-        h0 = hint[MAX_CONTACT_POINTS * i]
-        r_hole = rad[h0] if 0 <= h0 < rad.shape[0] else rmin
-        seg_gap[i] = max(r_hole - seg[i, S_RB], 0.0)
     rxy = np.zeros((nr, 2))
     rz = np.zeros((nr, 2))
+    rok = np.zeros(nr, dtype=np.int64)
     # the span from the bit ends at the tangency where the string reaches a wall it
     # then lies along (module docstring, step 6)
     s_hi = sup_c[1]
@@ -513,10 +700,12 @@ def span_sample(n, s, p, wk, sel, out):
         l_t = tangency_length_m(seg_ei[0], bit_gap, q0, kap_out)
         bit_span = np.zeros(2)
         bit_span[1] = min(l_t, s_hi)
-        # a tangency within MERGE_M of the bit leaves no span there (zero moments)
+        # a tangency within MERGE_M of the bit leaves no span there (zero moments); a
+        # single span pinned at both ends takes no moment from its ends' offsets
         if bit_span[1] > MERGE_M:
-            st, cut = _solve_chain(bit_span, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
-                                   read_s, rxy, rz)
+            st, cut = _solve_chain(bit_span, np.zeros((2, 3)), np.zeros((2, 3)), top_s, seg_ei,
+                                   seg_T, seg_q, seg_qz, seg_rb, seg_hint, wall, read_s, rxy,
+                                   rz, rok)
             if st != STATUS_OK:
                 return -st
             for k in range(cut.shape[0]):
@@ -525,8 +714,10 @@ def span_sample(n, s, p, wk, sel, out):
         if m > 2:
             rxy2 = np.zeros((nr, 2))
             rz2 = np.zeros((nr, 2))
-            st, cut = _solve_chain(sup_c[1:].copy(), top_s, seg_ei, seg_T, seg_q, seg_qz,
-                                   seg_gap, read_s, rxy2, rz2)
+            rok2 = np.zeros(nr, dtype=np.int64)
+            st, cut = _solve_chain(sup_c[1:].copy(), sup_Pc[1:].copy(), sup_Nc[1:].copy(), top_s,
+                                   seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint, wall, read_s,
+                                   rxy2, rz2, rok2)
             if st != STATUS_OK:
                 return -st
             # read points outside a chain's supports get zero from it
@@ -534,37 +725,58 @@ def span_sample(n, s, p, wk, sel, out):
                 for k in range(2):
                     rxy[a, k] += rxy2[a, k]
                     rz[a, k] += rz2[a, k]
+                if rok2[a] != 0:
+                    rok[a] = 1
             for k in range(cut.shape[0]):
                 if cut[k] != STATUS_OK:
                     n_cut += 1
     else:
-        st, cut = _solve_chain(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s,
-                               rxy, rz)
+        st, cut = _solve_chain(sup_c, sup_Pc, sup_Nc, top_s, seg_ei, seg_T, seg_q, seg_qz,
+                               seg_rb, seg_hint, wall, read_s, rxy, rz, rok)
         if st != STATUS_OK:
             return -st
         for k in range(cut.shape[0]):
             if cut[k] != STATUS_OK:
                 n_cut += 1
+    # what the rigid chain carries there now, quasi-statically: its joints' moments held
+    # where it is at the bit, its top and the points the wall pushes, under the same load
+    hs = hold[:nhold]
+    ho = np.argsort(hs, kind="mergesort")
+    hold_s = np.zeros(nhold)
+    hold_y = np.zeros((nhold, 3))
+    for kk in range(nhold):
+        hold_s[kk] = min(max(hs[ho[kk]], 0.0), top_s[n])
+        for c in range(3):
+            hold_y[kk, c] = holdY[ho[kk], c]
+    k_joint = np.zeros(n - 1)
+    for j in range(n - 1):
+        k_joint[j] = p.jp[j, J_KB]
+    ms_chain = np.zeros((n - 1, 3))
+    st = chain_static_moments(top_s, k_joint, seg_T, q3, hold_s, hold_y, ms_chain)
+    if st != STATUS_OK:
+        return -st
     qr = np.zeros(4)
     qh = np.zeros(4)
     qm = np.zeros(4)
     Rm = np.zeros((3, 3))
     for a in range(nr):
         jj = sel[a]
-        if jj >= n - 1:
+        if jj >= n - 1 or rok[a] == 0:
             continue
-        # sagging moments of the world load components (span_bending's vector convention)
-        msx = -rxy[a, 1]
-        msy = rxy[a, 0]
-        msz = -rz[a, 1]
+        # sagging moments of the world components (span_bending's convention): the
+        # continuous beam's less the chain's
+        msx = -rxy[a, 1] - ms_chain[jj, 0]
+        msy = rxy[a, 0] - ms_chain[jj, 1]
+        msz = -rz[a, 1] - ms_chain[jj, 2]
         _joint_frame(s.q[jj], s.q[jj + 1], qr, qh, qm, Rm)
         t0 = Rm[0, 2]
         t1 = Rm[1, 2]
         t2 = Rm[2, 2]
-        # moment vector sum_c M_c (e_c x t)
-        mw0 = msy * t2 - msz * t1
-        mw1 = msz * t0 - msx * t2
-        mw2 = msx * t1 - msy * t0
+        # the moment of the upper part on the lower, sum_c M_c (t x e_c) with t the
+        # joint's axis downhole: the recorded joint moment's convention (joints.py)
+        mw0 = msz * t1 - msy * t2
+        mw1 = msx * t2 - msz * t0
+        mw2 = msy * t0 - msx * t1
         out[a, 0] = Rm[0, 0] * mw0 + Rm[1, 0] * mw1 + Rm[2, 0] * mw2
         out[a, 1] = Rm[0, 1] * mw0 + Rm[1, 1] * mw1 + Rm[2, 1] * mw2
     return n_cut
