@@ -97,7 +97,7 @@ import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.contact import (
-    OUT_DELTA, OUT_NX, OUT_SIZE, contact_point, deepest_point, find_contact,
+    OUT_DELTA, OUT_DIST, OUT_NX, OUT_SIZE, contact_point, deepest_point, find_contact,
 )
 from drillfatigue.dynamics.layout import (
     CS_SQF, CS_SQON, J_KB, MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS,
@@ -149,6 +149,14 @@ MAX_RELEASES = 32
 #: a wall support is let go of when the beam pulls it from the wall by more than this
 #: share of the largest span load q L (round-off of a support that carries nothing)
 RELEASE_TOL = 1e-9
+#: a span's middle reaches the wall when it passes it by more than this, m: below the
+#: contact penetration of the default penalty wall at rest (about 0.2 mm), where the
+#: simulated wall is itself located no better; a beam lying along the wall between
+#: supports on it (its middle on the wall to round-off) is not split again and again
+SPLIT_TOL_M = 1e-4
+#: spans shorter than this are not split, m (Euler-Bernoulli spans much longer than
+#: the pipe; a span of 9 m is split three times at most)
+MIN_SPLIT_SPAN_M = 1.0
 #: internal: the supports were changed, solve again
 STATUS_SPLIT = -1
 #: what a round of :func:`_solve_or_split` did
@@ -158,39 +166,64 @@ ACT_RELEASE = 2
 
 
 @njit(cache=True)
-def _offsets(sup_P, d_xy, d_z):
-    """Support offsets of the (x, y) and z solves: the true positions from the first
-    support's, world frame, m (only their chord rotations matter)."""
-    for k in range(sup_P.shape[0]):
-        d_xy[k, 0] = sup_P[k, 0] - sup_P[0, 0]
-        d_xy[k, 1] = sup_P[k, 1] - sup_P[0, 1]
-        d_z[k, 0] = sup_P[k, 2] - sup_P[0, 2]
+def _offsets(sup_v, d_xy, d_z):
+    """Support offsets of the (x, y) and z solves from the supports' positions relative
+    to the hole's axis (world components, m), taken from the first support's (only
+    their chord rotations matter)."""
+    for k in range(sup_v.shape[0]):
+        d_xy[k, 0] = sup_v[k, 0] - sup_v[0, 0]
+        d_xy[k, 1] = sup_v[k, 1] - sup_v[0, 1]
+        d_z[k, 0] = sup_v[k, 2] - sup_v[0, 2]
         d_z[k, 1] = 0.0
 
 
 @njit(cache=True)
-def _most_pulled(sup_P, sup_n, span_L, span_T, span_q, span_qz, sup_M, sup_Mz, d_xy, d_z):
+def _span_means(sup_c, top_s, seg_v, out):
+    """Length-weighted mean of a per-segment quantity ``seg_v`` (n, k) over each span
+    between the supports ``sup_c``, into ``out`` (m - 1, k)."""
+    n = seg_v.shape[0]
+    for k in range(sup_c.shape[0] - 1):
+        a = sup_c[k]
+        b = sup_c[k + 1]
+        for c in range(seg_v.shape[1]):
+            out[k, c] = 0.0
+        i = segment_of(top_s, a)
+        while i < n and top_s[i] < b:
+            w = min(b, top_s[i + 1]) - max(a, top_s[i])
+            if w > 0.0:
+                for c in range(seg_v.shape[1]):
+                    out[k, c] += w * seg_v[i, c]
+            i += 1
+        for c in range(seg_v.shape[1]):
+            out[k, c] /= (b - a)
+
+
+@njit(cache=True)
+def _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz, d_xy, d_z):
     """The interior wall support the continuous beam pulls from the wall the most, or -1.
 
-    The reaction of support k on the beam, per world component c, is the jump of the
+    The reaction of support k on the beam, per world component, is the jump of the
     lateral force S = M' + T w' (M sagging positive, w the offset: (M' + T w')' = -q for
     EI w'''' - T w'' = q), which integrated over a span gives S(0) = (M_b - M_a)/L
-    + T psi + q L/2 at its first support and S(L) = S(0) - q L at its second
-    (psi the chord rotation). Its part along the axis (the axial force's change, which
-    the transverse solution does not balance) is dropped; the wall can only push
-    towards the hole's axis, so a reaction along the outward normal ``sup_n`` (zero for
+    + T psi + q L/2 at its first support and S(L) = S(0) - q L at its second (psi the
+    chord rotation). ``span_qw`` is the load the wall carries along segments in line
+    contact (their span load is zero): half of it on each span pushes its two
+    supports, so a collar lying on the wall is let go of only where the beam pulls it
+    harder than its weight presses it there. The wall can only push towards the hole's
+    axis: a reaction along the outward normal ``sup_n`` (zero: a two-sided support,
     the bit) pulls."""
-    m = sup_P.shape[0]
+    m = sup_n.shape[0]
     scale = 1.0
     for i in range(m - 1):
-        qq = math.sqrt(span_q[i, 0] ** 2 + span_q[i, 1] ** 2 + span_qz[i, 0] ** 2)
+        qq = math.sqrt(span_q[i, 0] ** 2 + span_q[i, 1] ** 2 + span_qz[i, 0] ** 2
+                       + span_qw[i, 0] ** 2 + span_qw[i, 1] ** 2 + span_qw[i, 2] ** 2)
         scale = max(scale, qq * span_L[i])
     worst = -1
     most = RELEASE_TOL * scale
-    Rv = np.zeros(3)
     for k in range(1, m - 1):
         if sup_n[k, 0] == 0.0 and sup_n[k, 1] == 0.0 and sup_n[k, 2] == 0.0:
             continue
+        pull = 0.0
         for c in range(3):
             if c == 0:
                 ma, mb, mc = -sup_M[k - 1, 1], -sup_M[k, 1], -sup_M[k + 1, 1]
@@ -206,19 +239,10 @@ def _most_pulled(sup_P, sup_n, span_L, span_T, span_q, span_qz, sup_M, sup_Mz, d
                 da, db, dc = d_z[k - 1, 0], d_z[k, 0], d_z[k + 1, 0]
             La = span_L[k - 1]
             Lb = span_L[k]
-            s_end = (mb - ma) / La + span_T[k - 1] * (db - da) / La + 0.5 * qa * La - qa * La
+            s_end = (mb - ma) / La + span_T[k - 1] * (db - da) / La - 0.5 * qa * La
             s_start = (mc - mb) / Lb + span_T[k] * (dc - db) / Lb + 0.5 * qb * Lb
-            Rv[c] = s_end - s_start
-        t0 = sup_P[k + 1, 0] - sup_P[k - 1, 0]
-        t1 = sup_P[k + 1, 1] - sup_P[k - 1, 1]
-        t2 = sup_P[k + 1, 2] - sup_P[k - 1, 2]
-        tn = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-        if tn > 0.0:
-            ra = (Rv[0] * t0 + Rv[1] * t1 + Rv[2] * t2) / (tn * tn)
-            Rv[0] -= ra * t0
-            Rv[1] -= ra * t1
-            Rv[2] -= ra * t2
-        pull = Rv[0] * sup_n[k, 0] + Rv[1] * sup_n[k, 1] + Rv[2] * sup_n[k, 2]
+            R = s_end - s_start - 0.5 * (span_qw[k - 1, c] * La + span_qw[k, c] * Lb)
+            pull += R * sup_n[k, c]
         if pull > most:
             most = pull
             worst = k
@@ -226,22 +250,24 @@ def _most_pulled(sup_P, sup_n, span_L, span_T, span_q, span_qz, sup_M, sup_Mz, d
 
 
 @njit(cache=True)
-def _solve_or_split(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint,
-                    wall, read_s, rxy, rz, rok, may_split, may_release):
-    """Solve the chain on supports ``sup_c`` standing at ``sup_P`` (spans the solution
-    cannot hold are cut, :func:`~drillfatigue.dynamics.span_bending.chain_span_moments_settled`),
-    then check the solution against the wall (module docstring, step 5).
+def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
+                    seg_Rh, read_s, rxy, rz, rok, may_split, may_release):
+    """Solve the chain on supports ``sup_c`` standing at ``sup_v`` (their positions
+    relative to the hole's axis; spans the solution cannot hold are cut,
+    :func:`~drillfatigue.dynamics.span_bending.chain_span_moments_settled`), then check
+    the solution against the wall (module docstring, step 5).
 
     With ``may_release``, an interior wall support (outward normal ``sup_n`` not zero)
     that the beam pulls from the wall is let go of (the most pulled one). Else, with
     ``may_split``, where a span is at its Euler load in compression, or its middle
-    (the chord's middle plus the mid-span deflection) lies beyond the wall, the elastic
-    pipe lies on the wall there: a support is added at that span's middle (on the
-    wall where the body reaches it, with the wall's normal; at the chord's middle and
-    two-sided for a buckled span). Returns ``(status, supports, positions, normals,
-    cut, action)``: ``STATUS_SPLIT`` and ``ACT_RELEASE`` or ``ACT_SPLIT`` when the
-    supports changed, else the solve's status and ``ACT_NONE`` with the per-span cut
-    codes and ``rok`` the read points solved."""
+    (the chord's middle plus the mid-span deflection, relative to the hole's axis) lies
+    beyond the wall by more than ``SPLIT_TOL_M`` (hole radius ``seg_Rh`` less body radius
+    ``seg_rb`` of the segment there), the elastic pipe lies on the wall there: a support
+    is added at that span's middle (on the wall, radially, with the wall's normal; at
+    the chord's middle and two-sided for a buckled span). Returns ``(status, supports,
+    positions, normals, cut, action)``: ``STATUS_SPLIT`` and ``ACT_RELEASE`` or
+    ``ACT_SPLIT`` when the supports changed, else the solve's status and ``ACT_NONE``
+    with the per-span cut codes and ``rok`` the read points solved."""
     m = sup_c.shape[0]
     span_L = np.zeros(m - 1)
     span_ei = np.zeros(m - 1)
@@ -253,30 +279,32 @@ def _solve_or_split(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
     sup_Mz = np.zeros((m, 2))
     d_xy = np.zeros((m, 2))
     d_z = np.zeros((m, 2))
-    _offsets(sup_P, d_xy, d_z)
+    _offsets(sup_v, d_xy, d_z)
     cut = np.zeros(m - 1, dtype=np.int64)
     rok_z = np.zeros(rok.shape[0], dtype=np.int64)
     st = chain_span_moments_settled(sup_c, d_xy, top_s, seg_ei, seg_T, seg_q, END_PINNED,
                                     END_PINNED, read_s, span_L, span_ei, span_T, span_q, work,
                                     sup_M, rxy, cut, rok)
     if st != STATUS_OK:
-        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     # same spans, axial forces and stiffness: the same spans are cut
     st = chain_span_moments_settled(sup_c, d_z, top_s, seg_ei, seg_T, seg_qz, END_PINNED,
                                     END_PINNED, read_s, span_L, span_ei, span_T, span_qz, work,
                                     sup_Mz, rz, cut, rok_z)
     if st != STATUS_OK:
-        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     any_cut = False
     for k in range(m - 1):
         if cut[k] != STATUS_OK:
             any_cut = True
     if may_release and not any_cut and m > 2:
-        k = _most_pulled(sup_P, sup_n, span_L, span_T, span_q, span_qz, sup_M, sup_Mz, d_xy,
+        span_qw = np.zeros((m - 1, 3))
+        _span_means(sup_c, top_s, seg_qw, span_qw)
+        k = _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz, d_xy,
                          d_z)
         if k >= 0:
             out = np.zeros(m - 1)
-            out_P = np.zeros((m - 1, 3))
+            out_v = np.zeros((m - 1, 3))
             out_n = np.zeros((m - 1, 3))
             j = 0
             for kk in range(m):
@@ -284,14 +312,14 @@ def _solve_or_split(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
                     continue
                 out[j] = sup_c[kk]
                 for c in range(3):
-                    out_P[j, c] = sup_P[kk, c]
+                    out_v[j, c] = sup_v[kk, c]
                     out_n[j, c] = sup_n[kk, c]
                 j += 1
-            return STATUS_SPLIT, out, out_P, out_n, cut, ACT_RELEASE
+            return STATUS_SPLIT, out, out_v, out_n, cut, ACT_RELEASE
     if not may_split:
-        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     split = np.zeros(m - 1, dtype=np.bool_)
-    new_P = np.zeros((m - 1, 3))
+    new_v = np.zeros((m - 1, 3))
     new_n = np.zeros((m - 1, 3))
     nsplit = 0
     for k in range(m - 1):
@@ -299,51 +327,47 @@ def _solve_or_split(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
             split[k] = True
             nsplit += 1
             for c in range(3):
-                new_P[k, c] = 0.5 * (sup_P[k, c] + sup_P[k + 1, c])
+                new_v[k, c] = 0.5 * (sup_v[k, c] + sup_v[k + 1, c])
     if not any_cut:
         w_xy = np.zeros((m - 1, 2))
         w_z = np.zeros((m - 1, 2))
         if (midspan_offset(span_L, span_ei, span_T, span_q, sup_M, w_xy) == STATUS_OK
                 and midspan_offset(span_L, span_ei, span_T, span_qz, sup_Mz, w_z) == STATUS_OK):
-            p0 = wall[:, 0:3]
-            axc = wall[:, 3:6]
-            lnc = wall[:, 6]
-            rad = wall[:, 7]
-            X = np.zeros(3)
-            info = np.zeros(OUT_SIZE)
+            V = np.zeros(3)
             for k in range(m - 1):
-                if not span_L[k] > 2.0 * MERGE_M:
+                if not span_L[k] >= MIN_SPLIT_SPAN_M:
                     continue
-                X[0] = 0.5 * (sup_P[k, 0] + sup_P[k + 1, 0]) + w_xy[k, 0]
-                X[1] = 0.5 * (sup_P[k, 1] + sup_P[k + 1, 1]) + w_xy[k, 1]
-                X[2] = 0.5 * (sup_P[k, 2] + sup_P[k + 1, 2]) + w_z[k, 0]
+                V[0] = 0.5 * (sup_v[k, 0] + sup_v[k + 1, 0]) + w_xy[k, 0]
+                V[1] = 0.5 * (sup_v[k, 1] + sup_v[k + 1, 1]) + w_xy[k, 1]
+                V[2] = 0.5 * (sup_v[k, 2] + sup_v[k + 1, 2]) + w_z[k, 0]
                 i = segment_of(top_s, 0.5 * (sup_c[k] + sup_c[k + 1]))
-                find_contact(X, seg_rb[i], p0, axc, lnc, rad, seg_hint[i], info)
-                if info[OUT_DELTA] > 0.0:
+                room = seg_Rh[i] - seg_rb[i]
+                dist = math.sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2])
+                if dist - room > SPLIT_TOL_M:
                     split[k] = True
                     nsplit += 1
                     for c in range(3):
-                        new_P[k, c] = X[c] - info[OUT_DELTA] * info[OUT_NX + c]
-                        new_n[k, c] = info[OUT_NX + c]
+                        new_n[k, c] = V[c] / dist
+                        new_v[k, c] = room * new_n[k, c]
     if nsplit == 0:
-        return st, sup_c, sup_P, sup_n, cut, ACT_NONE
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     out = np.zeros(m + nsplit)
-    out_P = np.zeros((m + nsplit, 3))
+    out_v = np.zeros((m + nsplit, 3))
     out_n = np.zeros((m + nsplit, 3))
     j = 0
     for k in range(m):
         out[j] = sup_c[k]
         for c in range(3):
-            out_P[j, c] = sup_P[k, c]
+            out_v[j, c] = sup_v[k, c]
             out_n[j, c] = sup_n[k, c]
         j += 1
         if k < m - 1 and split[k]:
             out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
             for c in range(3):
-                out_P[j, c] = new_P[k, c]
+                out_v[j, c] = new_v[k, c]
                 out_n[j, c] = new_n[k, c]
             j += 1
-    return STATUS_SPLIT, out, out_P, out_n, cut, ACT_SPLIT
+    return STATUS_SPLIT, out, out_v, out_n, cut, ACT_SPLIT
 
 
 @njit(cache=True)
@@ -418,9 +442,9 @@ def _hole_curvature_vector(axc, lnc, ic, out):
 
 
 @njit(cache=True)
-def _solve_chain(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint,
-                 wall, read_s, rxy, rz, rok):
-    """The chain on supports ``sup_c`` at ``sup_P`` (outward wall normals ``sup_n``)
+def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
+                 seg_Rh, read_s, rxy, rz, rok):
+    """The chain on supports ``sup_c`` at ``sup_v`` (outward wall normals ``sup_n``)
     pinned at both ends, with the wall supports the beam pulls let go of and mid-span
     supports added where a span reaches the wall or buckles (module docstring, step 5):
     ``(status, cut)`` with the read moments in ``rxy``, ``rz`` and the read points
@@ -430,8 +454,8 @@ def _solve_chain(sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_r
     rounds = 0
     releases = 0
     while True:
-        st, sup_c, sup_P, sup_n, cut, act = _solve_or_split(
-            sup_c, sup_P, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint, wall,
+        st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
+            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
             read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES)
         if act == ACT_RELEASE:
             releases += 1
@@ -482,7 +506,7 @@ def span_sample(n, s, p, wk, sel, out):
     seg_T = np.zeros(n)
     seg_ei = np.zeros(n)
     seg_rb = np.zeros(n)
-    seg_hint = np.zeros(n, dtype=np.int64)
+    seg_Rh = np.zeros(n)
     Fw = s.Fw
     v = s.v
     cst = s.cst
@@ -513,7 +537,8 @@ def span_sample(n, s, p, wk, sel, out):
         seg_T[i] = segment_axial_N(i, n, loads)
         seg_ei[i] = p.ei[i]
         seg_rb[i] = seg[i, S_RB]
-        seg_hint[i] = hint[MAX_CONTACT_POINTS * i]
+        h0 = hint[MAX_CONTACT_POINTS * i]
+        seg_Rh[i] = rad[h0] if 0 <= h0 < rad.shape[0] else rad.min()
     # the load the rigid chain carries (before the line-contact rule hands a segment's
     # load to the wall)
     q3 = np.zeros((n, 3))
@@ -521,6 +546,26 @@ def span_sample(n, s, p, wk, sel, out):
         q3[i, 0] = seg_q[i, 0]
         q3[i, 1] = seg_q[i, 1]
         q3[i, 2] = seg_qz[i, 0]
+    # the hole's axis beside each node (segment end) of the chain: the foot of the
+    # perpendicular from the node; positions are taken relative to it (module docstring)
+    X = np.zeros(3)
+    info = np.zeros(OUT_SIZE)
+    C_node = np.zeros((n + 1, 3))
+    for j in range(n + 1):
+        if j == 0:
+            for k in range(3):
+                X[k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
+        elif j == n:
+            for k in range(3):
+                X[k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
+        else:
+            for k in range(3):
+                X[k] = 0.5 * (x[j - 1, k] - seg[j - 1, S_H] * R[j - 1, k, 2]
+                              + x[j, k] + seg[j, S_H] * R[j, k, 2])
+        find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
+                     hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        for k in range(3):
+            C_node[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
     # supports of the continuous beam (sup, at their true positions supP: a point in or
     # along the wall where the rigid wall puts the pipe's axis, the bit where it is) and
     # holds of the rigid chain (hold, where the chain is: the bit, the points the wall
@@ -533,20 +578,18 @@ def span_sample(n, s, p, wk, sel, out):
     holdY = np.zeros((cap, 3))
     hold[1] = top_s[n]
     for k in range(3):
-        supP[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
-        holdY[0, k] = supP[0, k]
+        holdY[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
+        supP[0, k] = holdY[0, k] - C_node[0, k]
         holdY[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
     nsup = 1
     nhold = 2
-    X = np.zeros(3)
-    info = np.zeros(OUT_SIZE)
     npmax = MAX_TABLE_POINTS + MAX_CONTACT_POINTS
     pt_u = np.zeros(npmax)
     pt_gap = np.zeros(npmax)
     pt_g = np.zeros(npmax)
     pt_hint = np.zeros(npmax, dtype=np.int64)
-    pt_X = np.zeros((npmax, 3))
     pt_n = np.zeros((npmax, 3))
+    pt_W = np.zeros((npmax, 3))
     deep = cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0
     seg_line = np.zeros(n, dtype=np.bool_)
     # the bit end's distance from the wall (the pendulum's offset r), m
@@ -578,16 +621,18 @@ def span_sample(n, s, p, wk, sel, out):
                 clr = min(clr, rad[ic] - rc)
             pt_u[pt] = off
             pt_gap[pt] = -info[OUT_DELTA]
+            # where the rigid wall puts the pipe's axis there, from the hole's axis
+            rw = info[OUT_DIST] - info[OUT_DELTA]
             for k in range(3):
-                pt_X[pt, k] = X[k]
                 pt_n[pt, k] = info[OUT_NX + k]
+                pt_W[pt, k] = rw * info[OUT_NX + k]
             if i == 0 and off >= h - MERGE_M:
                 bit_gap = -info[OUT_DELTA]
             if info[OUT_DELTA] > 0.0:
                 sup[nsup] = top_s[i] + h - off
                 hold[nhold] = sup[nsup]
                 for k in range(3):
-                    supP[nsup, k] = X[k] - info[OUT_DELTA] * info[OUT_NX + k]
+                    supP[nsup, k] = pt_W[pt, k]
                     supN[nsup, k] = info[OUT_NX + k]
                     holdY[nhold, k] = X[k]
                 nsup += 1
@@ -611,8 +656,9 @@ def span_sample(n, s, p, wk, sel, out):
                 if info[OUT_DELTA] > dpen:
                     sup[nsup] = top_s[i] + h - ud
                     hold[nhold] = sup[nsup]
+                    rw = info[OUT_DIST] - info[OUT_DELTA]
                     for k in range(3):
-                        supP[nsup, k] = X[k] - info[OUT_DELTA] * info[OUT_NX + k]
+                        supP[nsup, k] = rw * info[OUT_NX + k]
                         supN[nsup, k] = info[OUT_NX + k]
                         holdY[nhold, k] = X[k]
                     nsup += 1
@@ -636,11 +682,16 @@ def span_sample(n, s, p, wk, sel, out):
             if outer or inner:
                 line = True
                 for pt in range(npi):
-                    if pt_gap[pt] >= 0.0:
+                    # the touching points are supports already; of the others the
+                    # segment's ends (at a joint: the neighbour's chord meets it there).
+                    # Points inside a rigid segment lie on its chord, and the beam on
+                    # supports a metre apart would turn the chain's kinks at the joints
+                    # between them into moments several times the chain's own
+                    if pt_gap[pt] >= 0.0 and abs(pt_u[pt]) >= h - MERGE_M:
                         # the pipe lies on the wall there: its axis where the wall puts it
                         sup[nsup] = top_s[i] + h - pt_u[pt]
                         for k in range(3):
-                            supP[nsup, k] = pt_X[pt, k] + pt_gap[pt] * pt_n[pt, k]
+                            supP[nsup, k] = pt_W[pt, k]
                             supN[nsup, k] = pt_n[pt, k]
                         nsup += 1
         seg_line[i] = line
@@ -649,18 +700,31 @@ def span_sample(n, s, p, wk, sel, out):
             seg_q[i, 0] = 0.0
             seg_q[i, 1] = 0.0
             seg_qz[i, 0] = 0.0
+    # the load the wall carries along segments in line contact (for the supports' check)
+    seg_qw = np.zeros((n, 3))
+    for i in range(n):
+        seg_qw[i, 0] = q3[i, 0] - seg_q[i, 0]
+        seg_qw[i, 1] = q3[i, 1] - seg_q[i, 1]
+        seg_qw[i, 2] = q3[i, 2] - seg_qz[i, 0]
     # clipped to the chain before merging, so that the kept supports stay strictly increasing
     sup_s = np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n])
     order = np.argsort(sup_s, kind="mergesort")
     keep = np.zeros(nsup, dtype=np.bool_)
     last = -1.0
     m = 0
+    kept = 0
     for kk in range(nsup):
         k = order[kk]
         if kk == 0 or sup_s[k] - last > MERGE_M:
             keep[kk] = True
             last = sup_s[k]
+            kept = k
             m += 1
+        elif supN[kept, 0] == 0.0 and supN[kept, 1] == 0.0 and supN[kept, 2] == 0.0:
+            # the bit where a point of it is in the wall: the wall holds the pipe there
+            for c in range(3):
+                supP[kept, c] = supP[k, c]
+                supN[kept, c] = supN[k, c]
     if m < 2:
         return 0
     sup_c = np.zeros(m)
@@ -704,7 +768,7 @@ def span_sample(n, s, p, wk, sel, out):
         # single span pinned at both ends takes no moment from its ends' offsets
         if bit_span[1] > MERGE_M:
             st, cut = _solve_chain(bit_span, np.zeros((2, 3)), np.zeros((2, 3)), top_s, seg_ei,
-                                   seg_T, seg_q, seg_qz, seg_rb, seg_hint, wall, read_s, rxy,
+                                   seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh, read_s, rxy,
                                    rz, rok)
             if st != STATUS_OK:
                 return -st
@@ -716,8 +780,8 @@ def span_sample(n, s, p, wk, sel, out):
             rz2 = np.zeros((nr, 2))
             rok2 = np.zeros(nr, dtype=np.int64)
             st, cut = _solve_chain(sup_c[1:].copy(), sup_Pc[1:].copy(), sup_Nc[1:].copy(), top_s,
-                                   seg_ei, seg_T, seg_q, seg_qz, seg_rb, seg_hint, wall, read_s,
-                                   rxy2, rz2, rok2)
+                                   seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
+                                   read_s, rxy2, rz2, rok2)
             if st != STATUS_OK:
                 return -st
             # read points outside a chain's supports get zero from it
@@ -731,8 +795,8 @@ def span_sample(n, s, p, wk, sel, out):
                 if cut[k] != STATUS_OK:
                     n_cut += 1
     else:
-        st, cut = _solve_chain(sup_c, sup_Pc, sup_Nc, top_s, seg_ei, seg_T, seg_q, seg_qz,
-                               seg_rb, seg_hint, wall, read_s, rxy, rz, rok)
+        st, cut = _solve_chain(sup_c, sup_Pc, sup_Nc, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw,
+                               seg_rb, seg_Rh, read_s, rxy, rz, rok)
         if st != STATUS_OK:
             return -st
         for k in range(cut.shape[0]):
@@ -746,8 +810,11 @@ def span_sample(n, s, p, wk, sel, out):
     hold_y = np.zeros((nhold, 3))
     for kk in range(nhold):
         hold_s[kk] = min(max(hs[ho[kk]], 0.0), top_s[n])
+        i = segment_of(top_s, hold_s[kk])
+        xi = (hold_s[kk] - top_s[i]) / (top_s[i + 1] - top_s[i])
         for c in range(3):
-            hold_y[kk, c] = holdY[ho[kk], c]
+            hold_y[kk, c] = holdY[ho[kk], c] - ((1.0 - xi) * C_node[i, c]
+                                                 + xi * C_node[i + 1, c])
     k_joint = np.zeros(n - 1)
     for j in range(n - 1):
         k_joint[j] = p.jp[j, J_KB]
