@@ -105,7 +105,8 @@ from drillfatigue.dynamics.layout import (
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
-    END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments_settled, midspan_offset,
+    END_PINNED, STATUS_OK, STATUS_SINGULAR, STATUS_SPAN_BUCKLED, chain_span_moments_settled,
+    midspan_offset,
 )
 from drillfatigue.dynamics.span_chain import segment_of, chain_static_moments
 from drillfatigue.dynamics.span_dynamics import segment_axial_N
@@ -149,11 +150,11 @@ MAX_RELEASES = 32
 #: a wall support is let go of when the beam pulls it from the wall by more than this
 #: share of the largest span load q L (round-off of a support that carries nothing)
 RELEASE_TOL = 1e-9
-#: a span's middle reaches the wall when it passes it by more than this, m: below the
-#: contact penetration of the default penalty wall at rest (about 0.2 mm), where the
-#: simulated wall is itself located no better; a beam lying along the wall between
-#: supports on it (its middle on the wall to round-off) is not split again and again
-SPLIT_TOL_M = 1e-4
+#: a span's middle reaches the wall when it passes it by more than this, m (round-off
+#: of a beam lying along the wall between supports on it is not a contact). A pipe
+#: lying on a straight wall is then held every (384 EI tol / q)^(1/4) at most (2.2 m
+#: for 6 3/4 in collars: its span moment there below q s^2 / 12 = 0.15 kN m once split)
+SPLIT_TOL_M = 1e-5
 #: spans shorter than this are not split, m (Euler-Bernoulli spans much longer than
 #: the pipe; a span of 9 m is split three times at most)
 MIN_SPLIT_SPAN_M = 1.0
@@ -820,6 +821,12 @@ def span_sample(n, s, p, wk, sel, out):
         k_joint[j] = p.jp[j, J_KB]
     ms_chain = np.zeros((n - 1, 3))
     st = chain_static_moments(top_s, k_joint, seg_T, q3, hold_s, hold_y, ms_chain)
+    if st == STATUS_SINGULAR:
+        # a run of free segments between holds in compression beyond its Euler load: the
+        # chain is not at rest there (it leans on the wall between the contacts of this
+        # sample); its static moments are taken without the compression's softening
+        seg_Tt = np.maximum(seg_T, 0.0)
+        st = chain_static_moments(top_s, k_joint, seg_Tt, q3, hold_s, hold_y, ms_chain)
     if st != STATUS_OK:
         return -st
     qr = np.zeros(4)
