@@ -179,8 +179,11 @@ def test_halving_the_segment_length_leaves_the_moment_where_collars_lie_on_the_w
     build lie along it: every point of a segment is within its chord's offset from the
     arc of the wall, so the segment is in line contact and carries no span load (the
     arc's bending E I kappa is in the joint moments: 39.6 kN m). Compared: the recorded
-    moment (joint plus span correction) at the coarse run's joints 2 and up (13 m from
-    the bit to the one below the held top). Excluded: joints 0 and 1 (4.35 and 8.7 m),
+    moment (joint plus span correction) at the coarse run's joints 2 to 17 (13 to 78 m
+    from the bit). Excluded: the four joints below the held top (where the string
+    leaves the wall for the top holder: the last wall contact ends the beam there, and
+    above it the chain's own moment stands, at its resolution: 54.8 against 39.5 kN m
+    at the first of them), and joints 0 and 1 (4.35 and 8.7 m),
     the span hanging from the bit to where the collars reach the wall: there the chain
     carries the hole's own curvature as its joints resolve it, turning from E I kappa on
     the wall to nothing at the bit (measured 34.4 -> 31.6 and 47.6 -> 43.2 kN m, -8 % and
@@ -188,7 +191,7 @@ def test_halving_the_segment_length_leaves_the_moment_where_collars_lie_on_the_w
     by 2.1 kN m and 0.8 kN m there). Asked: 5 %; measured below 1 %."""
     a, _ = _span_moments(0.25, 0.5, 0.6, 20)
     b, _ = _span_moments(0.25, 0.125, 0.6, 20)
-    n = a.size - 1  # the last recorded joint is the held top's
+    n = a.size - 4  # the string leaves the wall for the held top above
     k = np.arange(2, n)
     assert 2 * k[-1] + 1 < b.size
     np.testing.assert_allclose(b[2 * k + 1], a[k], rtol=0.05)
@@ -244,5 +247,6 @@ def test_pendulum_tangency_length_and_moment() -> None:
     assert abs(implied / length - 1.0) < 0.01
     # above the tangency the collars lie on the wall: no moment (the chain's 1 kN m at
     # the 8 m joint, where its rigid segment meets the one lying on the wall, is
-    # corrected away)
-    assert np.all(rec[1:-1] < 0.01 * closed)
+    # corrected away), up to 60 m from the bit (the string leaves the wall for the
+    # held top above)
+    assert np.all(rec[1:15] < 0.01 * closed)

@@ -11,12 +11,14 @@ Beam solution
 Each span i (length ``L``, bending stiffness ``EI``, effective axial force
 ``T``, tension > 0) carries a uniform transverse load ``q`` (N/m, a 2-vector
 in the pipe cross-section, each component solved alone: the problem is
-linear). The supports are rigid and level (their relative displacements are
-the rigid-segment chain's business: that bending is the joint moment of the
-dynamics, and this correction adds what the distributed load does between
-the supports). Slope continuity over every interior support gives the
-three-moment equation of Clapeyron, generalised to beam-columns (Timoshenko &
-Gere, *Theory of Elastic Stability*, 2nd ed. 1961, section 1.13):
+linear). The supports are rigid; level in :func:`support_moments`, at
+different heights in :func:`support_moments_settled` (settlement terms: the
+chord rotations of the spans; docs/bending.md, "What the chain carries and what
+the span adds", for how the recorder splits the moment between the rigid
+chain's joints and this solution). Slope continuity over every interior
+support gives the three-moment equation of Clapeyron, generalised to
+beam-columns (Timoshenko & Gere, *Theory of Elastic Stability*, 2nd ed. 1961,
+section 1.13):
 
     L_{i-1}/(6 EI_{i-1}) f2_{i-1} M_{i-1}
       + [L_{i-1}/(3 EI_{i-1}) f1_{i-1} + L_i/(3 EI_i) f1_i] M_i
@@ -54,7 +56,7 @@ Where it stops being valid
   (A buckled span lies on the wall: more supports, as above.)
 * Small deflections, linear elastic, Euler-Bernoulli (span much longer than
   the diameter); the load is uniform over each span; the supports do not
-  move relative to each other under this load.
+  move under this load (their heights are given).
 * A segment in line contact along its length (the whole body on the wall)
   has no span: give it none (no correction).
 

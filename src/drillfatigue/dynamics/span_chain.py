@@ -36,7 +36,8 @@ gradient times the tilt of a polyline piece from the local axis (of order
 1 kN/m x 2 mrad against loads of 1 kN/m: 0.2 %).
 
 A hold is a penalty spring of ``HOLD_PENALTY`` times the stiffness around its
-segment (k/L^2 of the joints at its ends and |T|/L), so redundant holds (three
+segment (k/L^2 of the joints at its ends over the shortest segment they join, and
+|T|/L), so redundant holds (three
 blade points of one rigid stabilizer) cost nothing; the relative error of a
 hold is 1/HOLD_PENALTY and the round-off of the solve about HOLD_PENALTY x 1e-16.
 The system is symmetric and pentadiagonal; it is solved by banded LDL^T
@@ -193,11 +194,17 @@ def chain_static_moments(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M):
     for h in range(nh):
         i = segment_of(top_s, hold_s[h])
         xi = (hold_s[h] - top_s[i]) / L[i]
-        stiff = abs(seg_T[i]) / L[i]
+        # the stiffest spring around the hold: the joints at its segment's ends over the
+        # shortest of the segments they join, the axial force over its segment
+        lmin = L[i]
+        kmax = 0.0
         if i > 0:
-            stiff = max(stiff, k_joint[i - 1] / (L[i] * L[i]))
+            lmin = min(lmin, L[i - 1])
+            kmax = max(kmax, k_joint[i - 1])
         if i < n - 1:
-            stiff = max(stiff, k_joint[i] / (L[i] * L[i]))
+            lmin = min(lmin, L[i + 1])
+            kmax = max(kmax, k_joint[i])
+        stiff = max(abs(seg_T[i]) / L[i], kmax / (lmin * lmin))
         K = HOLD_PENALTY * stiff
         wa = 1.0 - xi
         wb = xi

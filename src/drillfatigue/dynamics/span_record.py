@@ -3,8 +3,12 @@
 A chain of rigid segments lying on the wall is nearly collinear, so its joint
 moments miss what the pipe's own weight does between the points where it
 touches the wall (about w L^2 / 12 over each support of a long row of equal
-spans). :func:`span_sample` adds that quasi-statically at a recorded sample,
-without feeding anything back into the integrator:
+spans), and turn the stand-off of a stabilizer or a tool joint into a kink at a
+few joints only. :func:`span_sample` records, quasi-statically at a sample and
+without feeding anything back into the integrator, the continuous beam's moment
+at each recorded joint less what the rigid chain already carries there, so
+that joint moment + correction is the continuous pipe's moment, counted once
+(docs/bending.md, "What the chain carries and what the span adds"):
 
 1. Supports: the bit (s = 0) and every contact point of every active segment
    that penetrates the wall now (:func:`drillfatigue.dynamics.contact.find_contact`
@@ -13,7 +17,10 @@ without feeding anything back into the integrator:
    a segment's deepest point between its tested points
    (:func:`drillfatigue.dynamics.contact.deepest_point`) is a support where the
    contact kernel pushes on it (body penetration there above the tested
-   points' largest).
+   points' largest). Each stands at its height: where the rigid wall puts the
+   pipe's axis (hole radius - contact radius from the hole's axis, along the
+   point's normal; the penalty penetration taken out), as a vector from the
+   hole's axis beside it; the bit where it is.
 2. Load per length, across the segment's axis, in the world frame: buoyed
    weight + lateral mud drag + the segment's lateral inertia -m_lat a / L.
    As the integrator moves the segment by a = F / m_lat (F all forces on
@@ -22,8 +29,8 @@ without feeding anything back into the integrator:
    concentrated wall and joint forces hold, smeared uniformly over the
    segment. At rest on its supports this is the weight. (The inertia of the
    segment's tilting, a load varying linearly along it, is not included.)
-   A segment in line contact gets none (the wall carries its load along its
-   length) and all its points are supports:
+   A segment in line contact gets none in the beam (the wall carries its load
+   along its length) and its two ends are supports (on the wall):
 
    * three or more points, all in the wall (any hole);
    * in a curved hole (curvature kappa above ``STRAIGHT_KAPPA`` at any of its
@@ -37,55 +44,63 @@ without feeding anything back into the integrator:
      the hole's curvature and lies along the wall: the moment E I kappa of
      that bending is what the rigid chain's joint moments hold, and its
      weight goes to the wall where it lies, not to a span between the rigid
-     segment's ends. Without this the span moment of collars lying in a
-     build scaled with L^2 (halving the segments took 75 % off it).
+     segment's ends.
 3. Axial force of a segment: the mean effective tension of its two joints
    (the bit end of the first segment takes its one joint's value).
-4. :func:`drillfatigue.dynamics.span_bending.chain_span_moments` with both
-   chain ends pinned, once for the world (x, y) load components and once for
-   z; the moments are put together as world vectors and resolved in each
-   recorded joint's frame (the mid-rotation frame of its two segments, the
-   frame of ``bending_x/y_Nm``), which turns with the pipe, so the correction
-   alternates once per revolution.
-
-5. Where the elastic pipe would reach the wall between two supports (its
-   mid-span deflection, :func:`~drillfatigue.dynamics.span_bending.midspan_deflection`,
-   exceeds the room of its body to the wall: hole radius - body radius) or a
-   span is at its Euler load in compression (v >= ``BUCKLED_V``), the pipe
-   lies on the wall there: a support is added at that span's middle and the
-   chain solved again, up to ``MAX_SPLIT_ROUNDS`` times (a span into at most
-   16 pieces). This bounds the beam-column's amplification in compression by
-   the wall, as it is bounded in the hole. The room is the full radial
-   clearance, so a span sagging toward supports on the same side (tool joints
-   on the low side) touches earlier than this test says: there the moment is
-   an upper estimate.
-
+4. The beam: :func:`drillfatigue.dynamics.span_bending.chain_span_moments_settled`
+   with both chain ends pinned and the supports' offsets (their chord
+   rotations: settlement terms), once for the world (x, y) components and once
+   for z. Offsets relative to the hole's axis leave the hole's own curvature
+   out of the beam: it stays with the chain.
+5. The wall is one-sided. An interior wall support the beam would pull from
+   the wall (:func:`_most_pulled`) is let go of and the beam solved again, up to
+   ``MAX_RELEASES`` times. Where the elastic pipe's middle between two supports
+   (chord's middle plus its mid-span sag,
+   :func:`~drillfatigue.dynamics.span_bending.midspan_offset`) passes the wall
+   by more than ``SPLIT_TOL_M`` (spans of ``MIN_SPLIT_SPAN_M`` or more), or a
+   span is at its Euler load in compression (v >= ``BUCKLED_V``), the pipe lies
+   on the wall there: a support is added at that span's middle (on the wall)
+   and the chain solved again, up to ``MAX_SPLIT_ROUNDS`` times. This bounds the
+   beam-column's amplification in compression by the wall, as it is bounded in
+   the hole.
 6. The span from the bit: from the bit end (guided on the hole's axis on
-   bottom, free off bottom) the string reaches the wall at a tangency point, where it meets the wall with
-   the wall's slope and the wall's curvature (the moment of that curvature,
-   E I kappa, is in the rigid chain's joint moments): beyond it the pipe lies
-   on the wall and holds no span moment. When the first support above the
-   bit opens a segment in line contact (step 2), the span from the bit ends
-   at the tangency length L_t (:func:`tangency_length_m`, the pendulum of
-   Lubinski and Woods (1953) generalised to a curved hole, with r the bit end's
-   distance from the wall: infinite when the bit lies on it) clipped to that first
-   support, and is solved alone, pinned at both ends (zero span moment at
-   the tangency); the rest of the chain is solved from that support on,
-   pinned there. Solved as one continuous beam with the unloaded line-contact
-   spans beyond it, the span would take a moment over that support set by
-   those spans' lengths, i.e. by the contact-point spacing (docs/bending.md).
+   bottom, free off bottom) the string reaches the wall at a tangency point,
+   where it meets the wall with the wall's slope and the wall's curvature (the
+   moment of that curvature, E I kappa, is in the rigid chain's joint moments):
+   beyond it the pipe lies on the wall and holds no span moment. When the first
+   support above the bit opens a segment in line contact (step 2), the span
+   from the bit ends at the tangency length L_t (:func:`tangency_length_m`, the
+   pendulum of Lubinski and Woods (1953) generalised to a curved hole, with r
+   the bit end's distance from the wall: infinite when the bit lies on it)
+   clipped to that first support, and is solved alone, pinned at both ends
+   (zero span moment at the tangency); the rest of the chain is solved from
+   that support on, pinned there.
+7. What the chain carries:
+   :func:`drillfatigue.dynamics.span_chain.chain_static_moments`, the rigid
+   chain's joint moments held at rest where it is at the bit, its top end and
+   the points the wall pushes (step 1's, at the chain's positions), under its
+   own transverse load per segment (step 2's before the line-contact rule),
+   positions relative to the hole's axis at its nodes. At rest this is its
+   recorded joint moment.
+8. The correction is the beam's moment less the chain's, put together as world
+   vectors and resolved in each recorded joint's frame (the mid-rotation frame
+   of its two segments, the frame of ``bending_x/y_Nm``, which turns with the
+   pipe, so the correction alternates once per revolution), in that joint
+   moment's sign convention (the moment of the upper part on the lower, z
+   downhole: :mod:`drillfatigue.dynamics.joints`). A joint outside the beam's
+   supports or in a span the beam cuts gets none.
 
 Validity (see :mod:`drillfatigue.dynamics.span_bending`): small deflections,
 supports that do not move relative to each other under the load. A span
 still at or beyond its Euler load after the last round (or one the solution
 cannot handle) is handled locally by
-:func:`drillfatigue.dynamics.span_bending.chain_span_moments`: the chain is
-cut there, pinned over that span's supports, the span gets no correction
+:func:`drillfatigue.dynamics.span_bending.chain_span_moments_settled`: the chain
+is cut there, pinned over that span's supports, the span gets no correction
 and every other span is solved as in the chain without it; the number of
 such spans is returned (the caller counts them and the samples that had
 any), so a buckled span far away never zeroes a joint's correction.
-Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
-p.ei, p.topp``, ``wk.loads``; scratch allocated per call (a sample is taken
+Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint, s.cst``, ``p.seg, p.jp, p.wall, p.cpar,
+p.cp_n, p.cp, p.ei``, ``wk.loads``; scratch allocated per call (a sample is taken
 every few hundred steps).
 """
 
