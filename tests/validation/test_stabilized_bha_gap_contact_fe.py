@@ -67,7 +67,7 @@ FE_LENGTH_M = 30.0
 FE_H_M = 0.075
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _run(half: bool):
     comps = [dict(STAB), {"type": "collar", "length_m": 9.0, "n_segments": 2 if half else 1, **DC},
              dict(STAB), {"type": "collar", "length_m": 56.0, "n_segments": 12 if half else 6,
