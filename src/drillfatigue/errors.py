@@ -12,7 +12,27 @@ from __future__ import annotations
 from drillfatigue.status import MESSAGES, OK
 
 
-class InputError(ValueError):
+class OneLineMessage(Exception):
+    """Base of the package's refusals: ``field: problem (allowed: ...)`` on one line."""
+
+    field: str
+    problem: str
+    allowed: str | None
+
+    def __init__(self, field: str, problem: str, allowed: str | None = None) -> None:
+        self.field = field
+        self.problem = problem
+        self.allowed = allowed
+        super().__init__(self.one_line())
+
+    def one_line(self) -> str:
+        text = f"{self.field}: {self.problem}"
+        if self.allowed:
+            text += f" (allowed: {self.allowed})"
+        return " ".join(text.split())
+
+
+class InputError(OneLineMessage, ValueError):
     """Invalid user input: a config field, a file, a query.
 
     Parameters
@@ -26,17 +46,6 @@ class InputError(ValueError):
         The allowed values or range, e.g. ``"0 < od_m <= 1.0"``.
     """
 
-    def __init__(self, field: str, problem: str, allowed: str | None = None) -> None:
-        self.field = field
-        self.problem = problem
-        self.allowed = allowed
-        super().__init__(self.one_line())
-
-    def one_line(self) -> str:
-        text = f"{self.field}: {self.problem}"
-        if self.allowed:
-            text += f" (allowed: {self.allowed})"
-        return " ".join(text.split())
 
 
 class Interrupted(Exception):

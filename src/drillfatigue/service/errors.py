@@ -9,23 +9,14 @@ a ledger), 404 for a record named in the path (a joint's serial).
 
 from __future__ import annotations
 
+from drillfatigue.errors import OneLineMessage
 
-class ServiceRefusal(Exception):
+
+class ServiceRefusal(OneLineMessage):
     """A one-line refusal with an HTTP status (see the module docstring)."""
 
     status = 400
 
-    def __init__(self, field: str, problem: str, allowed: str | None = None) -> None:
-        self.field = field
-        self.problem = problem
-        self.allowed = allowed
-        super().__init__(self.one_line())
-
-    def one_line(self) -> str:
-        text = f"{self.field}: {self.problem}"
-        if self.allowed:
-            text += f" (allowed: {self.allowed})"
-        return " ".join(text.split())
 
 
 class NotServed(ServiceRefusal):
