@@ -28,22 +28,16 @@ References
   body 0.183 mm vs 0.183 mm at the tested points.
 * Convergence (issue 20): quartering f halves the point spacing. Collars on the
   low side at 30 rpm: where they lie on the wall they are in line contact (no
-  span load) with either spacing. The span from the bit ends at the tangency
-  point where the collars reach the wall they then lie along, pinned there
-  (zero span moment at a tangency, docs/bending.md); its length is the
-  tangency length clipped to the first support, here the first support
-  itself (8.7 m: off bottom the free bit lies on the wall, r <= 0). Measured:
-  10.929 kN m at 4.35 m with both spacings (-0.005 %), 0 at 8.7 m, 13 m and above
-  (a span continuous with the line-contact spans beyond it, whose lengths the
-  spacing sets: +4.4 %, -6.3 % and 645 -> 184 N m at 4.4, 8.7 and 13 m); with
-  the 9.09 m segments the span moment changes by -72 to -81 % (the middle
-  points on the other wall become supports).
+  span load) and carry the hole's E I kappa in their joints; the span from the
+  bit ends where they reach the wall (8.7 m: off bottom the free bit lies on the
+  wall, r <= 0). The recorded moment (joint plus span correction) is the same
+  with either spacing to 0.01 % at every joint.
 * Pendulum (Lubinski & Woods, API Drill. Prod. Pract. 1953): collars in a straight
   70 deg hole, bit guided on the axis, 4 m segments with ends-and-middle
   points: the span from the bit ends at the tangency length
   L = (24 EI r / q)^(1/4) = 7.89 m (r = 22.2 mm, q = 1.17 kN/m) and the
   recorded moment at the 4 m joint (~L/2) is the simply supported
-  q x (L - x) / 2: measured 9095 vs 9109 N m (-0.15 %).
+  q x (L - x) / 2: measured 9098 vs 9109 N m (-0.12 %).
 * Convergence in the segment length (f_seg 0.5 -> 0.125): see the last test.
 """
 
@@ -151,60 +145,57 @@ def test_deepest_point_holds_a_floating_chord() -> None:
 
 def _span_moments(chord_fraction: float, fit: float | None, duration_s: float = 1.0,
                   last: int = 50) -> tuple[np.ndarray, np.ndarray]:
+    """Mean magnitude of the recorded bending moment (the joint moment plus the span
+    correction, what the fatigue chain takes) at each joint over the last samples, N m;
+    and the contact points per segment."""
     res = drillfatigue.simulate(_case("string", 1.0, 70.0, 30.0, duration_s, chord_fraction,
                                       span=True, fit=fit), None, progress=False)
     sp = res.span_bending
     assert sp is not None
-    return np.hypot(sp[-last:, :, 0], sp[-last:, :, 1]).mean(axis=0), res.model.cp_n
+    tot = res.loads[-last:, :, 3:5] + sp[-last:]
+    return np.hypot(tot[:, :, 0], tot[:, :, 1]).mean(axis=0), res.model.cp_n
 
 
-def test_halving_the_point_spacing_leaves_the_span_moment() -> None:
+def test_halving_the_point_spacing_leaves_the_recorded_moment() -> None:
+    """Quartering f (0.25 -> 0.0625) halves the contact-point spacing of the collars in
+    the 8 deg/30 m build (hole-fit segments, 4.35 m, low side, 30 rpm). The recorded
+    moment (joint moment plus span correction) at every joint: the span from the bit to
+    where the collars reach the wall (joint 0, 4.35 m, and its end at joint 1), and the
+    collars lying along the wall above, whose moment is the hole's E I kappa
+    (39.6 kN m, carried by the chain; their segments' inner points are not beam
+    supports, docs/bending.md). Asked: 1 % (the two runs differ only in points the
+    wall does not touch); measured below 0.01 %."""
     a, cp_a = _span_moments(0.25, 0.5)
     b, cp_b = _span_moments(0.0625, 0.5)  # spacing ~ sqrt(f): halved
     assert int((cp_b[:10] > cp_a[:10]).sum()) == 10  # the finer spacing did add points
-    # the span from the bit (kN m at joint 0, 4.35 m) ends at the first support (8.7 m,
-    # joint 1), where the collars reach the wall they then lie along; measured -0.005 %
-    assert a[0] > 5e3 and b[0] > 5e3
-    assert abs(b[0] / a[0] - 1.0) < 0.05
-    # joints 1 and 2 (8.7 m, the span's pinned end, and 13 m, the first joint lying on
-    # the wall): within 5 % of that span's moment; measured 0 N m in both runs (a span
-    # continuous with the line-contact spans above it: 645 N m -> 184 N m at 13 m)
-    assert np.all(np.abs(b[1:3] - a[1:3]) < 0.05 * a[0])
-    # collars lying on the wall from joint 3 (17.4 m) up (line contact, no span load):
-    # within 5 % of the 1.6 kN m they recorded as rigid spans (80 N m)
-    assert np.all(np.abs(b[3:] - a[3:]) < 80.0)
-    # the listed 9.09 m segments: their middle points touch the other wall
-    a_old, _ = _span_moments(0.25, None)
-    b_old, _ = _span_moments(0.0625, None)
-    live_old = np.flatnonzero(a_old > 100.0)
-    assert np.median(np.abs(b_old[live_old] / a_old[live_old] - 1.0)) > 0.5
+    assert a[0] > 5e3 and np.all(a[2:-1] > 30e3)  # the record is not empty
+    np.testing.assert_allclose(b[:-1], a[:-1], rtol=0.01)
 
 
-def test_halving_the_segment_length_leaves_the_span_moment_where_collars_lie_on_the_wall(
+def test_halving_the_segment_length_leaves_the_moment_where_collars_lie_on_the_wall(
         ) -> None:
     """f_seg 0.5 -> 0.125 halves the collar segments (4.35 m -> 2.17 m); joint k of the
     coarse run is joint 2k + 1 of the fine one. Collars on the low (outer) wall of the
     build lie along it: every point of a segment is within its chord's offset from the
     arc of the wall, so the segment is in line contact and carries no span load (the
-    arc's bending E I kappa is in the joint moments). Compared: the coarse run's joints
-    3 and up (17.4 m from the bit to the held top), where the collars lie on the wall;
-    excluded: joints 0-2 (4.4-13 m), the span from the bit to the tangency where the
-    collars reach the wall; its end is clipped to the first support, which the
-    segment length quantises (measured at 4.35 m -5.5 % after 0.6 s, -13.7 % after
-    1 s). Before the
-    line-contact rule the span moment at the compared joints was 1.6 kN m with 4.35 m
-    segments and 0.4 kN m with 2.17 m (-75 %, the rigid segment's own span). Asked: a
-    change below 5 % of that 1.6 kN m (80 N m); measured 0 (line contact, and the span
-    from the bit pinned where the collars reach the wall: < 1e-12 N m in both)."""
+    arc's bending E I kappa is in the joint moments: 39.6 kN m). Compared: the recorded
+    moment (joint plus span correction) at the coarse run's joints 2 to 17 (13 to 78 m
+    from the bit). Excluded: the four joints below the held top (where the string
+    leaves the wall for the top holder: the last wall contact ends the beam there, and
+    above it the chain's own moment stands, at its resolution: 54.8 against 39.5 kN m
+    at the first of them), and joints 0 and 1 (4.35 and 8.7 m),
+    the span hanging from the bit to where the collars reach the wall: there the chain
+    carries the hole's own curvature as its joints resolve it, turning from E I kappa on
+    the wall to nothing at the bit (measured 34.4 -> 31.6 and 47.6 -> 43.2 kN m, -8 % and
+    -9 %; the span correction, which the beam makes relative to the hole's axis, changes
+    by 2.1 kN m and 0.8 kN m there). Asked: 5 %; measured below 1 %."""
     a, _ = _span_moments(0.25, 0.5, 0.6, 20)
     b, _ = _span_moments(0.25, 0.125, 0.6, 20)
-    n = a.size - 1  # the last recorded joint is the held top's
-    k = np.arange(3, n)
+    n = a.size - 4  # the string leaves the wall for the held top above
+    k = np.arange(2, n)
     assert 2 * k[-1] + 1 < b.size
-    assert np.all(np.abs(b[2 * k + 1] - a[k]) < 80.0)
-    # the near-bit span is there in both (kN m at 4.35 m), so the comparison is not of
-    # empty records
-    assert a[0] > 5e3 and b[1] > 5e3
+    np.testing.assert_allclose(b[2 * k + 1], a[k], rtol=0.05)
+    assert np.all(a[k] > 30e3)
 
 
 def test_pendulum_tangency_length_and_moment() -> None:
@@ -221,8 +212,9 @@ def test_pendulum_tangency_length_and_moment() -> None:
     other. Tolerance 1 %: the closed form neglects the tension (1.7 kN at the bit,
     T L^2 / EI = 0.012: the beam-column's mid-span moment is lower by about
     5 T L^2 / (48 EI) = 0.13 %) and the load is the segments' after a 1.3 s
-    relaxation (dynamic residue below 0.1 %). Measured: 9095 N m vs 9109 N m
-    (-0.15 %); the implied tangency length 4 + 2 M / (q 4) = 7.889 m vs 7.895 m."""
+    relaxation (dynamic residue below 0.1 %). Measured (joint moment 9845 N m plus span
+    correction -747 N m): 9098 N m vs 9109 N m (-0.12 %); the implied tangency length
+    4 + 2 M / (q 4) = 7.889 m vs 7.895 m."""
     cfg = j_well_rotating_case(
         kop_m=1.0, dls_deg_per_30m=60.0, inc_deg=70.0, top_md_m=150.0, bit_md_m=250.0,
         rpm=0.0, duration_s=0.3,
@@ -236,7 +228,11 @@ def test_pendulum_tangency_length_and_moment() -> None:
     m = res.model
     sp = res.span_bending
     assert sp is not None
-    rec = np.hypot(sp[-10:, :, 0], sp[-10:, :, 1]).mean(axis=0)
+    # what the steel sees: the joint moment (the chain hanging from the bit carries most of
+    # the span's moment, about q L_8^2 / 8 between its holds at 0 and 8 m) plus the
+    # span correction (the continuous beam's moment less the chain's own)
+    tot = res.loads[-10:, :, 3:5] + sp[-10:]
+    rec = np.hypot(tot[:, :, 0], tot[:, :, 1]).mean(axis=0)
     seg_len = 2.0 * m.seg[0, S_H]
     q = m.seg[0, S_W] / seg_len * math.sin(math.radians(70.0))
     ei = float(m.ei[0])
@@ -249,5 +245,8 @@ def test_pendulum_tangency_length_and_moment() -> None:
     assert abs(closed / (q * length ** 2 / 8.0) - 1.0) < 2e-4
     implied = x + 2.0 * rec[0] / (q * x)
     assert abs(implied / length - 1.0) < 0.01
-    # above the tangency the collars lie on the wall: no span moment
-    assert np.all(rec[1:-1] < 0.01 * closed)
+    # above the tangency the collars lie on the wall: no moment (the chain's 1 kN m at
+    # the 8 m joint, where its rigid segment meets the one lying on the wall, is
+    # corrected away), up to 60 m from the bit (the string leaves the wall for the
+    # held top above)
+    assert np.all(rec[1:15] < 0.01 * closed)

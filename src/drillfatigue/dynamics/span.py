@@ -58,8 +58,13 @@ def continuous_beam_moments(span_m: Sequence[float] | np.ndarray,
                             axial_N: Sequence[float] | np.ndarray | float = 0.0,
                             ends: tuple[str, str] = ("pinned", "pinned"),
                             read_span: Sequence[int] | np.ndarray | None = None,
-                            read_x_m: Sequence[float] | np.ndarray | None = None) -> BeamMoments:
+                            read_x_m: Sequence[float] | np.ndarray | None = None,
+                            support_offsets_m: np.ndarray | None = None) -> BeamMoments:
     """Moments of a continuous beam-column on rigid supports under span loads.
+
+    With ``support_offsets_m`` the supports stand at different heights (the
+    settlement terms of the three-moment equation,
+    :func:`drillfatigue.dynamics.span_bending.support_moments_settled`).
 
     Parameters
     ----------
@@ -75,6 +80,9 @@ def continuous_beam_moments(span_m: Sequence[float] | np.ndarray,
         End conditions at the first and last support: ``pinned`` or ``clamped``.
     read_span, read_x_m : arrays, shape (n_read,), optional
         Read points: span index and distance from that span's first support.
+    support_offsets_m : array, shape (n_span + 1, 2), optional
+        Offset of each support in the frame of ``q`` (component k along load
+        component k), m; none: level supports.
 
     Returns
     -------
@@ -103,7 +111,12 @@ def continuous_beam_moments(span_m: Sequence[float] | np.ndarray,
         raise InputError("ends", f"unknown end conditions {ends!r}", "pinned, clamped")
     work = np.empty((n + 1, 6))
     sup = np.empty((n + 1, 2))
-    st = K.support_moments(span, ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], work, sup)
+    if support_offsets_m is None:
+        st = K.support_moments(span, ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], work, sup)
+    else:
+        d = _offsets(support_offsets_m, n + 1)
+        st = K.support_moments_settled(span, ei, ax, q, d, _ENDS[ends[0]], _ENDS[ends[1]],
+                                       work, sup)
     if st == K.STATUS_SPAN_BUCKLED:
         raise InputError("axial_N", "a span in compression is at or beyond its Euler load "
                          "pi^2 EI/L^2: it lies on the wall, add supports",
@@ -124,6 +137,14 @@ def continuous_beam_moments(span_m: Sequence[float] | np.ndarray,
     defl = np.empty(n)
     K.midspan_deflection(span, ei, ax, q, sup, defl)
     return BeamMoments(sup, rd, defl)
+
+
+def _offsets(d_m: object, n_sup: int) -> np.ndarray:
+    d = np.ascontiguousarray(np.asarray(d_m, dtype=np.float64))
+    if d.shape != (n_sup, 2) or not np.all(np.isfinite(d)):
+        raise InputError("support_offsets_m", f"must be finite with shape ({n_sup}, 2), got "
+                         f"{d.shape}", "one offset pair per support")
+    return d
 
 
 def spans_from_supports(support_s_m: Sequence[float] | np.ndarray) -> np.ndarray:
@@ -151,7 +172,8 @@ def pipe_frame_moments(M_hole_Nm: np.ndarray, angle_rad: np.ndarray) -> np.ndarr
 
 def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
                        ei_Nm2: np.ndarray, axial_N: np.ndarray, q_N_per_m: np.ndarray,
-                       read_s_m: np.ndarray, ends: tuple[str, str] = ("pinned", "pinned")
+                       read_s_m: np.ndarray, ends: tuple[str, str] = ("pinned", "pinned"),
+                       support_offsets_m: np.ndarray | None = None
                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Span-bending moments of a segment chain at read points (see the kernel
     :func:`drillfatigue.dynamics.span_bending.chain_span_moments`).
@@ -172,6 +194,9 @@ def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
     read_s_m : array (n_read,)
         Where the moments are wanted (e.g. the recorded joints), m from the bit.
     ends : (str, str)
+    support_offsets_m : array (n_sup, 2), optional
+        Offset of each support in the frame of ``q``, m (none: level supports;
+        :func:`drillfatigue.dynamics.span_bending.chain_span_moments_settled`).
 
     Returns
     -------
@@ -198,9 +223,16 @@ def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
     sup_M = np.empty((sup.size, 2))
     read_M = np.empty((rd.size, 2))
     cut = np.zeros(m, dtype=np.int64)
-    st = K.chain_span_moments(sup, bounds, ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], rd,
-                              np.empty(m), np.empty(m), np.empty(m), np.empty((m, 2)),
-                              np.empty((sup.size, 6)), sup_M, read_M, cut)
+    if support_offsets_m is None:
+        st = K.chain_span_moments(sup, bounds, ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], rd,
+                                  np.empty(m), np.empty(m), np.empty(m), np.empty((m, 2)),
+                                  np.empty((sup.size, 6)), sup_M, read_M, cut)
+    else:
+        st = K.chain_span_moments_settled(sup, _offsets(support_offsets_m, sup.size), bounds,
+                                          ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], rd,
+                                          np.empty(m), np.empty(m), np.empty(m),
+                                          np.empty((m, 2)), np.empty((sup.size, 6)), sup_M,
+                                          read_M, cut, np.zeros(rd.size, dtype=np.int64))
     if st != K.STATUS_OK:
         raise InputError("support_s_m", f"chain span solve failed (status {st})",
                          "increasing supports inside the segments, EI > 0")

@@ -11,12 +11,14 @@ Beam solution
 Each span i (length ``L``, bending stiffness ``EI``, effective axial force
 ``T``, tension > 0) carries a uniform transverse load ``q`` (N/m, a 2-vector
 in the pipe cross-section, each component solved alone: the problem is
-linear). The supports are rigid and level (their relative displacements are
-the rigid-segment chain's business: that bending is the joint moment of the
-dynamics, and this correction adds what the distributed load does between
-the supports). Slope continuity over every interior support gives the
-three-moment equation of Clapeyron, generalised to beam-columns (Timoshenko &
-Gere, *Theory of Elastic Stability*, 2nd ed. 1961, section 1.13):
+linear). The supports are rigid; level in :func:`support_moments`, at
+different heights in :func:`support_moments_settled` (settlement terms: the
+chord rotations of the spans; docs/bending.md, "What the chain carries and what
+the span adds", for how the recorder splits the moment between the rigid
+chain's joints and this solution). Slope continuity over every interior
+support gives the three-moment equation of Clapeyron, generalised to
+beam-columns (Timoshenko & Gere, *Theory of Elastic Stability*, 2nd ed. 1961,
+section 1.13):
 
     L_{i-1}/(6 EI_{i-1}) f2_{i-1} M_{i-1}
       + [L_{i-1}/(3 EI_{i-1}) f1_{i-1} + L_i/(3 EI_i) f1_i] M_i
@@ -54,7 +56,7 @@ Where it stops being valid
   (A buckled span lies on the wall: more supports, as above.)
 * Small deflections, linear elastic, Euler-Bernoulli (span much longer than
   the diameter); the load is uniform over each span; the supports do not
-  move relative to each other under this load.
+  move under this load (their heights are given).
 * A segment in line contact along its length (the whole body on the wall)
   has no span: give it none (no correction).
 
@@ -88,6 +90,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from drillfatigue.status import BAD_SPAN as STATUS_BAD_SPAN
@@ -145,7 +148,10 @@ def axial_factors(s):
 
 @njit(cache=True)
 def support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, end_left, end_right, work, out_M):
-    """Bending moments over the supports of a continuous beam-column.
+    """Bending moments over the supports of a continuous beam-column on level supports.
+
+    :func:`support_moments_settled` with every support offset zero (the same
+    floating-point operations: the settlement terms are not formed).
 
     Parameters
     ----------
@@ -171,6 +177,62 @@ def support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, end_left, end_right, wor
         ``STATUS_OK``, ``STATUS_BAD_SPAN`` (a span or EI <= 0 or not finite),
         ``STATUS_SPAN_BUCKLED`` or ``STATUS_SINGULAR``.
     """
+    return _support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, out_M, False, end_left,
+                            end_right, work, out_M)
+
+
+@njit(cache=True)
+def support_moments_settled(span_m, ei_Nm2, axial_N, q_N_per_m, d_m, end_left, end_right, work,
+                            out_M):
+    """Bending moments over the supports of a continuous beam-column whose supports
+    stand at different heights.
+
+    The three-moment equation of the module docstring with the settlement terms
+    (Timoshenko & Gere 1961, section 1.13; without axial force Timoshenko,
+    *Strength of Materials*, part I, 3rd ed. 1955, art. 55): slope continuity
+    over support i adds the difference of the chord rotations of its two
+    spans,
+
+        ... = -q_{i-1} L_{i-1}^3/(24 EI_{i-1}) f3_{i-1} - q_i L_i^3/(24 EI_i) f3_i
+              + psi_{i-1} - psi_i,   psi_k = (d_{k+1} - d_k) / L_k,
+
+    d the support's offset along the load component (towards the side the load
+    pushes the span). The chord rotation is a rigid rotation of the span:
+    inside the span the beam-column equation EI w'''' - T w'' = q holds for
+    the deflection from the chord as it does on level supports, so the chord
+    terms carry no axial-force factor; the axial force enters through the
+    factors f1, f2 of the end moments they set, and T times the chord's kink
+    over a support is a force that support takes. On equal spans without
+    axial force, times 6 EI / L, the right-hand side is the familiar
+    6 EI (d_{i-1} - 2 d_i + d_{i+1}) / L^2. A clamped end holds zero slope in
+    the frame of ``d`` (psi_{-1} = psi_n = 0). Offsets on a straight line
+    (supports moved or turned rigidly) give no moment; zero offsets give
+    :func:`support_moments` bit for bit. Inside a span the moment follows from
+    the support moments as on level supports (:func:`moments_at`).
+
+    Parameters
+    ----------
+    span_m, ei_Nm2, axial_N, q_N_per_m, end_left, end_right, work, out_M
+        As :func:`support_moments`.
+    d_m : ndarray, shape (n_span + 1, 2)
+        Offset of each support, m, in the frame of ``q`` (component k along the
+        load component k).
+
+    Returns
+    -------
+    int
+        As :func:`support_moments`.
+    """
+    return _support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, d_m, True, end_left, end_right,
+                            work, out_M)
+
+
+@njit(cache=True)
+def _support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, d_m, settled, end_left, end_right,
+                     work, out_M):
+    """Bending moments over the supports of a continuous beam-column (``settled``: with
+    the support offsets ``d_m``, :func:`support_moments_settled`); arguments and status
+    codes as :func:`support_moments`."""
     n = span_m.shape[0]
     ns = n + 1
     out_M[:, :] = 0.0
@@ -202,6 +264,15 @@ def support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, end_left, end_right, wor
         work[i + 1, 3] -= q_N_per_m[i, 1] * load
         work[i, 4] -= q_N_per_m[i, 0] * load
         work[i + 1, 4] -= q_N_per_m[i, 0] * load
+        if settled:
+            # chord rotation of span i: - at its left support, + at its right one
+            # (column 3: the sagging scalar of the second component, 4: of the first)
+            psi_y = (d_m[i + 1, 1] - d_m[i, 1]) / L
+            psi_x = (d_m[i + 1, 0] - d_m[i, 0]) / L
+            work[i, 3] -= psi_y
+            work[i + 1, 3] += psi_y
+            work[i, 4] -= psi_x
+            work[i + 1, 4] += psi_x
     if end_left == END_PINNED:
         work[0, 1] = 1.0
         work[0, 2] = 0.0
@@ -331,6 +402,46 @@ def midspan_deflection(span_m, ei_Nm2, axial_N, q_N_per_m, M_support, out_m):
                 return STATUS_SPAN_BUCKLED
             amp = 1.0 / (1.0 - ratio)
         out_m[i] = amp * math.sqrt(dx * dx + dy * dy)
+    return STATUS_OK
+
+
+@njit(cache=True)
+def midspan_offset(span_m, ei_Nm2, axial_N, q_N_per_m, M_support, out_m):
+    """Mid-span deflection of each span from its chord, as a vector in the frame of
+    ``q``, m (where the pipe's axis is at mid span: the chord's middle plus this).
+
+    The components of :func:`midspan_deflection` with their signs: per load
+    component 5 q L^4/(384 EI) + (M_a + M_b) L^2/(16 EI) (sagging moments
+    positive), towards the side the load component points to, amplified by
+    1/(1 - |T|/P_E) in compression and taken without axial force in tension
+    (an upper bound there).
+
+    Parameters
+    ----------
+    span_m, ei_Nm2, axial_N, q_N_per_m, M_support
+        As :func:`midspan_deflection`.
+    out_m : ndarray, shape (n_span, 2)
+
+    Returns
+    -------
+    int
+        ``STATUS_OK`` or ``STATUS_SPAN_BUCKLED``.
+    """
+    for i in range(span_m.shape[0]):
+        L = span_m[i]
+        EI = ei_Nm2[i]
+        c_q = 5.0 * L ** 4 / (384.0 * EI)
+        c_m = L * L / (16.0 * EI)
+        dy = c_q * q_N_per_m[i, 1] + c_m * (M_support[i, 0] + M_support[i + 1, 0])
+        dx = c_q * q_N_per_m[i, 0] - c_m * (M_support[i, 1] + M_support[i + 1, 1])
+        amp = 1.0
+        if axial_N[i] < 0.0:
+            ratio = -axial_N[i] * L * L / (math.pi * math.pi * EI)
+            if ratio >= BUCKLED_V * BUCKLED_V / (math.pi * math.pi):
+                return STATUS_SPAN_BUCKLED
+            amp = 1.0 / (1.0 - ratio)
+        out_m[i, 0] = amp * dx
+        out_m[i, 1] = amp * dy
     return STATUS_OK
 
 
@@ -472,11 +583,49 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
         ``STATUS_BAD_SPAN`` for unsorted supports or a span outside the
         segments (then every output is zero).
     """
+    read_ok = np.zeros(read_s.shape[0], dtype=np.int64)
+    return _chain_span(sup_s, sup_M, False, seg_top_s, seg_ei, seg_T, seg_q, end_left,
+                       end_right, read_s, span_L, span_ei, span_T, span_q, work, sup_M, read_M,
+                       span_cut, read_ok)
+
+
+@njit(cache=True)
+def chain_span_moments_settled(sup_s, sup_d, seg_top_s, seg_ei, seg_T, seg_q, end_left,
+                               end_right, read_s, span_L, span_ei, span_T, span_q, work, sup_M,
+                               read_M, span_cut, read_ok):
+    """:func:`chain_span_moments` on supports that stand at different heights.
+
+    Every run of good spans is solved by :func:`support_moments_settled` with
+    the offsets of its supports (a run cut off by a buckled span keeps its
+    supports' offsets; a pinned end ignores its own offset's rotation, as any
+    pinned support does). Zero offsets give :func:`chain_span_moments` bit for
+    bit.
+
+    Parameters
+    ----------
+    sup_d : ndarray, shape (n_sup, 2)
+        Offset of each support in the frame of ``seg_q``, m.
+    read_ok : ndarray of int64, shape (n_read,)
+        Output: 1 where a read point lies in a solved span (its moment is the
+        beam's), 0 where it lies outside the supports or in a cut span.
+    others
+        As :func:`chain_span_moments`.
+    """
+    return _chain_span(sup_s, sup_d, True, seg_top_s, seg_ei, seg_T, seg_q, end_left,
+                       end_right, read_s, span_L, span_ei, span_T, span_q, work, sup_M, read_M,
+                       span_cut, read_ok)
+
+
+@njit(cache=True)
+def _chain_span(sup_s, sup_d, settled, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_right,
+                read_s, span_L, span_ei, span_T, span_q, work, sup_M, read_M, span_cut, read_ok):
+    """:func:`chain_span_moments` (``settled``: with the support offsets ``sup_d``)."""
     n_sup = sup_s.shape[0]
     n_seg = seg_ei.shape[0]
     read_M[:, :] = 0.0
     sup_M[:, :] = 0.0
     span_cut[:] = STATUS_OK
+    read_ok[:] = 0
     if n_sup < 2:
         return STATUS_OK
     j = 0
@@ -522,8 +671,12 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
             b += 1
         el = end_left if a == 0 else END_PINNED
         er = end_right if b == n_span else END_PINNED
-        st = support_moments(span_L[a:b], span_ei[a:b], span_T[a:b], span_q[a:b], el, er,
-                             work[a:b + 1], sup_M[a:b + 1])
+        if settled:
+            st = support_moments_settled(span_L[a:b], span_ei[a:b], span_T[a:b], span_q[a:b],
+                                         sup_d[a:b + 1], el, er, work[a:b + 1], sup_M[a:b + 1])
+        else:
+            st = support_moments(span_L[a:b], span_ei[a:b], span_T[a:b], span_q[a:b], el, er,
+                                 work[a:b + 1], sup_M[a:b + 1])
         if st != STATUS_OK:
             sup_M[a:b + 1, :] = 0.0
             for k in range(a, b):
@@ -543,6 +696,7 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
                 hi = mid
         if span_cut[lo] != STATUS_OK:
             continue
+        read_ok[r] = 1
         L = span_L[lo]
         ga, gb, h = _span_shape(span_T[lo] * L * L / span_ei[lo], L, min(x - sup_s[lo], L))
         read_M[r, 0] = ga * sup_M[lo, 0] + gb * sup_M[lo + 1, 0] + h * span_q[lo, 1]

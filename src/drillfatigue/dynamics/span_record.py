@@ -3,8 +3,12 @@
 A chain of rigid segments lying on the wall is nearly collinear, so its joint
 moments miss what the pipe's own weight does between the points where it
 touches the wall (about w L^2 / 12 over each support of a long row of equal
-spans). :func:`span_sample` adds that quasi-statically at a recorded sample,
-without feeding anything back into the integrator:
+spans), and turn the stand-off of a stabilizer or a tool joint into a kink at a
+few joints only. :func:`span_sample` records, quasi-statically at a sample and
+without feeding anything back into the integrator, the continuous beam's moment
+at each recorded joint less what the rigid chain already carries there, so
+that joint moment + correction is the continuous pipe's moment, counted once
+(docs/bending.md, "What the chain carries and what the span adds"):
 
 1. Supports: the bit (s = 0) and every contact point of every active segment
    that penetrates the wall now (:func:`drillfatigue.dynamics.contact.find_contact`
@@ -13,7 +17,10 @@ without feeding anything back into the integrator:
    a segment's deepest point between its tested points
    (:func:`drillfatigue.dynamics.contact.deepest_point`) is a support where the
    contact kernel pushes on it (body penetration there above the tested
-   points' largest).
+   points' largest). Each stands at its height: where the rigid wall puts the
+   pipe's axis (hole radius - contact radius from the hole's axis, along the
+   point's normal; the penalty penetration taken out), as a vector from the
+   hole's axis beside it; the bit where it is.
 2. Load per length, across the segment's axis, in the world frame: buoyed
    weight + lateral mud drag + the segment's lateral inertia -m_lat a / L.
    As the integrator moves the segment by a = F / m_lat (F all forces on
@@ -22,8 +29,8 @@ without feeding anything back into the integrator:
    concentrated wall and joint forces hold, smeared uniformly over the
    segment. At rest on its supports this is the weight. (The inertia of the
    segment's tilting, a load varying linearly along it, is not included.)
-   A segment in line contact gets none (the wall carries its load along its
-   length) and all its points are supports:
+   A segment in line contact gets none in the beam (the wall carries its load
+   along its length) and its two ends are supports (on the wall):
 
    * three or more points, all in the wall (any hole);
    * in a curved hole (curvature kappa above ``STRAIGHT_KAPPA`` at any of its
@@ -37,55 +44,63 @@ without feeding anything back into the integrator:
      the hole's curvature and lies along the wall: the moment E I kappa of
      that bending is what the rigid chain's joint moments hold, and its
      weight goes to the wall where it lies, not to a span between the rigid
-     segment's ends. Without this the span moment of collars lying in a
-     build scaled with L^2 (halving the segments took 75 % off it).
+     segment's ends.
 3. Axial force of a segment: the mean effective tension of its two joints
    (the bit end of the first segment takes its one joint's value).
-4. :func:`drillfatigue.dynamics.span_bending.chain_span_moments` with both
-   chain ends pinned, once for the world (x, y) load components and once for
-   z; the moments are put together as world vectors and resolved in each
-   recorded joint's frame (the mid-rotation frame of its two segments, the
-   frame of ``bending_x/y_Nm``), which turns with the pipe, so the correction
-   alternates once per revolution.
-
-5. Where the elastic pipe would reach the wall between two supports (its
-   mid-span deflection, :func:`~drillfatigue.dynamics.span_bending.midspan_deflection`,
-   exceeds the room of its body to the wall: hole radius - body radius) or a
-   span is at its Euler load in compression (v >= ``BUCKLED_V``), the pipe
-   lies on the wall there: a support is added at that span's middle and the
-   chain solved again, up to ``MAX_SPLIT_ROUNDS`` times (a span into at most
-   16 pieces). This bounds the beam-column's amplification in compression by
-   the wall, as it is bounded in the hole. The room is the full radial
-   clearance, so a span sagging toward supports on the same side (tool joints
-   on the low side) touches earlier than this test says: there the moment is
-   an upper estimate.
-
+4. The beam: :func:`drillfatigue.dynamics.span_bending.chain_span_moments_settled`
+   with both chain ends pinned and the supports' offsets (their chord
+   rotations: settlement terms), once for the world (x, y) components and once
+   for z. Offsets relative to the hole's axis leave the hole's own curvature
+   out of the beam: it stays with the chain.
+5. The wall is one-sided. An interior wall support the beam would pull from
+   the wall (:func:`_most_pulled`) is let go of and the beam solved again, up to
+   ``MAX_RELEASES`` times. Where the elastic pipe's middle between two supports
+   (chord's middle plus its mid-span sag,
+   :func:`~drillfatigue.dynamics.span_bending.midspan_offset`) passes the wall
+   by more than ``SPLIT_TOL_M`` (spans of ``MIN_SPLIT_SPAN_M`` or more), or a
+   span is at its Euler load in compression (v >= ``BUCKLED_V``), the pipe lies
+   on the wall there: a support is added at that span's middle (on the wall)
+   and the chain solved again, up to ``MAX_SPLIT_ROUNDS`` times. This bounds the
+   beam-column's amplification in compression by the wall, as it is bounded in
+   the hole.
 6. The span from the bit: from the bit end (guided on the hole's axis on
-   bottom, free off bottom) the string reaches the wall at a tangency point, where it meets the wall with
-   the wall's slope and the wall's curvature (the moment of that curvature,
-   E I kappa, is in the rigid chain's joint moments): beyond it the pipe lies
-   on the wall and holds no span moment. When the first support above the
-   bit opens a segment in line contact (step 2), the span from the bit ends
-   at the tangency length L_t (:func:`tangency_length_m`, the pendulum of
-   Lubinski and Woods (1953) generalised to a curved hole, with r the bit end's
-   distance from the wall: infinite when the bit lies on it) clipped to that first
-   support, and is solved alone, pinned at both ends (zero span moment at
-   the tangency); the rest of the chain is solved from that support on,
-   pinned there. Solved as one continuous beam with the unloaded line-contact
-   spans beyond it, the span would take a moment over that support set by
-   those spans' lengths, i.e. by the contact-point spacing (docs/bending.md).
+   bottom, free off bottom) the string reaches the wall at a tangency point,
+   where it meets the wall with the wall's slope and the wall's curvature (the
+   moment of that curvature, E I kappa, is in the rigid chain's joint moments):
+   beyond it the pipe lies on the wall and holds no span moment. When the first
+   support above the bit opens a segment in line contact (step 2), the span
+   from the bit ends at the tangency length L_t (:func:`tangency_length_m`, the
+   pendulum of Lubinski and Woods (1953) generalised to a curved hole, with r
+   the bit end's distance from the wall: infinite when the bit lies on it)
+   clipped to that first support, and is solved alone, pinned at both ends
+   (zero span moment at the tangency); the rest of the chain is solved from
+   that support on, pinned there.
+7. What the chain carries:
+   :func:`drillfatigue.dynamics.span_chain.chain_static_moments`, the rigid
+   chain's joint moments held at rest where it is at the bit, its top end and
+   the points the wall pushes (step 1's, at the chain's positions), under its
+   own transverse load per segment (step 2's before the line-contact rule),
+   positions relative to the hole's axis at its nodes. At rest this is its
+   recorded joint moment.
+8. The correction is the beam's moment less the chain's, put together as world
+   vectors and resolved in each recorded joint's frame (the mid-rotation frame
+   of its two segments, the frame of ``bending_x/y_Nm``, which turns with the
+   pipe, so the correction alternates once per revolution), in that joint
+   moment's sign convention (the moment of the upper part on the lower, z
+   downhole: :mod:`drillfatigue.dynamics.joints`). A joint outside the beam's
+   supports or in a span the beam cuts gets none.
 
 Validity (see :mod:`drillfatigue.dynamics.span_bending`): small deflections,
 supports that do not move relative to each other under the load. A span
 still at or beyond its Euler load after the last round (or one the solution
 cannot handle) is handled locally by
-:func:`drillfatigue.dynamics.span_bending.chain_span_moments`: the chain is
-cut there, pinned over that span's supports, the span gets no correction
+:func:`drillfatigue.dynamics.span_bending.chain_span_moments_settled`: the chain
+is cut there, pinned over that span's supports, the span gets no correction
 and every other span is solved as in the chain without it; the number of
 such spans is returned (the caller counts them and the samples that had
 any), so a buckled span far away never zeroes a joint's correction.
-Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint``, ``p.seg, p.wall, p.cpar, p.cp_n, p.cp,
-p.ei, p.topp``, ``wk.loads``; scratch allocated per call (a sample is taken
+Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint, s.cst``, ``p.seg, p.jp, p.wall, p.cpar,
+p.cp_n, p.cp, p.ei``, ``wk.loads``; scratch allocated per call (a sample is taken
 every few hundred steps).
 """
 
@@ -97,16 +112,18 @@ import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.contact import (
-    OUT_DELTA, OUT_SIZE, contact_point, deepest_point, find_contact,
+    OUT_DELTA, OUT_DIST, OUT_NX, OUT_SIZE, contact_point, deepest_point, find_contact,
 )
 from drillfatigue.dynamics.layout import (
-    CS_SQF, CS_SQON, MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS, P_SPANDYN, S_CL,
-    S_H, S_RB, S_W,
+    CS_SQF, CS_SQON, J_KB, MAX_CONTACT_POINTS, MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_NPTS,
+    P_SPANDYN, S_CL, S_H, S_RB, S_W,
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
-    BUCKLED_V, END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments, midspan_deflection,
+    END_PINNED, STATUS_OK, STATUS_SINGULAR, STATUS_SPAN_BUCKLED, chain_span_moments_settled,
+    midspan_offset,
 )
+from drillfatigue.dynamics.span_chain import segment_of, chain_static_moments
 from drillfatigue.dynamics.span_dynamics import segment_axial_N
 
 #: supports closer than this along the string are one support, m
@@ -142,19 +159,131 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
 #: rounds of mid-span supports added where a span touches the wall or buckles
 #: (each round halves the offending spans: up to 2^rounds pieces)
 MAX_SPLIT_ROUNDS = 4
-#: internal: the supports were split, solve again
+#: wall supports the continuous beam would pull from the wall that are let go of, at
+#: most, in one sample (one per solve, the most pulled first)
+MAX_RELEASES = 32
+#: a wall support is let go of when the beam pulls it from the wall by more than this
+#: share of the largest span load q L (round-off of a support that carries nothing)
+RELEASE_TOL = 1e-9
+#: a span's middle reaches the wall when it passes it by more than this, m (round-off
+#: of a beam lying along the wall between supports on it is not a contact). A pipe
+#: lying on a straight wall is then held every (384 EI tol / q)^(1/4) at most (2.2 m
+#: for 6 3/4 in collars: its span moment there below q s^2 / 12 = 0.15 kN m once split)
+SPLIT_TOL_M = 1e-5
+#: spans shorter than this are not split, m (Euler-Bernoulli spans much longer than
+#: the pipe; a span of 9 m is split three times at most)
+MIN_SPLIT_SPAN_M = 1.0
+#: internal: the supports were changed, solve again
 STATUS_SPLIT = -1
+#: what a round of :func:`_solve_or_split` did
+ACT_NONE = 0
+ACT_SPLIT = 1
+ACT_RELEASE = 2
 
 
 @njit(cache=True)
-def _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s, rxy, rz,
-                    may_split):
-    """Solve the chain on ``sup_c`` (spans the solution cannot hold are cut,
-    :func:`~drillfatigue.dynamics.span_bending.chain_span_moments`). With ``may_split``,
-    where a span is at its Euler load in compression or its mid-span deflection exceeds
-    the room its body has to the wall, the elastic pipe lies on the wall there: add a
-    support at that span's middle and return ``(STATUS_SPLIT, new supports, cut)``;
-    else ``(status, supports, cut)`` with the per-span cut codes."""
+def _offsets(sup_v, d_xy, d_z):
+    """Support offsets of the (x, y) and z solves from the supports' positions relative
+    to the hole's axis (world components, m), taken from the first support's (only
+    their chord rotations matter)."""
+    for k in range(sup_v.shape[0]):
+        d_xy[k, 0] = sup_v[k, 0] - sup_v[0, 0]
+        d_xy[k, 1] = sup_v[k, 1] - sup_v[0, 1]
+        d_z[k, 0] = sup_v[k, 2] - sup_v[0, 2]
+        d_z[k, 1] = 0.0
+
+
+@njit(cache=True)
+def _span_means(sup_c, top_s, seg_v, out):
+    """Length-weighted mean of a per-segment quantity ``seg_v`` (n, k) over each span
+    between the supports ``sup_c``, into ``out`` (m - 1, k)."""
+    n = seg_v.shape[0]
+    for k in range(sup_c.shape[0] - 1):
+        a = sup_c[k]
+        b = sup_c[k + 1]
+        for c in range(seg_v.shape[1]):
+            out[k, c] = 0.0
+        i = segment_of(top_s, a)
+        while i < n and top_s[i] < b:
+            w = min(b, top_s[i + 1]) - max(a, top_s[i])
+            if w > 0.0:
+                for c in range(seg_v.shape[1]):
+                    out[k, c] += w * seg_v[i, c]
+            i += 1
+        for c in range(seg_v.shape[1]):
+            out[k, c] /= (b - a)
+
+
+@njit(cache=True)
+def _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz, d_xy, d_z):
+    """The interior wall support the continuous beam pulls from the wall the most, or -1.
+
+    The reaction of support k on the beam, per world component, is the jump of the
+    lateral force S = M' + T w' (M sagging positive, w the offset: (M' + T w')' = -q for
+    EI w'''' - T w'' = q), which integrated over a span gives S(0) = (M_b - M_a)/L
+    + T psi + q L/2 at its first support and S(L) = S(0) - q L at its second (psi the
+    chord rotation). ``span_qw`` is the load the wall carries along segments in line
+    contact (their span load is zero): half of it on each span pushes its two
+    supports, so a collar lying on the wall is let go of only where the beam pulls it
+    harder than its weight presses it there. The wall can only push towards the hole's
+    axis: a reaction along the outward normal ``sup_n`` (zero: a two-sided support,
+    the bit) pulls."""
+    m = sup_n.shape[0]
+    scale = 1.0
+    for i in range(m - 1):
+        qq = math.sqrt(span_q[i, 0] ** 2 + span_q[i, 1] ** 2 + span_qz[i, 0] ** 2
+                       + span_qw[i, 0] ** 2 + span_qw[i, 1] ** 2 + span_qw[i, 2] ** 2)
+        scale = max(scale, qq * span_L[i])
+    worst = -1
+    most = RELEASE_TOL * scale
+    for k in range(1, m - 1):
+        if sup_n[k, 0] == 0.0 and sup_n[k, 1] == 0.0 and sup_n[k, 2] == 0.0:
+            continue
+        pull = 0.0
+        for c in range(3):
+            if c == 0:
+                ma, mb, mc = -sup_M[k - 1, 1], -sup_M[k, 1], -sup_M[k + 1, 1]
+                qa, qb = span_q[k - 1, 0], span_q[k, 0]
+                da, db, dc = d_xy[k - 1, 0], d_xy[k, 0], d_xy[k + 1, 0]
+            elif c == 1:
+                ma, mb, mc = sup_M[k - 1, 0], sup_M[k, 0], sup_M[k + 1, 0]
+                qa, qb = span_q[k - 1, 1], span_q[k, 1]
+                da, db, dc = d_xy[k - 1, 1], d_xy[k, 1], d_xy[k + 1, 1]
+            else:
+                ma, mb, mc = -sup_Mz[k - 1, 1], -sup_Mz[k, 1], -sup_Mz[k + 1, 1]
+                qa, qb = span_qz[k - 1, 0], span_qz[k, 0]
+                da, db, dc = d_z[k - 1, 0], d_z[k, 0], d_z[k + 1, 0]
+            La = span_L[k - 1]
+            Lb = span_L[k]
+            s_end = (mb - ma) / La + span_T[k - 1] * (db - da) / La - 0.5 * qa * La
+            s_start = (mc - mb) / Lb + span_T[k] * (dc - db) / Lb + 0.5 * qb * Lb
+            R = s_end - s_start - 0.5 * (span_qw[k - 1, c] * La + span_qw[k, c] * Lb)
+            pull += R * sup_n[k, c]
+        if pull > most:
+            most = pull
+            worst = k
+    return worst
+
+
+@njit(cache=True)
+def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
+                    seg_Rh, read_s, rxy, rz, rok, may_split, may_release):
+    """Solve the chain on supports ``sup_c`` standing at ``sup_v`` (their positions
+    relative to the hole's axis; spans the solution cannot hold are cut,
+    :func:`~drillfatigue.dynamics.span_bending.chain_span_moments_settled`), then check
+    the solution against the wall (module docstring, step 5).
+
+    With ``may_release``, an interior wall support (outward normal ``sup_n`` not zero)
+    that the beam pulls from the wall is let go of (the most pulled one). Else, with
+    ``may_split``, where a span is at its Euler load in compression, or its middle
+    (the chord's middle plus the mid-span deflection, relative to the hole's axis) lies
+    beyond the wall by more than ``SPLIT_TOL_M`` (hole radius ``seg_Rh`` less body radius
+    ``seg_rb`` of the segment there), the elastic pipe lies on the wall there: a support
+    is added at that span's middle (on the wall, radially, with the wall's normal; at
+    the chord's middle and two-sided for a buckled span). Returns ``(status, supports,
+    positions, normals, cut, action)``: ``STATUS_SPLIT`` and ``ACT_RELEASE`` or
+    ``ACT_SPLIT`` when the supports changed, else the solve's status and ``ACT_NONE``
+    with the per-span cut codes and ``rok`` the read points solved."""
     m = sup_c.shape[0]
     span_L = np.zeros(m - 1)
     span_ei = np.zeros(m - 1)
@@ -164,58 +293,97 @@ def _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s,
     work = np.zeros((m, 6))
     sup_M = np.zeros((m, 2))
     sup_Mz = np.zeros((m, 2))
+    d_xy = np.zeros((m, 2))
+    d_z = np.zeros((m, 2))
+    _offsets(sup_v, d_xy, d_z)
     cut = np.zeros(m - 1, dtype=np.int64)
-    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_q, END_PINNED, END_PINNED, read_s,
-                            span_L, span_ei, span_T, span_q, work, sup_M, rxy, cut)
+    rok_z = np.zeros(rok.shape[0], dtype=np.int64)
+    st = chain_span_moments_settled(sup_c, d_xy, top_s, seg_ei, seg_T, seg_q, END_PINNED,
+                                    END_PINNED, read_s, span_L, span_ei, span_T, span_q, work,
+                                    sup_M, rxy, cut, rok)
     if st != STATUS_OK:
-        return st, sup_c, cut
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     # same spans, axial forces and stiffness: the same spans are cut
-    st = chain_span_moments(sup_c, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED,
-                            read_s, span_L, span_ei, span_T, span_qz, work, sup_Mz, rz, cut)
-    if st != STATUS_OK or not may_split:
-        return st, sup_c, cut
-    split = np.zeros(m - 1, dtype=np.bool_)
-    nsplit = 0
+    st = chain_span_moments_settled(sup_c, d_z, top_s, seg_ei, seg_T, seg_qz, END_PINNED,
+                                    END_PINNED, read_s, span_L, span_ei, span_T, span_qz, work,
+                                    sup_Mz, rz, cut, rok_z)
+    if st != STATUS_OK:
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     any_cut = False
+    for k in range(m - 1):
+        if cut[k] != STATUS_OK:
+            any_cut = True
+    if may_release and not any_cut and m > 2:
+        span_qw = np.zeros((m - 1, 3))
+        _span_means(sup_c, top_s, seg_qw, span_qw)
+        k = _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz, d_xy,
+                         d_z)
+        if k >= 0:
+            out = np.zeros(m - 1)
+            out_v = np.zeros((m - 1, 3))
+            out_n = np.zeros((m - 1, 3))
+            j = 0
+            for kk in range(m):
+                if kk == k:
+                    continue
+                out[j] = sup_c[kk]
+                for c in range(3):
+                    out_v[j, c] = sup_v[kk, c]
+                    out_n[j, c] = sup_n[kk, c]
+                j += 1
+            return STATUS_SPLIT, out, out_v, out_n, cut, ACT_RELEASE
+    if not may_split:
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
+    split = np.zeros(m - 1, dtype=np.bool_)
+    new_v = np.zeros((m - 1, 3))
+    new_n = np.zeros((m - 1, 3))
+    nsplit = 0
     for k in range(m - 1):
         if cut[k] == STATUS_SPAN_BUCKLED and span_L[k] > 2.0 * MERGE_M:
             split[k] = True
             nsplit += 1
-        if cut[k] != STATUS_OK:
-            any_cut = True
+            for c in range(3):
+                new_v[k, c] = 0.5 * (sup_v[k, c] + sup_v[k + 1, c])
     if not any_cut:
-        d_xy = np.zeros(m - 1)
-        d_z = np.zeros(m - 1)
-        if (midspan_deflection(span_L, span_ei, span_T, span_q, sup_M, d_xy) == STATUS_OK
-                and midspan_deflection(span_L, span_ei, span_T, span_qz, sup_Mz, d_z)
-                == STATUS_OK):
+        w_xy = np.zeros((m - 1, 2))
+        w_z = np.zeros((m - 1, 2))
+        if (midspan_offset(span_L, span_ei, span_T, span_q, sup_M, w_xy) == STATUS_OK
+                and midspan_offset(span_L, span_ei, span_T, span_qz, sup_Mz, w_z) == STATUS_OK):
+            V = np.zeros(3)
             for k in range(m - 1):
-                room = _span_gap(sup_c[k], sup_c[k + 1], top_s, seg_gap)
-                if (d_xy[k] * d_xy[k] + d_z[k] * d_z[k] > room * room
-                        and span_L[k] > 2.0 * MERGE_M):
+                if not span_L[k] >= MIN_SPLIT_SPAN_M:
+                    continue
+                V[0] = 0.5 * (sup_v[k, 0] + sup_v[k + 1, 0]) + w_xy[k, 0]
+                V[1] = 0.5 * (sup_v[k, 1] + sup_v[k + 1, 1]) + w_xy[k, 1]
+                V[2] = 0.5 * (sup_v[k, 2] + sup_v[k + 1, 2]) + w_z[k, 0]
+                i = segment_of(top_s, 0.5 * (sup_c[k] + sup_c[k + 1]))
+                room = seg_Rh[i] - seg_rb[i]
+                dist = math.sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2])
+                if dist - room > SPLIT_TOL_M:
                     split[k] = True
                     nsplit += 1
+                    for c in range(3):
+                        new_n[k, c] = V[c] / dist
+                        new_v[k, c] = room * new_n[k, c]
     if nsplit == 0:
-        return st, sup_c, cut
+        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     out = np.zeros(m + nsplit)
+    out_v = np.zeros((m + nsplit, 3))
+    out_n = np.zeros((m + nsplit, 3))
     j = 0
     for k in range(m):
         out[j] = sup_c[k]
+        for c in range(3):
+            out_v[j, c] = sup_v[k, c]
+            out_n[j, c] = sup_n[k, c]
         j += 1
         if k < m - 1 and split[k]:
             out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
+            for c in range(3):
+                out_v[j, c] = new_v[k, c]
+                out_n[j, c] = new_n[k, c]
             j += 1
-    return STATUS_SPLIT, out, cut
-
-
-@njit(cache=True)
-def _span_gap(a, b, top_s, seg_gap):
-    """Smallest room to the wall of the segments a span [a, b] crosses, m."""
-    g = np.inf
-    for i in range(seg_gap.shape[0]):
-        if top_s[i + 1] > a and top_s[i] < b:
-            g = min(g, seg_gap[i])
-    return g if np.isfinite(g) else 0.0
+    return STATUS_SPLIT, out, out_v, out_n, cut, ACT_SPLIT
 
 
 @njit(cache=True)
@@ -290,28 +458,40 @@ def _hole_curvature_vector(axc, lnc, ic, out):
 
 
 @njit(cache=True)
-def _solve_chain(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s, rxy, rz):
-    """The chain on supports ``sup_c`` pinned at both ends, with mid-span supports added
-    where a span reaches the wall or buckles (module docstring, step 5): ``(status, cut)``
-    with the read moments in ``rxy``, ``rz``."""
+def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
+                 seg_Rh, read_s, rxy, rz, rok):
+    """The chain on supports ``sup_c`` at ``sup_v`` (outward wall normals ``sup_n``)
+    pinned at both ends, with the wall supports the beam pulls let go of and mid-span
+    supports added where a span reaches the wall or buckles (module docstring, step 5):
+    ``(status, cut)`` with the read moments in ``rxy``, ``rz`` and the read points
+    solved flagged in ``rok``."""
     st = STATUS_OK
     cut = np.zeros(sup_c.shape[0] - 1, dtype=np.int64)
-    for _round in range(MAX_SPLIT_ROUNDS + 1):
-        st, sup_c, cut = _solve_or_split(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
-                                         read_s, rxy, rz, _round < MAX_SPLIT_ROUNDS)
-        if st != STATUS_SPLIT:
+    rounds = 0
+    releases = 0
+    while True:
+        st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
+            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
+            read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES)
+        if act == ACT_RELEASE:
+            releases += 1
+        elif act == ACT_SPLIT:
+            rounds += 1
+        else:
             break
     return st, cut
 
 
 @njit(cache=True)
 def span_sample(n, s, p, wk, sel, out):
-    """Span-bending moments at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
-    ``sel[a]``'s frame, N m (module docstring).
+    """Span correction at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
+    ``sel[a]``'s frame and in the convention of its recorded joint moment
+    (``bending_x/y_Nm``), N m: the continuous beam's moment there less the rigid
+    chain's own quasi-static moment (module docstring).
 
     Returns the number of spans handled locally (no correction in them, the chain
-    cut there), or minus a status code when no span could be solved (every
-    ``out`` zero)."""
+    cut there), or minus a status code when no span could be solved or the chain's
+    static moments could not be found (every ``out`` zero)."""
     for a in range(sel.size):
         out[a, 0] = 0.0
         out[a, 1] = 0.0
@@ -341,6 +521,8 @@ def span_sample(n, s, p, wk, sel, out):
     seg_qz = np.zeros((n, 2))
     seg_T = np.zeros(n)
     seg_ei = np.zeros(n)
+    seg_rb = np.zeros(n)
+    seg_Rh = np.zeros(n)
     Fw = s.Fw
     v = s.v
     cst = s.cst
@@ -370,16 +552,60 @@ def span_sample(n, s, p, wk, sel, out):
         seg_qz[i, 0] = (gz - ga * ez) * inv_l
         seg_T[i] = segment_axial_N(i, n, loads)
         seg_ei[i] = p.ei[i]
-    # supports: the bit and the contact points in the wall now
-    cap = 1 + n * (MAX_TABLE_POINTS + 1)
-    sup = np.zeros(cap)
-    nsup = 1
+        seg_rb[i] = seg[i, S_RB]
+        h0 = hint[MAX_CONTACT_POINTS * i]
+        seg_Rh[i] = rad[h0] if 0 <= h0 < rad.shape[0] else rad.min()
+    # the load the rigid chain carries (before the line-contact rule hands a segment's
+    # load to the wall)
+    q3 = np.zeros((n, 3))
+    for i in range(n):
+        q3[i, 0] = seg_q[i, 0]
+        q3[i, 1] = seg_q[i, 1]
+        q3[i, 2] = seg_qz[i, 0]
+    # the hole's axis beside each node (segment end) of the chain: the foot of the
+    # perpendicular from the node; positions are taken relative to it (module docstring)
     X = np.zeros(3)
     info = np.zeros(OUT_SIZE)
-    pt_u = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
-    pt_gap = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
-    pt_g = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS)
-    pt_hint = np.zeros(MAX_TABLE_POINTS + MAX_CONTACT_POINTS, dtype=np.int64)
+    C_node = np.zeros((n + 1, 3))
+    for j in range(n + 1):
+        if j == 0:
+            for k in range(3):
+                X[k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
+        elif j == n:
+            for k in range(3):
+                X[k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
+        else:
+            for k in range(3):
+                X[k] = 0.5 * (x[j - 1, k] - seg[j - 1, S_H] * R[j - 1, k, 2]
+                              + x[j, k] + seg[j, S_H] * R[j, k, 2])
+        find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
+                     hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        for k in range(3):
+            C_node[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
+    # supports of the continuous beam (sup, at their true positions supP: a point in or
+    # along the wall where the rigid wall puts the pipe's axis, the bit where it is) and
+    # holds of the rigid chain (hold, where the chain is: the bit, the points the wall
+    # pushes, the top end)
+    cap = 2 + n * (MAX_TABLE_POINTS + 1)
+    sup = np.zeros(cap)
+    supP = np.zeros((cap, 3))
+    supN = np.zeros((cap, 3))
+    hold = np.zeros(cap)
+    holdY = np.zeros((cap, 3))
+    hold[1] = top_s[n]
+    for k in range(3):
+        holdY[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
+        supP[0, k] = holdY[0, k] - C_node[0, k]
+        holdY[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
+    nsup = 1
+    nhold = 2
+    npmax = MAX_TABLE_POINTS + MAX_CONTACT_POINTS
+    pt_u = np.zeros(npmax)
+    pt_gap = np.zeros(npmax)
+    pt_g = np.zeros(npmax)
+    pt_hint = np.zeros(npmax, dtype=np.int64)
+    pt_n = np.zeros((npmax, 3))
+    pt_W = np.zeros((npmax, 3))
     deep = cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0
     seg_line = np.zeros(n, dtype=np.bool_)
     # the bit end's distance from the wall (the pendulum's offset r), m
@@ -411,11 +637,22 @@ def span_sample(n, s, p, wk, sel, out):
                 clr = min(clr, rad[ic] - rc)
             pt_u[pt] = off
             pt_gap[pt] = -info[OUT_DELTA]
+            # where the rigid wall puts the pipe's axis there, from the hole's axis
+            rw = info[OUT_DIST] - info[OUT_DELTA]
+            for k in range(3):
+                pt_n[pt, k] = info[OUT_NX + k]
+                pt_W[pt, k] = rw * info[OUT_NX + k]
             if i == 0 and off >= h - MERGE_M:
                 bit_gap = -info[OUT_DELTA]
             if info[OUT_DELTA] > 0.0:
                 sup[nsup] = top_s[i] + h - off
+                hold[nhold] = sup[nsup]
+                for k in range(3):
+                    supP[nsup, k] = pt_W[pt, k]
+                    supN[nsup, k] = info[OUT_NX + k]
+                    holdY[nhold, k] = X[k]
                 nsup += 1
+                nhold += 1
                 ncon += 1
             pt_g[pt] = info[OUT_DELTA] - rc
             pt_hint[pt] = hi
@@ -434,7 +671,14 @@ def span_sample(n, s, p, wk, sel, out):
                 find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
                 if info[OUT_DELTA] > dpen:
                     sup[nsup] = top_s[i] + h - ud
+                    hold[nhold] = sup[nsup]
+                    rw = info[OUT_DIST] - info[OUT_DELTA]
+                    for k in range(3):
+                        supP[nsup, k] = rw * info[OUT_NX + k]
+                        supN[nsup, k] = info[OUT_NX + k]
+                        holdY[nhold, k] = X[k]
                     nsup += 1
+                    nhold += 1
         line = npi >= 3 and ncon == npi
         if kap > STRAIGHT_KAPPA and not raised and not line and 0.5 * h * h * kap < clr:
             # along the wall of a curved hole: every point no further from the wall than
@@ -454,8 +698,17 @@ def span_sample(n, s, p, wk, sel, out):
             if outer or inner:
                 line = True
                 for pt in range(npi):
-                    if pt_gap[pt] >= 0.0:
+                    # the touching points are supports already; of the others the
+                    # segment's ends (at a joint: the neighbour's chord meets it there).
+                    # Points inside a rigid segment lie on its chord, and the beam on
+                    # supports a metre apart would turn the chain's kinks at the joints
+                    # between them into moments several times the chain's own
+                    if pt_gap[pt] >= 0.0 and abs(pt_u[pt]) >= h - MERGE_M:
+                        # the pipe lies on the wall there: its axis where the wall puts it
                         sup[nsup] = top_s[i] + h - pt_u[pt]
+                        for k in range(3):
+                            supP[nsup, k] = pt_W[pt, k]
+                            supN[nsup, k] = pt_n[pt, k]
                         nsup += 1
         seg_line[i] = line
         if line:
@@ -463,37 +716,51 @@ def span_sample(n, s, p, wk, sel, out):
             seg_q[i, 0] = 0.0
             seg_q[i, 1] = 0.0
             seg_qz[i, 0] = 0.0
+    # the load the wall carries along segments in line contact (for the supports' check)
+    seg_qw = np.zeros((n, 3))
+    for i in range(n):
+        seg_qw[i, 0] = q3[i, 0] - seg_q[i, 0]
+        seg_qw[i, 1] = q3[i, 1] - seg_q[i, 1]
+        seg_qw[i, 2] = q3[i, 2] - seg_qz[i, 0]
     # clipped to the chain before merging, so that the kept supports stay strictly increasing
-    sup_s = np.sort(np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n]))
+    sup_s = np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n])
+    order = np.argsort(sup_s, kind="mergesort")
     keep = np.zeros(nsup, dtype=np.bool_)
     last = -1.0
     m = 0
-    for k in range(nsup):
-        if k == 0 or sup_s[k] - last > MERGE_M:
-            keep[k] = True
+    kept = 0
+    for kk in range(nsup):
+        k = order[kk]
+        if kk == 0 or sup_s[k] - last > MERGE_M:
+            keep[kk] = True
             last = sup_s[k]
+            kept = k
             m += 1
+        elif supN[kept, 0] == 0.0 and supN[kept, 1] == 0.0 and supN[kept, 2] == 0.0:
+            # the bit where a point of it is in the wall: the wall holds the pipe there
+            for c in range(3):
+                supP[kept, c] = supP[k, c]
+                supN[kept, c] = supN[k, c]
     if m < 2:
         return 0
     sup_c = np.zeros(m)
+    sup_Pc = np.zeros((m, 3))
+    sup_Nc = np.zeros((m, 3))
     j = 0
-    for k in range(nsup):
-        if keep[k]:
-            sup_c[j] = sup_s[k]
+    for kk in range(nsup):
+        if keep[kk]:
+            sup_c[j] = sup_s[order[kk]]
+            for c in range(3):
+                sup_Pc[j, c] = supP[order[kk], c]
+                sup_Nc[j, c] = supN[order[kk], c]
             j += 1
     nr = sel.size
     read_s = np.zeros(nr)
     for a in range(nr):
         read_s[a] = top_s[min(sel[a], n - 1) + 1]
-    # per-segment room for the body to sag: hole radius at its cylinder - body radius
-    seg_gap = np.zeros(n)
-    rmin = rad.min()
-    for i in range(n):
-        h0 = hint[MAX_CONTACT_POINTS * i]
-        r_hole = rad[h0] if 0 <= h0 < rad.shape[0] else rmin
-        seg_gap[i] = max(r_hole - seg[i, S_RB], 0.0)
     rxy = np.zeros((nr, 2))
     rz = np.zeros((nr, 2))
+    rok = np.zeros(nr, dtype=np.int64)
     # the span from the bit ends at the tangency where the string reaches a wall it
     # then lies along (module docstring, step 6)
     s_hi = sup_c[1]
@@ -513,10 +780,12 @@ def span_sample(n, s, p, wk, sel, out):
         l_t = tangency_length_m(seg_ei[0], bit_gap, q0, kap_out)
         bit_span = np.zeros(2)
         bit_span[1] = min(l_t, s_hi)
-        # a tangency within MERGE_M of the bit leaves no span there (zero moments)
+        # a tangency within MERGE_M of the bit leaves no span there (zero moments); a
+        # single span pinned at both ends takes no moment from its ends' offsets
         if bit_span[1] > MERGE_M:
-            st, cut = _solve_chain(bit_span, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap,
-                                   read_s, rxy, rz)
+            st, cut = _solve_chain(bit_span, np.zeros((2, 3)), np.zeros((2, 3)), top_s, seg_ei,
+                                   seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh, read_s, rxy,
+                                   rz, rok)
             if st != STATUS_OK:
                 return -st
             for k in range(cut.shape[0]):
@@ -525,8 +794,10 @@ def span_sample(n, s, p, wk, sel, out):
         if m > 2:
             rxy2 = np.zeros((nr, 2))
             rz2 = np.zeros((nr, 2))
-            st, cut = _solve_chain(sup_c[1:].copy(), top_s, seg_ei, seg_T, seg_q, seg_qz,
-                                   seg_gap, read_s, rxy2, rz2)
+            rok2 = np.zeros(nr, dtype=np.int64)
+            st, cut = _solve_chain(sup_c[1:].copy(), sup_Pc[1:].copy(), sup_Nc[1:].copy(), top_s,
+                                   seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
+                                   read_s, rxy2, rz2, rok2)
             if st != STATUS_OK:
                 return -st
             # read points outside a chain's supports get zero from it
@@ -534,37 +805,67 @@ def span_sample(n, s, p, wk, sel, out):
                 for k in range(2):
                     rxy[a, k] += rxy2[a, k]
                     rz[a, k] += rz2[a, k]
+                if rok2[a] != 0:
+                    rok[a] = 1
             for k in range(cut.shape[0]):
                 if cut[k] != STATUS_OK:
                     n_cut += 1
     else:
-        st, cut = _solve_chain(sup_c, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_gap, read_s,
-                               rxy, rz)
+        st, cut = _solve_chain(sup_c, sup_Pc, sup_Nc, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw,
+                               seg_rb, seg_Rh, read_s, rxy, rz, rok)
         if st != STATUS_OK:
             return -st
         for k in range(cut.shape[0]):
             if cut[k] != STATUS_OK:
                 n_cut += 1
+    # what the rigid chain carries there now, quasi-statically: its joints' moments held
+    # where it is at the bit, its top and the points the wall pushes, under the same load
+    hs = hold[:nhold]
+    ho = np.argsort(hs, kind="mergesort")
+    hold_s = np.zeros(nhold)
+    hold_y = np.zeros((nhold, 3))
+    for kk in range(nhold):
+        hold_s[kk] = min(max(hs[ho[kk]], 0.0), top_s[n])
+        i = segment_of(top_s, hold_s[kk])
+        xi = (hold_s[kk] - top_s[i]) / (top_s[i + 1] - top_s[i])
+        for c in range(3):
+            hold_y[kk, c] = holdY[ho[kk], c] - ((1.0 - xi) * C_node[i, c]
+                                                 + xi * C_node[i + 1, c])
+    k_joint = np.zeros(n - 1)
+    for j in range(n - 1):
+        k_joint[j] = p.jp[j, J_KB]
+    ms_chain = np.zeros((n - 1, 3))
+    st = chain_static_moments(top_s, k_joint, seg_T, q3, hold_s, hold_y, ms_chain)
+    if st == STATUS_SINGULAR:
+        # a run of free segments between holds in compression beyond its Euler load: the
+        # chain is not at rest there (it leans on the wall between the contacts of this
+        # sample); its static moments are taken without the compression's softening
+        seg_Tt = np.maximum(seg_T, 0.0)
+        st = chain_static_moments(top_s, k_joint, seg_Tt, q3, hold_s, hold_y, ms_chain)
+    if st != STATUS_OK:
+        return -st
     qr = np.zeros(4)
     qh = np.zeros(4)
     qm = np.zeros(4)
     Rm = np.zeros((3, 3))
     for a in range(nr):
         jj = sel[a]
-        if jj >= n - 1:
+        if jj >= n - 1 or rok[a] == 0:
             continue
-        # sagging moments of the world load components (span_bending's vector convention)
-        msx = -rxy[a, 1]
-        msy = rxy[a, 0]
-        msz = -rz[a, 1]
+        # sagging moments of the world components (span_bending's convention): the
+        # continuous beam's less the chain's
+        msx = -rxy[a, 1] - ms_chain[jj, 0]
+        msy = rxy[a, 0] - ms_chain[jj, 1]
+        msz = -rz[a, 1] - ms_chain[jj, 2]
         _joint_frame(s.q[jj], s.q[jj + 1], qr, qh, qm, Rm)
         t0 = Rm[0, 2]
         t1 = Rm[1, 2]
         t2 = Rm[2, 2]
-        # moment vector sum_c M_c (e_c x t)
-        mw0 = msy * t2 - msz * t1
-        mw1 = msz * t0 - msx * t2
-        mw2 = msx * t1 - msy * t0
+        # the moment of the upper part on the lower, sum_c M_c (t x e_c) with t the
+        # joint's axis downhole: the recorded joint moment's convention (joints.py)
+        mw0 = msz * t1 - msy * t2
+        mw1 = msx * t2 - msz * t0
+        mw2 = msy * t0 - msx * t1
         out[a, 0] = Rm[0, 0] * mw0 + Rm[1, 0] * mw1 + Rm[2, 0] * mw2
         out[a, 1] = Rm[0, 1] * mw0 + Rm[1, 1] * mw1 + Rm[2, 1] * mw2
     return n_cut
