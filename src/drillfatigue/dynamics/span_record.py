@@ -120,10 +120,10 @@ from drillfatigue.dynamics.layout import (
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
-    END_PINNED, STATUS_OK, STATUS_SINGULAR, STATUS_SPAN_BUCKLED, chain_span_moments_settled,
+    END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments_settled,
     midspan_offset,
 )
-from drillfatigue.dynamics.span_chain import segment_of, chain_static_moments
+from drillfatigue.dynamics.span_chain import chain_static_moments_in_hole, segment_of
 from drillfatigue.dynamics.span_dynamics import segment_axial_N
 
 #: supports closer than this along the string are one support, m
@@ -567,6 +567,14 @@ def span_sample(n, s, p, wk, sel, out):
     X = np.zeros(3)
     info = np.zeros(OUT_SIZE)
     C_node = np.zeros((n + 1, 3))
+    # each node's hole radius, where it is relative to the hole's axis now, and its
+    # largest contact radius (the body's, or a tool joint's or blade's at the segment end)
+    node_R = np.zeros(n + 1)
+    node_now = np.zeros((n + 1, 3))
+    node_r = np.zeros(n + 1)
+    for i in range(n):
+        node_r[i] = max(node_r[i], seg[i, S_RB])
+        node_r[i + 1] = max(node_r[i + 1], seg[i, S_RB])
     for j in range(n + 1):
         if j == 0:
             for k in range(3):
@@ -578,10 +586,12 @@ def span_sample(n, s, p, wk, sel, out):
             for k in range(3):
                 X[k] = 0.5 * (x[j - 1, k] - seg[j - 1, S_H] * R[j - 1, k, 2]
                               + x[j, k] + seg[j, S_H] * R[j, k, 2])
-        find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
-                     hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        ic = find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
+                          hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        node_R[j] = rad[ic] if ic >= 0 else rad.min()
         for k in range(3):
             C_node[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
+            node_now[j, k] = info[OUT_DIST] * info[OUT_NX + k]
     # supports of the continuous beam (sup, at their true positions supP: a point in or
     # along the wall where the rigid wall puts the pipe's axis, the bit where it is) and
     # holds of the rigid chain (hold, where the chain is: the bit, the points the wall
@@ -636,6 +646,10 @@ def span_sample(n, s, p, wk, sel, out):
                 kap = max(kap, _hole_curvature(axc, lnc, ic))
                 clr = min(clr, rad[ic] - rc)
             pt_u[pt] = off
+            if off >= h - MERGE_M:
+                node_r[i] = max(node_r[i], rc)
+            elif off <= -h + MERGE_M:
+                node_r[i + 1] = max(node_r[i + 1], rc)
             pt_gap[pt] = -info[OUT_DELTA]
             # where the rigid wall puts the pipe's axis there, from the hole's axis
             rw = info[OUT_DIST] - info[OUT_DELTA]
@@ -835,13 +849,15 @@ def span_sample(n, s, p, wk, sel, out):
     for j in range(n - 1):
         k_joint[j] = p.jp[j, J_KB]
     ms_chain = np.zeros((n - 1, 3))
-    st = chain_static_moments(top_s, k_joint, seg_T, q3, hold_s, hold_y, ms_chain)
-    if st == STATUS_SINGULAR:
-        # a run of free segments between holds in compression beyond its Euler load: the
-        # chain is not at rest there (it leans on the wall between the contacts of this
-        # sample); its static moments are taken without the compression's softening
-        seg_Tt = np.maximum(seg_T, 0.0)
-        st = chain_static_moments(top_s, k_joint, seg_Tt, q3, hold_s, hold_y, ms_chain)
+    # kept inside the hole, as the continuous beam is (span_chain): a free run between
+    # holds near or beyond its buckling load would otherwise amplify its load without
+    # bound, a moment no chain inside the hole can carry
+    node_room = np.zeros(n + 1)
+    for j in range(n + 1):
+        node_room[j] = node_R[j] - node_r[j]
+    n_held = np.zeros(2, dtype=np.int64)
+    st = chain_static_moments_in_hole(top_s, k_joint, seg_T, q3, hold_s, hold_y, node_room,
+                                      node_now, ms_chain, n_held)
     if st != STATUS_OK:
         return -st
     qr = np.zeros(4)
