@@ -156,9 +156,13 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
     quat_to_rot(qm, Rm)
 
 
-#: rounds of mid-span supports added where a span touches the wall or buckles
-#: (each round halves the offending spans: up to 2^rounds pieces)
-MAX_SPLIT_ROUNDS = 4
+#: rounds of mid-span supports added where a span touches the wall or buckles (each
+#: round halves the offending spans). Releases merge spans, up to a free run of the
+#: whole chain (hundreds of metres of drill pipe off the wall): halving 1 km down to
+#: ``MIN_SPLIT_SPAN_M`` takes 10 rounds, and splits alternate with releases. With
+#: fewer (4) a span merged by late releases kept its middle metres beyond the wall and
+#: carried q L^2 / 8 of a 40 m span (1e5 N m) for one sample
+MAX_SPLIT_ROUNDS = 16
 #: wall supports the continuous beam would pull from the wall that are let go of, at
 #: most, in one sample (one per solve, the most pulled first)
 MAX_RELEASES = 32
