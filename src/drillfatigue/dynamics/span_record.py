@@ -164,8 +164,11 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
 #: carried q L^2 / 8 of a 40 m span (1e5 N m) for one sample
 MAX_SPLIT_ROUNDS = 16
 #: wall supports the continuous beam would pull from the wall that are let go of, at
-#: most, in one sample (one per solve, the most pulled first)
-MAX_RELEASES = 32
+#: most, in one sample (one per solve, the most pulled first). A support let go of is
+#: never added again (mid-span supports are two-sided), so the iteration ends by itself
+#: after at most one release per wall support; this only bounds the cost of a chain with
+#: very many of them
+MAX_RELEASES = 256
 #: a wall support is let go of when the beam pulls it from the wall by more than this
 #: share of the largest span load q L (round-off of a support that carries nothing)
 RELEASE_TOL = 1e-9
@@ -283,8 +286,9 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
     (the chord's middle plus the mid-span deflection, relative to the hole's axis) lies
     beyond the wall by more than ``SPLIT_TOL_M`` (hole radius ``seg_Rh`` less body radius
     ``seg_rb`` of the segment there), the elastic pipe lies on the wall there: a support
-    is added at that span's middle (on the wall, radially, with the wall's normal; at
-    the chord's middle and two-sided for a buckled span). Returns ``(status, supports,
+    is added at that span's middle (on the wall, radially, for a span passing it; at
+    the chord's middle for a buckled span; two-sided either way: it is not let go of).
+    Returns ``(status, supports,
     positions, normals, cut, action)``: ``STATUS_SPLIT`` and ``ACT_RELEASE`` or
     ``ACT_SPLIT`` when the supports changed, else the solve's status and ``ACT_NONE``
     with the per-span cut codes and ``rok`` the read points solved."""
@@ -340,7 +344,6 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
         return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     split = np.zeros(m - 1, dtype=np.bool_)
     new_v = np.zeros((m - 1, 3))
-    new_n = np.zeros((m - 1, 3))
     nsplit = 0
     for k in range(m - 1):
         if cut[k] == STATUS_SPAN_BUCKLED and span_L[k] > 2.0 * MERGE_M:
@@ -364,11 +367,15 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
                 room = seg_Rh[i] - seg_rb[i]
                 dist = math.sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2])
                 if dist - room > SPLIT_TOL_M:
+                    # on the wall where the middle passes it, two-sided (normal zero):
+                    # a mid-span support the beam then pulls means the pipe touches the
+                    # wall elsewhere in that span, not nowhere (let go of, the middle
+                    # passes the wall again: split, let go of... a cycle that ran to the
+                    # budget in a quarter of the samples of a drilling BHA)
                     split[k] = True
                     nsplit += 1
                     for c in range(3):
-                        new_n[k, c] = V[c] / dist
-                        new_v[k, c] = room * new_n[k, c]
+                        new_v[k, c] = room * V[c] / dist
     if nsplit == 0:
         return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     out = np.zeros(m + nsplit)
@@ -385,7 +392,7 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
             out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
             for c in range(3):
                 out_v[j, c] = new_v[k, c]
-                out_n[j, c] = new_n[k, c]
+                out_n[j, c] = 0.0
             j += 1
     return STATUS_SPLIT, out, out_v, out_n, cut, ACT_SPLIT
 
