@@ -164,11 +164,10 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
 #: carried q L^2 / 8 of a 40 m span (1e5 N m) for one sample
 MAX_SPLIT_ROUNDS = 16
 #: wall supports the continuous beam would pull from the wall that are let go of, at
-#: most, in one sample (one per solve, the most pulled first). A support let go of is
-#: never added again (mid-span supports are two-sided), so the iteration ends by itself
-#: after at most one release per wall support; this only bounds the cost of a chain with
-#: very many of them
-MAX_RELEASES = 256
+#: most, in one sample (one per solve, the most pulled first; a drilling BHA with its
+#: drill pipe needs up to about 100 when no mid-span support is split again where one
+#: was let go of)
+MAX_RELEASES = 128
 #: a wall support is let go of when the beam pulls it from the wall by more than this
 #: share of the largest span load q L (round-off of a support that carries nothing)
 RELEASE_TOL = 1e-9
@@ -274,7 +273,7 @@ def _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz,
 
 @njit(cache=True)
 def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
-                    seg_Rh, read_s, rxy, rz, rok, may_split, may_release):
+                    seg_Rh, read_s, rxy, rz, rok, may_split, may_release, banned):
     """Solve the chain on supports ``sup_c`` standing at ``sup_v`` (their positions
     relative to the hole's axis; spans the solution cannot hold are cut,
     :func:`~drillfatigue.dynamics.span_bending.chain_span_moments_settled`), then check
@@ -286,9 +285,8 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
     (the chord's middle plus the mid-span deflection, relative to the hole's axis) lies
     beyond the wall by more than ``SPLIT_TOL_M`` (hole radius ``seg_Rh`` less body radius
     ``seg_rb`` of the segment there), the elastic pipe lies on the wall there: a support
-    is added at that span's middle (on the wall, radially, for a span passing it; at
-    the chord's middle for a buckled span; two-sided either way: it is not let go of).
-    Returns ``(status, supports,
+    is added at that span's middle (on the wall, radially, with the wall's normal; at
+    the chord's middle and two-sided for a buckled span). Returns ``(status, supports,
     positions, normals, cut, action)``: ``STATUS_SPLIT`` and ``ACT_RELEASE`` or
     ``ACT_SPLIT`` when the supports changed, else the solve's status and ``ACT_NONE``
     with the per-span cut codes and ``rok`` the read points solved."""
@@ -344,6 +342,7 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
         return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     split = np.zeros(m - 1, dtype=np.bool_)
     new_v = np.zeros((m - 1, 3))
+    new_n = np.zeros((m - 1, 3))
     nsplit = 0
     for k in range(m - 1):
         if cut[k] == STATUS_SPAN_BUCKLED and span_L[k] > 2.0 * MERGE_M:
@@ -360,6 +359,13 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
             for k in range(m - 1):
                 if not span_L[k] >= MIN_SPLIT_SPAN_M:
                     continue
+                s_mid = 0.5 * (sup_c[k] + sup_c[k + 1])
+                again = False
+                for b in range(banned.shape[0]):
+                    if abs(banned[b] - s_mid) < MERGE_M:
+                        again = True
+                if again:
+                    continue
                 V[0] = 0.5 * (sup_v[k, 0] + sup_v[k + 1, 0]) + w_xy[k, 0]
                 V[1] = 0.5 * (sup_v[k, 1] + sup_v[k + 1, 1]) + w_xy[k, 1]
                 V[2] = 0.5 * (sup_v[k, 2] + sup_v[k + 1, 2]) + w_z[k, 0]
@@ -367,15 +373,11 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
                 room = seg_Rh[i] - seg_rb[i]
                 dist = math.sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2])
                 if dist - room > SPLIT_TOL_M:
-                    # on the wall where the middle passes it, two-sided (normal zero):
-                    # a mid-span support the beam then pulls means the pipe touches the
-                    # wall elsewhere in that span, not nowhere (let go of, the middle
-                    # passes the wall again: split, let go of... a cycle that ran to the
-                    # budget in a quarter of the samples of a drilling BHA)
                     split[k] = True
                     nsplit += 1
                     for c in range(3):
-                        new_v[k, c] = room * V[c] / dist
+                        new_n[k, c] = V[c] / dist
+                        new_v[k, c] = room * new_n[k, c]
     if nsplit == 0:
         return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     out = np.zeros(m + nsplit)
@@ -392,7 +394,7 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
             out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
             for c in range(3):
                 out_v[j, c] = new_v[k, c]
-                out_n[j, c] = 0.0
+                out_n[j, c] = new_n[k, c]
             j += 1
     return STATUS_SPLIT, out, out_v, out_n, cut, ACT_SPLIT
 
@@ -470,26 +472,61 @@ def _hole_curvature_vector(axc, lnc, ic, out):
 
 @njit(cache=True)
 def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
-                 seg_Rh, read_s, rxy, rz, rok):
+                 seg_Rh, read_s, rxy, rz, rok, dec_q, dec_qz, dec_qw):
     """The chain on supports ``sup_c`` at ``sup_v`` (outward wall normals ``sup_n``)
     pinned at both ends, with the wall supports the beam pulls let go of and mid-span
-    supports added where a span reaches the wall or buckles (module docstring, step 5):
-    ``(status, cut)`` with the read moments in ``rxy``, ``rz`` and the read points
-    solved flagged in ``rok``."""
+    supports added where a span reaches the wall or buckles (module docstring, step 5),
+    decided under the loads ``dec_q``, ``dec_qz``, ``dec_qw``, then solved under
+    ``seg_q``, ``seg_qz`` on the supports so found: ``(status, cut)`` with the read
+    moments in ``rxy``, ``rz`` and the read points solved flagged in ``rok``."""
     st = STATUS_OK
     cut = np.zeros(sup_c.shape[0] - 1, dtype=np.int64)
     rounds = 0
     releases = 0
+    # mid-span supports added, and those let go of: no mid-span support is added there
+    # again in this sample (one at a span's middle that the beam pulls means the pipe
+    # touches the wall elsewhere in that span; let go of and split again it would cycle)
+    added = np.zeros(0)
+    banned = np.zeros(MAX_RELEASES)
+    nban = 0
     while True:
+        old_c = sup_c
         st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
-            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
-            read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES)
+            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, dec_q, dec_qz, dec_qw, seg_rb, seg_Rh,
+            read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES,
+            banned[:nban])
         if act == ACT_RELEASE:
+            # the one support let go of: the first of the old ones missing from the new
+            k = 0
+            while k < sup_c.shape[0] and old_c[k] == sup_c[k]:
+                k += 1
+            for a in range(added.shape[0]):
+                if added[a] == old_c[k]:
+                    banned[nban] = old_c[k]
+                    nban += 1
+                    break
             releases += 1
         elif act == ACT_SPLIT:
+            # the new ones: those of the new supports not among the old
+            more = np.zeros(sup_c.shape[0] - old_c.shape[0])
+            j = 0
+            k = 0
+            for a in range(sup_c.shape[0]):
+                if k < old_c.shape[0] and sup_c[a] == old_c[k]:
+                    k += 1
+                else:
+                    more[j] = sup_c[a]
+                    j += 1
+            added = np.concatenate((added, more))
             rounds += 1
         else:
             break
+    if st != STATUS_OK:
+        return st, cut
+    # the whole load on those supports
+    st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
+        sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
+        read_s, rxy, rz, rok, False, False, banned[:0])
     return st, cut
 
 
@@ -530,6 +567,8 @@ def span_sample(n, s, p, wk, sel, out):
         quat_to_rot(s.q[i], R[i])
     seg_q = np.zeros((n, 2))
     seg_qz = np.zeros((n, 2))
+    seg_qs = np.zeros((n, 2))
+    seg_qzs = np.zeros((n, 2))
     seg_T = np.zeros(n)
     seg_ei = np.zeros(n)
     seg_rb = np.zeros(n)
@@ -561,6 +600,11 @@ def span_sample(n, s, p, wk, sel, out):
         seg_q[i, 0] = (gx - ga * ex) * inv_l
         seg_q[i, 1] = (gy - ga * ey) * inv_l
         seg_qz[i, 0] = (gz - ga * ez) * inv_l
+        # the buoyed weight alone across the axis: the load that decides the supports
+        gw = seg[i, S_W] * ez
+        seg_qs[i, 0] = -gw * ex * inv_l
+        seg_qs[i, 1] = -gw * ey * inv_l
+        seg_qzs[i, 0] = (seg[i, S_W] - gw * ez) * inv_l
         seg_T[i] = segment_axial_N(i, n, loads)
         seg_ei[i] = p.ei[i]
         seg_rb[i] = seg[i, S_RB]
@@ -741,12 +785,22 @@ def span_sample(n, s, p, wk, sel, out):
             seg_q[i, 0] = 0.0
             seg_q[i, 1] = 0.0
             seg_qz[i, 0] = 0.0
+            seg_qs[i, 0] = 0.0
+            seg_qs[i, 1] = 0.0
+            seg_qzs[i, 0] = 0.0
     # the load the wall carries along segments in line contact (for the supports' check)
     seg_qw = np.zeros((n, 3))
+    seg_qws = np.zeros((n, 3))
     for i in range(n):
         seg_qw[i, 0] = q3[i, 0] - seg_q[i, 0]
         seg_qw[i, 1] = q3[i, 1] - seg_q[i, 1]
         seg_qw[i, 2] = q3[i, 2] - seg_qz[i, 0]
+        if seg_line[i]:
+            inv_l = 1.0 / (2.0 * seg[i, S_H])
+            gw = seg[i, S_W] * R[i, 2, 2]
+            seg_qws[i, 0] = -gw * R[i, 0, 2] * inv_l
+            seg_qws[i, 1] = -gw * R[i, 1, 2] * inv_l
+            seg_qws[i, 2] = (seg[i, S_W] - gw * R[i, 2, 2]) * inv_l
     # clipped to the chain before merging, so that the kept supports stay strictly increasing
     sup_s = np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n])
     order = np.argsort(sup_s, kind="mergesort")
@@ -810,7 +864,7 @@ def span_sample(n, s, p, wk, sel, out):
         if bit_span[1] > MERGE_M:
             st, cut = _solve_chain(bit_span, np.zeros((2, 3)), np.zeros((2, 3)), top_s, seg_ei,
                                    seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh, read_s, rxy,
-                                   rz, rok)
+                                   rz, rok, seg_qs, seg_qzs, seg_qws)
             if st != STATUS_OK:
                 return -st
             for k in range(cut.shape[0]):
@@ -822,7 +876,7 @@ def span_sample(n, s, p, wk, sel, out):
             rok2 = np.zeros(nr, dtype=np.int64)
             st, cut = _solve_chain(sup_c[1:].copy(), sup_Pc[1:].copy(), sup_Nc[1:].copy(), top_s,
                                    seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
-                                   read_s, rxy2, rz2, rok2)
+                                   read_s, rxy2, rz2, rok2, seg_qs, seg_qzs, seg_qws)
             if st != STATUS_OK:
                 return -st
             # read points outside a chain's supports get zero from it
@@ -837,7 +891,7 @@ def span_sample(n, s, p, wk, sel, out):
                     n_cut += 1
     else:
         st, cut = _solve_chain(sup_c, sup_Pc, sup_Nc, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw,
-                               seg_rb, seg_Rh, read_s, rxy, rz, rok)
+                               seg_rb, seg_Rh, read_s, rxy, rz, rok, seg_qs, seg_qzs, seg_qws)
         if st != STATUS_OK:
             return -st
         for k in range(cut.shape[0]):
