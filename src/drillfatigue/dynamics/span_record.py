@@ -60,9 +60,16 @@ that joint moment + correction is the continuous pipe's moment, counted once
    by more than ``SPLIT_TOL_M`` (spans of ``MIN_SPLIT_SPAN_M`` or more), or a
    span is at its Euler load in compression (v >= ``BUCKLED_V``), the pipe lies
    on the wall there: a support is added at that span's middle (on the wall)
-   and the chain solved again, up to ``MAX_SPLIT_ROUNDS`` times. This bounds the
-   beam-column's amplification in compression by the wall, as it is bounded in
-   the hole.
+   and the chain solved again, up to ``MAX_SPLIT_ROUNDS`` times; a mid-span
+   support let go of is not added again in that sample (it would cycle). This
+   bounds the beam-column's amplification in compression by the wall, as it is
+   bounded in the hole. Which supports hold the pipe is decided under the
+   segments' buoyed weight alone (step 2's load without the inertia and drag);
+   the beam then carries step 2's whole load on those supports. The weight and
+   the stand-offs set where a pipe rests on the wall; decided under the
+   inertial load sample by sample, the support set followed the load's noise
+   (the split/release iteration cycled in a quarter to a half of a drilling
+   BHA's samples and stopped wherever its budget ran out).
 6. The span from the bit: from the bit end (guided on the hole's axis on
    bottom, free off bottom) the string reaches the wall at a tangency point,
    where it meets the wall with the wall's slope and the wall's curvature (the
@@ -76,12 +83,15 @@ that joint moment + correction is the continuous pipe's moment, counted once
    (zero span moment at the tangency); the rest of the chain is solved from
    that support on, pinned there.
 7. What the chain carries:
-   :func:`drillfatigue.dynamics.span_chain.chain_static_moments`, the rigid
-   chain's joint moments held at rest where it is at the bit, its top end and
-   the points the wall pushes (step 1's, at the chain's positions), under its
-   own transverse load per segment (step 2's before the line-contact rule),
-   positions relative to the hole's axis at its nodes. At rest this is its
-   recorded joint moment.
+   :func:`drillfatigue.dynamics.span_chain.chain_static_moments_in_hole`, the
+   rigid chain's joint moments held at rest where it is at the bit, its top end
+   and the points the wall pushes (step 1's, at the chain's positions), under
+   its own transverse load per segment (step 2's before the line-contact rule),
+   positions relative to the hole's axis at its nodes, kept inside the hole (a
+   node its solution puts beyond the wall is held on it). At rest this is its
+   recorded joint moment; on its contact holds alone a free run of drill pipe
+   in compression near its buckling load took moments of 1e6 N m, metres
+   outside the hole.
 8. The correction is the beam's moment less the chain's, put together as world
    vectors and resolved in each recorded joint's frame (the mid-rotation frame
    of its two segments, the frame of ``bending_x/y_Nm``, which turns with the
