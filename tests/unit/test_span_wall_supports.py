@@ -25,8 +25,8 @@ from drillfatigue.dynamics.span_bending import (
     END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments, chain_span_moments_settled,
 )
 from drillfatigue.dynamics.span_record import (
-    ACT_NONE, ACT_RELEASE, ACT_SPLIT, MIN_SPLIT_SPAN_M, SPLIT_TOL_M, STATUS_SPLIT, _solve_chain,
-    _solve_or_split,
+    ACT_NONE, ACT_RELEASE, ACT_SPLIT, MAX_RELEASES, MAX_SPLIT_ROUNDS, MIN_SPLIT_SPAN_M, SPLIT_TOL_M,
+    STATUS_SPLIT, _solve_chain, _solve_or_split,
 )
 
 EI = 2.07e11 * math.pi / 64.0 * (0.127 ** 4 - 0.1086 ** 4)  # 5 in 19.5 ppf body, N m^2
@@ -72,13 +72,14 @@ def _direct(sup, top_s, seg_ei, seg_T, seg_qz, read_s):
     return st, out, cut
 
 
-def _round(args, may_split=True, may_release=True):
+def _round(args, may_split=True, may_release=True, banned=None):
     sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read = args
     rxy = np.zeros((read.size, 2))
     rz = np.zeros((read.size, 2))
     rok = np.zeros(read.size, dtype=np.int64)
     got = _solve_or_split(sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read, rxy, rz, rok,
-                          may_split, may_release)
+                          may_split, may_release,
+                          np.zeros(0) if banned is None else np.asarray(banned, dtype=float))
     return got, rz, rok
 
 
@@ -177,7 +178,8 @@ def test_a_wall_support_the_beam_pulls_is_let_go_of() -> None:
     rxy = np.zeros((read.size, 2))
     rz = np.zeros((read.size, 2))
     rok = np.zeros(read.size, dtype=np.int64)
-    st, _ = _solve_chain(sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read, rxy, rz, rok)
+    st, _ = _solve_chain(sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read, rxy, rz, rok, q, qz,
+                         qw)
     assert st == STATUS_OK
     s, P, n = sup, sup_P, sup_n
     for _ in range(64):
@@ -200,3 +202,56 @@ def test_a_wall_support_the_beam_pulls_is_let_go_of() -> None:
     reaction_z = s_end[:-1] - s_start[1:]  # force of the support on the beam, +z (outwards)
     wall = n[1:-1, 2] > 0
     assert np.all(reaction_z[wall] <= 1e-9 * Q * L_JOINT)
+
+
+def test_spans_merged_by_releases_are_split_until_inside_the_wall() -> None:
+    """A load lifting the pipe off its tool joints (3 kN/m towards the high side, -z: a
+    lateral inertia) pulls every interior wall support: all are let go of, one free span
+    of 110 m is left, and its splits must go on until no span's middle passes the high
+    wall. Four rounds leave 6.9 m spans sagging 70 mm where the room is 44 mm (q L^2/8 of
+    a span far longer than the wall allows); the recorder's budget (MAX_SPLIT_ROUNDS) must
+    reach spans that fit, and _solve_chain must end where that loop ends."""
+    args = list(_chain(0.0))
+    args[7] = -12.5 * args[7]
+    sup, sup_P, sup_n = args[:3]
+    rest = tuple(args[3:])
+    n_split = n_release = 0
+    banned: list[float] = []
+    added: set[float] = set()
+    for _ in range(256):
+        (st, s2, P2, n2, _, act), rz_loop, _ = _round((sup, sup_P, sup_n) + rest,
+                                                       may_split=n_split < MAX_SPLIT_ROUNDS,
+                                                       may_release=n_release < MAX_RELEASES,
+                                                       banned=banned)
+        if act == ACT_NONE:
+            break
+        n_split += act == ACT_SPLIT
+        if act == ACT_SPLIT:
+            added |= set(s2) - set(sup)
+        if act == ACT_RELEASE:
+            n_release += 1
+            # where a mid-span support was let go of, none is added again (as _solve_chain)
+            banned.extend(s for s in sorted(set(sup) - set(s2))[:1] if s in added)
+        sup, sup_P, sup_n = s2, P2, n2
+    assert st == STATUS_OK and n_release >= N - 1 and n_split > 4, (n_release, n_split)
+    top_s, ei, T, q, qz = rest[:5]
+    read = rest[-1]
+    m = sup.size
+    d = np.zeros((m, 2))
+    d[:, 0] = sup_P[:, 2] - sup_P[0, 2]
+    Ls, e, t, qq = np.zeros(m - 1), np.zeros(m - 1), np.zeros(m - 1), np.zeros((m - 1, 2))
+    M = np.zeros((m, 2))
+    chain_span_moments_settled(sup, d, top_s, ei, T, qz, END_PINNED, END_PINNED, read, Ls, e, t,
+                               qq, np.zeros((m, 6)), M, np.zeros((read.size, 2)),
+                               np.zeros(m - 1, np.int64), np.zeros(read.size, np.int64))
+    sag = 5 * qq[:, 0] * Ls ** 4 / (384 * e) - (M[:-1, 1] + M[1:, 1]) * Ls ** 2 / (16 * e)
+    mid_z = 0.5 * (sup_P[:-1, 2] + sup_P[1:, 2]) + sag
+    assert np.all(np.abs(mid_z[Ls >= MIN_SPLIT_SPAN_M]) <= HOLE_R - R_BODY + SPLIT_TOL_M)
+    _, _, _, top_s, ei, T, q, qz, qw, rb, Rh, read = args
+    rxy = np.zeros((read.size, 2))
+    rz = np.zeros((read.size, 2))
+    rok = np.zeros(read.size, dtype=np.int64)
+    st, _ = _solve_chain(args[0], args[1], args[2], top_s, ei, T, q, qz, qw, rb, Rh, read, rxy,
+                         rz, rok, q, qz, qw)
+    assert st == STATUS_OK
+    np.testing.assert_allclose(rz, rz_loop, rtol=1e-12, atol=1e-9)

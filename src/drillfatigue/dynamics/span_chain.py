@@ -65,6 +65,8 @@ docs/bending.md.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -74,6 +76,15 @@ from drillfatigue.status import SINGULAR as STATUS_SINGULAR
 
 #: stiffness of a hold over the stiffness around its segment (its relative error)
 HOLD_PENALTY = 1e8
+#: a node of the chain's static solution further than this beyond the wall is held on
+#: it, m (half the contact penetration of a string at rest, about 0.2 mm: a node that
+#: passes the wall by more is where the wall would push it)
+WALL_TOL_M = 1e-4
+#: rounds of holds added where the static chain leaves the hole (each round holds the
+#: worst node of every free run: a run of k segments needs about log2(k) rounds)
+MAX_WALL_ROUNDS = 16
+#: a node this close to a hold along the chain is not held again, m
+HOLD_MERGE_M = 0.01
 
 
 @njit(cache=True)
@@ -94,7 +105,17 @@ def segment_of(top_s, s):
 
 @njit(cache=True)
 def chain_static_moments(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M):
-    """Joint moments of a chain of rigid segments held at given points under its load.
+    """Joint moments of a chain of rigid segments held at given points under its load
+    (:func:`chain_static_solve` without the positions)."""
+    out_y = np.zeros((top_s.shape[0], seg_q.shape[1]))
+    fail = np.zeros(1, dtype=np.int64)
+    return chain_static_solve(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M, out_y, fail)
+
+
+@njit(cache=True)
+def chain_static_solve(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M, out_y, fail):
+    """Joint moments and node positions of a chain of rigid segments held at given points
+    under its load.
 
     Parameters
     ----------
@@ -112,6 +133,11 @@ def chain_static_moments(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M):
         Position of the chain at each hold, m, per component.
     out_M : ndarray, shape (n - 1, m)
         Output: sagging-positive moment at each joint, N m, per component.
+    out_y : ndarray, shape (n + 1, m)
+        Output: position of each node (segment end), m, per component.
+    fail : ndarray of int64, shape (1,)
+        Output with ``STATUS_SINGULAR``: the node whose pivot failed (the held
+        chain up to it is not stable).
 
     Returns
     -------
@@ -124,6 +150,8 @@ def chain_static_moments(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M):
     m = seg_q.shape[1]
     nh = hold_s.shape[0]
     out_M[:, :] = 0.0
+    out_y[:, :] = 0.0
+    fail[0] = -1
     if n < 2:
         return STATUS_OK
     if nh < 2 or not hold_s[nh - 1] > hold_s[0]:
@@ -226,6 +254,7 @@ def chain_static_moments(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M):
         if j >= 2:
             dj -= l2[j - 2] * l2[j - 2] * d[j - 2]
         if not (dj > 0.0 and np.isfinite(dj)):
+            fail[0] = j
             return STATUS_SINGULAR
         d[j] = dj
         a1 = A1[j]
@@ -245,9 +274,166 @@ def chain_static_moments(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M):
             u[j, c] -= l1[j] * u[j + 1, c]
             if j + 2 < N:
                 u[j, c] -= l2[j] * u[j + 2, c]
+    for j in range(N):
+        for c in range(m):
+            out_y[j, c] = r[j, c] + u[j, c]
     for j in range(1, n):
         for c in range(m):
             t_lo = (r[j, c] + u[j, c] - r[j - 1, c] - u[j - 1, c]) / L[j - 1]
             t_up = (r[j + 1, c] + u[j + 1, c] - r[j, c] - u[j, c]) / L[j]
             out_M[j - 1, c] = -k_joint[j - 1] * (t_up - t_lo)
     return STATUS_OK
+
+
+@njit(cache=True)
+def _insert_hold(hold_s, hold_y, s, y):
+    """``hold_s``, ``hold_y`` with a hold at ``s`` (position ``y``) inserted in order."""
+    nh = hold_s.shape[0]
+    m = hold_y.shape[1]
+    hs = np.empty(nh + 1)
+    hy = np.empty((nh + 1, m))
+    k = 0
+    placed = False
+    for h in range(nh):
+        if not placed and hold_s[h] > s:
+            hs[k] = s
+            for c in range(m):
+                hy[k, c] = y[c]
+            k += 1
+            placed = True
+        hs[k] = hold_s[h]
+        for c in range(m):
+            hy[k, c] = hold_y[h, c]
+        k += 1
+    if not placed:
+        hs[k] = s
+        for c in range(m):
+            hy[k, c] = y[c]
+    return hs, hy
+
+
+@njit(cache=True)
+def chain_static_moments_in_hole(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, node_room,
+                                 node_now, out_M, out_n):
+    """Joint moments of the held chain of :func:`chain_static_solve` kept inside the hole.
+
+    The chain's static solution on its holds alone can leave the hole: a free run
+    between holds in compression near its buckling load (a rigid-segment run buckles
+    at a fraction of a continuous pipe's Euler load: two segments on one joint
+    spring k = EI/l at 4 k/L) amplifies its load without bound, and at or beyond it
+    has no equilibrium at all. The real chain there lies on the wall, which bounds
+    its kinks, and the continuous beam it is subtracted from is bounded by the wall
+    the same way (:mod:`drillfatigue.dynamics.span_record`, step 5). So, in rounds:
+
+    * a node the solution puts further from the hole's axis than its room
+      (``node_room``, hole radius less its largest contact radius) by more than
+      ``WALL_TOL_M`` is held on the wall there, radially (in each free run between
+      two holds, the node furthest beyond it);
+    * a free run without equilibrium (a non-positive pivot) is held at its node
+      nearest its middle, where the chain is now (``node_now``): beyond its buckling
+      load it is not at rest, and where it is is where the wall and its inertia put it;
+
+    up to ``MAX_WALL_ROUNDS`` rounds. A chain that still has no equilibrium is solved
+    without the compression's softening (its axial forces clipped at zero). A chain
+    whose solution stays inside the hole (a chain at rest on its holds) is solved
+    exactly as by :func:`chain_static_solve`.
+
+    Parameters
+    ----------
+    top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M
+        As :func:`chain_static_solve`; ``seg_q`` and ``hold_y`` with m = 3 world
+        components of the positions relative to the hole's axis, m.
+    node_room : ndarray, shape (n + 1,)
+        Room of each node (segment end) off the hole's axis, m.
+    node_now : ndarray, shape (n + 1, 3)
+        Where each node is now relative to the hole's axis, m.
+    out_n : ndarray of int64, shape (2,)
+        Output: holds added on the wall, holds added where the chain is.
+
+    Returns
+    -------
+    int
+        A status of :func:`chain_static_solve` (``STATUS_SINGULAR`` only when the
+        chain without compression's softening is singular too).
+    """
+    n = top_s.shape[0] - 1
+    m = seg_q.shape[1]
+    out_n[0] = 0
+    out_n[1] = 0
+    y = np.zeros((n + 1, m))
+    fail = np.zeros(1, dtype=np.int64)
+    hs = hold_s
+    hy = hold_y
+    st = STATUS_OK
+    rounds = 0
+    while True:
+        st = chain_static_solve(top_s, k_joint, seg_T, seg_q, hs, hy, out_M, y, fail)
+        if st != STATUS_OK and st != STATUS_SINGULAR:
+            return st
+        if rounds >= MAX_WALL_ROUNDS:
+            break
+        rounds += 1
+        added = False
+        if st == STATUS_SINGULAR:
+            # the free run holding the failed pivot's node: its node nearest its middle
+            s_f = top_s[fail[0]]
+            a = 0
+            while a < hs.shape[0] - 2 and hs[a + 1] < s_f:
+                a += 1
+            lo = hs[a]
+            hi = hs[a + 1]
+            best = -1
+            gap = np.inf
+            for j in range(n + 1):
+                if lo + HOLD_MERGE_M < top_s[j] < hi - HOLD_MERGE_M:
+                    g = abs(top_s[j] - 0.5 * (lo + hi))
+                    if g < gap:
+                        gap = g
+                        best = j
+            if best >= 0:
+                hs, hy = _insert_hold(hs, hy, top_s[best], node_now[best])
+                out_n[1] += 1
+                added = True
+        else:
+            # each free run's node furthest beyond the wall, held on the wall
+            h = 0
+            nh0 = hs.shape[0]
+            new_s = np.empty(n + 1)
+            new_y = np.empty((n + 1, m))
+            nnew = 0
+            while h < nh0 - 1:
+                lo = hs[h]
+                hi = hs[h + 1]
+                h += 1
+                if not hi > lo + 2.0 * HOLD_MERGE_M:
+                    continue
+                best = -1
+                most = WALL_TOL_M
+                for j in range(n + 1):
+                    if lo + HOLD_MERGE_M < top_s[j] < hi - HOLD_MERGE_M:
+                        rr = 0.0
+                        for c in range(m):
+                            rr += y[j, c] * y[j, c]
+                        e = math.sqrt(rr) - node_room[j]
+                        if e > most:
+                            most = e
+                            best = j
+                if best >= 0:
+                    rr = 0.0
+                    for c in range(m):
+                        rr += y[best, c] * y[best, c]
+                    f = node_room[best] / math.sqrt(rr)
+                    new_s[nnew] = top_s[best]
+                    for c in range(m):
+                        new_y[nnew, c] = f * y[best, c]
+                    nnew += 1
+            for k in range(nnew):
+                hs, hy = _insert_hold(hs, hy, new_s[k], new_y[k])
+            out_n[0] += nnew
+            added = nnew > 0
+        if not added:
+            break
+    if st == STATUS_SINGULAR:
+        seg_Tt = np.maximum(seg_T, 0.0)
+        st = chain_static_solve(top_s, k_joint, seg_Tt, seg_q, hs, hy, out_M, y, fail)
+    return st

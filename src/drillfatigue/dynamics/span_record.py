@@ -60,9 +60,16 @@ that joint moment + correction is the continuous pipe's moment, counted once
    by more than ``SPLIT_TOL_M`` (spans of ``MIN_SPLIT_SPAN_M`` or more), or a
    span is at its Euler load in compression (v >= ``BUCKLED_V``), the pipe lies
    on the wall there: a support is added at that span's middle (on the wall)
-   and the chain solved again, up to ``MAX_SPLIT_ROUNDS`` times. This bounds the
-   beam-column's amplification in compression by the wall, as it is bounded in
-   the hole.
+   and the chain solved again, up to ``MAX_SPLIT_ROUNDS`` times; a mid-span
+   support let go of is not added again in that sample (it would cycle). This
+   bounds the beam-column's amplification in compression by the wall, as it is
+   bounded in the hole. Which supports hold the pipe is decided under the
+   segments' buoyed weight alone (step 2's load without the inertia and drag);
+   the beam then carries step 2's whole load on those supports. The weight and
+   the stand-offs set where a pipe rests on the wall; decided under the
+   inertial load sample by sample, the support set followed the load's noise
+   (the split/release iteration cycled in a quarter to a half of a drilling
+   BHA's samples and stopped wherever its budget ran out).
 6. The span from the bit: from the bit end (guided on the hole's axis on
    bottom, free off bottom) the string reaches the wall at a tangency point,
    where it meets the wall with the wall's slope and the wall's curvature (the
@@ -76,12 +83,15 @@ that joint moment + correction is the continuous pipe's moment, counted once
    (zero span moment at the tangency); the rest of the chain is solved from
    that support on, pinned there.
 7. What the chain carries:
-   :func:`drillfatigue.dynamics.span_chain.chain_static_moments`, the rigid
-   chain's joint moments held at rest where it is at the bit, its top end and
-   the points the wall pushes (step 1's, at the chain's positions), under its
-   own transverse load per segment (step 2's before the line-contact rule),
-   positions relative to the hole's axis at its nodes. At rest this is its
-   recorded joint moment.
+   :func:`drillfatigue.dynamics.span_chain.chain_static_moments_in_hole`, the
+   rigid chain's joint moments held at rest where it is at the bit, its top end
+   and the points the wall pushes (step 1's, at the chain's positions), under
+   its own transverse load per segment (step 2's before the line-contact rule),
+   positions relative to the hole's axis at its nodes, kept inside the hole (a
+   node its solution puts beyond the wall is held on it). At rest this is its
+   recorded joint moment; on its contact holds alone a free run of drill pipe
+   in compression near its buckling load took moments of 1e6 N m, metres
+   outside the hole.
 8. The correction is the beam's moment less the chain's, put together as world
    vectors and resolved in each recorded joint's frame (the mid-rotation frame
    of its two segments, the frame of ``bending_x/y_Nm``, which turns with the
@@ -120,10 +130,10 @@ from drillfatigue.dynamics.layout import (
 )
 from drillfatigue.dynamics.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span_bending import (
-    END_PINNED, STATUS_OK, STATUS_SINGULAR, STATUS_SPAN_BUCKLED, chain_span_moments_settled,
+    END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments_settled,
     midspan_offset,
 )
-from drillfatigue.dynamics.span_chain import segment_of, chain_static_moments
+from drillfatigue.dynamics.span_chain import chain_static_moments_in_hole, segment_of
 from drillfatigue.dynamics.span_dynamics import segment_axial_N
 
 #: supports closer than this along the string are one support, m
@@ -156,12 +166,18 @@ def _joint_frame(q_lo, q_up, qr, qh, qm, Rm):
     quat_to_rot(qm, Rm)
 
 
-#: rounds of mid-span supports added where a span touches the wall or buckles
-#: (each round halves the offending spans: up to 2^rounds pieces)
-MAX_SPLIT_ROUNDS = 4
+#: rounds of mid-span supports added where a span touches the wall or buckles (each
+#: round halves the offending spans). Releases merge spans, up to a free run of the
+#: whole chain (hundreds of metres of drill pipe off the wall): halving 1 km down to
+#: ``MIN_SPLIT_SPAN_M`` takes 10 rounds, and splits alternate with releases. With
+#: fewer (4) a span merged by late releases kept its middle metres beyond the wall and
+#: carried q L^2 / 8 of a 40 m span (1e5 N m) for one sample
+MAX_SPLIT_ROUNDS = 16
 #: wall supports the continuous beam would pull from the wall that are let go of, at
-#: most, in one sample (one per solve, the most pulled first)
-MAX_RELEASES = 32
+#: most, in one sample (one per solve, the most pulled first; a drilling BHA with its
+#: drill pipe needs up to about 100 when no mid-span support is split again where one
+#: was let go of)
+MAX_RELEASES = 128
 #: a wall support is let go of when the beam pulls it from the wall by more than this
 #: share of the largest span load q L (round-off of a support that carries nothing)
 RELEASE_TOL = 1e-9
@@ -267,7 +283,7 @@ def _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz,
 
 @njit(cache=True)
 def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
-                    seg_Rh, read_s, rxy, rz, rok, may_split, may_release):
+                    seg_Rh, read_s, rxy, rz, rok, may_split, may_release, banned):
     """Solve the chain on supports ``sup_c`` standing at ``sup_v`` (their positions
     relative to the hole's axis; spans the solution cannot hold are cut,
     :func:`~drillfatigue.dynamics.span_bending.chain_span_moments_settled`), then check
@@ -352,6 +368,13 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
             V = np.zeros(3)
             for k in range(m - 1):
                 if not span_L[k] >= MIN_SPLIT_SPAN_M:
+                    continue
+                s_mid = 0.5 * (sup_c[k] + sup_c[k + 1])
+                again = False
+                for b in range(banned.shape[0]):
+                    if abs(banned[b] - s_mid) < MERGE_M:
+                        again = True
+                if again:
                     continue
                 V[0] = 0.5 * (sup_v[k, 0] + sup_v[k + 1, 0]) + w_xy[k, 0]
                 V[1] = 0.5 * (sup_v[k, 1] + sup_v[k + 1, 1]) + w_xy[k, 1]
@@ -459,26 +482,61 @@ def _hole_curvature_vector(axc, lnc, ic, out):
 
 @njit(cache=True)
 def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
-                 seg_Rh, read_s, rxy, rz, rok):
+                 seg_Rh, read_s, rxy, rz, rok, dec_q, dec_qz, dec_qw):
     """The chain on supports ``sup_c`` at ``sup_v`` (outward wall normals ``sup_n``)
     pinned at both ends, with the wall supports the beam pulls let go of and mid-span
-    supports added where a span reaches the wall or buckles (module docstring, step 5):
-    ``(status, cut)`` with the read moments in ``rxy``, ``rz`` and the read points
-    solved flagged in ``rok``."""
+    supports added where a span reaches the wall or buckles (module docstring, step 5),
+    decided under the loads ``dec_q``, ``dec_qz``, ``dec_qw``, then solved under
+    ``seg_q``, ``seg_qz`` on the supports so found: ``(status, cut)`` with the read
+    moments in ``rxy``, ``rz`` and the read points solved flagged in ``rok``."""
     st = STATUS_OK
     cut = np.zeros(sup_c.shape[0] - 1, dtype=np.int64)
     rounds = 0
     releases = 0
+    # mid-span supports added, and those let go of: no mid-span support is added there
+    # again in this sample (one at a span's middle that the beam pulls means the pipe
+    # touches the wall elsewhere in that span; let go of and split again it would cycle)
+    added = np.zeros(0)
+    banned = np.zeros(MAX_RELEASES)
+    nban = 0
     while True:
+        old_c = sup_c
         st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
-            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
-            read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES)
+            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, dec_q, dec_qz, dec_qw, seg_rb, seg_Rh,
+            read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES,
+            banned[:nban])
         if act == ACT_RELEASE:
+            # the one support let go of: the first of the old ones missing from the new
+            k = 0
+            while k < sup_c.shape[0] and old_c[k] == sup_c[k]:
+                k += 1
+            for a in range(added.shape[0]):
+                if added[a] == old_c[k]:
+                    banned[nban] = old_c[k]
+                    nban += 1
+                    break
             releases += 1
         elif act == ACT_SPLIT:
+            # the new ones: those of the new supports not among the old
+            more = np.zeros(sup_c.shape[0] - old_c.shape[0])
+            j = 0
+            k = 0
+            for a in range(sup_c.shape[0]):
+                if k < old_c.shape[0] and sup_c[a] == old_c[k]:
+                    k += 1
+                else:
+                    more[j] = sup_c[a]
+                    j += 1
+            added = np.concatenate((added, more))
             rounds += 1
         else:
             break
+    if st != STATUS_OK:
+        return st, cut
+    # the whole load on those supports
+    st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
+        sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
+        read_s, rxy, rz, rok, False, False, banned[:0])
     return st, cut
 
 
@@ -519,6 +577,8 @@ def span_sample(n, s, p, wk, sel, out):
         quat_to_rot(s.q[i], R[i])
     seg_q = np.zeros((n, 2))
     seg_qz = np.zeros((n, 2))
+    seg_qs = np.zeros((n, 2))
+    seg_qzs = np.zeros((n, 2))
     seg_T = np.zeros(n)
     seg_ei = np.zeros(n)
     seg_rb = np.zeros(n)
@@ -550,6 +610,11 @@ def span_sample(n, s, p, wk, sel, out):
         seg_q[i, 0] = (gx - ga * ex) * inv_l
         seg_q[i, 1] = (gy - ga * ey) * inv_l
         seg_qz[i, 0] = (gz - ga * ez) * inv_l
+        # the buoyed weight alone across the axis: the load that decides the supports
+        gw = seg[i, S_W] * ez
+        seg_qs[i, 0] = -gw * ex * inv_l
+        seg_qs[i, 1] = -gw * ey * inv_l
+        seg_qzs[i, 0] = (seg[i, S_W] - gw * ez) * inv_l
         seg_T[i] = segment_axial_N(i, n, loads)
         seg_ei[i] = p.ei[i]
         seg_rb[i] = seg[i, S_RB]
@@ -567,6 +632,14 @@ def span_sample(n, s, p, wk, sel, out):
     X = np.zeros(3)
     info = np.zeros(OUT_SIZE)
     C_node = np.zeros((n + 1, 3))
+    # each node's hole radius, where it is relative to the hole's axis now, and its
+    # largest contact radius (the body's, or a tool joint's or blade's at the segment end)
+    node_R = np.zeros(n + 1)
+    node_now = np.zeros((n + 1, 3))
+    node_r = np.zeros(n + 1)
+    for i in range(n):
+        node_r[i] = max(node_r[i], seg[i, S_RB])
+        node_r[i + 1] = max(node_r[i + 1], seg[i, S_RB])
     for j in range(n + 1):
         if j == 0:
             for k in range(3):
@@ -578,10 +651,12 @@ def span_sample(n, s, p, wk, sel, out):
             for k in range(3):
                 X[k] = 0.5 * (x[j - 1, k] - seg[j - 1, S_H] * R[j - 1, k, 2]
                               + x[j, k] + seg[j, S_H] * R[j, k, 2])
-        find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
-                     hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        ic = find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
+                          hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        node_R[j] = rad[ic] if ic >= 0 else rad.min()
         for k in range(3):
             C_node[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
+            node_now[j, k] = info[OUT_DIST] * info[OUT_NX + k]
     # supports of the continuous beam (sup, at their true positions supP: a point in or
     # along the wall where the rigid wall puts the pipe's axis, the bit where it is) and
     # holds of the rigid chain (hold, where the chain is: the bit, the points the wall
@@ -636,6 +711,10 @@ def span_sample(n, s, p, wk, sel, out):
                 kap = max(kap, _hole_curvature(axc, lnc, ic))
                 clr = min(clr, rad[ic] - rc)
             pt_u[pt] = off
+            if off >= h - MERGE_M:
+                node_r[i] = max(node_r[i], rc)
+            elif off <= -h + MERGE_M:
+                node_r[i + 1] = max(node_r[i + 1], rc)
             pt_gap[pt] = -info[OUT_DELTA]
             # where the rigid wall puts the pipe's axis there, from the hole's axis
             rw = info[OUT_DIST] - info[OUT_DELTA]
@@ -716,12 +795,22 @@ def span_sample(n, s, p, wk, sel, out):
             seg_q[i, 0] = 0.0
             seg_q[i, 1] = 0.0
             seg_qz[i, 0] = 0.0
+            seg_qs[i, 0] = 0.0
+            seg_qs[i, 1] = 0.0
+            seg_qzs[i, 0] = 0.0
     # the load the wall carries along segments in line contact (for the supports' check)
     seg_qw = np.zeros((n, 3))
+    seg_qws = np.zeros((n, 3))
     for i in range(n):
         seg_qw[i, 0] = q3[i, 0] - seg_q[i, 0]
         seg_qw[i, 1] = q3[i, 1] - seg_q[i, 1]
         seg_qw[i, 2] = q3[i, 2] - seg_qz[i, 0]
+        if seg_line[i]:
+            inv_l = 1.0 / (2.0 * seg[i, S_H])
+            gw = seg[i, S_W] * R[i, 2, 2]
+            seg_qws[i, 0] = -gw * R[i, 0, 2] * inv_l
+            seg_qws[i, 1] = -gw * R[i, 1, 2] * inv_l
+            seg_qws[i, 2] = (seg[i, S_W] - gw * R[i, 2, 2]) * inv_l
     # clipped to the chain before merging, so that the kept supports stay strictly increasing
     sup_s = np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n])
     order = np.argsort(sup_s, kind="mergesort")
@@ -785,7 +874,7 @@ def span_sample(n, s, p, wk, sel, out):
         if bit_span[1] > MERGE_M:
             st, cut = _solve_chain(bit_span, np.zeros((2, 3)), np.zeros((2, 3)), top_s, seg_ei,
                                    seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh, read_s, rxy,
-                                   rz, rok)
+                                   rz, rok, seg_qs, seg_qzs, seg_qws)
             if st != STATUS_OK:
                 return -st
             for k in range(cut.shape[0]):
@@ -797,7 +886,7 @@ def span_sample(n, s, p, wk, sel, out):
             rok2 = np.zeros(nr, dtype=np.int64)
             st, cut = _solve_chain(sup_c[1:].copy(), sup_Pc[1:].copy(), sup_Nc[1:].copy(), top_s,
                                    seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
-                                   read_s, rxy2, rz2, rok2)
+                                   read_s, rxy2, rz2, rok2, seg_qs, seg_qzs, seg_qws)
             if st != STATUS_OK:
                 return -st
             # read points outside a chain's supports get zero from it
@@ -812,7 +901,7 @@ def span_sample(n, s, p, wk, sel, out):
                     n_cut += 1
     else:
         st, cut = _solve_chain(sup_c, sup_Pc, sup_Nc, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw,
-                               seg_rb, seg_Rh, read_s, rxy, rz, rok)
+                               seg_rb, seg_Rh, read_s, rxy, rz, rok, seg_qs, seg_qzs, seg_qws)
         if st != STATUS_OK:
             return -st
         for k in range(cut.shape[0]):
@@ -835,13 +924,15 @@ def span_sample(n, s, p, wk, sel, out):
     for j in range(n - 1):
         k_joint[j] = p.jp[j, J_KB]
     ms_chain = np.zeros((n - 1, 3))
-    st = chain_static_moments(top_s, k_joint, seg_T, q3, hold_s, hold_y, ms_chain)
-    if st == STATUS_SINGULAR:
-        # a run of free segments between holds in compression beyond its Euler load: the
-        # chain is not at rest there (it leans on the wall between the contacts of this
-        # sample); its static moments are taken without the compression's softening
-        seg_Tt = np.maximum(seg_T, 0.0)
-        st = chain_static_moments(top_s, k_joint, seg_Tt, q3, hold_s, hold_y, ms_chain)
+    # kept inside the hole, as the continuous beam is (span_chain): a free run between
+    # holds near or beyond its buckling load would otherwise amplify its load without
+    # bound, a moment no chain inside the hole can carry
+    node_room = np.zeros(n + 1)
+    for j in range(n + 1):
+        node_room[j] = node_R[j] - node_r[j]
+    n_held = np.zeros(2, dtype=np.int64)
+    st = chain_static_moments_in_hole(top_s, k_joint, seg_T, q3, hold_s, hold_y, node_room,
+                                      node_now, ms_chain, n_held)
     if st != STATUS_OK:
         return -st
     qr = np.zeros(4)
