@@ -96,7 +96,10 @@ def _case2_section(d: Path, out: OutputFolder) -> list[str]:
         f"{cfg['string']['dp_segments']} drill-pipe segments (paper: 20 + 100). Loads of joint "
         f"{s['target_joint']}, {s['target_s_from_bit_m']:.0f} m behind the bit (paper: 40 m). "
         f"Critical-plane criterion: {s['criterion']} (connection and body, lower life "
-        f"reported); API RP7G: Lubinski bending in the hole curvature at the joint, body.\n")
+        f"reported); API RP7G: Lubinski bending in the hole curvature at the joint, body. "
+        f"Bending between supports as the simulator's defaults give it (`contact.points: "
+        f"string`, `contact.span_bending: true`: supports at their heights in the span "
+        f"correction, docs/bending.md), in the plan hole.\n")
     if reduced:
         lines.append(
             f"**Reduced run**: the {s['window_s']:g} s window is represented by "
