@@ -301,9 +301,9 @@ def _case3_section(d: Path, out: OutputFolder) -> list[str]:
         f"{_fmt(cfg.get('span_bending'))}. Criterion {s['criterion']}; life in hours = "
         "recorded window / damage; each location is the joint nearest its distance. The "
         "paper's location 1 (191 h) is the one nearest the build, 80 m behind the bit.\n")
-    tort = s.get("tortuous")
+    tort: dict[str, Any] = s.get("tortuous") or {}
     tort_table = (pd.read_csv(d / "case3_life_tortuous.csv")
-                  if tort is not None and (d / "case3_life_tortuous.csv").is_file() else None)
+                  if tort and (d / "case3_life_tortuous.csv").is_file() else None)
     lives = case3_lives_table(table, tort_table)
     if tort_table is not None:
         tc = tort["tortuosity"]
