@@ -74,6 +74,20 @@ def test_reduced_studies_and_report(tmp_path):
                                         "none"}
     dec3 = pd.read_csv(d["case3"] / "case3_decomposition.csv")
     assert set(dec3["load"]) == {"all", "axial_torsion", "joint_bending", "span_bending"}
+    # the default tortuosity: the case again in the tortuous hole, beside the plan's
+    t3t = pd.read_csv(d["case3"] / "case3_life_tortuous.csv")
+    assert list(t3t["s_from_bit_m"]) == [8.0, 40.0, 80.0]
+    assert list(t3t["paper_life_h"]) == [677.0, 625.0, 191.0]
+    assert (t3t["life_h"] > 0).all() and (t3["joint_bending_amplitude_Nm"] >= 0).all()
+    assert (d["case3"] / "case3_decomposition_tortuous.csv").is_file()
+    assert sorted(p.name for p in (d["case3"] / "runs").iterdir()) == [
+        "profile_1", "profile_1_tortuous"]
+    s3 = json.loads((d["case3"] / "case3_summary.json").read_text())
+    assert s3["tortuous"]["tortuosity"]["amplitude_deg"] == 0.5
+    assert [r["life_h"] for r in s3["tortuous"]["rows"]] == pytest.approx(list(t3t["life_h"]))
+    m3 = json.loads((tmp_path / "case3.json").read_text())
+    assert m3["life_h_tortuous_8m"] == pytest.approx(t3t["life_h"][0])
+    assert m3["dominant_load_tortuous_80m"] == t3t["dominant_load"][2]
     t1 = pd.read_csv(d["case1"] / "case1_whirl.csv")
     assert set(t1["model"]) == {"karnopp", "tanh_exp"} and set(t1["friction"]) == {"low", "high"}
     assert (t1["rolling_ratio"].round(3) == -1.429).all()  # -63.5 / (107.95 - 63.5)
@@ -101,8 +115,38 @@ def test_reduced_studies_and_report(tmp_path):
     for r in t2.itertuples():
         assert f"| {r.profile} |" in text
     assert "span_bending only" in text and "ours / paper" in text
+    # case 3's lives table: location, paper, plan hole, tortuous hole, the load that sets each
+    assert ("| location: behind the bit, m | paper, h | plan: joint, m | plan hole, h | "
+            "plan: load that sets it | tortuous: joint, m | tortuous hole, h | "
+            "tortuous: load that sets it |") in text
+    assert "sine, amplitude 0.5° over 30 m" in text
     for paper in ("10.3", "12.8", "5.9", "191", "625", "677", "38 h", "2 h", "47", "test note"):
         assert paper in text, paper
+
+
+@pytest.mark.slow
+def test_case3_without_tortuosity_is_the_plan_run_alone(tmp_path):
+    """``case3.tortuosity: null``: one run (the plan), whose tables, decomposition and
+    loads are byte for byte those of the plan half of a run with a tortuosity: the
+    second hole changes nothing of the first."""
+    outs = {}
+    for name, tort in (("plan_only", None),
+                       ("both", {"model": "sine", "amplitude_deg": 1.0, "period_m": 30.0})):
+        params = tmp_path / f"{name}.yaml"
+        params.write_text(yaml.safe_dump({"case3": {**TINY["case3"], "tortuosity": tort}}))
+        outs[name] = tmp_path / name
+        assert _run("case3", "--params", str(params), "--out", str(outs[name]),
+                    "--metrics", str(tmp_path / f"{name}.json")) == 0
+    one, two = outs["plan_only"], outs["both"]
+    assert [p.name for p in (one / "runs").iterdir()] == ["profile_1"]
+    assert not (one / "case3_life_tortuous.csv").exists()
+    summary = json.loads((one / "case3_summary.json").read_text())
+    assert "tortuous" not in summary and "tortuosity" not in summary["config"]
+    assert not any("tortuous" in k for k in json.loads((tmp_path / "plan_only.json")
+                                                       .read_text()))
+    for f in ("case3_life.csv", "case3_decomposition.csv", "runs/profile_1/loads.parquet"):
+        assert (one / f).read_bytes() == (two / f).read_bytes(), f
+    assert (two / "case3_life_tortuous.csv").read_bytes() != (one / "case3_life.csv").read_bytes()
 
 
 def test_study_cli_bad_section_exit_2(tmp_path, capsys):

@@ -45,6 +45,10 @@ def test_sections_default_constructible():
     (Case3Config, {"mode": "sideways"}, "case3.mode"),
     (Case3Config, {"bha": "tricone"}, "case3.bha"),
     (Case3Config, {"dp_joints_per_segment": 0}, "case3.dp_joints_per_segment"),
+    (Case3Config, {"tortuosity": {"model": "sine", "amplitude_deg": -0.5, "period_m": 30.0}},
+     "case3.tortuosity.amplitude_deg"),
+    (Case3Config, {"tortuosity": {"model": "sine", "amplitude_deg": 0.5, "period_m": 30.0,
+                                  "wave": 1}}, "case3.tortuosity.wave"),
     (PlanConfig, {"confirm_top_k": -1}, "plan.confirm_top_k"),
 ])
 def test_sections_reject_bad_values(model, data, field):
@@ -322,3 +326,50 @@ def test_timings_row_shows_the_earlier_measurement_and_metrics_carry_the_referen
     m = stages._metrics("case2", summ, 1.0)
     assert m["rop_over_bit_law_profile_1"] == 0.9
     assert m["surface_torque_over_tnd_profile_1"] == 1.1
+
+
+def test_case3_tortuosity_config():
+    """The default is the "2 deg/30 m" torque-and-drag tortuosity (sine, A = 0.5 deg over
+    30 m, peak 3.1 deg/30 m); null keeps the plan only and leaves the section's dump as it
+    was; the tortuous well takes the block in place of the section's own."""
+    cfg = Case3Config()
+    assert cfg.tortuosity is not None
+    assert (cfg.tortuosity.model, cfg.tortuosity.amplitude_deg, cfg.tortuosity.period_m,
+            cfg.tortuosity.direction) == ("sine", 0.5, 30.0, "inclination")
+    assert cfg.tortuosity.peak_added_dls_deg_per_30m == pytest.approx(math.pi, rel=1e-12)
+    off = validate(Case3Config, {"tortuosity": None}, "case3")
+    assert off.tortuosity is None
+    assert case3.case_dict(off, None)[0] == case3.case_dict(cfg, None)[0]  # the plan run
+    well = {"profile": "profile_1", "tortuosity": {"model": "random", "amplitude_deg": 2.0,
+                                                   "period_m": 10.0}}
+    tw = case3.tortuous_well(cfg, well)
+    assert tw["tortuosity"]["amplitude_deg"] == 0.5 and tw["profile"] == "profile_1"
+    assert well["tortuosity"]["model"] == "random"  # the section is not changed
+    case, _ = case3.case_dict(cfg, None, tw)
+    assert case_from_dict(case).well.tortuosity == cfg.tortuosity
+    with pytest.raises(ValueError, match="tortuosity is null"):
+        case3.tortuous_well(off, well)
+
+
+def test_case3_bending_amplitudes_and_lives_table():
+    t = np.linspace(0.0, 1.0, 101)
+    loads = pd.DataFrame({"joint": 3, "time_s": t,
+                          "bending_x_Nm": 2e3 * np.cos(2 * np.pi * t),
+                          "bending_y_Nm": 2e3 * np.sin(2 * np.pi * t),
+                          "span_bending_x_Nm": 5e2, "span_bending_y_Nm": 0.0})
+    amp = case3.bending_amplitudes_Nm(loads, 3)
+    assert amp["joint_bending_amplitude_Nm"] == pytest.approx(2e3, rel=1e-3)
+    assert amp["span_bending_amplitude_Nm"] == 0.0  # constant: no range
+    plan = pd.DataFrame({"s_from_bit_m": [8.0, 80.0], "paper_life_h": [677.0, 191.0],
+                         "joint_s_from_bit_m": [10.5, 78.2], "life_h": [1e5, 508.0],
+                         "dominant_load": ["span_bending", "joint_bending"],
+                         "joint_bending_amplitude_Nm": [3.1e3, 11.4e3],
+                         "span_bending_amplitude_Nm": [4.6e3, 0.2e3]})
+    tort = plan.assign(joint_s_from_bit_m=[6.0, 78.3], life_h=[1.06e3, 1.5e4],
+                       dominant_load=["joint_bending", "axial_torsion"])
+    lives = report.case3_lives_table(plan, tort)
+    assert list(lives["load_plan"]) == ["span correction (3.1 / 4.6 kN·m)",
+                                        "joint bending (11.4 / 0.2 kN·m)"]
+    assert list(lives["life_h_tortuous"]) == [1.06e3, 1.5e4]
+    assert list(lives["joint_s_from_bit_m_tortuous"]) == [6.0, 78.3]
+    assert "life_h_tortuous" not in report.case3_lives_table(plan, None)

@@ -25,6 +25,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from drillfatigue.config.base import StrictModel
+from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.limits import FEATURE_BOUNDS
 
 _MD_MAX = 20000.0
@@ -158,6 +159,13 @@ class Case3Config(StrictModel):
 
     Paper scale: ``ramp_s: 40, window_s: 60`` (the trip of 800 s is the
     string's placement; ``trip_s`` is the rest before the ramp).
+
+    ``tortuosity``: a ``well.tortuosity`` block (docs/wells.md#tortuosity); the case
+    then runs twice, in the well section's hole (the plan) and in the same hole with
+    this tortuosity, and reports both beside the paper's lives. Default: a sine of
+    0.5 deg over 30 m in the inclination plane from the surface, the "2 deg/30 m"
+    tortuosity torque-and-drag practice adds to a plan (4 A / P; peak 3.1 deg/30 m;
+    docs/case3.md#tortuosity). ``null``: the plan only.
     """
 
     profile: str = "profile_1"
@@ -200,6 +208,11 @@ class Case3Config(StrictModel):
                                     description="lobed rock face (rig) or bit motion")
     loads_rate_hz: float = Field(100.0, gt=0.0, le=1e5)
     criterion: Literal["matake", "findley", "fatemi_socie", "uniaxial"] = "matake"
+    tortuosity: TortuosityConfig | None = Field(
+        default_factory=lambda: TortuosityConfig(model="sine", amplitude_deg=0.5,
+                                                 period_m=30.0),
+        description="well.tortuosity of the second run (the plan with micro-doglegs); "
+                    "null: the plan only")
 
     @property
     def duration_s(self) -> float:

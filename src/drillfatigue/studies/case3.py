@@ -251,24 +251,110 @@ def _life_h(span_s: float, damage: float) -> float:
     return hours(span_s) / damage if damage > 0 else math.inf
 
 
+#: The holes of the study: the well section's (the plan) and the plan with the
+#: configured ``tortuosity``; the tortuous hole's files carry the suffix.
+HOLE_SUFFIX: dict[str, str] = {"plan": "", "tortuous": "_tortuous"}
+
+
+def bending_amplitudes_Nm(loads: pd.DataFrame, joint: int) -> dict[str, float]:
+    """Bending moment amplitude of a joint over the window, N m: half the largest range
+    of the moment projected on 36 directions, for the rigid joint moment
+    (``joint_bending_amplitude_Nm``) and the span correction (``span_bending_amplitude_Nm``,
+    0 in a run without it)."""
+    h = loads[loads["joint"] == joint]
+    phi = np.linspace(0.0, math.pi, AMPLITUDE_POINTS // 2, endpoint=False)
+    out: dict[str, float] = {}
+    for name, cols in (("joint", ("bending_x_Nm", "bending_y_Nm")), ("span", SPAN_COLUMNS)):
+        if len(h) == 0 or not all(c in h.columns for c in cols):
+            out[f"{name}_bending_amplitude_Nm"] = 0.0
+            continue
+        proj = h[list(cols)].to_numpy(dtype=float) @ np.stack([np.cos(phi), np.sin(phi)])
+        out[f"{name}_bending_amplitude_Nm"] = float(0.5 * np.ptp(proj, axis=0).max())
+    return out
+
+
+def tortuous_well(cfg: Case3Config, well: dict[str, Any] | None) -> dict[str, Any]:
+    """The well section of the tortuous hole: ``well`` with ``cfg.tortuosity`` (which
+    replaces any tortuosity of the section)."""
+    if cfg.tortuosity is None:
+        raise ValueError("case3.tortuosity is null: there is no tortuous hole to run")
+    return {**(well or {}), "tortuosity": cfg.tortuosity.model_dump(mode="json")}
+
+
 def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
               well: dict[str, Any] | None = None,
               fatigue: FatigueConfig | None = None) -> dict[str, Any]:
     """Run case 3 and write its tables and figures; return the summary dictionary.
 
-    ``well``/``fatigue``: as in :func:`drillfatigue.studies.case2.run_case2`.
+    ``well``/``fatigue``: as in :func:`drillfatigue.studies.case2.run_case2`. The case
+    runs in the well section's hole (the plan: ``case3_life.csv``,
+    ``case3_decomposition.csv``, ``runs/<profile>``) and, when ``cfg.tortuosity`` is set,
+    again in that hole with the tortuosity (``case3_life_tortuous.csv``,
+    ``case3_decomposition_tortuous.csv``, ``runs/<profile>_tortuous``; the summary's
+    ``tortuous`` entry). With ``tortuosity: null`` the outputs are the plan's alone.
     """
     out_dir = Path(out_dir)
+    fat = fatigue if fatigue is not None else study_fatigue()
+    plan = _run_hole(cfg, out_dir / "runs" / cfg.profile, well, fat)
+    table = plan["table"]
+    out_dir.mkdir(parents=True, exist_ok=True)
+    write_csv(out_dir / "case3_life.csv", table)
+    write_csv(out_dir / "case3_decomposition.csv", plan["decomposition"])
+    ours_order = list(table.sort_values("life_h")["s_from_bit_m"])
+    config = cfg.model_dump(mode="json")
+    if cfg.tortuosity is None:
+        config.pop("tortuosity")  # the summary of the plan alone
+    summary = plan["summary"]
+    summ: dict[str, Any] = {
+        "config": config, "recorded_s": plan["span_s"], "wall_s": plan["wall_s"],
+        "simulated_s": float(summary["duration_s"]), "paper_wall_h": PAPER_WALL_H,
+        "paper_window_s": 60.0, "criterion": cfg.criterion, "far_ratio": FAR_RATIO,
+        "n_segments": summary.get("n_segments_final"),
+        "lowest_life_s_from_bit_m": ours_order[0],
+        "nearest_build_lowest": bool(ours_order[0] == max(cfg.s_from_bit_m)),
+        "span_bending_unsolved_samples": summary.get("span_bending_unsolved_samples"),
+        "rows": table.to_dict(orient="records"),
+    }
+    if cfg.mode == "rig":
+        summ["drilling"] = _drilling(out_dir / "runs" / cfg.profile, summary, cfg)
+    tort: dict[str, Any] | None = None
+    if cfg.tortuosity is not None:
+        tort_dir = out_dir / "runs" / f"{cfg.profile}{HOLE_SUFFIX['tortuous']}"
+        tort = _run_hole(cfg, tort_dir, tortuous_well(cfg, well), fat)
+        write_csv(out_dir / "case3_life_tortuous.csv", tort["table"])
+        write_csv(out_dir / "case3_decomposition_tortuous.csv", tort["decomposition"])
+        ts = tort["summary"]
+        summ["tortuous"] = {
+            "tortuosity": cfg.tortuosity.model_dump(mode="json"),
+            "peak_added_dls_deg_per_30m": cfg.tortuosity.peak_added_dls_deg_per_30m,
+            "recorded_s": tort["span_s"], "wall_s": tort["wall_s"],
+            "simulated_s": float(ts["duration_s"]), "n_segments": ts.get("n_segments_final"),
+            "lowest_life_s_from_bit_m":
+                float(tort["table"].sort_values("life_h")["s_from_bit_m"].iloc[0]),
+            "span_bending_unsolved_samples": ts.get("span_bending_unsolved_samples"),
+            "rows": tort["table"].to_dict(orient="records"),
+        }
+        if cfg.mode == "rig":
+            summ["tortuous"]["drilling"] = _drilling(tort_dir, ts, cfg)
+    _figures(out_dir, plan["loads"], plan["picks"], cfg, table, dpi,
+             None if tort is None else tort["table"])
+    write_json(out_dir / "case3_summary.json", summ)
+    return summ
+
+
+def _run_hole(cfg: Case3Config, run_dir: Path, well: dict[str, Any] | None,
+              fat: FatigueConfig) -> dict[str, Any]:
+    """Simulate the case in the hole of ``well`` into ``run_dir`` and evaluate its lives:
+    the life table, the decomposition, the loads, the picked joints, the recorded span,
+    the simulation's wall time (numba compilation excluded) and its summary."""
     # every joint is recorded: the simulator's hole-fit rule sets where the joints are
     case, _ = case_dict(cfg, None, well)
-    run_dir = out_dir / "runs" / cfg.profile
     warm_up(case)  # the wall time below excludes numba compilation
     cc, summary, wall = run_simulation(case, run_dir)
     survey = build_survey(cc.well)
     loads = pd.read_parquet(run_dir / rundir.LOADS)
     t = np.unique(loads["time_s"].to_numpy())
     span = float(t[-1] - t[0] + (t[1] - t[0])) if t.size > 1 else 0.0
-    fat = fatigue if fatigue is not None else study_fatigue()
     jt = pd.read_parquet(run_dir / rundir.JOINTS).set_index("joint")
     picks = picks_from_run(jt, list(cfg.s_from_bit_m))
     sel = sorted({j for j, _ in picks})
@@ -304,27 +390,10 @@ def run_case3(cfg: Case3Config, out_dir: Path, *, dpi: int = 110,
         dmg = {name: float(at.loc[name, "damage"]) for name in LOAD_GROUPS}
         full = float(at.loc["all", "damage"])
         row["dominant_load"] = (max(dmg, key=lambda k: dmg[k]) if full > 0 else "none")
+        row.update(bending_amplitudes_Nm(loads, j))
         rows.append(row)
-    table = pd.DataFrame(rows)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    write_csv(out_dir / "case3_life.csv", table)
-    write_csv(out_dir / "case3_decomposition.csv", dec)
-    ours_order = list(table.sort_values("life_h")["s_from_bit_m"])
-    summ = {
-        "config": cfg.model_dump(mode="json"), "recorded_s": span, "wall_s": wall,
-        "simulated_s": float(summary["duration_s"]), "paper_wall_h": PAPER_WALL_H,
-        "paper_window_s": 60.0, "criterion": cfg.criterion, "far_ratio": FAR_RATIO,
-        "n_segments": summary.get("n_segments_final"),
-        "lowest_life_s_from_bit_m": ours_order[0],
-        "nearest_build_lowest": bool(ours_order[0] == max(cfg.s_from_bit_m)),
-        "span_bending_unsolved_samples": summary.get("span_bending_unsolved_samples"),
-        "rows": table.to_dict(orient="records"),
-    }
-    if cfg.mode == "rig":
-        summ["drilling"] = _drilling(run_dir, summary, cfg)
-    _figures(out_dir, loads, picks, cfg, table, dpi)
-    write_json(out_dir / "case3_summary.json", summ)
-    return summ
+    return {"table": pd.DataFrame(rows), "decomposition": dec, "loads": loads, "picks": picks,
+            "span_s": span, "wall_s": wall, "summary": summary}
 
 
 def _drilling(run_dir: Path, summary: dict[str, Any], cfg: Case3Config) -> dict[str, Any]:
@@ -345,7 +414,8 @@ def _drilling(run_dir: Path, summary: dict[str, Any], cfg: Case3Config) -> dict[
 
 
 def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
-             cfg: Case3Config, table: pd.DataFrame, dpi: int) -> None:
+             cfg: Case3Config, table: pd.DataFrame, dpi: int,
+             tortuous: pd.DataFrame | None = None) -> None:
     fig, ax = subplots(3, 1, figsize=(8, 8), sharex=True)
     for j, s in picks:
         h = loads[loads["joint"] == j]
@@ -368,9 +438,16 @@ def _figures(out_dir: Path, loads: pd.DataFrame, picks: list[tuple[int, float]],
     fig, ax = subplots(figsize=(6, 4))
     x = np.arange(len(table))
     life = table["life_h"].to_numpy(dtype=float)
-    ax.bar(x - 0.2, np.where(np.isfinite(life), life, np.nan), 0.4,
-           label=f"ours, {cfg.criterion}")  # an infinite life (no damage) is left out
-    ax.bar(x + 0.2, table["paper_life_h"], 0.4, label="paper")
+    if tortuous is None:
+        ax.bar(x - 0.2, np.where(np.isfinite(life), life, np.nan), 0.4,
+               label=f"ours, {cfg.criterion}")  # an infinite life (no damage) is left out
+        ax.bar(x + 0.2, table["paper_life_h"], 0.4, label="paper")
+    else:
+        tl = tortuous["life_h"].to_numpy(dtype=float)
+        ax.bar(x - 0.27, np.where(np.isfinite(life), life, np.nan), 0.27,
+               label=f"ours, plan hole, {cfg.criterion}")
+        ax.bar(x, np.where(np.isfinite(tl), tl, np.nan), 0.27, label="ours, tortuous hole")
+        ax.bar(x + 0.27, table["paper_life_h"], 0.27, label="paper")
     ax.set_xticks(x, [f"{v:.0f} m" for v in table["s_from_bit_m"]])
     ax.set_yscale("log")
     ax.set_xlabel("distance behind the bit")

@@ -96,7 +96,10 @@ def _case2_section(d: Path, out: OutputFolder) -> list[str]:
         f"{cfg['string']['dp_segments']} drill-pipe segments (paper: 20 + 100). Loads of joint "
         f"{s['target_joint']}, {s['target_s_from_bit_m']:.0f} m behind the bit (paper: 40 m). "
         f"Critical-plane criterion: {s['criterion']} (connection and body, lower life "
-        f"reported); API RP7G: Lubinski bending in the hole curvature at the joint, body.\n")
+        f"reported); API RP7G: Lubinski bending in the hole curvature at the joint, body. "
+        f"Bending between supports as the simulator's defaults give it (`contact.points: "
+        f"string`, `contact.span_bending: true`: supports at their heights in the span "
+        f"correction, docs/bending.md), in the plan hole.\n")
     if reduced:
         lines.append(
             f"**Reduced run**: the {s['window_s']:g} s window is represented by "
@@ -199,6 +202,35 @@ def _case3_why(r: dict[str, Any]) -> str:
     if ratio is not None and math.isfinite(ratio) and (ratio > 10.0 or ratio < 0.1):
         text += " **More than a factor of 10 from the paper.**"
     return text
+#: Short names of the case-3 load groups in the lives table.
+_CASE3_LOAD_SHORT = {"axial_torsion": "axial, torsion", "joint_bending": "joint bending",
+                     "span_bending": "span correction", "none": "no damage"}
+
+
+def _case3_load_text(r: pd.Series) -> str:
+    """The load that sets a case-3 life and the bending amplitudes there:
+    ``joint bending (14.4 / 17.1 kN·m)`` (rigid joint moment / span correction)."""
+    name = _CASE3_LOAD_SHORT.get(str(r.get("dominant_load")), str(r.get("dominant_load")))
+    j, sp = r.get("joint_bending_amplitude_Nm"), r.get("span_bending_amplitude_Nm")
+    if j is None or sp is None or pd.isna(j) or pd.isna(sp):  # outputs written before
+        return name
+    return f"{name} ({j / 1e3:.1f} / {sp / 1e3:.1f} kN·m)"
+
+
+def case3_lives_table(plan: pd.DataFrame, tortuous: pd.DataFrame | None) -> pd.DataFrame:
+    """Case 3's lives by location: the paper's, the plan hole's and (when run) the
+    tortuous hole's, each with the joint used and the load that sets the life."""
+    out = pd.DataFrame({"s_from_bit_m": plan["s_from_bit_m"],
+                        "paper_life_h": plan["paper_life_h"]})
+    holes = [("plan", plan)] + ([] if tortuous is None else [("tortuous", tortuous)])
+    for name, t in holes:
+        t = t.set_index("s_from_bit_m").reindex(out["s_from_bit_m"])
+        out[f"joint_s_from_bit_m_{name}"] = t["joint_s_from_bit_m"].to_numpy()
+        out[f"life_h_{name}"] = t["life_h"].to_numpy()
+        out[f"load_{name}"] = [_case3_load_text(r) for _, r in t.iterrows()]
+    return out
+
+
 def _case2_drilling_lines(s: dict[str, Any]) -> list[str]:
     """What the rig did in each profile's window (case 2's ``drilling`` metrics)."""
     rows = s.get("drilling") or []
@@ -269,6 +301,37 @@ def _case3_section(d: Path, out: OutputFolder) -> list[str]:
         f"{_fmt(cfg.get('span_bending'))}. Criterion {s['criterion']}; life in hours = "
         "recorded window / damage; each location is the joint nearest its distance. The "
         "paper's location 1 (191 h) is the one nearest the build, 80 m behind the bit.\n")
+    tort: dict[str, Any] = s.get("tortuous") or {}
+    tort_table = (pd.read_csv(d / "case3_life_tortuous.csv")
+                  if tort and (d / "case3_life_tortuous.csv").is_file() else None)
+    lives = case3_lives_table(table, tort_table)
+    if tort_table is not None:
+        tc = tort["tortuosity"]
+        lines.append(
+            f"Lives in the plan hole and in the same hole with a stated tortuosity "
+            f"(`case3.tortuosity`: {tc['model']}, amplitude {tc['amplitude_deg']:g}° over "
+            f"{tc['period_m']:g} m in the {tc.get('direction', 'inclination')} plane from "
+            f"{tc.get('md_start_m', 0.0):g} m MD; peak added dogleg "
+            f"{_fmt(tort['peak_added_dls_deg_per_30m'])}°/30 m; docs/wells.md#tortuosity), "
+            "supports at their heights in the span correction (docs/bending.md), beside the "
+            "paper's. The load that sets each life is the group whose damage alone comes "
+            "nearest the full damage; in brackets the bending amplitude there, rigid joint "
+            "moment / span correction (half the range over the window). The tortuous hole's "
+            "segmentation cuts the collars shorter, so its joints may differ from the plan's "
+            "(joint used):\n")
+    else:
+        lines.append("Lives in the plan hole (`case3.tortuosity: null`), supports at their "
+                     "heights in the span correction (docs/bending.md), beside the paper's, "
+                     "with the load that sets each (bending amplitude there: rigid joint "
+                     "moment / span correction):\n")
+    lines.append(_table(lives, {
+        "s_from_bit_m": "location: behind the bit, m", "paper_life_h": "paper, h",
+        "joint_s_from_bit_m_plan": "plan: joint, m", "life_h_plan": "plan hole, h",
+        "load_plan": "plan: load that sets it",
+        "joint_s_from_bit_m_tortuous": "tortuous: joint, m",
+        "life_h_tortuous": "tortuous hole, h", "load_tortuous": "tortuous: load that sets it"}))
+    lines.append("")
+    lines.append("The plan hole in detail:\n")
     lines.append(_table(table, {
         "s_from_bit_m": "behind the bit, m", "joint_s_from_bit_m": "joint used, m",
         "md_m": "joint MD, m", "life_h": "life, h (ours)", "critical_location": "at",
@@ -308,9 +371,15 @@ def _case3_section(d: Path, out: OutputFolder) -> list[str]:
     lines.append(f"Lowest life at {s['lowest_life_s_from_bit_m']:g} m behind the bit (paper: "
                  f"80 m, nearest the build). Wall time {s['wall_s']:.1f} s for "
                  f"{s['simulated_s']:.0f} s simulated (paper: about 2 h for the 60 s window).\n")
+    if tort_table is not None:
+        lines.append(f"Tortuous hole: lowest life at {tort['lowest_life_s_from_bit_m']:g} m "
+                     f"behind the bit; wall time {tort['wall_s']:.1f} s for "
+                     f"{tort['simulated_s']:.0f} s simulated, {tort['n_segments']} segments "
+                     f"(plan: {s['n_segments']}).\n")
     figs = _copy_figures(d, out, ["case3_loads.png", "case3_life.png"])
     lines += _fig_lines(figs, {"case3_loads.png": "Case 3: loads at 8, 40, 80 m behind the bit",
-                               "case3_life.png": "Case 3: lives, ours and the paper's"})
+                               "case3_life.png": "Case 3: lives, ours (plan and tortuous "
+                                                 "hole) and the paper's"})
     return lines
 
 

@@ -112,6 +112,11 @@ def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
             m[f"life_h_{r['s_from_bit_m']:g}m"] = r["life_h"]
             m[f"life_ratio_to_paper_{r['s_from_bit_m']:g}m"] = r["life_ratio_ours_to_paper"]
             m[f"dominant_load_{r['s_from_bit_m']:g}m"] = r["dominant_load"]
+        for r in (s.get("tortuous") or {}).get("rows", []):
+            m[f"life_h_tortuous_{r['s_from_bit_m']:g}m"] = r["life_h"]
+            m[f"life_ratio_to_paper_tortuous_{r['s_from_bit_m']:g}m"] = \
+                r["life_ratio_ours_to_paper"]
+            m[f"dominant_load_tortuous_{r['s_from_bit_m']:g}m"] = r["dominant_load"]
     else:
         for r in s["rows"]:
             m[f"whirl_ratio_{r['model']}_{r['friction']}"] = r["whirl_ratio"]
