@@ -40,10 +40,12 @@ VOLATILE = ("wall_time_s", "real_time_factor", "versions")
 
 #: options whose library default changed after the references were recorded: the
 #: references keep the values they were recorded with (rigid segments as listed, ends-only
-#: contact points, no span-bending record, no deepest point, steel-only lateral inertia)
+#: contact points, no span-bending record, no deepest point, steel-only lateral inertia,
+#: the torsional mud drag of before Aarsnes & Shor's fit)
 RECORDED_WITH: dict[str, Any] = {
     "string": {"segment_fit_fraction": None, "lateral_mud_mass": False},
     "contact": {"points": "ends", "span_bending": False, "deepest_point": False},
+    "operation": {"mud_damping_torsional_N_m_s_per_m": 0.05},
 }
 
 

@@ -23,8 +23,8 @@ What is pinned (docs/rig.md#off-bottom-stick-slip-and-the-stick-band):
    bands of 80-110 mm/s the simulator took either state (and once no sustained cycle)
    with no order in the band, the reference always the long one.
 4. The torsional mud drag decides whether the default law sustains the stick-slip at
-   60 rpm: the default 0.05 N m s/rad per m removes it in both models, 0.03 (about
-   Aarsnes & Shor's field fit) keeps it; the reference's stick-band law keeps it at 0.05.
+   60 rpm: the former default 0.05 N m s/rad per m removes it in both models, 0.03 (the
+   default since, Aarsnes & Shor's field fit) keeps it; the reference's stick-band law keeps it at 0.05.
 
 Tolerances. Period and break-off torque 10 %: the reference's own grid (20, 10, 5 m
 cells) moves its period by 3 % and its break-off torque by 1 %, the median over four

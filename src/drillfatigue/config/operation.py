@@ -61,7 +61,10 @@ class OperationConfig(StrictModel):
     mud_damping_lateral_N_s_per_m2: float = Field(
         50.0, ge=0.0, le=1e6, description="lateral viscous drag per unit length")
     mud_damping_axial_N_s_per_m2: float = Field(5.0, ge=0.0, le=1e6)
-    mud_damping_torsional_N_m_s_per_m: float = Field(0.05, ge=0.0, le=1e4)
+    # Aarsnes & Shor's field fit (k_t = 50 on their paper's 500-cell grid of 5 7/8 in
+    # pipe, J. Petrol. Sci. Eng. 163 (2018)) is 0.032 per m (docs/rig.md)
+    mud_damping_torsional_N_m_s_per_m: float = Field(
+        0.03, ge=0.0, le=1e4, description="torsional viscous drag per unit length, N m s/rad per m")
 
     @model_validator(mode="after")
     def _check(self) -> OperationConfig:
