@@ -63,6 +63,20 @@ def test_reduced_studies_and_report(tmp_path):
     assert (t2["life_windows_api_rp7g"] > 0).all()
     assert list(t2["paper_life_windows"]) == [10.3, 12.8, 5.9]
     assert sorted(t2["rank_ours"]) == [1, 2, 3]
+    # the default tortuosity: every profile again in its plan with it, beside the plan's
+    t2t = pd.read_csv(d["case2"] / "case2_life_tortuous.csv")
+    assert list(t2t["profile"]) == list(t2["profile"])
+    assert (t2t["life_windows_critical_plane"] > 0).all()
+    assert sorted(t2t["rank_ours"]) == [1, 2, 3]
+    assert sorted(p.name for p in (d["case2"] / "runs").iterdir()) == [
+        "profile_1", "profile_1_tortuous", "profile_2", "profile_2_tortuous", "profile_3",
+        "profile_3_tortuous"]
+    s2 = json.loads((d["case2"] / "case2_summary.json").read_text())
+    assert s2["tortuous"]["tortuosity"]["amplitude_deg"] == 0.5
+    assert sorted(s2["tortuous"]["order_ours"]) == sorted(t2["profile"])
+    m2 = json.loads((tmp_path / "case2.json").read_text())
+    assert m2["life_windows_tortuous_profile_2"] == pytest.approx(
+        t2t["life_windows_critical_plane"][1])
     t3 = pd.read_csv(d["case3"] / "case3_life.csv")
     assert list(t3["s_from_bit_m"]) == [8.0, 40.0, 80.0]
     assert list(t3["paper_life_h"]) == [677.0, 625.0, 191.0]  # 191 h nearest the build
@@ -120,6 +134,8 @@ def test_reduced_studies_and_report(tmp_path):
             "plan: load that sets it | tortuous: joint, m | tortuous hole, h | "
             "tortuous: load that sets it |") in text
     assert "sine, amplitude 0.5° over 30 m" in text
+    assert "Order in the tortuous holes (longest life first)" in text
+    assert "| life, windows (tortuous, critical plane) | life, windows (plan) |" in text
     for paper in ("10.3", "12.8", "5.9", "191", "625", "677", "38 h", "2 h", "47", "test note"):
         assert paper in text, paper
 

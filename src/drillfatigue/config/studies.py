@@ -74,6 +74,10 @@ class Case2Config(StrictModel):
     rig boundaries (autodriller on WOB). Paper scale: ``sample_s: 810,
     settle_s: 10, string.dc_segments: 20, string.dp_segments: 100`` (one
     continuous 800 s window after the start-up).
+
+    ``tortuosity``: as ``case3.tortuosity``: every profile runs again in its plan
+    with this tortuosity, and the lives and order of the tortuous holes are
+    reported beside the plans'. ``null``: the plans only.
     """
 
     profiles: tuple[str, ...] = Field(("profile_1", "profile_2", "profile_3"), min_length=1)
@@ -120,6 +124,11 @@ class Case2Config(StrictModel):
                                            "autodriller settles")
     metrics_skip_s: float = Field(10.0, ge=0.0, le=1e4,
                                   description="start-up left out of the drilling metrics (rig)")
+    tortuosity: TortuosityConfig | None = Field(
+        default_factory=lambda: TortuosityConfig(model="sine", amplitude_deg=0.5,
+                                                 period_m=30.0),
+        description="well.tortuosity of a second run of every profile (the plan with "
+                    "micro-doglegs, as case3.tortuosity); null: the plans only")
 
     @model_validator(mode="after")
     def _check(self) -> Case2Config:

@@ -26,7 +26,10 @@ founding paper's set-up (the bit guided at ``rop_m_per_s``), kept for validation
 
 Outputs in ``out_dir``: ``case2_life.csv``, ``case2_diagnostics.csv``, ``case2_drilling.csv``,
 ``case2_summary.json``, figures ``case2_loads.png``, ``case2_connection_stress.png``,
-``case2_life.png``, and the run folders ``runs/<profile>/sample_<k>``.
+``case2_life.png``, and the run folders ``runs/<profile>/sample_<k>``; with
+``tortuosity`` set, also ``case2_life_tortuous.csv``, ``case2_diagnostics_tortuous.csv``
+and ``runs/<profile>_tortuous/sample_<k>`` (every profile again in its plan with
+that tortuosity).
 """
 
 from __future__ import annotations
@@ -213,10 +216,72 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
 
     ``well``: a ``well`` section defining the profiles (default: the project's
     case-2 family); ``fatigue``: fatigue settings (default: project defaults).
+    Every profile runs in its plan (``case2_life.csv``, ``case2_diagnostics.csv``,
+    ``runs/<profile>``) and, when ``cfg.tortuosity`` is set, again in the plan
+    with that tortuosity (``case2_life_tortuous.csv``, ``runs/<profile>_tortuous``;
+    the summary's ``tortuous`` entry).
     """
     out_dir = Path(out_dir)
     fat = fatigue if fatigue is not None else study_fatigue()
     joint, s_joint = target_joint(cfg)
+    plan = _run_profiles(cfg, out_dir, "", well, fat, joint)
+    table = plan["table"]
+    out_dir.mkdir(parents=True, exist_ok=True)
+    write_csv(out_dir / "case2_life.csv", table)
+    write_csv(out_dir / "case2_diagnostics.csv", pd.DataFrame(plan["diag"]))
+    if plan["drilling"]:
+        write_csv(out_dir / "case2_drilling.csv", pd.DataFrame(plan["drilling"]))
+    order_paper = [p for p in sorted(PAPER_LIFE_WINDOWS, key=lambda p: -PAPER_LIFE_WINDOWS[p])
+                   if p in cfg.profiles]
+    config = cfg.model_dump(mode="json")
+    if cfg.tortuosity is None:
+        config.pop("tortuosity")  # the summary of the plans alone
+    summary: dict[str, Any] = {
+        "config": config,
+        "target_joint": joint, "target_s_from_bit_m": s_joint, "window_s": cfg.window_s,
+        "criterion": cfg.criterion,
+        **_orders(table, order_paper),
+        "wall_s_total": float(table["wall_s"].sum()),
+        "paper_wall_h": PAPER_WALL_H,
+        "rows": table.to_dict(orient="records"),
+        "boundaries": cfg.boundaries,
+        "drilling": plan["drilling"],
+    }
+    if cfg.tortuosity is not None:
+        tort = _run_profiles(cfg, out_dir, "_tortuous",
+                             {**(well or {}), "tortuosity": cfg.tortuosity.model_dump(mode="json")},
+                             fat, joint)
+        write_csv(out_dir / "case2_life_tortuous.csv", tort["table"])
+        write_csv(out_dir / "case2_diagnostics_tortuous.csv", pd.DataFrame(tort["diag"]))
+        summary["tortuous"] = {
+            "tortuosity": cfg.tortuosity.model_dump(mode="json"),
+            "peak_added_dls_deg_per_30m": cfg.tortuosity.peak_added_dls_deg_per_30m,
+            **_orders(tort["table"], order_paper),
+            "wall_s_total": float(tort["table"]["wall_s"].sum()),
+            "rows": tort["table"].to_dict(orient="records"),
+            "drilling": tort["drilling"],
+        }
+    _figures(out_dir, cfg, plan["histories"], table, joint, s_joint, dpi, fat)
+    write_json(out_dir / "case2_summary.json", summary)
+    return summary
+
+
+def _orders(table: pd.DataFrame, order_paper: list[str]) -> dict[str, Any]:
+    """The profiles from the longest life down, by the critical plane and by RP7G, and
+    whether the critical plane's order is the paper's."""
+    order_ours = list(table.sort_values("life_windows_critical_plane",
+                                        ascending=False)["profile"])
+    order_rp7g = list(table.sort_values("life_windows_api_rp7g", ascending=False)["profile"])
+    return {"order_ours": order_ours, "order_api_rp7g": order_rp7g, "order_paper": order_paper,
+            "order_agrees": [p for p in order_ours if p in order_paper] == order_paper}
+
+
+def _run_profiles(cfg: Case2Config, out_dir: Path, suffix: str,
+                  well: dict[str, Any] | None, fat: FatigueConfig,
+                  joint: int) -> dict[str, Any]:
+    """Run every profile's sample windows in the hole ``well`` gives, into
+    ``out_dir/runs/<profile><suffix>/sample_<k>``; return the life table (with ranks),
+    the per-sample diagnostics, the drilling metrics and the load histories."""
     window_s = cfg.window_s
     rows: list[dict[str, Any]] = []
     diag: list[dict[str, Any]] = []
@@ -231,7 +296,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
             case = case_dict(cfg, profile, bit0, joint, well)
             if not rows and k == 0:
                 warm_up(case)  # wall times below exclude numba compilation
-            run_dir = out_dir / "runs" / profile / f"sample_{k}"
+            run_dir = out_dir / "runs" / f"{profile}{suffix}" / f"sample_{k}"
             cc, summary, w = run_simulation(case, run_dir)
             wall += w
             loads = pd.read_parquet(run_dir / rundir.LOADS)
@@ -285,32 +350,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
                                                                  method="min").astype(int)
     table["rank_paper"] = table["paper_life_windows"].rank(ascending=False,
                                                            method="min").astype("Int64")
-    dtab = pd.DataFrame(diag)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    write_csv(out_dir / "case2_life.csv", table)
-    write_csv(out_dir / "case2_diagnostics.csv", dtab)
-    if drilling:
-        write_csv(out_dir / "case2_drilling.csv", pd.DataFrame(drilling))
-    order_ours = list(table.sort_values("life_windows_critical_plane",
-                                        ascending=False)["profile"])
-    order_rp7g = list(table.sort_values("life_windows_api_rp7g", ascending=False)["profile"])
-    order_paper = [p for p in sorted(PAPER_LIFE_WINDOWS, key=lambda p: -PAPER_LIFE_WINDOWS[p])
-                   if p in cfg.profiles]
-    summary = {
-        "config": cfg.model_dump(mode="json"),
-        "target_joint": joint, "target_s_from_bit_m": s_joint, "window_s": window_s,
-        "criterion": cfg.criterion,
-        "order_ours": order_ours, "order_api_rp7g": order_rp7g, "order_paper": order_paper,
-        "order_agrees": [p for p in order_ours if p in order_paper] == order_paper,
-        "wall_s_total": float(table["wall_s"].sum()),
-        "paper_wall_h": PAPER_WALL_H,
-        "rows": table.to_dict(orient="records"),
-        "boundaries": cfg.boundaries,
-        "drilling": drilling,
-    }
-    _figures(out_dir, cfg, histories, table, joint, s_joint, dpi, fat)
-    write_json(out_dir / "case2_summary.json", summary)
-    return summary
+    return {"table": table, "diag": diag, "drilling": drilling, "histories": histories}
 
 
 def _figures(out_dir: Path, cfg: Case2Config, histories: dict[str, list[pd.DataFrame]],

@@ -119,6 +119,7 @@ def _case2_section(d: Path, out: OutputFolder) -> list[str]:
     lines.append(f"Order (longest life first): ours {' > '.join(s['order_ours'])}; API RP7G "
                  f"{' > '.join(s['order_api_rp7g'])}; paper {' > '.join(s['order_paper'])}. "
                  f"Agrees with the paper: {_fmt(s['order_agrees'])}.\n")
+    lines += _case2_tortuous_lines(s, d)
     lines += _case2_drilling_lines(s)
     agg = diag.groupby("profile").agg(
         dls_mean=("local_dls_deg_per_30m", "mean"),
@@ -229,6 +230,36 @@ def case3_lives_table(plan: pd.DataFrame, tortuous: pd.DataFrame | None) -> pd.D
         out[f"life_h_{name}"] = t["life_h"].to_numpy()
         out[f"load_{name}"] = [_case3_load_text(r) for _, r in t.iterrows()]
     return out
+
+
+def _case2_tortuous_lines(s: dict[str, Any], d: Path) -> list[str]:
+    """The profiles again in their plans with the configured tortuosity (``case2.tortuosity``)."""
+    tort = s.get("tortuous")
+    if tort is None or not (d / "case2_life_tortuous.csv").is_file():
+        return ["Tortuous holes: not run (`case2.tortuosity: null`).\n"]
+    tc = tort["tortuosity"]
+    table = pd.read_csv(d / "case2_life_tortuous.csv")
+    plan = pd.read_csv(d / "case2_life.csv").set_index("profile")
+    table["plan_life_windows"] = table["profile"].map(plan["life_windows_critical_plane"])
+    lines = [
+        f"The same profiles in their plans with a stated tortuosity (`case2.tortuosity`: "
+        f"{tc['model']}, amplitude {tc['amplitude_deg']:g}° over {tc['period_m']:g} m, peak "
+        f"added dogleg {_fmt(tort['peak_added_dls_deg_per_30m'])}°/30 m; "
+        "docs/wells.md#tortuosity):\n",
+        _table(table, {
+            "profile": "profile",
+            "life_windows_critical_plane": "life, windows (tortuous, critical plane)",
+            "plan_life_windows": "life, windows (plan)",
+            "life_windows_connection": "connection", "life_windows_body": "body",
+            "life_windows_api_rp7g": "life, windows (tortuous, API RP7G)",
+            "paper_life_windows": "life, windows (paper)", "rank_ours": "rank ours",
+            "rank_paper": "rank paper"}),
+        "",
+        f"Order in the tortuous holes (longest life first): ours "
+        f"{' > '.join(tort['order_ours'])}; API RP7G {' > '.join(tort['order_api_rp7g'])}; "
+        f"paper {' > '.join(tort['order_paper'])}. Agrees with the paper: "
+        f"{_fmt(tort['order_agrees'])}.\n"]
+    return lines
 
 
 def _case2_drilling_lines(s: dict[str, Any]) -> list[str]:

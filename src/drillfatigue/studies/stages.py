@@ -97,6 +97,12 @@ def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
             m[f"life_windows_{r['profile']}"] = r["life_windows_critical_plane"]
             m[f"life_windows_api_rp7g_{r['profile']}"] = r["life_windows_api_rp7g"]
         m["order_agrees_with_paper"] = s["order_agrees"]
+        tort = s.get("tortuous") or {}
+        for r in tort.get("rows", []):
+            m[f"life_windows_tortuous_{r['profile']}"] = r["life_windows_critical_plane"]
+            m[f"life_windows_api_rp7g_tortuous_{r['profile']}"] = r["life_windows_api_rp7g"]
+        if tort:
+            m["order_agrees_with_paper_tortuous"] = tort["order_agrees"]
         for r in s.get("drilling", []):
             tag = f"{r['profile']}" + (f"_sample{r['sample']}" if r["sample"] else "")
             for key in ("on_bottom_fraction", "wob_error_rel", "mean_rop_m_per_h",
