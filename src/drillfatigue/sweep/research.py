@@ -301,7 +301,8 @@ def _design_record(params: Params, n_cases: int, heldout_cases: int) -> dict[str
 
 
 def _load_or_write_design(folder: OutputFolder, params: Params, n_cases: int,
-                          heldout_cases: int) -> dict[str, pd.DataFrame]:
+                          heldout_cases: int, given: dict[str, pd.DataFrame] | None = None
+                          ) -> dict[str, pd.DataFrame]:
     """The stored design when it is this request's; else design and write it (a stored
     design of another request is refused)."""
     record = _design_record(params, n_cases, heldout_cases)
@@ -314,7 +315,7 @@ def _load_or_write_design(folder: OutputFolder, params: Params, n_cases: int,
                              "not this one", "the same --n-cases, --heldout-cases and sweep "
                              "settings, or a fresh --out")
         return {s: read_cases(folder.path / "design" / f"{s}.parquet") for s in SPLITS}
-    designs = research_design(params, n_cases, heldout_cases)
+    designs = given if given is not None else research_design(params, n_cases, heldout_cases)
     for s in SPLITS:
         write_cases(designs[s], folder.file(f"design/{s}.parquet"))
     info = {**record, "n_train": len(designs["train"]), "n_heldout": len(designs["heldout"]),
@@ -443,10 +444,12 @@ def _progress(done: int, total: int, t0: float, n_run: int, err: Any) -> None:
 def run_research(params: Params, out: str | Path = "data/research", *, n_cases: int,
                  heldout_cases: int, n_workers: int = 2, histories: bool = False,
                  progress: bool = True, scheduler: str = "processes",
-                 case_fn: Callable[[dict[str, Any]], dict[str, Any]] = research_case
-                 ) -> dict[str, Any]:
+                 case_fn: Callable[[dict[str, Any]], dict[str, Any]] = research_case,
+                 designs: dict[str, pd.DataFrame] | None = None) -> dict[str, Any]:
     """Design, run (resumable, see the module doc) and assemble the research dataset.
 
+    ``designs`` (``train`` and ``heldout`` case tables) replaces the design (benchmarks
+    run chosen cases); ``n_cases`` and ``heldout_cases`` then only label it.
     Returns the run's counts: cases done now, skipped (already finished), failed,
     and the assembled rows and cases per split."""
     from drillfatigue.sweep.runner import Case, _open_executor  # the pool the sweep uses
@@ -456,7 +459,7 @@ def run_research(params: Params, out: str | Path = "data/research", *, n_cases: 
     folder = OutputFolder(out, RESEARCH_KIND, "--out", (*DESIGN_FILES, *DATASET_FILES,
                                                         FAILURES_FILE))
     digest, commit = physics_digest(), _commit()
-    designs = _load_or_write_design(folder, params, n_cases, heldout_cases)
+    designs = _load_or_write_design(folder, params, n_cases, heldout_cases, designs)
     tasks, skipped = _tasks(folder, params, designs, digest, commit, histories)
     total = sum(len(designs[s]) for s in SPLITS)
     failures: list[dict[str, Any]] = []
