@@ -18,8 +18,8 @@ fatigue criteria of ``params.yaml``.
 
     ``rows_equal``: the two trees' tables (today's ``damage.parquet`` and the research
     ``train.parquet`` without ``split``), sorted by case, joint and location, compared
-    value for value and dtype for dtype (``max_rel_diff`` over numeric columns
-    otherwise).
+    value for value and dtype for dtype but for ``wall_time_s`` (the simulation's wall
+    time, a measurement) (``max_rel_diff`` over numeric columns otherwise).
 ``profile``
     This tree, one case at a time in one process (numba cache warm), seconds per
     phase: process start and imports, warm-up (kernels loaded from the cache), each
@@ -34,8 +34,10 @@ e.g. a ``git worktree`` of main) or ``--baseline-rev REV`` (``git archive`` of t
 repository's ``src`` and ``params.yaml`` at REV).
 
 Run: ``python benchmarks/case_throughput.py --baseline-rev c93d910 [--cases 6]
-[--workers 2]`` -> benchmarks/results/case_throughput.json. About 10 min on 2 cores
-with a cold numba cache (each tree compiles its kernels once).
+[--workers 2] [--repeat 2]`` -> benchmarks/results/case_throughput.json. About 20 min
+on 2 cores with a cold numba cache (each tree compiles its kernels once). ``cases_per_h``
+counts every timed run of a tree; the trees alternate, so a drifting machine load
+(``load_avg``) favours neither.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ import argparse
 import json
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -223,7 +226,9 @@ def compare_rows(a: Path, b: Path) -> dict[str, Any]:
     import numpy as np
     import pandas as pd
 
-    x, y = pd.read_parquet(a), pd.read_parquet(b)
+    # wall_time_s (the simulation's wall time) is a measurement, different in every run
+    x = pd.read_parquet(a).drop(columns="wall_time_s", errors="ignore")
+    y = pd.read_parquet(b).drop(columns="wall_time_s", errors="ignore")
     keys = ["case_id", "joint", "location"]
     x = x.sort_values(keys, kind="mergesort").reset_index(drop=True)
     y = y.sort_values(keys, kind="mergesort").reset_index(drop=True)
@@ -251,6 +256,7 @@ def main() -> None:
     ap.add_argument("--baseline-rev", default=None)
     ap.add_argument("--cases", type=int, default=6)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--repeat", type=int, default=2, help="timed runs per tree (default 2)")
     ap.add_argument("--work", type=Path, default=None, help="scratch folder (default: a temp one)")
     ap.add_argument("--out", type=Path, default=RESULT)
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -279,27 +285,42 @@ def main() -> None:
                                   capture_output=True, check=True)
             subprocess.run(["tar", "-x", "-C", str(tree)], input=arch.stdout, check=True)
         trees["baseline"], revs["baseline"] = tree, rev
-    result: dict[str, Any] = {"cases": args.cases, "workers": args.workers, "trees": {}}
+    result: dict[str, Any] = {"cases": args.cases, "workers": args.workers,
+                              "repeat": args.repeat, "trees": {}}
     for name, tree in trees.items():
         print(f"{name}: warm-up run (fills numba's cache, not timed)", flush=True)
         _run_child(tree, "throughput", work / f"{name}-warm", args.cases, args.workers)
-        print(f"{name}: timed run", flush=True)
-        res, wall = _run_child(tree, "throughput", work / f"{name}-timed", args.cases,
-                               args.workers)
-        result["trees"][name] = {"git": revs[name], "wall_s": wall,
-                                 "cases_per_h": args.cases / wall * 3600.0, **res}
-        print(f"{name}: {wall:.1f} s, {args.cases / wall * 3600.0:.0f} cases/h", flush=True)
+    walls: dict[str, list[float]] = {name: [] for name in trees}
+    for r in range(args.repeat):
+        # the trees take turns, the first one changing every round: a machine whose
+        # load drifts favours neither
+        names = list(trees) if r % 2 == 0 else list(reversed(trees))
+        for name in names:
+            res, wall = _run_child(trees[name], "throughput", work / f"{name}-timed-{r}",
+                                   args.cases, args.workers)
+            walls[name].append(wall)
+            result["trees"][name] = {"git": revs[name], **res}
+            print(f"{name} round {r}: {wall:.1f} s, {args.cases / wall * 3600.0:.0f} cases/h, "
+                  f"load {os.getloadavg()[0]:.1f}", flush=True)
+    for name in trees:
+        total = sum(walls[name])
+        result["trees"][name].update(wall_s=walls[name],
+                                     cases_per_h=args.cases * len(walls[name]) / total * 3600.0)
     if "baseline" in trees:
         b, t = result["trees"]["baseline"], result["trees"]["this"]
         result["ratio_cases_per_h"] = t["cases_per_h"] / b["cases_per_h"]
-        result["rows"] = compare_rows(work / "baseline-timed" / "rows.parquet",
-                                      work / "this-timed" / "rows.parquet")
+        result["ratio_per_round"] = [wb / wt for wb, wt in zip(walls["baseline"], walls["this"],
+                                                               strict=True)]
+        result["rows"] = compare_rows(work / "baseline-timed-0" / "rows.parquet",
+                                      work / "this-timed-0" / "rows.parquet")
     print("this: profile", flush=True)
     result["profile"], _ = _run_child(ROOT, "profile", work / "this-profile", args.cases, 1)
     result["machine"] = {"python": platform.python_version(), "cpus": os.cpu_count(),
                          "platform": platform.platform(), "load_avg_at_end": os.getloadavg()}
     args.out.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     print(json.dumps({k: v for k, v in result.items() if k != "profile"}, indent=2))
+    if args.work is None:
+        shutil.rmtree(work, ignore_errors=True)
 
 
 if __name__ == "__main__":

@@ -181,10 +181,12 @@ def case_rows(row: dict[str, Any], inputs: dict[str, Any], work: Path,
     from the same functions the pipeline's simulate and fatigue stages run."""
     cid = str(row["case_id"])
     run_dir, fat_dir = work / "sweep" / cid, work / "fatigue" / cid
-    run_case_converged({"case": inputs["case"], "window": inputs["window"]}, run_dir)
+    uniaxial: list[pd.DataFrame] = []
+    run_case_converged({"case": inputs["case"], "window": inputs["window"]}, run_dir, uniaxial)
+    # the window check evaluated the uniaxial route on the run kept: the fatigue reuses it
     fatigue_case({"run_dir": str(run_dir), "fatigue": inputs["fatigue"],
                   "criteria": inputs["criteria"], "api_rp7g": inputs["api_rp7g"],
-                  "case": inputs["case"]}, fat_dir)
+                  "case": inputs["case"]}, fat_dir, uniaxial[0])
     frame = pd.DataFrame([row])
     rows = build_dataset(frame, work / "sweep", work / "fatigue", inputs["variables"])
     if histories is not None:
@@ -470,7 +472,9 @@ def run_research(params: Params, out: str | Path = "data/research", *, n_cases: 
         _progress(done, total, t0, 0, err)
     first = Case(tasks[0]["marker"]["case_id"], tasks[0]) if tasks else None
     n_run = 0
-    with _open_executor(scheduler, n_workers, case_fn, first) as (make, in_flight, close):
+    # the runner's pool and warm-up hook; the research case takes its task alone
+    with _open_executor(scheduler, n_workers, case_fn,  # type: ignore[arg-type]
+                        first) as (make, in_flight, close):
         todo = list(tasks)
         executor = make() if todo else None
         pending: dict[Future, dict[str, Any]] = {}
