@@ -16,6 +16,11 @@ fatigue criteria of ``params.yaml``.
     * this tree runs :func:`drillfatigue.sweep.research.run_research` on the same
       cases (rows only, one file per case, assembled).
 
+    ``cpu_s_per_case``: CPU seconds (user + system) of the command and every process it
+    starts, per case; ``cases_per_h_on_idle_cores`` = workers x 3600 / that: the rate of
+    a machine whose cores do nothing else (the wall time of a shared machine depends on
+    its other load, and a process with more threads takes a larger share of it).
+
     ``rows_equal``: the two trees' tables (today's ``damage.parquet`` and the research
     ``train.parquet`` without ``split``), sorted by case, joint and location, compared
     value for value and dtype for dtype but for ``wall_time_s`` (the simulation's wall
@@ -213,13 +218,42 @@ def _run_child(tree: Path, mode: str, work: Path, n: int, workers: int) -> tuple
            "NUMBA_CACHE_DIR": str(work.parent / f"numba-{tree.name}")}
     work.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    res = subprocess.run([sys.executable, __file__, "--child", mode, "--tree", str(tree),
-                          "--work", str(work), "--cases", str(n), "--workers", str(workers)],
-                         env=env, cwd=tree, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    if res.returncode != 0:
-        raise SystemExit(f"{tree} {mode} failed:\n{res.stderr[-3000:]}")
-    return json.loads(res.stdout.strip().splitlines()[-1]), wall
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen([sys.executable, __file__, "--child", mode, "--tree", str(tree),
+                                 "--work", str(work), "--cases", str(n), "--workers",
+                                 str(workers)], env=env, cwd=tree, stdout=out, stderr=err,
+                                text=True, start_new_session=True)
+        cpu = _session_cpu_s(proc)
+        wall = time.perf_counter() - t0
+        out.seek(0)
+        err.seek(0)
+        stdout, stderr = out.read(), err.read()
+    if proc.returncode != 0:
+        raise SystemExit(f"{tree} {mode} failed:\n{stderr[-3000:]}")
+    return {**json.loads(stdout.strip().splitlines()[-1]), "cpu_s": cpu}, wall
+
+
+def _session_cpu_s(proc: subprocess.Popen, every_s: float = 0.2) -> float:
+    """CPU seconds (user + system) of every process of ``proc``'s session until it ends:
+    the command, its pools' workers and their servers. Sampled from /proc every
+    ``every_s``; a process's last ``every_s`` before it exits is not counted."""
+    tick = os.sysconf("SC_CLK_TCK")
+    seen: dict[int, float] = {}
+    while True:
+        for d in Path("/proc").iterdir():
+            if not d.name.isdigit():
+                continue
+            try:
+                stat = (d / "stat").read_text()
+            except OSError:
+                continue
+            fields = stat[stat.rindex(")") + 2:].split()
+            if int(fields[3]) != proc.pid:  # session id
+                continue
+            seen[int(d.name)] = (int(fields[11]) + int(fields[12])) / tick
+        if proc.poll() is not None:
+            return sum(seen.values())
+        time.sleep(every_s)
 
 
 def compare_rows(a: Path, b: Path) -> dict[str, Any]:
@@ -257,6 +291,8 @@ def main() -> None:
     ap.add_argument("--cases", type=int, default=6)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--repeat", type=int, default=2, help="timed runs per tree (default 2)")
+    ap.add_argument("--profile", action=argparse.BooleanOptionalAction, default=True,
+                    help="profile this tree's phases (--no-profile keeps the last profile)")
     ap.add_argument("--work", type=Path, default=None, help="scratch folder (default: a temp one)")
     ap.add_argument("--out", type=Path, default=RESULT)
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -291,6 +327,7 @@ def main() -> None:
         print(f"{name}: warm-up run (fills numba's cache, not timed)", flush=True)
         _run_child(tree, "throughput", work / f"{name}-warm", args.cases, args.workers)
     walls: dict[str, list[float]] = {name: [] for name in trees}
+    cpus: dict[str, list[float]] = {name: [] for name in trees}
     for r in range(args.repeat):
         # the trees take turns, the first one changing every round: a machine whose
         # load drifts favours neither
@@ -299,22 +336,35 @@ def main() -> None:
             res, wall = _run_child(trees[name], "throughput", work / f"{name}-timed-{r}",
                                    args.cases, args.workers)
             walls[name].append(wall)
+            cpus[name].append(res.pop("cpu_s"))
             result["trees"][name] = {"git": revs[name], **res}
-            print(f"{name} round {r}: {wall:.1f} s, {args.cases / wall * 3600.0:.0f} cases/h, "
+            print(f"{name} round {r}: {wall:.1f} s wall, {cpus[name][-1]:.1f} CPU s, "
                   f"load {os.getloadavg()[0]:.1f}", flush=True)
     for name in trees:
-        total = sum(walls[name])
-        result["trees"][name].update(wall_s=walls[name],
-                                     cases_per_h=args.cases * len(walls[name]) / total * 3600.0)
+        n_runs = len(walls[name])
+        cpu_case = sum(cpus[name]) / (args.cases * n_runs)
+        result["trees"][name].update(
+            wall_s=walls[name], cpu_s=cpus[name],
+            cases_per_h=args.cases * n_runs / sum(walls[name]) * 3600.0,
+            cpu_s_per_case=cpu_case,
+            cases_per_h_on_idle_cores=args.workers * 3600.0 / cpu_case)
     if "baseline" in trees:
         b, t = result["trees"]["baseline"], result["trees"]["this"]
         result["ratio_cases_per_h"] = t["cases_per_h"] / b["cases_per_h"]
         result["ratio_per_round"] = [wb / wt for wb, wt in zip(walls["baseline"], walls["this"],
                                                                strict=True)]
+        result["ratio_cpu_s_per_case"] = b["cpu_s_per_case"] / t["cpu_s_per_case"]
         result["rows"] = compare_rows(work / "baseline-timed-0" / "rows.parquet",
                                       work / "this-timed-0" / "rows.parquet")
-    print("this: profile", flush=True)
-    result["profile"], _ = _run_child(ROOT, "profile", work / "this-profile", args.cases, 1)
+    if args.profile:
+        print("this: profile", flush=True)
+        prof, _ = _run_child(ROOT, "profile", work / "this-profile", args.cases, 1)
+        result["profile"] = {"git": revs["this"], **prof}
+    elif args.out.is_file():  # keep the last profile, with the revision it was taken at
+        last = json.loads(args.out.read_text(encoding="utf-8"))
+        if "profile" in last:
+            result["profile"] = {"git": last.get("profile", {}).get("git")
+                                 or last["trees"]["this"].get("git"), **last["profile"]}
     result["machine"] = {"python": platform.python_version(), "cpus": os.cpu_count(),
                          "platform": platform.platform(), "load_avg_at_end": os.getloadavg()}
     args.out.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
