@@ -97,7 +97,9 @@ def _rate_change(run_dir: str | Path, cfg: FatigueConfig,
     with tempfile.TemporaryDirectory(prefix="window-") as tmp:
         head = Path(tmp)
         loads = pd.read_parquet(run_dir / rundir.LOADS)
-        loads[loads["time_s"] <= cut].to_parquet(head / rundir.LOADS, index=False)
+        # the governing joint's rows only: the head is evaluated at that joint alone
+        loads[(loads["time_s"] <= cut) & (loads["joint"] == joint)].to_parquet(
+            head / rundir.LOADS, index=False)
         for name in (rundir.JOINTS, rundir.CASE):
             if (run_dir / name).is_file():
                 shutil.copyfile(run_dir / name, head / name)
