@@ -31,7 +31,7 @@ stopped and continued (here or from a fresh clone) assembles the same bytes.
 
 Worker processes run numba's parallel kernels and BLAS on one thread each:
 with one worker per core the cores are already busy, and threads inside a
-worker only compete (the rows are the same, docs/performance.md).
+worker only compete (the rows are the same; docs/performance.md, "A research case").
 """
 
 from __future__ import annotations
