@@ -52,9 +52,11 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
+import numba
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
+from threadpoolctl import threadpool_limits
 
 import drillfatigue
 from drillfatigue.config import Params
@@ -62,7 +64,9 @@ from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
 from drillfatigue.sweep.cases import fatigue_case
 from drillfatigue.sweep.dataset import build_dataset, split_constants
-from drillfatigue.sweep.design import design_cases, inputs_sha256, read_cases, write_cases
+from drillfatigue.sweep.design import (apply_overrides, base_case_from_params, design_cases,
+                                       inputs_sha256, read_cases, write_cases)
+from drillfatigue.sweep.runner import Case, _open_executor
 from drillfatigue.sweep.window import run_case_converged, window_inputs
 
 __all__ = ["PHYSICS_MODULES", "RESEARCH_KIND", "SPLITS", "assemble_research", "physics_digest",
@@ -121,8 +125,9 @@ def research_design(params: Params, n_cases: int, heldout_cases: int
     """The training design (``sweep`` section, ``n_cases``) and the held-out design
     (:func:`drillfatigue.sweep.stages.heldout_params`, ``heldout_cases``; cases shared with
     training left out)."""
-    from drillfatigue.sweep.stages import heldout_params  # the stages import the runner's pool
-    from drillfatigue.sweep.design import base_case_from_params
+    # a worker imports this module: the stages (and the adaptive design they import) stay out
+    # start-up: a case imports only the physics digest's modules
+    from drillfatigue.sweep.stages import heldout_params
 
     if n_cases < 1:
         raise InputError("--n-cases", f"must be >= 1, got {n_cases}", ">= 1")
@@ -165,9 +170,6 @@ def _single_threaded() -> None:
     global _SINGLE_THREADED
     if _SINGLE_THREADED:
         return
-    import numba
-    from threadpoolctl import threadpool_limits
-
     numba.set_num_threads(1)
     threadpool_limits(1)
     _SINGLE_THREADED = True
@@ -225,8 +227,6 @@ def research_case(task: dict[str, Any]) -> dict[str, Any]:
 def _warmup(task: dict[str, Any]) -> None:
     """Fill numba's on-disk cache before workers start: one short copy of a case through
     the simulator, every fatigue criterion and the row builder."""
-    from drillfatigue.sweep.design import apply_overrides
-
     inputs = task["inputs"]
     short = apply_overrides(inputs["case"], {"operation.duration_s": 0.05,
                                              "recording.start_s": 0.0,
@@ -454,8 +454,6 @@ def run_research(params: Params, out: str | Path = "data/research", *, n_cases: 
     run chosen cases); ``n_cases`` and ``heldout_cases`` then only label it.
     Returns the run's counts: cases done now, skipped (already finished), failed,
     and the assembled rows and cases per split."""
-    from drillfatigue.sweep.runner import Case, _open_executor  # the pool the sweep uses
-
     if n_workers < 1:
         raise InputError("--workers", f"must be >= 1, got {n_workers}", ">= 1")
     folder = OutputFolder(out, RESEARCH_KIND, "--out", (*DESIGN_FILES, *DATASET_FILES,
