@@ -1,4 +1,4 @@
-"""``drillfatigue sweep design|run`` and ``drillfatigue dataset build|card|export``.
+"""``drillfatigue sweep design|run`` and ``drillfatigue dataset build|card|export|research``.
 
 ``sweep run`` runs the whole chain outside DVC (design, simulate, fatigue,
 dataset) with the same library functions as the pipeline stages; it is
@@ -107,3 +107,27 @@ def export(histories: bool = typer.Option(False, "--histories",
         params, "sweep", "dataset export without --sweep-dir").sweep.sweep_dir)
     path = export_histories(root, out)
     print(f"histories -> {path}/loads, {path}/channels (partitioned by case_id)")
+
+
+@dataset_app.command("research")
+def research(params: Path = ParamsOpt,
+             n_cases: int = typer.Option(2048, "--n-cases", min=1,
+                                         help="training cases (sweep.seed)"),
+             heldout_cases: int = typer.Option(128, "--heldout-cases", min=0,
+                                               help="held-out cases (heldout.seed)"),
+             out: Path = typer.Option(Path("data/research"), "--out"),
+             workers: int = typer.Option(2, "--workers", min=1),
+             histories: bool = typer.Option(False, "--histories",
+                                            help="also keep each case's run folder"),
+             progress: bool = typer.Option(True, "--progress/--no-progress")) -> None:
+    """Generate the research dataset: one rows file per finished case (resumable from a
+    fresh clone), assembled into OUT/dataset/{train,heldout}.parquet."""
+    from drillfatigue.sweep.research import run_research  # start-up: the sweep's pool, ~1 s
+
+    p = load_params_requiring(params, "sweep", "dataset research")
+    res = run_research(p, out, n_cases=n_cases, heldout_cases=heldout_cases,
+                       n_workers=workers, histories=histories, progress=progress)
+    print(f"research: {res['n_run']} run, {res['n_skipped']} already done, "
+          f"{res['n_failed']} failed; train {res['n_rows_train']} rows of "
+          f"{res['n_cases_train']} cases, heldout {res['n_rows_heldout']} rows of "
+          f"{res['n_cases_heldout']} cases -> {out}/dataset")

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -319,7 +319,9 @@ def _run_case(run_dir: Path) -> Any:
 
 def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None, *,
                  joints: Sequence[int] | None = None, criterion: str | None = None,
-                 rp7g_baseline: bool = True) -> pd.DataFrame:
+                 rp7g_baseline: bool = True,
+                 uniaxial_damage: Mapping[tuple[int, str], float] | None = None
+                 ) -> pd.DataFrame:
     """Fatigue damage of every selected joint and location of a run.
 
     Parameters
@@ -342,6 +344,11 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
         string and operation: also write ``api_rp7g.parquet``
         (:func:`api_rp7g_baseline`, beside the dynamic body damage rate) and
         put both in ``summary.json`` and the damage-along-string plot.
+    uniaxial_damage : mapping, optional
+        The ``uniaxial_damage`` of every selected (joint, location), already
+        evaluated on this run with these settings (an evaluation with criterion
+        ``uniaxial``): the uniaxial route is not run again. Ignored with
+        ``residue: carry`` or ``load_classes`` (their uniaxial route differs).
 
     Returns
     -------
@@ -386,6 +393,8 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     jrow = jt.set_index("joint")
     rows: list[dict[str, Any]] = []
     crit_info: dict[tuple[int, str], Any] = {}
+    given = (uniaxial_damage if crit != "uniaxial" and cfg.residue != "carry"
+             and cfg.load_classes is None else None)
     for j in sel:
         info = jrow.loc[j]
         t, L, md = per_joint[j]
@@ -407,8 +416,8 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                 n_refine_points=cfg.n_refine_points,
                 residue=cfg.residue, mean_stress=cfg.mean_stress, ultimate_Pa=grade.tensile_Pa,
                 walker_gamma=cfg.walker_gamma, compressive_alpha=cfg.compressive_alpha,
-                channels=LT, pressure=pres)
-            uni = res.uniaxial_damage
+                channels=LT, pressure=pres, with_uniaxial=given is None)
+            uni = res.uniaxial_damage if given is None else float(given[(int(j), loc)])
             if cfg.residue == "carry" or cfg.load_classes is not None:
                 Lp = L
                 if pres is not None and not pres.is_zero:

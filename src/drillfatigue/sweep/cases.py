@@ -152,7 +152,8 @@ def api_rp7g_rows(run_dir: Path, case: dict[str, Any], cfg: Any) -> list[dict[st
     return out.to_dict("records")
 
 
-def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
+def fatigue_case(task: dict[str, Any], case_dir: Path,
+                 uniaxial: pd.DataFrame | None = None) -> Any:
     """Evaluate the fatigue of one finished run into ``case_dir``.
 
     Writes ``damage.parquet``: the rows of :func:`drillfatigue.fatigue.evaluate_run`
@@ -161,12 +162,23 @@ def fatigue_case(task: dict[str, Any], case_dir: Path) -> Any:
     and the case are given, and (with the case) the hole-geometry columns of
     :func:`position_columns`; and ``summary.json``
     (rows, criteria, max damage rate).
+
+    ``uniaxial``: the run's evaluation with criterion ``uniaxial`` over every joint and
+    location, already made with these settings (the window check's,
+    :func:`drillfatigue.sweep.window.run_case_converged`): the other criteria reuse its
+    ``uniaxial_damage`` instead of running the uniaxial route again (same numbers).
     """
     cfg = validate(FatigueConfig, task["fatigue"], "fatigue")
     run_dir = Path(task["run_dir"])
     criteria = list(task.get("criteria") or [cfg.criterion])
     others = [c for c in criteria if c != "uniaxial"]
-    parts = [evaluate_run(run_dir, cfg, None, criterion=c) for c in others]
+    given = None
+    if uniaxial is not None:
+        given = {(int(j), str(loc)): float(u) for j, loc, u in
+                 zip(uniaxial["joint"], uniaxial["location"], uniaxial["uniaxial_damage"],
+                     strict=True)}
+    parts = [evaluate_run(run_dir, cfg, None, criterion=c, uniaxial_damage=given)
+             for c in others]
     if "uniaxial" in criteria:
         if parts and cfg.residue != "carry" and cfg.load_classes is None:
             # evaluate_run's uniaxial_damage column is the uniaxial route's

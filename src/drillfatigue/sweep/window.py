@@ -75,6 +75,13 @@ def governing_rate_change(run_dir: str | Path, cfg: FatigueConfig,
         over its first ``head_fraction``, ``record_s`` (length of the record)
         and ``rate_change_rel`` (see the module doc).
     """
+    return _rate_change(run_dir, cfg, head_fraction)[0]
+
+
+def _rate_change(run_dir: str | Path, cfg: FatigueConfig,
+                 head_fraction: float = HEAD_FRACTION) -> tuple[dict[str, Any], pd.DataFrame]:
+    """:func:`governing_rate_change` and the uniaxial evaluation of the whole record it
+    is taken from (:func:`drillfatigue.fatigue.run.evaluate_run`, criterion ``uniaxial``)."""
     run_dir = Path(run_dir)
     full = evaluate_run(run_dir, cfg, None, criterion="uniaxial")
     t = pd.read_parquet(run_dir / rundir.LOADS, columns=["time_s"])["time_s"].to_numpy(dtype=float)
@@ -83,14 +90,16 @@ def governing_rate_change(run_dir: str | Path, cfg: FatigueConfig,
     out: dict[str, Any] = {"joint": None, "location": None, "rate_per_h": 0.0,
                            "head_rate_per_h": 0.0, "record_s": record_s, "rate_change_rel": 0.0}
     if not len(full) or not float(full["damage"].max()) > 0.0 or record_s <= 0.0:
-        return out
+        return out, full
     row = full.loc[full["damage"].idxmax()]
     joint, location = int(row["joint"]), str(row["location"])
     cut = t0 + head_fraction * record_s
     with tempfile.TemporaryDirectory(prefix="window-") as tmp:
         head = Path(tmp)
         loads = pd.read_parquet(run_dir / rundir.LOADS)
-        loads[loads["time_s"] <= cut].to_parquet(head / rundir.LOADS, index=False)
+        # the governing joint's rows only: the head is evaluated at that joint alone
+        loads[(loads["time_s"] <= cut) & (loads["joint"] == joint)].to_parquet(
+            head / rundir.LOADS, index=False)
         for name in (rundir.JOINTS, rundir.CASE):
             if (run_dir / name).is_file():
                 shutil.copyfile(run_dir / name, head / name)
@@ -102,12 +111,17 @@ def governing_rate_change(run_dir: str | Path, cfg: FatigueConfig,
     head_rate = d_head / (cut - t0) * 3600.0
     out.update(joint=joint, location=location, rate_per_h=rate, head_rate_per_h=head_rate,
                rate_change_rel=abs(rate - head_rate) / rate)
-    return out
+    return out, full
 
 
-def run_case_converged(inputs: dict[str, Any], case_dir: Path) -> dict[str, Any]:
+def run_case_converged(inputs: dict[str, Any], case_dir: Path,
+                       uniaxial: list[pd.DataFrame] | None = None) -> dict[str, Any]:
     """Simulate ``inputs['case']`` into ``case_dir`` with the window chosen as the module
-    doc says (``inputs['window']``: :func:`window_inputs`); return the run's summary."""
+    doc says (``inputs['window']``: :func:`window_inputs`); return the run's summary.
+
+    ``uniaxial``: a list that receives the uniaxial evaluation of the run kept (every
+    joint and location; the window check made it), which
+    :func:`drillfatigue.sweep.cases.fatigue_case` can reuse."""
     case, win = inputs["case"], inputs["window"]
     cfg = validate(FatigueConfig, win["fatigue"], "fatigue")
     window = float(win["first_s"])
@@ -116,7 +130,7 @@ def run_case_converged(inputs: dict[str, Any], case_dir: Path) -> dict[str, Any]
     while True:
         summary = run_case(apply_overrides(case, {win["path"]: window}, "sweep.window_path"),
                            Path(case_dir))
-        check = governing_rate_change(case_dir, cfg)
+        check, full = _rate_change(case_dir, cfg)
         tries.append({"window_s": window, **check})
         converged = check["rate_change_rel"] <= tol
         if converged or window >= max_s or not math.isfinite(check["rate_change_rel"]):
@@ -125,6 +139,8 @@ def run_case_converged(inputs: dict[str, Any], case_dir: Path) -> dict[str, Any]
     record = {"window_s": window, "converged": bool(converged), "tol_rel": tol,
               "rate_change_rel": check["rate_change_rel"], "tries": tries}
     atomic_write_text(Path(case_dir) / WINDOW_FILE, json.dumps(record, indent=2) + "\n")
+    if uniaxial is not None:
+        uniaxial.append(full)
     return summary
 
 
