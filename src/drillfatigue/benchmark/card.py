@@ -99,6 +99,16 @@ def git_commit(repo: str | Path = ".") -> str:
     return out.stdout.strip() or "unknown"
 
 
+def commit_date(commit: str, repo: str | Path = ".") -> str | None:
+    """ISO date (YYYY-MM-DD) of ``commit`` in the repository, or None when unknown."""
+    try:
+        out = subprocess.run(["git", "-C", str(repo), "show", "-s", "--format=%cs", commit],
+                             capture_output=True, text=True, check=True, timeout=30)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return out.stdout.strip() or None
+
+
 def read_spread(path: str | Path | None) -> dict[str, Any] | None:
     """The replicates stage's ``spread.json``, or None when there is none."""
     if path is None or not Path(path).is_file():
@@ -133,7 +143,7 @@ def croissant(frames: Mapping[str, pd.DataFrame], dataset_dir: str | Path, *,
                                            f"{len(frame)} rows",
                             "key": [{"@id": f"{split}/{k}"} for k in KEY_COLUMNS],
                             "field": fields})
-    return {
+    doc: dict[str, Any] = {
         "@context": CROISSANT_CONTEXT, "@type": "sc:Dataset", "name": DATASET_NAME,
         "description": "Fatigue damage rate of drill-string component locations (pipe body, "
                        "connection, upset) simulated by drillfatigue's drill-string dynamics "
@@ -153,6 +163,10 @@ def croissant(frames: Mapping[str, pd.DataFrame], dataset_dir: str | Path, *,
         "creator": {"@type": "sc:Organization", "name": "drillfatigue contributors"},
         "distribution": files, "recordSet": record_sets,
     }
+    published = commit_date(commit)
+    if published is not None:  # the day of the commit that generated the data
+        doc["datePublished"] = published
+    return doc
 
 
 def _front_matter(frames: Mapping[str, pd.DataFrame], roles: Mapping[str, str], *,
