@@ -78,7 +78,7 @@ def test_croissant_structure(folder: Path) -> None:
         assert doc[key], key
     files = {f["@id"]: f for f in doc["distribution"]}
     assert set(files) == {"train.parquet", "heldout.parquet"}
-    for fid, f in files.items():
+    for f in files.values():
         assert f["@type"] == "cr:FileObject" and f["encodingFormat"] == "application/x-parquet"
         assert f["sha256"] == hashlib.sha256((folder / f["contentUrl"]).read_bytes()).hexdigest()
     ids = set(files)
