@@ -86,7 +86,42 @@ def test_leaderboard_fits_scores_and_writes_the_page(params, design: pd.DataFram
     page = leaderboard_markdown(result, command="drillfatigue dataset leaderboard", note="tiny")
     assert "| gbm |" in page and "| physics |" in page and "drillfatigue dataset leaderboard" in page
     json.dumps(result, default=str)
+    with pytest.raises(InputError, match="hidden_layers"):
+        run_leaderboard(DATA, tmp_path / "lb4", cfg, params.fatigue, models=[],
+                        variants={"bad": {"model": "ensemble", "hidden_layers": []}})
     with pytest.raises(InputError, match="unknown model"):
         run_leaderboard(DATA, tmp_path / "lb2", cfg, params.fatigue, models=["svm"])
     with pytest.raises(InputError, match="needs the held-out cases' design"):
         run_leaderboard(DATA, tmp_path / "lb3", cfg, params.fatigue, models=["physics"])
+
+
+def test_cli_leaderboard_writes_page_and_json(tmp_path: Path,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    from drillfatigue.cli import main
+
+    page, results = tmp_path / "leaderboard.md", tmp_path / "leaderboard.json"
+    assert main(["dataset", "leaderboard", "--dataset", str(DATA), "--models", "physics",
+                 "--design", str(DATA / "heldout_design.parquet"), "--out-dir",
+                 str(tmp_path / "lb"), "--page", str(page), "--json", str(results),
+                 "--params", str(ROOT / "params.yaml"), "--note", "fixture"]) == 0
+    text = page.read_text()
+    assert "| physics |" in text and "fixture" in text
+    assert "drillfatigue dataset leaderboard" in text
+    data = json.loads(results.read_text(),  # strict JSON: NaN written as null
+                      parse_constant=lambda c: pytest.fail(f"{c} in the JSON"))
+    assert set(data["models"]) == {"physics"}
+    capsys.readouterr()
+    assert main(["dataset", "leaderboard", "--dataset", str(DATA), "--models", "physics",
+                 "--out-dir", str(tmp_path / "lb"), "--page", str(page), "--json",
+                 str(results), "--params", str(ROOT / "params.yaml")]) == 2
+    assert "needs the held-out cases' design" in capsys.readouterr().err
+
+
+def test_the_committed_variants_are_valid_surrogate_settings() -> None:
+    from drillfatigue.config.surrogate import SurrogateConfig
+
+    spec = json.loads((ROOT / "benchmarks" / "leaderboard_variants.json").read_text())
+    for name, entry in spec.items():
+        entry = dict(entry)
+        assert entry.pop("model") in ("gbm", "ensemble", "gp"), name
+        SurrogateConfig.model_validate(SurrogateConfig().model_dump() | entry)

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
+from pydantic import ValidationError
 
 from drillfatigue.benchmark.baselines import FITTED, predict_physics
 from drillfatigue.benchmark.splits import DATASET_VERSION, load_splits
@@ -87,7 +88,13 @@ def run_leaderboard(dataset_dir: str | Path, out_dir: str | Path, cfg: Surrogate
         base = spec.pop("model", None)
         if base not in FITTED:
             raise InputError(f"variant {name}", f"model {base!r}", ", ".join(FITTED))
-        entries[name] = (base, cfg.model_copy(update=spec))
+        try:
+            entries[name] = (base, SurrogateConfig.model_validate(cfg.model_dump() | spec))
+        except ValidationError as exc:
+            err = exc.errors()[0]
+            field = ".".join(str(x) for x in err["loc"])
+            raise InputError(f"variant {name}: {field}", err["msg"],
+                             "surrogate settings (docs/surrogate.md)") from None
     if "physics" in entries and design is None:
         raise InputError("--design", "the physics baseline needs the held-out cases' design",
                          "the design's cases.parquet, or --models without physics")
