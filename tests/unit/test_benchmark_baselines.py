@@ -101,7 +101,7 @@ def test_cli_leaderboard_writes_page_and_json(tmp_path: Path,
 
     page, results = tmp_path / "leaderboard.md", tmp_path / "leaderboard.json"
     assert main(["dataset", "leaderboard", "--dataset", str(DATA), "--models", "physics",
-                 "--design", str(DATA / "heldout_design.parquet"), "--out-dir",
+                 "--design", str(DATA / "heldout_design.parquet"), "--out",
                  str(tmp_path / "lb"), "--page", str(page), "--json", str(results),
                  "--params", str(ROOT / "params.yaml"), "--note", "fixture"]) == 0
     text = page.read_text()
@@ -112,7 +112,7 @@ def test_cli_leaderboard_writes_page_and_json(tmp_path: Path,
     assert set(data["models"]) == {"physics"}
     capsys.readouterr()
     assert main(["dataset", "leaderboard", "--dataset", str(DATA), "--models", "physics",
-                 "--out-dir", str(tmp_path / "lb"), "--page", str(page), "--json",
+                 "--out", str(tmp_path / "lb"), "--page", str(page), "--json",
                  str(results), "--params", str(ROOT / "params.yaml")]) == 2
     assert "needs the held-out cases' design" in capsys.readouterr().err
 

@@ -100,7 +100,7 @@ def run_leaderboard(dataset_dir: str | Path, out_dir: str | Path, cfg: Surrogate
                          "the design's cases.parquet, or --models without physics")
     frames = load_splits(dataset_dir)
     train, heldout = frames["train"], frames["heldout"]
-    folder = OutputFolder(out_dir, LEADERBOARD_KIND, "--out-dir",
+    folder = OutputFolder(out_dir, LEADERBOARD_KIND, "--out",
                           [prediction_file(m) for m in entries])
     result: dict[str, Any] = {
         "dataset": {"dir": str(dataset_dir), "version": DATASET_VERSION,

@@ -110,7 +110,7 @@ def score(predictions: Path = typer.Option(..., "--predictions", help="predictio
 
 @dataset_app.command("leaderboard")
 def leaderboard(dataset: Path = _DATASET, params: Path = _PARAMS,
-                out_dir: Path = typer.Option(Path("data/research/leaderboard"), "--out-dir",
+                out_dir: Path = typer.Option(Path("data/research/leaderboard"), "--out", "-o",
                                              help="folder of the baselines' prediction files"),
                 design: Path | None = typer.Option(None, "--design", help="the held-out "
                                                    "design's cases.parquet (physics baseline)"),
