@@ -70,8 +70,9 @@ def test_leaderboard_fits_scores_and_writes_the_page(params, design: pd.DataFram
                                               "gp_max_rows": 80, "hgb_max_iter": 20,
                                               "conformal_folds": 3})
     result = run_leaderboard(DATA, tmp_path / "lb", cfg, params.fatigue, design=design,
-                             variants={"ensemble_small": {"model": "ensemble",
-                                                          "hidden_layers": [16]}},
+                             variants={"ensemble_small": {
+                                 "model": "ensemble", "hidden_layers": [16],
+                                 "features": [*cfg.features, "log10_s_from_bit_m"]}},
                              log=lambda s: None)
     assert set(result["models"]) == {"gbm", "ensemble", "gp", "physics", "ensemble_small"}
     assert result["dataset"]["n_train_cases"] == 6 and result["dataset"]["n_heldout_cases"] == 2
@@ -82,7 +83,7 @@ def test_leaderboard_fits_scores_and_writes_the_page(params, design: pd.DataFram
         assert (LOWER in pred) == (name != "physics") == (UPPER in pred)
         assert 0.0 <= entry["headline"]["factor2_deciding"] <= 1.0 or \
             math.isnan(entry["headline"]["factor2_deciding"])
-    assert result["models"]["ensemble_small"]["overrides"] == {"hidden_layers": [16]}
+    assert result["models"]["ensemble_small"]["overrides"]["hidden_layers"] == [16]
     page = leaderboard_markdown(result, command="drillfatigue dataset leaderboard", note="tiny")
     assert "| gbm |" in page and "| physics |" in page and "drillfatigue dataset leaderboard" in page
     json.dumps(result, default=str)
@@ -125,3 +126,14 @@ def test_the_committed_variants_are_valid_surrogate_settings() -> None:
         entry = dict(entry)
         assert entry.pop("model") in ("gbm", "ensemble", "gp"), name
         SurrogateConfig.model_validate(SurrogateConfig().model_dump() | entry)
+
+
+def test_log_features_are_log10_of_the_column_plus_its_offset() -> None:
+    from drillfatigue.benchmark.baselines import LOG_FEATURES, add_log_features
+
+    frame = load_split("heldout", DATA)
+    out = add_log_features(frame)
+    for col, offset in LOG_FEATURES.items():
+        np.testing.assert_allclose(out[f"log10_{col}"], np.log10(frame[col] + offset))
+    with pytest.raises(InputError, match="has no log"):
+        add_log_features(frame.assign(**{"operation.rpm": 0.0}))

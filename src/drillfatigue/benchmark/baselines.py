@@ -56,6 +56,30 @@ _REV_PER_H_PER_RPM = 60.0
 _RAD_PER_M_PER_DEG_PER_30M = math.pi / 180.0 / 30.0
 
 
+#: Inputs the tuned ensemble also sees on a log scale: column -> offset added before log10
+#: (same unit as the column). Damage grows as a power of speed and bending, and the
+#: distance from the bit spans three decades; a log scale makes those near-linear.
+LOG_FEATURES: dict[str, float] = {"s_from_bit_m": 1.0, "operation.rpm": 0.0,
+                                  "local_dls_deg_per_30m": 0.1,
+                                  "local_max_dls_deg_per_30m": 0.1}
+
+
+def log_feature_name(column: str) -> str:
+    """Name of the derived column ``log10(column + offset)``."""
+    return f"log10_{column}"
+
+
+def add_log_features(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with the :data:`LOG_FEATURES` columns added (``log10_<column>``)."""
+    out = frame.copy()
+    for col, offset in LOG_FEATURES.items():
+        values = out[col].to_numpy(dtype=np.float64) + offset
+        if np.any(values <= 0):
+            raise InputError(col, f"a value <= {-offset} has no log", f"> {-offset}")
+        out[log_feature_name(col)] = np.log10(values)
+    return out
+
+
 def prediction_table(heldout: pd.DataFrame, mu: np.ndarray, lower: np.ndarray | None = None,
                      upper: np.ndarray | None = None) -> pd.DataFrame:
     """Keys of the held-out rows with a prediction (and interval), log10 rate per hour."""
@@ -110,7 +134,13 @@ def fit_predict_gbm(train: pd.DataFrame, heldout: pd.DataFrame, cfg: SurrogateCo
 
 def fit_predict_ensemble(train: pd.DataFrame, heldout: pd.DataFrame, cfg: SurrogateConfig
                          ) -> pd.DataFrame:
-    """The torch deep ensemble with a split-conformal interval on calibration cases."""
+    """The torch deep ensemble with a split-conformal interval on calibration cases.
+
+    Features named ``log10_<column>`` (:data:`LOG_FEATURES`) are derived from
+    their columns first (:func:`add_log_features`).
+    """
+    if any(f.startswith("log10_") for f in cfg.features):
+        train, heldout = add_log_features(train), add_log_features(heldout)
     check_columns(train, cfg)
     groups = train[cfg.group_column].to_numpy()
     cal = calibration_cases(groups, cfg)
