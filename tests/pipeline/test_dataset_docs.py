@@ -28,6 +28,7 @@ def test_the_page_has_each_loader_and_the_score_command() -> None:
         assert needle in code, needle
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(600)
 def test_every_documented_snippet_runs(tmp_path: Path) -> None:
     pytest.importorskip("datasets")

@@ -63,6 +63,7 @@ def test_physics_needs_every_heldout_case_in_the_design(params, design: pd.DataF
         predict_physics(heldout, design.iloc[:1], params.surrogate, FatigueConfig())
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(600)
 def test_leaderboard_fits_scores_and_writes_the_page(params, design: pd.DataFrame,  # type: ignore[no-untyped-def]
                                                      tmp_path: Path) -> None:
