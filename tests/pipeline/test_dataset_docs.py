@@ -24,7 +24,7 @@ FIXTURE = ROOT / "tests" / "data" / "research_dataset"
 def test_the_page_has_each_loader_and_the_score_command() -> None:
     code = "\n".join(b.code for b in blocks(DOC))
     for needle in ("load_split(", "load_datasets(", "load_torch_splits(",
-                   "drillfatigue dataset score", "drillfatigue dataset leaderboard"):
+                   "drillfatigue benchmark score", "drillfatigue benchmark leaderboard"):
         assert needle in code, needle
 
 

@@ -85,8 +85,8 @@ def test_leaderboard_fits_scores_and_writes_the_page(params, design: pd.DataFram
         assert 0.0 <= entry["headline"]["factor2_deciding"] <= 1.0 or \
             math.isnan(entry["headline"]["factor2_deciding"])
     assert result["models"]["ensemble_small"]["overrides"]["hidden_layers"] == [16]
-    page = leaderboard_markdown(result, command="drillfatigue dataset leaderboard", note="tiny")
-    assert "| gbm |" in page and "| physics |" in page and "drillfatigue dataset leaderboard" in page
+    page = leaderboard_markdown(result, command="drillfatigue benchmark leaderboard", note="tiny")
+    assert "| gbm |" in page and "| physics |" in page and "drillfatigue benchmark leaderboard" in page
     json.dumps(result, default=str)
     with pytest.raises(InputError, match="hidden_layers"):
         run_leaderboard(DATA, tmp_path / "lb4", cfg, params.fatigue, models=[],
@@ -102,18 +102,18 @@ def test_cli_leaderboard_writes_page_and_json(tmp_path: Path,
     from drillfatigue.cli import main
 
     page, results = tmp_path / "leaderboard.md", tmp_path / "leaderboard.json"
-    assert main(["dataset", "leaderboard", "--dataset", str(DATA), "--models", "physics",
+    assert main(["benchmark", "leaderboard", "--dataset", str(DATA), "--models", "physics",
                  "--design", str(DATA / "heldout_design.parquet"), "--out",
                  str(tmp_path / "lb"), "--page", str(page), "--json", str(results),
                  "--params", str(ROOT / "params.yaml"), "--note", "fixture"]) == 0
     text = page.read_text()
     assert "| physics |" in text and "fixture" in text
-    assert "drillfatigue dataset leaderboard" in text
+    assert "drillfatigue benchmark leaderboard" in text
     data = json.loads(results.read_text(),  # strict JSON: NaN written as null
                       parse_constant=lambda c: pytest.fail(f"{c} in the JSON"))
     assert set(data["models"]) == {"physics"}
     capsys.readouterr()
-    assert main(["dataset", "leaderboard", "--dataset", str(DATA), "--models", "physics",
+    assert main(["benchmark", "leaderboard", "--dataset", str(DATA), "--models", "physics",
                  "--out", str(tmp_path / "lb"), "--page", str(page), "--json",
                  str(results), "--params", str(ROOT / "params.yaml")]) == 2
     assert "needs the held-out cases' design" in capsys.readouterr().err

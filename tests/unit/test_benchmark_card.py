@@ -112,8 +112,8 @@ def test_croissant_validates_with_mlcroissant_where_installed(folder: Path) -> N
 
 
 def test_cli_card(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["dataset", "card", "--dataset", str(folder), "--commit", "abc"]) == 0
+    assert main(["benchmark", "card", "--dataset", str(folder), "--commit", "abc"]) == 0
     assert (folder / "README.md").is_file() and (folder / "croissant.json").is_file()
     capsys.readouterr()
-    assert main(["dataset", "card", "--dataset", str(folder), "--spread", "nope.json"]) == 2
+    assert main(["benchmark", "card", "--dataset", str(folder), "--spread", "nope.json"]) == 2
     assert "--spread: nope.json not found" in capsys.readouterr().err

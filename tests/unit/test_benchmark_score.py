@@ -85,24 +85,24 @@ def test_cli_scores_a_file_and_refuses_bad_ones(heldout: pd.DataFrame, tmp_path:
     good = tmp_path / "pred.parquet"
     predictions(heldout).to_parquet(good, index=False)
     out = tmp_path / "metrics.json"
-    assert main(["dataset", "score", "--predictions", str(good), "--dataset", str(DATA),
+    assert main(["benchmark", "score", "--predictions", str(good), "--dataset", str(DATA),
                  "--out", str(out)]) == 0
     assert "factor 2, deciding rows" in capsys.readouterr().out
     assert json.loads(out.read_text())["headline"]["factor2_deciding"] == 1.0
     csv = tmp_path / "pred.csv"
     predictions(heldout, interval=None).to_csv(csv, index=False)
-    assert main(["dataset", "score", "--predictions", str(csv), "--dataset", str(DATA)]) == 0
+    assert main(["benchmark", "score", "--predictions", str(csv), "--dataset", str(DATA)]) == 0
     capsys.readouterr()
     for bad, text in ((tmp_path / "missing.parquet", "not found"),
                       (tmp_path / "junk.parquet", "not a readable parquet")):
         if "junk" in bad.name:
             bad.write_text("not parquet")
-        assert main(["dataset", "score", "--predictions", str(bad), "--dataset",
+        assert main(["benchmark", "score", "--predictions", str(bad), "--dataset",
                      str(DATA)]) == 2
         err = capsys.readouterr().err
         assert text in err and err.count("\n") == 1
     partial = tmp_path / "partial.parquet"
     predictions(heldout).iloc[5:].to_parquet(partial, index=False)
-    assert main(["dataset", "score", "--predictions", str(partial), "--dataset",
+    assert main(["benchmark", "score", "--predictions", str(partial), "--dataset",
                  str(DATA)]) == 2
     assert "without a prediction" in capsys.readouterr().err

@@ -41,7 +41,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.plan",
     "drillfatigue.cli.serve",
     "drillfatigue.cli.ledger",
-    "drillfatigue.cli.dataset",
+    "drillfatigue.cli.benchmark",
 )
 
 

@@ -1,4 +1,4 @@
-"""``drillfatigue dataset card|score|leaderboard``: the research dataset as a benchmark.
+"""``drillfatigue benchmark card|score|leaderboard``: the research dataset as a benchmark.
 
 ``card`` writes the dataset folder's ``README.md`` and ``croissant.json``;
 ``score`` scores a model's prediction file on the held-out split with the
@@ -20,9 +20,9 @@ import typer
 from drillfatigue.cli.app import app
 from drillfatigue.errors import InputError
 
-dataset_app = typer.Typer(help="The research dataset: card, scoring, leaderboard.",
-                          no_args_is_help=True)
-app.add_typer(dataset_app, name="dataset")
+benchmark_app = typer.Typer(help="The research dataset: card, scoring, leaderboard.",
+                            no_args_is_help=True)
+app.add_typer(benchmark_app, name="benchmark")
 
 _DATASET = typer.Option(Path("data/research/dataset"), "--dataset", "-d",
                         help="dataset folder (train.parquet, heldout.parquet)")
@@ -48,7 +48,7 @@ def _surrogate_cfg(params: Path) -> Any:
     return load_params(params).surrogate if params.is_file() else SurrogateConfig()
 
 
-@dataset_app.command("card")
+@benchmark_app.command("card")
 def card(dataset: Path = _DATASET, params: Path = _PARAMS,
          command: str = typer.Option("drillfatigue sweep research", "--command",
                                      help="the command that generated the splits"),
@@ -69,7 +69,7 @@ def card(dataset: Path = _DATASET, params: Path = _PARAMS,
     typer.echo(f"wrote {paths[0]} and {paths[1]}")
 
 
-@dataset_app.command("score")
+@benchmark_app.command("score")
 def score(predictions: Path = typer.Option(..., "--predictions", help="prediction file "
                                            "(parquet, or CSV by suffix)"),
           dataset: Path = _DATASET, params: Path = _PARAMS,
@@ -108,7 +108,7 @@ def score(predictions: Path = typer.Option(..., "--predictions", help="predictio
         typer.echo(f"metrics -> {out}")
 
 
-@dataset_app.command("leaderboard")
+@benchmark_app.command("leaderboard")
 def leaderboard(dataset: Path = _DATASET, params: Path = _PARAMS,
                 out_dir: Path = typer.Option(Path("data/research/leaderboard"), "--out", "-o",
                                              help="folder of the baselines' prediction files"),
@@ -151,8 +151,8 @@ def leaderboard(dataset: Path = _DATASET, params: Path = _PARAMS,
     result = run_leaderboard(dataset, out_dir, p.surrogate, p.fatigue, design=design_frame,
                              models=names, variants=spec,
                              log=lambda s: print(s, file=sys.stderr))
-    argv = ["drillfatigue", "dataset", "leaderboard"] + (sys.argv[3:] if len(sys.argv) > 3
-                                                        and sys.argv[1:3] == ["dataset",
+    argv = ["drillfatigue", "benchmark", "leaderboard"] + (sys.argv[3:] if len(sys.argv) > 3
+                                                        and sys.argv[1:3] == ["benchmark",
                                                                               "leaderboard"]
                                                         else [])
     command = " ".join(shlex.quote(a) for a in argv)
