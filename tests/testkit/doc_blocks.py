@@ -13,7 +13,8 @@ marker comment ``<!-- readme-test: MARK (reason) -->``:
 * ``needs-server``: as ``needs-model``, and ``drillfatigue serve`` answers on
   ``localhost:8000`` while the block runs.
 
-docs/ledger.md has a test of its own (:data:`OWN_TESTS`), which knows one more
+docs/ledger.md and docs/dataset.md have tests of their own (:data:`OWN_TESTS`); the
+ledger's knows one more
 marker, ``needs-ledger-server``: ``drillfatigue serve --ledger
 runs/ledger.sqlite`` (the ledger its earlier blocks wrote) answers on
 ``localhost:8000`` while the block runs (:func:`start_server`).
@@ -64,7 +65,8 @@ def blocks(path: Path) -> list[Block]:
 
 
 #: Documents whose commands a test of their own runs and checks the output of.
-OWN_TESTS = {"docs/ledger.md": "tests/pipeline/test_ledger_docs.py"}
+OWN_TESTS = {"docs/ledger.md": "tests/pipeline/test_ledger_docs.py",
+             "docs/dataset.md": "tests/pipeline/test_dataset_docs.py"}
 
 
 def documents() -> list[Path]:

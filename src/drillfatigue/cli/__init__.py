@@ -41,6 +41,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.plan",
     "drillfatigue.cli.serve",
     "drillfatigue.cli.ledger",
+    "drillfatigue.cli.benchmark",
 )
 
 

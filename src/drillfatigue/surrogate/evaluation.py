@@ -214,19 +214,7 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
         y_tr, y_ca = y[sp.train], y[sp.calibration]
         censor = -math.log10(cfg.horizon_h) if cfg.censoring == "likelihood" else None
 
-        # Gaussian process on a subsample
-        rng = np.random.default_rng(cfg.split_seed)
-        n_gp = min(cfg.gp_max_rows, x_tr.shape[0])
-        sub = np.sort(rng.choice(x_tr.shape[0], n_gp, replace=False))
-        d = x_tr.shape[1]
-        kernel = (ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.ones(d), (1e-2, 1e3))
-                  + WhiteKernel(1e-2, (1e-6, 1.0)))
-        gp = GaussianProcessRegressor(kernel, normalize_y=True, random_state=cfg.split_seed,
-                                      n_restarts_optimizer=0)
-        with warnings.catch_warnings():
-            # a length scale at its upper bound means an irrelevant input: expected, not a fault
-            warnings.simplefilter("ignore", ConvergenceWarning)
-            gp.fit(x_tr[sub], y_tr[sub])
+        gp, n_gp = fit_gp(x_tr, y_tr, cfg)
         mu_c, sd_c = gp.predict(x_ca, return_std=True)
         conf = SplitConformal(model.coverage).fit(mu_c, np.maximum(sd_c, 1e-9), y_ca,
                                                   censor_below=censor)
@@ -258,6 +246,41 @@ def evaluate(frame: pd.DataFrame, model: Surrogate, cfg: SurrogateConfig,
     metrics["deciding"] = deciding_metrics(out, models, cfg.horizon_h)
     metrics["monotone_dls"] = monotone
     return metrics, out
+
+
+def fit_gp(x: np.ndarray, y: np.ndarray, cfg: SurrogateConfig
+           ) -> tuple[GaussianProcessRegressor, int]:
+    """The Gaussian-process baseline fitted on a seeded subsample of the rows.
+
+    Constant x anisotropic RBF + white noise, ``normalize_y``, one start of
+    the optimiser; exact GP cost grows as n^3, so at most ``cfg.gp_max_rows``
+    rows (drawn with ``cfg.split_seed``).
+
+    Parameters
+    ----------
+    x : ndarray, shape (n, d)
+        Encoded inputs (:func:`~drillfatigue.surrogate.gbm.design_matrix`).
+    y : ndarray, shape (n,)
+        log10 damage rate per hour.
+
+    Returns
+    -------
+    gp, n_rows
+        The fitted regressor and the number of rows it saw.
+    """
+    rng = np.random.default_rng(cfg.split_seed)
+    n_gp = min(cfg.gp_max_rows, x.shape[0])
+    sub = np.sort(rng.choice(x.shape[0], n_gp, replace=False))
+    d = x.shape[1]
+    kernel = (ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.ones(d), (1e-2, 1e3))
+              + WhiteKernel(1e-2, (1e-6, 1.0)))
+    gp = GaussianProcessRegressor(kernel, normalize_y=True, random_state=cfg.split_seed,
+                                  n_restarts_optimizer=0)
+    with warnings.catch_warnings():
+        # a length scale at its upper bound means an irrelevant input: expected, not a fault
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        gp.fit(x[sub], y[sub])
+    return gp, int(n_gp)
 
 
 def _errs(e: np.ndarray, covered: np.ndarray | None = None, width: np.ndarray | None = None,
