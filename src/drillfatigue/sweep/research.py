@@ -392,13 +392,19 @@ def _write_failures(folder: OutputFolder, failures: list[dict[str, Any]]) -> Non
         frame.reset_index(drop=True).to_parquet(tmp, index=False)
 
 
+#: Columns of a case file that measure the machine that ran it, left out of the tables.
+MEASURED_COLUMNS = ("wall_time_s",)
+
+
 def assemble_research(root: str | Path, params: Params) -> dict[str, int]:
     """Assemble ``dataset/{train,heldout}.parquet`` from the case files of ``root``.
 
     Rows sorted by case_id, joint, location. The training table drops the columns
     constant over it (to ``dataset/constants.json``) but the design variables and the
     surrogate's inputs, as ``data/dataset/damage.parquet``; the held-out table has the
-    training table's columns. Both gain ``split``. Returns rows and cases per split."""
+    training table's columns. Both gain ``split``; neither has :data:`MEASURED_COLUMNS`, so
+    a run stopped and continued assembles the same bytes as one that was not. Returns
+    rows and cases per split."""
     folder = OutputFolder(root, RESEARCH_KIND, "--out")
     designs = {s: read_cases(folder.path / "design" / f"{s}.parquet") for s in SPLITS}
     full: dict[str, pd.DataFrame] = {}
@@ -410,6 +416,9 @@ def assemble_research(root: str | Path, params: Params) -> dict[str, int]:
             if path.is_file():
                 parts.append(read_case_file(path))
         frame = pd.concat(parts, ignore_index=True, sort=False) if parts else pd.DataFrame()
+        # the simulator's wall time measures the machine, not the case: a case run again
+        # after a stop would change the table (the case files keep it)
+        frame = frame.drop(columns=[c for c in MEASURED_COLUMNS if c in frame.columns])
         if len(frame):
             if "whirl_class" in frame.columns:
                 frame["whirl_class"] = frame["whirl_class"].astype("string")
