@@ -27,9 +27,15 @@ from typing import Any
 import numpy as np
 import yaml
 
-from drillfatigue.config import CaseConfig, case_from_dict
-from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.model import straight_path
+from drillfatigue.numba_cache import scope_numba_cache
+
+# before any kernel module is imported: numba's cache keyed by the kernels' source (a
+# cached kernel is not recompiled when a kernel it calls in another module changes)
+scope_numba_cache()
+
+from drillfatigue.config import CaseConfig, case_from_dict  # noqa: E402
+from drillfatigue.dynamics.api import simulate  # noqa: E402
+from drillfatigue.dynamics.model import straight_path  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).resolve().parent / "data"

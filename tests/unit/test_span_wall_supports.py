@@ -12,7 +12,8 @@ chain that sags less than its tool joints' stand-off is solved as on level suppo
 alone can only cut) gets a support at each span's middle and then the same moments as
 the chain solved directly on the halved spans; (3) after the splits no span's middle
 passes the wall; (4) a support on the wall beside a raised one, which the beam would
-pull, is let go of, and the beam then pushes at every wall support.
+pull, is let go of, and the beam then pushes at every wall support; (5) supports decided
+without lateral weight, the wall still bounds the beam under the inertial load it carries.
 """
 
 from __future__ import annotations
@@ -255,3 +256,29 @@ def test_spans_merged_by_releases_are_split_until_inside_the_wall() -> None:
                          rz, rok, q, qz, qw)
     assert st == STATUS_OK
     np.testing.assert_allclose(rz, rz_loop, rtol=1e-12, atol=1e-9)
+
+
+def test_the_wall_bounds_the_beam_under_the_whole_load_too() -> None:
+    """Drill pipe in a vertical stretch (no lateral weight to decide supports with)
+    between two tool joints on the wall 12 joints apart, carrying a whirl's inertial
+    load of 1.5 kN/m across the hole: on the supports the weight decides (its two ends)
+    the span would carry q L^2 / 8 = 2.3 MN m, metres beyond the wall. The wall holds
+    the pipe where that load takes a span's middle beyond it, so the spans end where
+    the pipe's middle stays within the wall (5 q s^4 / (384 EI) below the room, s below
+    6 m here) and no moment reaches the 9.144 m span's q L^2 / 8."""
+    top_s, ei, T, q, qz, qw, rb, Rh, read = _chain(0.0)[3:]
+    sup = np.array([0.0, top_s[-1]])
+    sup_P = np.zeros((2, 3))
+    sup_P[:, 2] = HOLE_R - R_TJ
+    sup_n = np.zeros((2, 3))
+    sup_n[:, 2] = 1.0
+    q_dyn = np.zeros_like(q)
+    q_dyn[:, 1] = 1500.0
+    qz0 = np.zeros_like(qz)
+    rxy = np.zeros((read.size, 2))
+    rz = np.zeros((read.size, 2))
+    rok = np.zeros(read.size, dtype=np.int64)
+    st, cut = _solve_chain(sup, sup_P, sup_n, top_s, ei, T, q_dyn, qz0, qw, rb, Rh, read, rxy,
+                           rz, rok, np.zeros_like(q), qz0, np.zeros_like(qw))
+    assert st == STATUS_OK and not cut.any() and np.all(rok == 1)
+    assert np.abs(rxy).max() < 1500.0 * L_JOINT ** 2 / 8.0

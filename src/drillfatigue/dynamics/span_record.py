@@ -69,7 +69,18 @@ that joint moment + correction is the continuous pipe's moment, counted once
    the stand-offs set where a pipe rests on the wall; decided under the
    inertial load sample by sample, the support set followed the load's noise
    (the split/release iteration cycled in a quarter to a half of a drilling
-   BHA's samples and stopped wherever its budget ran out).
+   BHA's samples and stopped wherever its budget ran out). Under the whole
+   load the wall still bounds the beam: where it takes a span's middle beyond
+   the wall, a mid-span support is added there (up to ``MAX_SPLIT_ROUNDS``
+   rounds, none let go of, so nothing can cycle), on the chord of its two
+   neighbours: the chain does not touch the wall there (it would be a contact
+   support), so it is a bound on the quasi-static beam, not a contact at a
+   height, and adds no settlement. Where the weight has almost no lateral part
+   (drill pipe near a kick-off) the weight leaves spans of tens of metres that
+   the inertial load, ten to thirty times the weight there, would otherwise
+   bend metres beyond the wall (q L^2 / 8 of a 20 m span: about 75 kN m in
+   5 in drill pipe); put on the wall where the beam's middle passes it, such
+   supports stood on opposite walls 1.7 m apart (87 kN m).
 6. The span from the bit: from the bit end (guided on the hole's axis on
    bottom, free off bottom) the string reaches the wall at a tangency point,
    where it meets the wall with the wall's slope and the wall's curvature (the
@@ -191,6 +202,11 @@ SPLIT_TOL_M = 1e-5
 MIN_SPLIT_SPAN_M = 1.0
 #: internal: the supports were changed, solve again
 STATUS_SPLIT = -1
+#: ``may_split`` of :func:`_solve_or_split`: a mid-span support stands on the wall where
+#: the span's middle passes it (the weight's supports; True), or on the chord of its two
+#: neighbours (the bound the wall puts on the beam under the whole load)
+SPLIT_ON_WALL = 1
+SPLIT_ON_CHORD = 2
 #: what a round of :func:`_solve_or_split` did
 ACT_NONE = 0
 ACT_SPLIT = 1
@@ -385,9 +401,14 @@ def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, se
                 if dist - room > SPLIT_TOL_M:
                     split[k] = True
                     nsplit += 1
-                    for c in range(3):
-                        new_n[k, c] = V[c] / dist
-                        new_v[k, c] = room * new_n[k, c]
+                    if may_split == SPLIT_ON_CHORD:
+                        # a bound, not a contact: on its neighbours' chord, no settlement
+                        for c in range(3):
+                            new_v[k, c] = 0.5 * (sup_v[k, c] + sup_v[k + 1, c])
+                    else:
+                        for c in range(3):
+                            new_n[k, c] = V[c] / dist
+                            new_v[k, c] = room * new_n[k, c]
     if nsplit == 0:
         return st, sup_c, sup_v, sup_n, cut, ACT_NONE
     out = np.zeros(m + nsplit)
@@ -487,8 +508,11 @@ def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_q
     pinned at both ends, with the wall supports the beam pulls let go of and mid-span
     supports added where a span reaches the wall or buckles (module docstring, step 5),
     decided under the loads ``dec_q``, ``dec_qz``, ``dec_qw``, then solved under
-    ``seg_q``, ``seg_qz`` on the supports so found: ``(status, cut)`` with the read
-    moments in ``rxy``, ``rz`` and the read points solved flagged in ``rok``."""
+    ``seg_q``, ``seg_qz`` on the supports so found, with mid-span supports added on
+    their neighbours' chord where that load takes a span's middle beyond the wall
+    (none let go of):
+    ``(status, cut)`` with the read moments in ``rxy``, ``rz`` and the read points
+    solved flagged in ``rok``."""
     st = STATUS_OK
     cut = np.zeros(sup_c.shape[0] - 1, dtype=np.int64)
     rounds = 0
@@ -503,7 +527,8 @@ def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_q
         old_c = sup_c
         st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
             sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, dec_q, dec_qz, dec_qw, seg_rb, seg_Rh,
-            read_s, rxy, rz, rok, rounds < MAX_SPLIT_ROUNDS, releases < MAX_RELEASES,
+            read_s, rxy, rz, rok, SPLIT_ON_WALL if rounds < MAX_SPLIT_ROUNDS else 0,
+            releases < MAX_RELEASES,
             banned[:nban])
         if act == ACT_RELEASE:
             # the one support let go of: the first of the old ones missing from the new
@@ -533,10 +558,15 @@ def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_q
             break
     if st != STATUS_OK:
         return st, cut
-    # the whole load on those supports
-    st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
-        sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
-        read_s, rxy, rz, rok, False, False, banned[:0])
+    # the whole load on those supports, bounded by the wall: where it takes a span's middle
+    # beyond the wall a mid-span support on the chord of its neighbours (none let go of)
+    for _r in range(MAX_SPLIT_ROUNDS + 1):
+        st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
+            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
+            read_s, rxy, rz, rok, SPLIT_ON_CHORD if _r < MAX_SPLIT_ROUNDS else 0, False,
+            banned[:0])
+        if act == ACT_NONE:
+            break
     return st, cut
 
 
