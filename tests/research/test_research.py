@@ -56,7 +56,11 @@ def _git(cwd: Path, *args: str) -> None:
 
 
 def _case_files(out: Path) -> list[Path]:
-    return sorted((out / "cases").glob("*/*.parquet")) if (out / "cases").is_dir() else []
+    """Finished case files (an atomic write cut short leaves a hidden temporary file
+    that the next run deletes)."""
+    if not (out / "cases").is_dir():
+        return []
+    return sorted(p for p in (out / "cases").glob("*/*.parquet") if not p.name.startswith("."))
 
 
 @pytest.mark.slow

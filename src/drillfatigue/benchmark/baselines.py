@@ -206,7 +206,7 @@ def physics_log10_rate(rows: pd.DataFrame, case: CaseConfig, fatigue: FatigueCon
         body (Lubinski) acts on the location's section. A rate of zero (no
         curvature, or below the curve's endurance) is returned as -inf.
     """
-    # imported here: the physics baseline alone needs the simulator's soft-string model
+    # start-up: the physics baseline alone loads the simulator's soft-string model
     from drillfatigue.dynamics.torque_drag import torque_drag_for_case
     from drillfatigue.fatigue.rp7g import lubinski_bending_stress_Pa
     from drillfatigue.fatigue.run import build_curve

@@ -121,7 +121,7 @@ def load_datasets(dataset_dir: str | Path = DATASET_DIR,
         ``{"train": Dataset, "heldout": Dataset}``.
     """
     try:
-        import datasets
+        import datasets  # optional: the Hugging Face datasets package
     except ImportError as exc:  # an optional loader: say what to install
         raise InputError("datasets", "the Hugging Face datasets package is not installed",
                          "pip install datasets") from exc

@@ -46,6 +46,7 @@ def json_ready(data: Any) -> Any:
 
 
 def _surrogate_cfg(params: Path) -> Any:
+    # start-up: the benchmark's modules load only when its command runs
     from drillfatigue.config import load_params
     from drillfatigue.config.surrogate import SurrogateConfig
 
@@ -63,6 +64,7 @@ def card(dataset: Path = _DATASET, params: Path = _PARAMS,
                                                  "(the noise ceiling; absent: not measured)")
          ) -> None:
     """Write the dataset's card (README.md) and Croissant metadata (croissant.json)."""
+    # start-up: the benchmark's modules load only when its command runs
     from drillfatigue.benchmark.card import write_card
 
     if spread is not None and not spread.is_file():
@@ -83,6 +85,7 @@ def score(predictions: Path = typer.Option(..., "--predictions", help="predictio
           out: Path | None = typer.Option(None, "--out", "-o", help="write the metrics as JSON")
           ) -> None:
     """Score a model's predictions on the held-out split with the project's metrics."""
+    # start-up: the benchmark's modules load only when its command runs
     from drillfatigue.benchmark.score import read_predictions, score_predictions
     from drillfatigue.benchmark.splits import load_splits
     from drillfatigue.files import atomic_write_text, check_output_file
@@ -130,6 +133,7 @@ def leaderboard(dataset: Path = _DATASET, params: Path = _PARAMS,
                 note: str = typer.Option("", "--note", help="a note shown on the page")
                 ) -> None:
     """Fit the baselines on the train split, score them, write the leaderboard."""
+    # start-up: the benchmark's modules load only when its command runs
     import pandas as pd
 
     from drillfatigue.benchmark.leaderboard import leaderboard_markdown, run_leaderboard
