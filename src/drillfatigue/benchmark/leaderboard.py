@@ -195,28 +195,31 @@ def leaderboard_markdown(result: Mapping[str, Any], *, command: str, note: str =
         more = f" Settings changed: `{extra}`." if extra else ""
         lines.append(f"- **{m}**: {models[m]['description']}.{more}")
     decades = sorted({k for m in order for k in models[m]["deciding"]["by_decade"]}, key=float)
-    lines += ["", "## Factor 2 per decade of the simulated rate (deciding rows)", "",
-              "| decade (1/h) | " + " | ".join(order) + " |",
-              "|---|" + "---|" * len(order)]
-    for k in decades:
-        cells = []
-        for m in order:
-            e = models[m]["deciding"]["by_decade"].get(k)
-            cells.append(f"{_fmt(e['factor2_fraction'])} ({e['n']})" if e else "–")
-        lines.append(f"| {k} | " + " | ".join(cells) + " |")
+    lines += _breakdown(models, order, "by_decade", decades,
+                        "Factor 2 per decade of the simulated rate (deciding rows)",
+                        "decade (1/h)")
     groups = sorted({k for m in order
                      for k in models[m]["deciding"].get("by_component_type_location", {})})
-    lines += ["", "## Factor 2 per component type and location (deciding rows)", "",
-              "| component, location | " + " | ".join(order) + " |",
-              "|---|" + "---|" * len(order)]
-    for k in groups:
-        cells = []
-        for m in order:
-            e = models[m]["deciding"].get("by_component_type_location", {}).get(k)
-            cells.append(f"{_fmt(e['factor2_fraction'])} ({e['n']})" if e and e["n"] else "–")
-        lines.append(f"| {k} | " + " | ".join(cells) + " |")
+    lines += _breakdown(models, order, "by_component_type_location", groups,
+                        "Factor 2 per component type and location (deciding rows)",
+                        "component, location")
     lines += ["", "## Submitting a model", "",
               "Fit on `train.parquet` only, predict every row of `heldout.parquet` and score the "
               "file as [the dataset page](dataset.md#scoring-a-model) shows; the full metrics "
               "of each row above are in `benchmarks/results/leaderboard.json`.", ""]
     return "\n".join(lines)
+
+
+def _breakdown(models: dict[str, Any], order: list[str], key: str, rows: list[str],
+               title: str, head: str) -> list[str]:
+    """A section of the page: factor 2 (rows) of each model per entry of the deciding
+    metrics' ``key`` breakdown, "–" where a model has no row there."""
+    lines = ["", f"## {title}", "", f"| {head} | " + " | ".join(order) + " |",
+             "|---|" + "---|" * len(order)]
+    for k in rows:
+        cells = []
+        for m in order:
+            e = models[m]["deciding"].get(key, {}).get(k)
+            cells.append(f"{_fmt(e['factor2_fraction'])} ({e['n']})" if e and e["n"] else "–")
+        lines.append(f"| {k} | " + " | ".join(cells) + " |")
+    return lines
