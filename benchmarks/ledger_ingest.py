@@ -111,6 +111,19 @@ TWIN_BHA = ([("BIT-1", "bit", 0.3), ("STB-1", "stab", 1.8), ("DC-01", "dc", 9.1)
             + [(f"HW-{i:02d}", "hwdp", 9.3) for i in range(1, 8)])
 
 
+def rig_log(hours: float, seed: int) -> pd.DataFrame:
+    """A 1 Hz rig log of ``hours`` in field column names: drilling from 3000 m at 20 m/h,
+    rpm 120 +- 30 over a 15 min swing with noise, WOB about 90 kN."""
+    n = int(hours * 3600) + 1
+    rng = np.random.default_rng(seed)
+    t = np.arange(n, dtype=np.float64)
+    return pd.DataFrame({
+        "Time (s)": t,
+        "Bit Depth (m)": np.round(3000.0 + t * 20.0 / 3600.0, 3),
+        "RPM (rpm)": np.round(120.0 + 30.0 * np.sin(t / 900.0) + rng.normal(0, 3, n), 1),
+        "WOB (kN)": np.round(np.clip(90.0 + rng.normal(0, 10, n), 0, None), 1)})
+
+
 def write_inputs(folder: Path, hours: float, seed: int = 0) -> tuple[Path, Path]:
     """The tally (300 joints from the bit up) and a 1 Hz log CSV of ``hours``."""
     lines = ["Serial,Type,Length (m)", "BIT-1,bit,0.3"]
@@ -119,14 +132,7 @@ def write_inputs(folder: Path, hours: float, seed: int = 0) -> tuple[Path, Path]
     lines += [f"DP-{i:03d},dp,9.5" for i in range(1, N_JOINTS - 12)]
     tally = folder / "tally.csv"
     tally.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    n = int(hours * 3600) + 1
-    rng = np.random.default_rng(seed)
-    t = np.arange(n, dtype=np.float64)
-    log = pd.DataFrame({
-        "Time (s)": t,
-        "Bit Depth (m)": np.round(3000.0 + t * 20.0 / 3600.0, 3),
-        "RPM (rpm)": np.round(120.0 + 30.0 * np.sin(t / 900.0) + rng.normal(0, 3, n), 1),
-        "WOB (kN)": np.round(np.clip(90.0 + rng.normal(0, 10, n), 0, None), 1)})
+    log = rig_log(hours, seed)
     path = folder / "log.csv"
     log.to_csv(path, index=False, lineterminator="\n")
     return tally, path

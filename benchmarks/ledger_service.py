@@ -38,8 +38,6 @@ import io
 import os
 import platform
 import random
-import socket
-import subprocess
 import sys
 import tempfile
 import threading
@@ -49,7 +47,6 @@ from pathlib import Path
 
 import httpx
 import numpy as np
-import pandas as pd
 
 from drillfatigue.files import atomic_write_json
 from drillfatigue.ledger import export_tables, ingest_chunk, init_ledger, load_joint_tally, start_run
@@ -57,16 +54,13 @@ from drillfatigue.ledger.ingest import read_log_bytes
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from testkit.pg_server import start_server, stop_server  # noqa: E402
+from testkit.served import served  # noqa: E402
+
+from ledger_ingest import rig_log  # noqa: E402  (this folder: the same log as the ingest benchmark)
 
 RESULT = Path(__file__).parent / "results" / "ledger_service.json"
 STANDIN = "python:drillfatigue.ledger.standin:standin_increments"
 READS = ("joints", "retire", "history", "runs")
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 def write_tally(path: Path, run: int, n_joints: int) -> list[str]:
@@ -85,14 +79,8 @@ def write_tally(path: Path, run: int, n_joints: int) -> list[str]:
 
 def log_pieces(run: int, hours: float, chunk_rows: int) -> list[tuple[str, str]]:
     """A 1 Hz log of ``hours`` as (source, rig-style CSV text) pieces of ``chunk_rows``."""
-    n = int(hours * 3600) + 1
-    rng = np.random.default_rng(run)
-    t = np.arange(n, dtype=np.float64)
-    log = pd.DataFrame({
-        "Time (s)": t,
-        "Bit Depth (m)": np.round(3000.0 + t * 20.0 / 3600.0, 3),
-        "RPM (rpm)": np.round(120.0 + 30.0 * np.sin(t / 900.0) + rng.normal(0, 3, n), 1),
-        "WOB (kN)": np.round(np.clip(90.0 + rng.normal(0, 10, n), 0, None), 1)})
+    log = rig_log(hours, seed=run)
+    n = len(log)
     cuts = list(range(0, n, chunk_rows)) + [n]
     if cuts[-1] - cuts[-2] < 2:  # a log file holds >= 2 samples: a last single one joins the piece before
         del cuts[-2]
@@ -230,30 +218,8 @@ def load(url: str, serials: list[str], pieces: dict[int, list[tuple[str, str]]],
 def one_backend(name: str, db: str, ref_db: str, folder: Path, args: argparse.Namespace,
                 pieces: dict[int, list[tuple[str, str]]]) -> dict[str, object]:
     serials = new_ledger(db, folder, args.runs, args.joints)
-    port = _free_port()
-    url = f"http://127.0.0.1:{port}"
-    server = subprocess.Popen([sys.executable, "-m", "drillfatigue", "serve", "--ledger", db,
-                               "--port", str(port)],
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    try:
-        deadline = time.monotonic() + 120.0
-        while True:
-            try:
-                if httpx.get(url + "/healthz", timeout=2.0).status_code == 200:
-                    break
-            except httpx.TransportError:
-                pass
-            if server.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError("server did not start: " + (server.stdout.read()
-                                                               if server.stdout else ""))
-            time.sleep(0.2)
+    with served(["--ledger", db]) as (url, _server):
         res = load(url, serials, pieces, args.ingesters, args.readers, args.runs)
-    finally:
-        server.terminate()
-        try:
-            server.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            server.kill()
     got = export_csv(db)
     want = serial_reference(ref_db, folder, args.runs, args.joints, pieces)
     n_pieces = sum(len(p) for p in pieces.values())

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import socket
 import threading
 import time
 from collections.abc import Iterator
@@ -16,6 +15,7 @@ from drillfatigue.config.base import validate
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.studies.plan import CandidateFile, candidate_rows
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
+from testkit.served import free_port
 
 # the synthetic model's inputs (tests/data/synthetic_twin/README.md), not data/examples
 EXAMPLES = Path(__file__).resolve().parent / "data" / "synthetic_twin"
@@ -62,12 +62,6 @@ def plan_model() -> Surrogate:
     cfg = TINY.model_copy(update={"features": PLAN_FEATURES,
                                   "categorical": ("component_type", "location")})
     return fit_surrogate(df, cfg)
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @contextlib.contextmanager

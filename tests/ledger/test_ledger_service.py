@@ -12,10 +12,7 @@ from __future__ import annotations
 
 import io
 import math
-import subprocess
-import sys
 import threading
-import time
 import warnings
 from pathlib import Path
 
@@ -23,8 +20,9 @@ import httpx
 import numpy as np
 import pandas as pd
 import pytest
-from service_helpers import assert_one_line, free_port, running_server
+from service_helpers import assert_one_line, running_server
 from testkit.ledger_logs import STANDIN, cli_env, export_bytes, make_log, write_log, write_tally
+from testkit.served import served
 
 from drillfatigue.cli import main
 from drillfatigue.ledger import (
@@ -367,25 +365,7 @@ def test_serve_opens_the_ledger_or_says_why_not(tmp_path: Path,
     ingest_chunk(led, "R1", LogChunk(_si(make_log(30, seed=6)), "a"))
     want = len(inventory(led))
     led.dispose()
-    port = free_port()
-    proc = subprocess.Popen([sys.executable, "-m", "drillfatigue", "serve", "--ledger", db,
-                             "--port", str(port)], stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, env=cli_env())
-    try:
-        url = f"http://127.0.0.1:{port}"
-        deadline = time.monotonic() + 60.0
-        while True:
-            try:
-                if httpx.get(url + "/healthz", timeout=2.0).status_code == 200:
-                    break
-            except httpx.TransportError:
-                pass
-            assert proc.poll() is None and time.monotonic() < deadline, (
-                proc.stdout.read() if proc.stdout else "")
-            time.sleep(0.2)
+    with served(["--ledger", db], start_s=60.0, env=cli_env()) as (url, proc):
         assert len(httpx.get(url + "/v1/ledger/joints").json()["rows"]) == want
         assert httpx.get(url + "/v1/models").status_code == 503
-    finally:
-        proc.terminate()
-        proc.wait(timeout=20)
     assert f"serving the ledger {db} on {url}/" in (proc.stdout.read() if proc.stdout else "")

@@ -8,7 +8,6 @@ naming the field and the allowed values, never a 500 or a traceback.
 
 from __future__ import annotations
 
-import sys
 import threading
 import warnings
 from pathlib import Path
@@ -540,26 +539,11 @@ def test_serve_process_answers_and_reloads_on_sighup(folders: dict[str, Path]) -
     """``drillfatigue serve`` as a user starts it: the page, a query, SIGHUP -> generation 2."""
     import os
     import signal
-    import subprocess
     import time
 
-    from service_helpers import free_port
+    from testkit.served import served
 
-    port = free_port()
-    proc = subprocess.Popen([sys.executable, "-m", "drillfatigue", "serve", "--model",
-                             f"demo={folders['synthetic']}", "--port", str(port)],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    url = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 120.0
-        while True:
-            try:
-                if httpx.get(url + "/healthz", timeout=2.0).status_code == 200:
-                    break
-            except httpx.TransportError:
-                pass
-            assert proc.poll() is None and time.monotonic() < deadline, "server did not start"
-            time.sleep(0.2)
+    with served(["--model", f"demo={folders['synthetic']}"]) as (url, proc):
         page = httpx.get(url + "/")
         assert page.status_code == 200 and "plotly-cartesian.min.js" in page.text
         assert httpx.get(url + "/static/vendor/plotly-cartesian.min.js").status_code == 200
@@ -571,9 +555,6 @@ def test_serve_process_answers_and_reloads_on_sighup(folders: dict[str, Path]) -
             assert time.monotonic() < deadline, "no reload after SIGHUP"
             time.sleep(0.2)
         assert httpx.post(url + "/v1/query", json={"rows": [CONDITION]}).json()["generation"] == 2
-    finally:
-        proc.terminate()
-        proc.wait(timeout=30)
 
 
 def test_impossible_lobe_amplitude_is_422_with_the_pipelines_features(
