@@ -161,8 +161,9 @@ def case_folds(groups: np.ndarray, n_folds: int, seed: int) -> np.ndarray:
 _TYPE_OFFSET = {"collar": 0.3, "hwdp": 0.15, "drill_pipe": 0.0, "stabilizer": 0.5}
 _PROFILE_OFFSET = {"build_hold": 0.0, "late_kickoff": 0.25, "double_bend": 0.45}
 #: component positions (m behind the bit) and types of the synthetic string
-_POSITIONS = ((2.0, "stabilizer"), (8.0, "collar"), (20.0, "collar"), (40.0, "collar"),
-              (80.0, "hwdp"), (120.0, "hwdp"), (200.0, "drill_pipe"), (350.0, "drill_pipe"))
+SYNTHETIC_POSITIONS = ((2.0, "stabilizer"), (8.0, "collar"), (20.0, "collar"), (40.0, "collar"),
+                       (80.0, "hwdp"), (120.0, "hwdp"), (200.0, "drill_pipe"),
+                       (350.0, "drill_pipe"))
 
 
 def synthetic_log10_rate(frame: pd.DataFrame) -> np.ndarray:
@@ -205,7 +206,7 @@ def synthetic_noise_sigma(frame: pd.DataFrame) -> np.ndarray:
 
 
 def make_synthetic_dataset(n_cases: int = 100, seed: int = 0,
-                           components: tuple[tuple[float, str], ...] = _POSITIONS) -> pd.DataFrame:
+                           components: tuple[tuple[float, str], ...] = SYNTHETIC_POSITIONS) -> pd.DataFrame:
     """Synthetic damage table with the dataset schema, for tests, benchmarks and smoke runs.
 
     Each case draws operating conditions uniformly (rpm 40-200, WOB 20-200 kN,
