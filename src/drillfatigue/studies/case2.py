@@ -224,7 +224,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
     out_dir = Path(out_dir)
     fat = fatigue if fatigue is not None else study_fatigue()
     joint, s_joint = target_joint(cfg)
-    plan = _run_profiles(cfg, out_dir, "", well, fat, joint)
+    plan = _run_profiles(cfg, out_dir, "", well, fat, joint, warm=True)
     table = plan["table"]
     out_dir.mkdir(parents=True, exist_ok=True)
     write_csv(out_dir / "case2_life.csv", table)
@@ -250,7 +250,7 @@ def run_case2(cfg: Case2Config, out_dir: Path, *, dpi: int = 110,
     if cfg.tortuosity is not None:
         tort = _run_profiles(cfg, out_dir, "_tortuous",
                              {**(well or {}), "tortuosity": cfg.tortuosity.model_dump(mode="json")},
-                             fat, joint)
+                             fat, joint, warm=False)
         write_csv(out_dir / "case2_life_tortuous.csv", tort["table"])
         write_csv(out_dir / "case2_diagnostics_tortuous.csv", pd.DataFrame(tort["diag"]))
         summary["tortuous"] = {
@@ -278,10 +278,11 @@ def _orders(table: pd.DataFrame, order_paper: list[str]) -> dict[str, Any]:
 
 def _run_profiles(cfg: Case2Config, out_dir: Path, suffix: str,
                   well: dict[str, Any] | None, fat: FatigueConfig,
-                  joint: int) -> dict[str, Any]:
+                  joint: int, *, warm: bool) -> dict[str, Any]:
     """Run every profile's sample windows in the hole ``well`` gives, into
     ``out_dir/runs/<profile><suffix>/sample_<k>``; return the life table (with ranks),
-    the per-sample diagnostics, the drilling metrics and the load histories."""
+    the per-sample diagnostics, the drilling metrics and the load histories. ``warm``:
+    compile the kernels on the first case first (once per study)."""
     window_s = cfg.window_s
     rows: list[dict[str, Any]] = []
     diag: list[dict[str, Any]] = []
@@ -294,7 +295,7 @@ def _run_profiles(cfg: Case2Config, out_dir: Path, suffix: str,
         histories[profile] = []
         for k, bit0 in enumerate(sample_bit_md(cfg)):
             case = case_dict(cfg, profile, bit0, joint, well)
-            if not rows and k == 0:
+            if warm and not rows and k == 0:
                 warm_up(case)  # wall times below exclude numba compilation
             run_dir = out_dir / "runs" / f"{profile}{suffix}" / f"sample_{k}"
             cc, summary, w = run_simulation(case, run_dir)
