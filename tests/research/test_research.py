@@ -24,17 +24,17 @@ from drillfatigue.sweep.research import (PHYSICS_MODULES, _load_or_write_design,
                                          physics_digest, read_marker, write_case_file)
 
 ROOT = Path(__file__).resolve().parents[2]
-#: 4 training cases (a Sobol power of two) and 1 held-out case.
-N_TRAIN, N_HELDOUT = 4, 1
+#: 2 training cases (a Sobol power of two) and 1 held-out case.
+N_TRAIN, N_HELDOUT = 2, 1
 
 
 def tiny_params(folder: Path) -> Path:
-    """params.yaml with a 0.5 s ramp and a 1.5 s window (3 s when extended)."""
+    """params.yaml with a 0.25 s ramp and a 0.75 s window (1.5 s when extended)."""
     p = yaml.safe_load((ROOT / "params.yaml").read_text(encoding="utf-8"))
-    p["operation"]["rpm_ramp_s"] = 0.5
-    p["recording"]["start_s"] = 0.5
-    p["sweep"]["window_s"] = 1.5
-    p["sweep"]["window"]["max_s"] = 3.0
+    p["operation"]["rpm_ramp_s"] = 0.25
+    p["recording"]["start_s"] = 0.25
+    p["sweep"]["window_s"] = 0.75
+    p["sweep"]["window"]["max_s"] = 1.5
     path = folder / "params.yaml"
     path.write_text(yaml.safe_dump(p, sort_keys=False), encoding="utf-8")
     return path

@@ -10,8 +10,13 @@ made-up log10 damage rate; the model is only as right as that.
 
 from __future__ import annotations
 
+import hashlib
+import shutil
+import tempfile
 from pathlib import Path
 from typing import Any
+
+from filelock import FileLock
 
 import numpy as np
 import pandas as pd
@@ -67,7 +72,43 @@ def tiny_table(features: tuple[str, ...], n_cases: int = 40, seed: int = 0) -> p
     return frame
 
 
+ROOT = Path(__file__).resolve().parents[2]
+#: Fitted models, shared by the test processes of a run (and kept between runs): a
+#: folder per :func:`_cache_key`, written whole under a lock.
+CACHE = ROOT / ".pytest_cache" / "tiny_surrogate"
+
+
+def _cache_key(params_path: Path) -> str:
+    """Digest of what the fit reads: the params file, this file, the package's sources and
+    the versions of the fitting libraries."""
+    import sklearn
+    import torch
+
+    h = hashlib.sha256(Path(params_path).read_bytes())
+    h.update(Path(__file__).read_bytes())
+    for f in sorted((ROOT / "src" / "drillfatigue").rglob("*.py")):
+        h.update(f.relative_to(ROOT).as_posix().encode() + f.read_bytes())
+    h.update(f"{torch.__version__} {sklearn.__version__} {np.__version__}".encode())
+    return h.hexdigest()[:20]
+
+
 def train_tiny_surrogate(params_path: Path, out_dir: Path) -> Path:
+    """The model of :func:`fit_tiny_surrogate` copied into ``out_dir``: fitted once per
+    params file and source tree (:data:`CACHE`), so every test that needs a model does
+    not pay the fit again."""
+    cached = CACHE / _cache_key(params_path)
+    CACHE.mkdir(parents=True, exist_ok=True)
+    with FileLock(str(cached) + ".lock"):
+        if not cached.is_dir():
+            tmp = Path(tempfile.mkdtemp(prefix=".fit-", dir=CACHE))
+            fit_tiny_surrogate(params_path, tmp / "model")
+            (tmp / "model").rename(cached)
+            shutil.rmtree(tmp)
+    shutil.copytree(cached, out_dir)
+    return out_dir
+
+
+def fit_tiny_surrogate(params_path: Path, out_dir: Path) -> Path:
     """Fit 5 one-layer members for a few epochs on :func:`tiny_table`; save to ``out_dir``."""
     params = load_params(params_path)
     cfg = params.surrogate.model_copy(
