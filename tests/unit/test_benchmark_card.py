@@ -117,3 +117,22 @@ def test_cli_card(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     capsys.readouterr()
     assert main(["benchmark", "card", "--dataset", str(folder), "--spread", "nope.json"]) == 2
     assert "--spread: nope.json not found" in capsys.readouterr().err
+
+
+def test_card_names_the_physics_digest_and_commits_of_the_case_files(folder: Path) -> None:
+    from drillfatigue.sweep.research import write_case_file
+
+    cases = folder.parent / "cases" / "train"
+    for i, commit in enumerate(("a" * 40, "a" * 40, "b" * 40)):
+        marker = {"case_id": f"c{i}", "split": "train", "inputs_sha256": "x",
+                  "physics_digest": "d" * 64, "commit": commit}
+        write_case_file(pd.DataFrame({"case_id": [f"c{i}"], "joint": [0]}),
+                        cases / f"c{i}.parquet", marker)
+    card, _ = write_card(folder, rate_floor_per_h=1e-12, horizon_h=1e5, command="cmd")
+    text = card.read_text(encoding="utf-8")
+    assert f"- physics digest: `{'d' * 16}`" in text
+    assert "`aaaaaaa` (2), `bbbbbbb` (1)" in text
+    # a dataset with no case files beside it says nothing about them
+    shutil.rmtree(folder.parent / "cases")
+    card, _ = write_card(folder, rate_floor_per_h=1e-12, horizon_h=1e5, command="cmd")
+    assert "physics digest" not in card.read_text(encoding="utf-8")

@@ -28,6 +28,7 @@ from drillfatigue.benchmark.splits import (DATASET_VERSION, DESIGN_INPUTS, GROUP
                                            load_splits, split_path)
 from drillfatigue.files import atomic_write_text
 from drillfatigue.sweep.dataset import DATA_LICENSE, _describe, column_roles, unit_of
+from drillfatigue.sweep.research import read_marker
 
 CARD_FILE = "README.md"
 CROISSANT_FILE = "croissant.json"
@@ -107,6 +108,24 @@ def commit_date(commit: str, repo: str | Path = ".") -> str | None:
     except (OSError, subprocess.SubprocessError):
         return None
     return out.stdout.strip() or None
+
+
+def case_provenance(dataset_dir: str | Path) -> dict[str, Any] | None:
+    """What the research sweep's case files beside the dataset folder (``../cases``) say
+    made them: the physics digest(s) and the commit of each case, or None when there are
+    no case files (a dataset not assembled by the research sweep)."""
+    cases = Path(dataset_dir).parent / "cases"
+    digests: dict[str, int] = {}
+    commits: dict[str, int] = {}
+    for path in sorted(cases.glob("*/*.parquet")):
+        marker = read_marker(path)
+        if marker is None:
+            continue
+        digests[marker["physics_digest"]] = digests.get(marker["physics_digest"], 0) + 1
+        commits[marker["commit"]] = commits.get(marker["commit"], 0) + 1
+    if not digests:
+        return None
+    return {"physics_digests": digests, "commits": commits}
 
 
 def read_spread(path: str | Path | None) -> dict[str, Any] | None:
@@ -208,7 +227,8 @@ def _column_table(columns: list[str]) -> list[str]:
 
 def dataset_card(frames: Mapping[str, pd.DataFrame], *, rate_floor_per_h: float,
                  horizon_h: float, commit: str, command: str,
-                 spread: Mapping[str, Any] | None = None) -> str:
+                 spread: Mapping[str, Any] | None = None,
+                 provenance: Mapping[str, Any] | None = None) -> str:
     """The card's text (front matter and body) of the splits in ``frames``."""
     first = next(iter(frames.values()))
     columns = list(first.columns)
@@ -236,6 +256,7 @@ def dataset_card(frames: Mapping[str, pd.DataFrame], *, rate_floor_per_h: float,
         "",
         f"- command: `{command}` ({GENERATION_DOCS})",
         f"- commit: `{commit}`",
+        *_provenance_lines(provenance),
         "",
         "## Splits (by case)",
         "",
@@ -300,6 +321,18 @@ def dataset_card(frames: Mapping[str, pd.DataFrame], *, rate_floor_per_h: float,
     return "\n".join(lines)
 
 
+def _provenance_lines(provenance: Mapping[str, Any] | None) -> list[str]:
+    if not provenance:
+        return []
+    digests = ", ".join(f"`{d[:16]}`" for d in provenance["physics_digests"])
+    commits = ", ".join(f"`{c[:7]}` ({n})" for c, n in provenance["commits"].items())
+    return [f"- physics digest: {digests} (SHA-256 over the source of the modules that decide a",
+            "  case's rows, `drillfatigue.sweep.research.PHYSICS_MODULES`; a run at a commit",
+            "  of another digest refuses these case files)",
+            f"- case files written at commits (cases): {commits}; a stopped run was continued",
+            "  from the committed case files, at the same digest"]
+
+
 def write_card(dataset_dir: str | Path, *, rate_floor_per_h: float, horizon_h: float,
                command: str, commit: str | None = None,
                spread_path: str | Path | None = None) -> tuple[Path, Path]:
@@ -316,7 +349,8 @@ def write_card(dataset_dir: str | Path, *, rate_floor_per_h: float, horizon_h: f
     commit = commit or git_commit()
     spread = read_spread(spread_path)
     card = dataset_card(frames, rate_floor_per_h=rate_floor_per_h, horizon_h=horizon_h,
-                        commit=commit, command=command, spread=spread)
+                        commit=commit, command=command, spread=spread,
+                        provenance=case_provenance(dataset_dir))
     meta = croissant(frames, dataset_dir, rate_floor_per_h=rate_floor_per_h, horizon_h=horizon_h,
                      commit=commit, command=command)
     out = Path(dataset_dir)
