@@ -17,6 +17,10 @@ decide life (``learning_curve.deciding_scores``):
 - at the full size (one block) fit ``j`` changes the early-stopping split's seed
   (``surrogate.split_seed + j``), so the spread there is the fit's alone.
 
+``--model NAME --variants FILE`` fits the torch ensemble entry ``NAME`` of a
+leaderboard variants file instead (``fit_predict_ensemble`` with its
+settings; at the full size the fits change the members' seeds as well).
+
 The replicate ceiling (the factor-2 fraction a perfect model of the mean scores
 against one noisy replicate) is read from ``--spread`` when given.
 
@@ -41,6 +45,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from drillfatigue.benchmark.baselines import fit_predict_ensemble
 from drillfatigue.benchmark.splits import load_splits
 from drillfatigue.config import load_params
 from drillfatigue.surrogate.io import write_json
@@ -68,22 +73,36 @@ def fit_blocks(order: list[str], n: int, fits: int) -> list[list[str]]:
     return [order[j * n:(j + 1) * n] for j in range(min(fits, n_blocks))]
 
 
+def _fit_predict(rows: pd.DataFrame, test: pd.DataFrame, cfg: Any,
+                 variant: dict[str, Any] | None) -> tuple[np.ndarray, dict[str, Any]]:
+    """Log10 rates predicted for ``test``: the served gradient boosting, or the torch
+    ensemble of a leaderboard variant (its settings over ``cfg``)."""
+    if variant is None:
+        predict, info = fit_served(rows, cfg)
+        return predict(test), {"n_iter": info["n_iter"]}
+    pred = fit_predict_ensemble(rows, test, cfg)
+    return pred["log10_damage_rate_per_h"].to_numpy(), {"seeds": list(cfg.seeds)}
+
+
 def run_size(train: pd.DataFrame, test: pd.DataFrame, order: list[str], n: int, fits: int,
-             sur: Any) -> dict[str, Any]:
+             sur: Any, variant: dict[str, Any] | None = None) -> dict[str, Any]:
     blocks = fit_blocks(order, n, fits)
     one_block = len(blocks) > 1 and blocks[0] is blocks[1]
     by_case = train.groupby(train["case_id"].astype(str), sort=False).indices
+    base = sur if variant is None else sur.model_validate(sur.model_dump() | variant)
     runs = []
     for j, ids in enumerate(blocks):
         t0 = time.perf_counter()
-        cfg = sur.model_copy(update={"split_seed": sur.split_seed + j}) if one_block else sur
+        cfg = base
+        if one_block:  # the fit's own spread: another early-stopping split, other seeds
+            cfg = base.model_copy(update={"split_seed": base.split_seed + j, "seeds": tuple(
+                s + j * len(base.seeds) for s in base.seeds)})
         rows = train.iloc[np.concatenate([by_case[c] for c in ids])]
-        predict, info = fit_served(rows, cfg)
-        scores = deciding_scores(heldout_predictions(test, predict(test), cfg), cfg.horizon_h)
+        mu, info = _fit_predict(rows, test, cfg, variant)
+        scores = deciding_scores(heldout_predictions(test, mu, cfg), cfg.horizon_h)
         runs.append({"fit": j, "first_design_index": None if one_block else j * n,
-                     "split_seed": cfg.split_seed, "n_train_rows": int(len(rows)),
-                     "n_iter": info["n_iter"], "fit_s": round(time.perf_counter() - t0, 1),
-                     **scores})
+                     "split_seed": cfg.split_seed, "n_train_rows": int(len(rows)), **info,
+                     "fit_s": round(time.perf_counter() - t0, 1), **scores})
     summary = {}
     for metric, _ in METRICS:
         vals = np.array([r[metric] for r in runs], dtype=float)
@@ -115,6 +134,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512, 1024, 2048])
     ap.add_argument("--fits", type=int, default=5)
     ap.add_argument("--spread", default=None, help="replicate spread JSON (its ceiling)")
+    ap.add_argument("--variants", default=None,
+                    help="leaderboard variants JSON; with --model, the torch entry to fit")
+    ap.add_argument("--model", default=None,
+                    help="a torch ensemble entry of --variants instead of the served model")
     ap.add_argument("--out", default=str(RESULT))
     ap.add_argument("--keep", action="store_true",
                     help="keep the sizes already in --out (same settings) and run the rest")
@@ -125,6 +148,13 @@ def main(argv: list[str] | None = None) -> int:
         print(markdown_table(json.loads(Path(args.out).read_text(encoding="utf-8"))))
         return 0
     sur = load_params(args.params).surrogate
+    variant = None
+    if args.model:
+        if not args.variants:
+            ap.error("--model needs --variants")
+        variant = dict(json.loads(Path(args.variants).read_text(encoding="utf-8"))[args.model])
+        if variant.pop("model") != "ensemble":
+            ap.error(f"--model: {args.model} is not a torch ensemble entry")
     splits = load_splits(args.dataset)
     train, test = splits["train"], splits["heldout"]
     order = case_order(pd.read_parquet(args.design, columns=["case_id", "design_index"]), train)
@@ -132,12 +162,14 @@ def main(argv: list[str] | None = None) -> int:
     if too_big:
         ap.error(f"--sizes: {too_big} larger than the {len(order)} training cases")
     settings = {"dataset": args.dataset, "sizes": args.sizes, "fits": args.fits,
+                "model": args.model or "gbm (served)", "variant": variant,
                 "n_train_cases": len(order), "n_heldout_cases": int(test["case_id"].nunique()),
                 "n_heldout_rows": int(len(test))}
     result: dict[str, Any] = {
         "benchmark": "learning_curve_research", "python": platform.python_version(),
         "machine": platform.machine(), "settings": settings,
-        "served_model": "gbm (fit_gbm on every row of the training cases)",
+        "served_model": "gbm (fit_gbm on every row of the training cases)" if variant is None
+        else f"{args.model}: torch ensemble, split-conformal on calibration cases",
         "metric": "held-out rows predicted within surrogate.horizon_h (deciding_metrics rows)",
         "command": "python benchmarks/learning_curve_research.py "
                    + " ".join(a for a in (argv if argv is not None else sys.argv[1:])
@@ -155,7 +187,7 @@ def main(argv: list[str] | None = None) -> int:
         result["sizes"] = old["sizes"]
         t0 -= old.get("wall_s", 0.0)
     for n in args.sizes[len(result["sizes"]):]:
-        result["sizes"].append(run_size(train, test, order, n, args.fits, sur))
+        result["sizes"].append(run_size(train, test, order, n, args.fits, sur, variant))
         result["wall_s"] = round(time.perf_counter() - t0, 1)
         write_json(result, args.out)
         s = result["sizes"][-1]["summary"]
