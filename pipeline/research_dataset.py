@@ -1,0 +1,67 @@
+"""DVC stage ``research_dataset``: assemble the research dataset from its committed case files.
+
+``drillfatigue dataset research`` keeps each finished case's rows in
+``data/research/cases/{train,heldout}/<case_id>.parquet`` (committed in git);
+this stage assembles them into ``data/research/dataset/{train,heldout}.parquet``
+and ``constants.json`` (DVC outputs), byte for byte what the research run
+assembles (:func:`drillfatigue.sweep.research.assemble_research`). It runs no
+simulation: a designed case without its file, or case files of more than one
+physics digest, is refused (exit code 2) and nothing is written.
+
+Usage: ``python pipeline/research_dataset.py [--params params.yaml] [--root data/research]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from drillfatigue.numba_cache import scope_numba_cache
+
+# Before any kernel module is imported (see pipeline/wells.py).
+scope_numba_cache()
+
+from drillfatigue.config import load_params  # noqa: E402
+from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.sweep.design import read_cases  # noqa: E402
+from drillfatigue.sweep.research import SPLITS, assemble_research, read_marker  # noqa: E402
+
+
+def check_case_files(root: Path) -> None:
+    """Raise InputError unless every designed case has its file, all of one physics digest."""
+    digests: set[str] = set()
+    for split in SPLITS:
+        design = read_cases(root / "design" / f"{split}.parquet")
+        missing = [c for c in design["case_id"]
+                   if not (root / "cases" / split / f"{c}.parquet").is_file()]
+        if missing:
+            raise InputError(f"{root}/cases/{split}", f"{len(missing)} of {len(design)} designed "
+                             "cases have no case file", "every case finished (run drillfatigue "
+                             "dataset research to continue the run)")
+        digests.update(str((read_marker(root / "cases" / split / f"{c}.parquet") or {})
+                           .get("physics_digest")) for c in design["case_id"])
+    if len(digests) != 1:
+        raise InputError(f"{root}/cases", f"case files of {len(digests)} physics digests",
+                         "one physics digest (one run of drillfatigue dataset research)")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--params", default="params.yaml")
+    parser.add_argument("--root", default="data/research")
+    args = parser.parse_args(argv)
+    try:
+        root = Path(args.root)
+        check_case_files(root)
+        counts = assemble_research(root, load_params(args.params))
+    except InputError as exc:
+        print(f"error: {exc.one_line()}", file=sys.stderr)
+        return 2
+    print(f"research dataset: {counts['n_cases_train']} + {counts['n_cases_heldout']} cases, "
+          f"{counts['n_rows_train']} + {counts['n_rows_heldout']} rows -> {root / 'dataset'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
