@@ -22,15 +22,15 @@ from drillfatigue.numba_cache import scope_numba_cache
 # Before any kernel module is imported (see pipeline/wells.py).
 scope_numba_cache()
 
+from drillfatigue.benchmark.card import case_provenance  # noqa: E402
 from drillfatigue.config import load_params  # noqa: E402
 from drillfatigue.errors import InputError  # noqa: E402
 from drillfatigue.sweep.design import read_cases  # noqa: E402
-from drillfatigue.sweep.research import SPLITS, assemble_research, read_marker  # noqa: E402
+from drillfatigue.sweep.research import SPLITS, assemble_research  # noqa: E402
 
 
 def check_case_files(root: Path) -> None:
     """Raise InputError unless every designed case has its file, all of one physics digest."""
-    digests: set[str] = set()
     for split in SPLITS:
         design = read_cases(root / "design" / f"{split}.parquet")
         missing = [c for c in design["case_id"]
@@ -39,8 +39,7 @@ def check_case_files(root: Path) -> None:
             raise InputError(f"{root}/cases/{split}", f"{len(missing)} of {len(design)} designed "
                              "cases have no case file", "every case finished (run drillfatigue "
                              "dataset research to continue the run)")
-        digests.update(str((read_marker(root / "cases" / split / f"{c}.parquet") or {})
-                           .get("physics_digest")) for c in design["case_id"])
+    digests = (case_provenance(root / "dataset") or {}).get("physics_digests", {})
     if len(digests) != 1:
         raise InputError(f"{root}/cases", f"case files of {len(digests)} physics digests",
                          "one physics digest (one run of drillfatigue dataset research)")

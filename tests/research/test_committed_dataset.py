@@ -61,16 +61,16 @@ def _run(code: str, cwd: Path) -> str:
 
 @pytest.mark.slow
 def test_the_splits_hold_every_case_of_their_designs_once(scratch: Path) -> None:
-    DATASET = scratch / "data" / "research" / "dataset"
+    dataset = scratch / "data" / "research" / "dataset"
     for split, n in (("train", N_TRAIN), ("heldout", N_HELDOUT)):
         design = pd.read_parquet(RESEARCH / "design" / f"{split}.parquet", columns=["case_id"])
-        rows = pd.read_parquet(DATASET / f"{split}.parquet", columns=["case_id", "joint",
+        rows = pd.read_parquet(dataset / f"{split}.parquet", columns=["case_id", "joint",
                                                                        "location", "split"])
         assert len(design) == n and set(rows["case_id"]) == set(design["case_id"]), split
         assert (rows["split"] == split).all()
         assert not rows.duplicated(["case_id", "joint", "location"]).any()
-    train = set(pd.read_parquet(DATASET / "train.parquet", columns=["case_id"])["case_id"])
-    held = set(pd.read_parquet(DATASET / "heldout.parquet", columns=["case_id"])["case_id"])
+    train = set(pd.read_parquet(dataset / "train.parquet", columns=["case_id"])["case_id"])
+    held = set(pd.read_parquet(dataset / "heldout.parquet", columns=["case_id"])["case_id"])
     assert not train & held
 
 
