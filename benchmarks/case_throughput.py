@@ -135,7 +135,8 @@ def child_profile(tree: Path, work: Path, n: int) -> dict[str, Any]:
     from drillfatigue.sweep.cases import api_rp7g_rows, position_columns, run_case
     from drillfatigue.sweep.dataset import build_dataset
     from drillfatigue.sweep.design import apply_overrides
-    from drillfatigue.sweep.research import _case_inputs, _warmup, write_case_file
+    from drillfatigue.sweep.research import _case_inputs
+    from drillfatigue.sweep.research_case import _warmup, write_case_file
     from drillfatigue.sweep.window import governing_rate_change, run_case_converged
     imports = time.perf_counter() - t0
     params = _params(tree, work)

@@ -6,7 +6,8 @@ this stage assembles them into ``data/research/dataset/{train,heldout}.parquet``
 and ``constants.json`` (DVC outputs), byte for byte what the research run
 assembles (:func:`drillfatigue.sweep.research.assemble_research`). It runs no
 simulation: a designed case without its file, or case files of more than one
-physics digest, is refused (exit code 2) and nothing is written.
+physics digest (but digests that ``drillfatigue dataset restamp`` found equal, listed
+in ``data/research/digests.json``), is refused (exit code 2) and nothing is written.
 
 Usage: ``python pipeline/research_dataset.py [--params params.yaml] [--root data/research]``
 """
@@ -26,7 +27,7 @@ from drillfatigue.benchmark.card import case_provenance  # noqa: E402
 from drillfatigue.config import load_params  # noqa: E402
 from drillfatigue.errors import InputError  # noqa: E402
 from drillfatigue.sweep.design import read_cases  # noqa: E402
-from drillfatigue.sweep.research import SPLITS, assemble_research  # noqa: E402
+from drillfatigue.sweep.research import SPLITS, assemble_research, read_lineage  # noqa: E402
 
 
 def check_case_files(root: Path) -> None:
@@ -39,10 +40,12 @@ def check_case_files(root: Path) -> None:
             raise InputError(f"{root}/cases/{split}", f"{len(missing)} of {len(design)} designed "
                              "cases have no case file", "every case finished (run drillfatigue "
                              "dataset research to continue the run)")
-    digests = (case_provenance(root / "dataset") or {}).get("physics_digests", {})
-    if len(digests) != 1:
-        raise InputError(f"{root}/cases", f"case files of {len(digests)} physics digests",
-                         "one physics digest (one run of drillfatigue dataset research)")
+    digests = set((case_provenance(root / "dataset") or {}).get("physics_digests", {}))
+    listed = {e["physics_digest"] for e in read_lineage(root)}
+    if len(digests) != 1 and not (digests and digests <= listed):
+        raise InputError(f"{root}/cases", f"case files of {len(digests)} physics digests not "
+                         "found equal", "one physics digest, or digests that drillfatigue "
+                         "dataset restamp found equal (digests.json)")
 
 
 def main(argv: list[str] | None = None) -> int:

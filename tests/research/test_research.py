@@ -17,50 +17,14 @@ import time
 from pathlib import Path
 
 import pytest
-import yaml
 
 from drillfatigue.cli import main
 from drillfatigue.sweep.research import (PHYSICS_MODULES, _load_or_write_design,
-                                         physics_digest, read_marker, write_case_file)
+                                         physics_digest, read_marker)
+from drillfatigue.sweep.research_case import write_case_file
+from testkit.research_runs import N_HELDOUT, N_TRAIN, case_files, command, env, git, tiny_params
 
 ROOT = Path(__file__).resolve().parents[2]
-#: 2 training cases (a Sobol power of two) and 1 held-out case.
-N_TRAIN, N_HELDOUT = 2, 1
-
-
-def tiny_params(folder: Path) -> Path:
-    """params.yaml with a 0.25 s ramp and a 0.75 s window (1.5 s when extended)."""
-    p = yaml.safe_load((ROOT / "params.yaml").read_text(encoding="utf-8"))
-    p["operation"]["rpm_ramp_s"] = 0.25
-    p["recording"]["start_s"] = 0.25
-    p["sweep"]["window_s"] = 0.75
-    p["sweep"]["window"]["max_s"] = 1.5
-    path = folder / "params.yaml"
-    path.write_text(yaml.safe_dump(p, sort_keys=False), encoding="utf-8")
-    return path
-
-
-def _command(params: Path, out: Path) -> list[str]:
-    return [sys.executable, "-m", "drillfatigue", "dataset", "research", "--params", str(params),
-            "--n-cases", str(N_TRAIN), "--heldout-cases", str(N_HELDOUT), "--out", str(out),
-            "--workers", "2", "--no-progress"]
-
-
-def _env() -> dict[str, str]:
-    return {**os.environ, "PYTHONWARNINGS": "ignore"}
-
-
-def _git(cwd: Path, *args: str) -> None:
-    subprocess.run(["git", "-c", "user.name=t", "-c", "user.email=t@t", *args], cwd=cwd,
-                   check=True, capture_output=True)
-
-
-def _case_files(out: Path) -> list[Path]:
-    """Finished case files (an atomic write cut short leaves a hidden temporary file
-    that the next run deletes)."""
-    if not (out / "cases").is_dir():
-        return []
-    return sorted(p for p in (out / "cases").glob("*/*.parquet") if not p.name.startswith("."))
 
 
 @pytest.mark.slow
@@ -69,36 +33,36 @@ def test_killed_run_continued_from_a_clone_assembles_the_same_dataset(tmp_path: 
     full = tmp_path / "full"
     full.mkdir()
     params = tiny_params(full)
-    subprocess.run(_command(params, full / "research"), cwd=full, env=_env(), check=True,
+    subprocess.run(command(params, full / "research"), cwd=full, env=env(), check=True,
                    capture_output=True)
     n_total = N_TRAIN + N_HELDOUT
-    assert len(_case_files(full / "research")) == n_total
+    assert len(case_files(full / "research")) == n_total
 
     # the same run, SIGKILLed (with its workers) after a random number of finished cases
     part = tmp_path / "part"
     part.mkdir()
     shutil.copy(params, part / "params.yaml")
     stop_after = random.Random().randint(1, n_total - 1)
-    proc = subprocess.Popen(_command(part / "params.yaml", part / "research"), cwd=part,
-                            env=_env(), start_new_session=True, stdout=subprocess.DEVNULL,
+    proc = subprocess.Popen(command(part / "params.yaml", part / "research"), cwd=part,
+                            env=env(), start_new_session=True, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 600
-    while len(_case_files(part / "research")) < stop_after and proc.poll() is None:
+    while len(case_files(part / "research")) < stop_after and proc.poll() is None:
         assert time.monotonic() < deadline, "no case finished in time"
         time.sleep(0.05)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
-    done = len(_case_files(part / "research"))
+    done = len(case_files(part / "research"))
     assert done >= stop_after
 
     # what the repository holds at the stop, committed and cloned into a fresh folder
-    _git(part, "init", "-q")
-    _git(part, "add", "-A")
-    _git(part, "commit", "-qm", "partial research run")
+    git(part, "init", "-q")
+    git(part, "add", "-A")
+    git(part, "commit", "-qm", "partial research run")
     clone = tmp_path / "clone"
-    _git(tmp_path, "clone", "-q", str(part), str(clone))
-    res = subprocess.run(_command(clone / "params.yaml", clone / "research"), cwd=clone,
-                         env=_env(), capture_output=True, text=True)
+    git(tmp_path, "clone", "-q", str(part), str(clone))
+    res = subprocess.run(command(clone / "params.yaml", clone / "research"), cwd=clone,
+                         env=env(), capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     skipped = int(res.stdout.split(" run, ")[1].split(" already done")[0])
     assert skipped == done < n_total or done == n_total
@@ -147,13 +111,13 @@ def test_a_case_imports_only_modules_of_the_physics_digest(tmp_path: Path) -> No
 import json, sys
 from drillfatigue import scope_numba_cache
 scope_numba_cache()
-from drillfatigue.sweep.research import research_case
+from drillfatigue.sweep.research_case import research_case
 rec = research_case(json.load(open("task.json")))
 assert rec["ok"], rec
 print(json.dumps(sorted(m.__file__ for n, m in sys.modules.items()
                         if n.startswith("drillfatigue") and getattr(m, "__file__", None))))
 """
-    res = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=_env(),
+    res = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env(),
                          capture_output=True, text=True, check=True)
     files = json.loads(res.stdout.strip().splitlines()[-1])
     pkg = ROOT / "src" / "drillfatigue"

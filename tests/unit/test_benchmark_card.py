@@ -120,7 +120,7 @@ def test_cli_card(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_card_names_the_physics_digest_and_commits_of_the_case_files(folder: Path) -> None:
-    from drillfatigue.sweep.research import write_case_file
+    from drillfatigue.sweep.research_case import write_case_file
 
     cases = folder.parent / "cases" / "train"
     for i, commit in enumerate(("a" * 40, "a" * 40, "b" * 40)):

@@ -28,7 +28,7 @@ from drillfatigue.benchmark.splits import (DATASET_VERSION, DESIGN_INPUTS, GROUP
                                            load_splits, split_path)
 from drillfatigue.files import atomic_write_text
 from drillfatigue.sweep.dataset import DATA_LICENSE, _describe, column_roles, unit_of
-from drillfatigue.sweep.research import read_marker
+from drillfatigue.sweep.research import read_lineage, read_marker
 
 CARD_FILE = "README.md"
 CROISSANT_FILE = "croissant.json"
@@ -125,7 +125,9 @@ def case_provenance(dataset_dir: str | Path) -> dict[str, Any] | None:
         commits[marker["commit"]] = commits.get(marker["commit"], 0) + 1
     if not digests:
         return None
-    return {"physics_digests": digests, "commits": commits}
+    lineage = read_lineage(cases.parent)
+    return {"physics_digests": digests, "commits": commits,
+            "equivalent": [e for e in lineage if e["physics_digest"] not in digests]}
 
 
 def read_spread(path: str | Path | None) -> dict[str, Any] | None:
@@ -326,11 +328,17 @@ def _provenance_lines(provenance: Mapping[str, Any] | None) -> list[str]:
         return []
     digests = ", ".join(f"`{d[:16]}`" for d in provenance["physics_digests"])
     commits = ", ".join(f"`{c[:7]}` ({n})" for c, n in provenance["commits"].items())
-    return [f"- physics digest: {digests} (SHA-256 over the source of the modules that decide a",
-            "  case's rows, `drillfatigue.sweep.research.PHYSICS_MODULES`; a run at a commit",
-            "  of another digest refuses these case files)",
-            f"- case files written at commits (cases): {commits}; a stopped run was continued",
-            "  from the committed case files, at the same digest"]
+    lines = [f"- physics digest: {digests} (SHA-256 over the source of the modules that decide a",
+             "  case's rows, `drillfatigue.sweep.research.PHYSICS_MODULES`; a run at a commit",
+             "  of another digest refuses these case files unless `../digests.json` lists it)",
+             f"- case files written at commits (cases): {commits}; a stopped run was continued",
+             "  from the committed case files, at the same digest"]
+    for entry in provenance.get("equivalent", []):
+        n = sum(len(v) for v in entry.get("cases", {}).values())
+        lines += [f"- the same rows at physics digest `{entry['physics_digest'][:16]}`: {n} cases",
+                  f"  re-run bit for bit on top of commit `{str(entry.get('commit'))[:7]}` "
+                  "(`drillfatigue dataset restamp`)"]
+    return lines
 
 
 def write_card(dataset_dir: str | Path, *, rate_floor_per_h: float, horizon_h: float,

@@ -1,4 +1,4 @@
-"""``drillfatigue sweep design|run`` and ``drillfatigue dataset build|card|export|research``.
+"""``drillfatigue sweep design|run`` and ``drillfatigue dataset build|card|export|research|restamp``.
 
 ``sweep run`` runs the whole chain outside DVC (design, simulate, fatigue,
 dataset) with the same library functions as the pipeline stages; it is
@@ -131,3 +131,26 @@ def research(params: Path = ParamsOpt,
           f"{res['n_failed']} failed; train {res['n_rows_train']} rows of "
           f"{res['n_cases_train']} cases, heldout {res['n_rows_heldout']} rows of "
           f"{res['n_cases_heldout']} cases -> {out}/dataset")
+
+
+@dataset_app.command("restamp")
+def restamp(params: Path = ParamsOpt,
+            out: Path = typer.Option(Path("data/research"), "--out",
+                                     help="the research folder (dataset research --out)"),
+            sample: int = typer.Option(16, "--sample", min=1,
+                                       help="committed cases to re-run"),
+            workers: int = typer.Option(2, "--workers", min=1),
+            progress: bool = typer.Option(True, "--progress/--no-progress")) -> None:
+    """After a code change, re-run a sample of the committed research cases; when every
+    one is equal bit for bit, record this code's physics digest in OUT/digests.json so the
+    case files stay valid (a difference is refused, exit code 2)."""
+    from drillfatigue.sweep.restamp import restamp as run_restamp  # start-up: the sweep's pool
+
+    p = load_params_requiring(params, "sweep", "dataset restamp")
+    res = run_restamp(p, out, n_cases=sample, n_workers=workers, progress=progress)
+    if res["status"] == "current":
+        print(f"restamp: the case files of {out} are already valid at physics digest "
+              f"{res['physics_digest'][:12]}; nothing run")
+    else:
+        print(f"restamp: {res['n_cases']} cases ({res['n_rows']} rows) re-run equal bit for "
+              f"bit; physics digest {res['physics_digest'][:12]} recorded in {out}/digests.json")

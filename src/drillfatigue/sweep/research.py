@@ -24,62 +24,56 @@ under a final name. Its marker holds the case's inputs hash (case, window
 rule, fatigue settings, criteria) and the *physics digest*: SHA-256 over the
 modules that decide the rows (:data:`PHYSICS_MODULES`; the command line, the
 service, the ledger and the surrogate are not among them). A case whose
-marker matches is skipped on the next run; files made with another digest or
-other inputs are refused (exit code 2) with the commit they were made at,
-never mixed. The assembled files depend only on the case files, so a run
-stopped and continued (here or from a fresh clone) assembles the same bytes.
+marker matches is skipped on the next run; files made with other inputs, or with
+a digest not found equal to this code's (``digests.json``, written by
+:mod:`drillfatigue.sweep.restamp` after it re-ran a sample of cases bit for bit),
+are refused (exit code 2) with the commit they were made at, never mixed. The
+assembled files depend only on the case files, so a run stopped and continued (here
+or from a fresh clone) assembles the same bytes.
 
-Worker processes run numba's parallel kernels and BLAS on one thread each:
-with one worker per core the cores are already busy, and threads inside a
-worker only compete (the rows are the same; docs/performance.md, "A research case").
+A case runs in a worker process (:mod:`drillfatigue.sweep.research_case`, one of
+the physics digest's modules); this module designs, schedules, checks and assembles,
+and is not among them: an edit here leaves the committed case files valid.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
-import os
-import shutil
 import subprocess
 import sys
-import tempfile
 import time
-import uuid
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
-import numba
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
-from threadpoolctl import threadpool_limits
 
 import drillfatigue
 from drillfatigue.config import Params
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder, atomic_output, atomic_write_text
-from drillfatigue.sweep.cases import fatigue_case
-from drillfatigue.sweep.dataset import build_dataset, split_constants
-from drillfatigue.sweep.design import (apply_overrides, base_case_from_params, design_cases,
+from drillfatigue.sweep.dataset import split_constants
+from drillfatigue.sweep.design import (base_case_from_params, design_cases,
                                        inputs_sha256, read_cases, write_cases)
 from drillfatigue.sweep.runner import Case, _open_executor
-from drillfatigue.sweep.window import run_case_converged, window_inputs
+from drillfatigue.sweep.research_case import (LAYOUT_KEY, META_KEY, research_case)
+from drillfatigue.sweep.window import window_inputs
 
-__all__ = ["PHYSICS_MODULES", "RESEARCH_KIND", "SPLITS", "assemble_research", "physics_digest",
+__all__ = ["LINEAGE_FILE", "PHYSICS_MODULES", "RESEARCH_KIND", "SPLITS", "assemble_research",
+           "equivalent_digests", "physics_digest", "read_lineage",
            "research_case", "research_design", "run_research"]
 
 #: Ownership marker kind of the research folder.
 RESEARCH_KIND = "research"
 #: The two splits, in the order they run.
 SPLITS = ("train", "heldout")
-#: Key of the marker in a case file's Parquet schema metadata.
-META_KEY = b"drillfatigue.research"
-#: Key of the column layout (order, dtypes, constant columns) in the same metadata.
-LAYOUT_KEY = b"drillfatigue.layout"
 #: Paths under the package root whose source decides a case's rows: a folder
 #: stands for every module under it. Running one case imports no module of the
 #: package outside these (tests/research/test_research.py checks it).
@@ -88,12 +82,14 @@ PHYSICS_MODULES: tuple[str, ...] = (
     "rundir.py", "status.py", "units.py",
     "config/", "dynamics/", "fatigue/", "string/", "well/",
     "sweep/__init__.py", "sweep/cases.py", "sweep/dataset.py", "sweep/design.py",
-    "sweep/research.py", "sweep/runner.py", "sweep/window.py",
+    "sweep/research_case.py", "sweep/runner.py", "sweep/window.py",
 )
 #: Design-table and run-record files of the research folder (owned by its marker).
 DESIGN_FILES = ("design/train.parquet", "design/heldout.parquet", "design/design.json")
 DATASET_FILES = ("dataset/train.parquet", "dataset/heldout.parquet", "dataset/constants.json")
 FAILURES_FILE = "failures.parquet"
+#: Digests whose case files were found equal (:mod:`drillfatigue.sweep.restamp`).
+LINEAGE_FILE = "digests.json"
 
 
 def physics_digest(root: Path | None = None) -> str:
@@ -107,6 +103,25 @@ def physics_digest(root: Path | None = None) -> str:
     for path in sorted(files):
         digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
     return digest.hexdigest()
+
+
+def read_lineage(root: Path) -> list[dict[str, Any]]:
+    """The entries of ``<root>/digests.json`` (empty when there is none)."""
+    path = Path(root) / LINEAGE_FILE
+    if not path.is_file():
+        return []
+    try:
+        return list(json.loads(path.read_text(encoding="utf-8"))["equivalent_digests"])
+    except (ValueError, KeyError, TypeError) as exc:
+        raise InputError(str(path), f"not a digests file ({exc})",
+                         "the file drillfatigue dataset restamp writes") from None
+
+
+def equivalent_digests(root: Path, digest: str) -> set[str]:
+    """The physics digests whose case files this code accepts: those of ``digests.json``
+    when ``digest`` is among them (their rows were re-run equal), else ``digest`` alone."""
+    listed = {e["physics_digest"] for e in read_lineage(root)}
+    return listed if digest in listed else {digest}
 
 
 def _commit() -> str | None:
@@ -162,125 +177,27 @@ def _case_inputs(params: Params, row: dict[str, Any], variables: Sequence[str]
             "variables": list(variables)}
 
 
-_SINGLE_THREADED = False
-
-
-def _single_threaded() -> None:
-    """numba's parallel kernels and BLAS on one thread in this (worker) process."""
-    global _SINGLE_THREADED
-    if _SINGLE_THREADED:
-        return
-    numba.set_num_threads(1)
-    threadpool_limits(1)
-    _SINGLE_THREADED = True
-
-
-def case_rows(row: dict[str, Any], inputs: dict[str, Any], work: Path,
-              histories: Path | None = None) -> pd.DataFrame:
-    """Simulate, evaluate and tabulate one design row in ``work`` (removed by the caller).
-
-    The rows are those of :func:`drillfatigue.sweep.dataset.build_dataset` for this case,
-    from the same functions the pipeline's simulate and fatigue stages run."""
-    cid = str(row["case_id"])
-    run_dir, fat_dir = work / "sweep" / cid, work / "fatigue" / cid
-    uniaxial: list[pd.DataFrame] = []
-    run_case_converged({"case": inputs["case"], "window": inputs["window"]}, run_dir, uniaxial)
-    # the window check evaluated the uniaxial route on the run kept: the fatigue reuses it
-    fatigue_case({"run_dir": str(run_dir), "fatigue": inputs["fatigue"],
-                  "criteria": inputs["criteria"], "api_rp7g": inputs["api_rp7g"],
-                  "case": inputs["case"]}, fat_dir, uniaxial[0])
-    frame = pd.DataFrame([row])
-    rows = build_dataset(frame, work / "sweep", work / "fatigue", inputs["variables"])
-    if histories is not None:
-        dest = histories / cid
-        tmp = histories / f".{cid}.{uuid.uuid4().hex[:8]}"
-        shutil.copytree(run_dir, tmp)
-        shutil.rmtree(dest, ignore_errors=True)
-        os.replace(tmp, dest)
-    return rows
-
-
-def research_case(task: dict[str, Any]) -> dict[str, Any]:
-    """Run one research case in a worker and write its rows file (see the module doc).
-
-    Returns a record: ``ok``, ``case_id``, ``split``, ``wall_s``, ``n_rows``, ``bytes``
-    and, on failure, ``error_type`` and ``error`` (nothing unpicklable crosses back).
-    """
-    _single_threaded()
-    t0 = time.perf_counter()
-    row, out = task["row"], Path(task["path"])
-    rec: dict[str, Any] = {"case_id": str(row["case_id"]), "split": task["split"]}
-    hist = Path(task["histories"]) if task.get("histories") else None
-    try:
-        with tempfile.TemporaryDirectory(prefix="research-") as tmp:
-            rows = case_rows(row, task["inputs"], Path(tmp), hist)
-        if not len(rows):
-            raise RuntimeError("the case gave no dataset rows")
-        write_case_file(rows, out, task["marker"])
-        rec.update(ok=True, n_rows=len(rows), bytes=out.stat().st_size)
-    except Exception as exc:  # noqa: BLE001 - recorded in failures.parquet, never dropped
-        rec.update(ok=False, error_type=type(exc).__name__, error=str(exc)[-2000:])
-    rec["wall_s"] = time.perf_counter() - t0
-    return rec
-
-
-def _warmup(task: dict[str, Any]) -> None:
-    """Fill numba's on-disk cache before workers start: one short copy of a case through
-    the simulator, every fatigue criterion and the row builder."""
-    inputs = task["inputs"]
-    short = apply_overrides(inputs["case"], {"operation.duration_s": 0.05,
-                                             "recording.start_s": 0.0,
-                                             "solver.checkpoint_every_s": 0.0})
-    win = {**inputs["window"], "first_s": 0.05, "max_s": 0.05}
-    try:
-        with tempfile.TemporaryDirectory(prefix="warmup-") as tmp:
-            case_rows({**task["row"], "case_json": json.dumps(short)},
-                      {**inputs, "case": short, "window": win}, Path(tmp))
-    except Exception:  # noqa: BLE001 - the real run of this case reports the error
-        return
-
-
-research_case.warmup = _warmup  # type: ignore[attr-defined]
-
-
-# --- case files ------------------------------------------------------------------------
-def _scalar(value: Any) -> Any:
-    """A JSON-ready Python scalar (NaN stays NaN: Python's json writes and reads it)."""
-    if value is None or value is pd.NA:
-        return None
-    return value.item() if hasattr(value, "item") else value
-
-
-def write_case_file(rows: pd.DataFrame, path: Path, marker: dict[str, Any]) -> None:
-    """Write one case's rows atomically: the columns that vary over the case's rows as
-    Parquet (zstd), the rest as one value each in the schema
-    metadata with every column's order and dtype, and the marker beside them. Most
-    columns of a case (its inputs and run figures) are constant over its rows: stored
-    once, a case takes a fifth of the bytes (docs/pipeline.md#generating-the-research-dataset)."""
-    const = [c for c in rows.columns if rows[c].nunique(dropna=False) <= 1]
-    var = [c for c in rows.columns if c not in const]
-    layout = {"columns": list(rows.columns), "dtypes": {c: str(rows[c].dtype) for c in rows},
-              "constants": {c: _scalar(rows[c].iloc[0]) for c in const}}
-    table = pa.Table.from_pandas(rows[var], preserve_index=False).replace_schema_metadata(None)
-    meta = {META_KEY: json.dumps(marker, sort_keys=True).encode(),
-            LAYOUT_KEY: json.dumps(layout, separators=(",", ":")).encode()}
-    with atomic_output(path) as part:
-        # store_schema=False: the Arrow schema would repeat the metadata (base64) in the footer
-        with pq.ParquetWriter(part, table.schema, compression="zstd", compression_level=19,
-                              write_statistics=False, use_dictionary=False,
-                              store_schema=False) as writer:
-            writer.write_table(table)
-            writer.add_key_value_metadata(meta)
-
-
 def read_case_file(path: Path) -> pd.DataFrame:
     """The rows of a case file (:func:`write_case_file`), columns and dtypes as written."""
-    layout = json.loads(pq.read_metadata(path).metadata[LAYOUT_KEY])
-    frame = pq.read_table(path).to_pandas()
-    for col, value in layout["constants"].items():
-        frame[col] = pd.Series([value] * len(frame), index=frame.index, dtype=object)
-    frame = frame[layout["columns"]]
-    return frame.astype({c: pd.api.types.pandas_dtype(d) for c, d in layout["dtypes"].items()})
+    file = pq.ParquetFile(path)
+    layout = json.loads(file.metadata.metadata[LAYOUT_KEY])
+    varying = file.read().to_pandas()
+    consts, dtypes = layout["constants"], layout["dtypes"]
+    n = len(varying)
+    # column by column (one frame built at the end: inserting ~60 constant columns one at
+    # a time into a frame cost most of the assembly's minute)
+    columns = {}
+    for col in layout["columns"]:
+        series = (pd.Series([consts[col]] * n, index=varying.index, dtype=object)
+                  if col in consts else varying[col])
+        dtype = _dtype(dtypes[col])
+        columns[col] = series if series.dtype == dtype else series.astype(dtype)
+    return pd.DataFrame(columns, index=varying.index)
+
+
+@functools.cache
+def _dtype(name: str) -> Any:
+    return pd.api.types.pandas_dtype(name)
 
 
 # --- the folder -------------------------------------------------------------------------
@@ -329,8 +246,9 @@ def _load_or_write_design(folder: OutputFolder, params: Params, n_cases: int,
 
 def _check_case_files(root: Path, split: str, ids: set[str], digest: str) -> dict[str, dict]:
     """Markers of the finished case files of a split; refuse foreign files and files of
-    another physics digest."""
+    a physics digest not equivalent to ``digest`` (:func:`equivalent_digests`)."""
     folder = root / "cases" / split
+    accepted = equivalent_digests(root, digest)
     found: dict[str, dict] = {}
     if not folder.is_dir():
         return found
@@ -342,11 +260,13 @@ def _check_case_files(root: Path, split: str, ids: set[str], digest: str) -> dic
         if marker is None or path.stem not in ids or marker.get("case_id") != path.stem:
             raise InputError("--out", f"{path} is not a case file of this research design",
                              "a folder holding only this design's case files")
-        if marker.get("physics_digest") != digest:
+        if marker.get("physics_digest") not in accepted:
             raise InputError("--out", f"{path} was made with physics digest "
                              f"{str(marker.get('physics_digest'))[:12]} at commit "
                              f"{marker.get('commit') or 'unknown'}; this code has "
-                             f"{digest[:12]}", "check out that commit, or a fresh --out")
+                             f"{digest[:12]}", "check out that commit, run drillfatigue "
+                             "dataset restamp (a change that leaves the rows equal), or a "
+                             "fresh --out")
         found[path.stem] = marker
     return found
 
@@ -466,7 +386,7 @@ def run_research(params: Params, out: str | Path = "data/research", *, n_cases: 
     if n_workers < 1:
         raise InputError("--workers", f"must be >= 1, got {n_workers}", ">= 1")
     folder = OutputFolder(out, RESEARCH_KIND, "--out", (*DESIGN_FILES, *DATASET_FILES,
-                                                        FAILURES_FILE))
+                                                        FAILURES_FILE, LINEAGE_FILE))
     digest, commit = physics_digest(), _commit()
     designs = _load_or_write_design(folder, params, n_cases, heldout_cases, designs)
     tasks, skipped = _tasks(folder, params, designs, digest, commit, histories)
