@@ -11,7 +11,7 @@ export NUMBA_CACHE_DIR ?= $(CURDIR)/.numba_cache
 # mkdocs-material prints a banner about its successor on every build
 export NO_MKDOCS_2_WARNING := 1
 
-.PHONY: install repro test browser postgres serve lint types imports docs docs-serve pytest bench bench-quick clean
+.PHONY: install repro test browser postgres serve lint types imports docs docs-serve pytest warm-sim warm-models bench bench-quick clean
 
 $(STAMP): pyproject.toml requirements.lock
 	$(PYTHON) -m venv $(VENV)
@@ -28,7 +28,15 @@ repro: install
 # CI runs `make test`: lint, types, the import contract, the docs build
 # (warnings are errors) and the test suite, within the 10-minute budget.
 # `browser` and `postgres` install the system packages the tests drive.
-test: browser postgres lint types imports docs pytest
+# numba's cache is filled first (tests/testkit/warm_numba.py: the simulator on one
+# core, the fatigue kernels and the tiny surrogate on the other, the static checks
+# beside them), so no two test processes compile the same kernels.
+test: browser postgres
+	@$(MAKE) --no-print-directory -j 3 warm-sim warm-models lint types imports docs
+	@DRILLFATIGUE_TESTS_WARMED=1 $(MAKE) --no-print-directory pytest
+
+warm-sim warm-models: install
+	PYTHONPATH=tests $(PY) -m testkit.warm_numba $(@:warm-%=%)
 
 lint: install
 	$(VENV)/bin/ruff check .

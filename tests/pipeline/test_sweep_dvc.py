@@ -115,13 +115,16 @@ def test_dvc_repro_then_noop(tmp_path):
     shown = _run([str(DVC), "metrics", "show", "--json"], repo)
     assert shown.returncode == 0 and "n_cases_in_dataset" in shown.stdout
 
-    # an experiment with one more case runs through, and `dvc exp show` lists its
-    # metrics (a 7-point LHS is a new design: Sobol designs are the nested ones)
+    # an experiment on the surrogate's settings re-runs only the stages that read them,
+    # and `dvc exp show` lists its metrics and the setting
     for cmd in (["git", "add", "-A"], ["git", "-c", "user.name=t", "-c", "user.email=t@t",
                                         "commit", "-qm", "baseline"]):
         assert _run(cmd, repo).returncode == 0
-    exp = _run([str(DVC), "exp", "run", "-S", "sweep.n_cases=7"], repo)
+    exp = _run([str(DVC), "exp", "run", "-S", "surrogate.max_epochs=4"], repo)
     assert exp.returncode == 0, exp.stdout + exp.stderr
-    assert pd.read_parquet(repo / "data" / "dataset" / "damage.parquet")["case_id"].nunique() == 7
+    assert "Running stage 'train'" in exp.stdout and "Running stage 'simulate'" not in exp.stdout
+    assert json.loads((repo / "data" / "surrogate" / "model" / "metadata.json").read_text())[
+        "config"]["max_epochs"] == 4
     table = _run([str(DVC), "exp", "show", "--json"], repo)
     assert table.returncode == 0 and "n_cases_in_dataset" in table.stdout, table.stdout[-2000:]
+    assert "max_epochs" in table.stdout

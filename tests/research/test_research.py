@@ -22,7 +22,8 @@ from drillfatigue.cli import main
 from drillfatigue.sweep.research import (PHYSICS_MODULES, _load_or_write_design,
                                          physics_digest, read_marker)
 from drillfatigue.sweep.research_case import write_case_file
-from testkit.research_runs import N_HELDOUT, N_TRAIN, case_files, command, env, git, tiny_params
+from testkit.research_runs import (N_HELDOUT, N_TRAIN, case_files, command, env, full_run, git,
+                                   tiny_params)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -31,10 +32,7 @@ ROOT = Path(__file__).resolve().parents[2]
 @pytest.mark.timeout(900)  # a fresh numba cache compiles the kernels first
 def test_killed_run_continued_from_a_clone_assembles_the_same_dataset(tmp_path: Path) -> None:
     full = tmp_path / "full"
-    full.mkdir()
-    params = tiny_params(full)
-    subprocess.run(command(params, full / "research"), cwd=full, env=env(), check=True,
-                   capture_output=True)
+    params, _ = full_run(full)  # uninterrupted (shared with the restamp tests)
     n_total = N_TRAIN + N_HELDOUT
     assert len(case_files(full / "research")) == n_total
 

@@ -26,7 +26,7 @@ from drillfatigue.sweep.research import (LINEAGE_FILE, physics_digest, read_case
 from drillfatigue.sweep.research_case import write_case_file
 from drillfatigue.sweep.restamp import compare_case_files, restamp_sample
 
-from testkit.research_runs import N_HELDOUT, N_TRAIN, case_files, command, env, tiny_params
+from testkit.research_runs import N_HELDOUT, N_TRAIN, case_files, env, full_run
 
 ROOT = Path(__file__).resolve().parents[2]
 OLD = "0" * 64
@@ -54,9 +54,7 @@ def _stage(root: Path, params: Path) -> subprocess.CompletedProcess[str]:
 def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     """A finished tiny research run (2 + 1 cases) whose case files carry digest OLD."""
     work = tmp_path_factory.mktemp("restamp")
-    params = tiny_params(work)
-    subprocess.run(command(params, work / "research"), cwd=work, env=env(), check=True,
-                   capture_output=True)
+    params, _ = full_run(work)
     _restamp_files(work / "research", OLD)
     return work, params
 

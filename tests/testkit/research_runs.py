@@ -3,12 +3,16 @@ case on a 0.75 s window (1.5 s when extended), run as the command line runs it."
 
 from __future__ import annotations
 
+import hashlib
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import yaml
+from filelock import FileLock
 
 ROOT = Path(__file__).resolve().parents[2]
 #: 2 training cases (a Sobol power of two) and 1 held-out case.
@@ -48,3 +52,37 @@ def case_files(out: Path) -> list[Path]:
     if not (out / "cases").is_dir():
         return []
     return sorted(p for p in (out / "cases").glob("*/*.parquet") if not p.name.startswith("."))
+
+
+#: Uninterrupted tiny runs, one folder per :func:`_run_key`, shared by the test processes.
+CACHE = ROOT / ".pytest_cache" / "tiny_research"
+
+
+def _run_key(params: Path) -> str:
+    """Digest of what the run reads: the params file, this file and the package's sources."""
+    h = hashlib.sha256(Path(params).read_bytes())
+    h.update(Path(__file__).read_bytes())
+    for f in sorted((ROOT / "src" / "drillfatigue").rglob("*.py")):
+        h.update(f.relative_to(ROOT).as_posix().encode() + f.read_bytes())
+    return h.hexdigest()[:20]
+
+
+def full_run(folder: Path) -> tuple[Path, Path]:
+    """An uninterrupted tiny run (params and research folder) copied into ``folder``: run
+    once per params and source tree under a lock, as :func:`command` runs it, and copied
+    for each test that needs one."""
+    folder.mkdir(parents=True, exist_ok=True)
+    params = tiny_params(folder)
+    cached = CACHE / _run_key(params)
+    CACHE.mkdir(parents=True, exist_ok=True)
+    with FileLock(str(cached) + ".lock"):
+        if not cached.is_dir():
+            tmp = Path(tempfile.mkdtemp(prefix=".run-", dir=CACHE))
+            shutil.copy(params, tmp / "params.yaml")
+            subprocess.run(command(tmp / "params.yaml", tmp / "research"), cwd=tmp, env=env(),
+                           check=True, capture_output=True)
+            (tmp / "research").rename(tmp / "done")
+            (tmp / "done").rename(cached)
+            shutil.rmtree(tmp)
+    shutil.copytree(cached, folder / "research")
+    return params, folder / "research"
