@@ -57,9 +57,11 @@ docs: install
 docs-serve: install
 	$(VENV)/bin/mkdocs serve
 
-# One worker per core, at most 4 (each holds its compiled kernels, ~1.5 GB at
-# peak); a test file stays on one worker, so module fixtures are built once.
-PYTEST_WORKERS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
+# One worker per core plus one, at most 4 (each holds its compiled kernels, ~1.5 GB
+# at peak): on two workers the cores were idle a fifth of the time while tests
+# waited on the commands, servers and signals they drive. A test file stays on one
+# worker, so module fixtures are built once.
+PYTEST_WORKERS ?= $(shell n=$$(( $$(nproc 2>/dev/null || echo 1) + 1 )); [ $$n -gt 4 ] && n=4; echo $$n)
 pytest: install
 	$(PY) -m pytest -q -n $(PYTEST_WORKERS) --dist loadfile
 
