@@ -59,13 +59,18 @@ def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     return work, params
 
 
+def _copy(tiny_run: tuple[Path, Path], tmp_path: Path) -> tuple[Path, Path]:
+    """The tiny run's research folder copied for one test; with its params file."""
+    out = tmp_path / "research"
+    shutil.copytree(tiny_run[0] / "research", out)
+    return out, tiny_run[1]
+
+
 @pytest.mark.slow
 @pytest.mark.timeout(900)
 def test_restamp_carries_equal_case_files_to_this_code(
         tiny_run: tuple[Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    work, params = tiny_run
-    out = tmp_path / "research"
-    shutil.copytree(work / "research", out)
+    out, params = _copy(tiny_run, tmp_path)
     dataset = {n: (out / "dataset" / n).read_bytes() for n in ("train.parquet", "heldout.parquet")}
     args = ["--params", str(params), "--out", str(out), "--no-progress"]
     research = ["dataset", "research", "--n-cases", str(N_TRAIN), "--heldout-cases",
@@ -109,9 +114,7 @@ def test_restamp_carries_equal_case_files_to_this_code(
 @pytest.mark.timeout(900)
 def test_restamp_refuses_rows_that_differ_and_writes_nothing(
         tiny_run: tuple[Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    work, params = tiny_run
-    out = tmp_path / "research"
-    shutil.copytree(work / "research", out)
+    out, params = _copy(tiny_run, tmp_path)
     _restamp_files(out, OLD, tamper=True)
     before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
     code = main(["dataset", "restamp", "--params", str(params), "--out", str(out),
@@ -158,9 +161,7 @@ def test_compare_names_dtype_and_value_differences(tiny_run: tuple[Path, Path],
 
 def test_stage_refuses_a_missing_case_file_and_writes_nothing(tiny_run: tuple[Path, Path],
                                                               tmp_path: Path) -> None:
-    work, params = tiny_run
-    out = tmp_path / "research"
-    shutil.copytree(work / "research", out)
+    out, params = _copy(tiny_run, tmp_path)
     shutil.rmtree(out / "dataset")
     sorted((out / "cases" / "train").glob("*.parquet"))[0].unlink()
     res = _stage(out, params)
