@@ -14,6 +14,8 @@ from pathlib import Path
 import yaml
 from filelock import FileLock
 
+from drillfatigue.numba_cache import source_digest
+
 ROOT = Path(__file__).resolve().parents[2]
 #: 2 training cases (a Sobol power of two) and 1 held-out case.
 N_TRAIN, N_HELDOUT = 2, 1
@@ -62,8 +64,7 @@ def _run_key(params: Path) -> str:
     """Digest of what the run reads: the params file, this file and the package's sources."""
     h = hashlib.sha256(Path(params).read_bytes())
     h.update(Path(__file__).read_bytes())
-    for f in sorted((ROOT / "src" / "drillfatigue").rglob("*.py")):
-        h.update(f.relative_to(ROOT).as_posix().encode() + f.read_bytes())
+    h.update(source_digest(ROOT / "src" / "drillfatigue").encode())
     return h.hexdigest()[:20]
 
 
