@@ -60,8 +60,8 @@ from numba import njit  # noqa: E402
 
 from drillfatigue.files import atomic_write_json  # noqa: E402
 from drillfatigue.config import case_from_dict  # noqa: E402
-from drillfatigue.dynamics import layout as L  # noqa: E402
-from drillfatigue.dynamics.model import build_model, evaluate_forces, straight_path  # noqa: E402
+from drillfatigue.dynamics.core import layout as L  # noqa: E402
+from drillfatigue.dynamics.run.model import build_model, evaluate_forces, straight_path  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results" / "simulator.json"
 SPLIT = {5: (1, 4), 30: (5, 25), 120: (20, 100)}
@@ -105,7 +105,7 @@ def _cpu_per_step(run, short_s: float, long_s: float):
 
 def run_one(n: int, duration: float, full: bool = True) -> dict:
     """Run one case in this process; return timings and peak RSS."""
-    from drillfatigue.dynamics.api import simulate
+    from drillfatigue.dynamics.run.simulation import simulate
 
     simulate(case(n, 0.05, full), None, progress=False, path=path_for(n))  # compile / load cache
     t0 = time.perf_counter()
@@ -151,7 +151,7 @@ def deviated_case(options: str, duration: float):
 
 def run_deviated(duration: float, options: str = "ends") -> dict:
     """case2_profile.yaml (120 segments, contact, tanh-exp, 0.5 m/s) for ``duration`` s."""
-    from drillfatigue.dynamics.api import simulate
+    from drillfatigue.dynamics.run.simulation import simulate
 
     simulate(deviated_case(options, 0.05), None, progress=False)  # compile / load cache
     res, cpu_step = _cpu_per_step(
@@ -173,7 +173,7 @@ def run_deviated(duration: float, options: str = "ends") -> dict:
 
 def run_whirl(duration: float) -> dict:
     """case1_whirl.yaml with Karnopp and tanh-exp: stepping-loop wall times and their ratio."""
-    from drillfatigue.dynamics.api import simulate
+    from drillfatigue.dynamics.run.simulation import simulate
 
     simulate(_case_file("case1_whirl.yaml", operation={"duration_s": 0.05}), None, progress=False)
     out: dict = {}
@@ -354,7 +354,7 @@ def _q2R(q):
 
 
 def _joints_np(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_up, k, c):
-    """Vectorised :func:`drillfatigue.dynamics.joints.joint_force` (same physics)."""
+    """Vectorised :func:`drillfatigue.dynamics.core.joints.joint_force` (same physics)."""
     rl = -h_lo[:, None] * R_lo[:, :, 2]
     ru = h_up[:, None] * R_up[:, :, 2]
     d = (x_up + ru) - (x_lo + rl)
@@ -475,7 +475,7 @@ class NumpyModel:
 def scipy_baseline(window: float) -> dict:
     from scipy.integrate import solve_ivp
 
-    from drillfatigue.dynamics.model import advance_model
+    from drillfatigue.dynamics.run.model import advance_model
 
     # the issue-3 model the numpy RHS implements: given TOB, no wall contact
     cfg = case(30, window, full=False, baseline=True)

@@ -58,11 +58,11 @@ scope_numba_cache()
 
 from drillfatigue.config import case_from_dict  # noqa: E402
 from drillfatigue.config.studies import Case2Config  # noqa: E402
-from drillfatigue.dynamics import bitrock  # noqa: E402
-from drillfatigue.dynamics import layout as L  # noqa: E402
-from drillfatigue.dynamics.api import Runner, simulate  # noqa: E402
-from drillfatigue.dynamics.growth import update_top  # noqa: E402
-from drillfatigue.dynamics.model import stable_step  # noqa: E402
+from drillfatigue.dynamics.bit import laws as bitrock  # noqa: E402
+from drillfatigue.dynamics.core import layout as L  # noqa: E402
+from drillfatigue.dynamics.run.simulation import Runner, simulate  # noqa: E402
+from drillfatigue.dynamics.top.growth import update_top  # noqa: E402
+from drillfatigue.dynamics.run.model import stable_step  # noqa: E402
 from drillfatigue.studies.case2 import case_dict  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results" / "step.json"

@@ -8,11 +8,11 @@ hole, each segment a little off the axis and tilted, spinning: one step's two pe
 loops that take most of a simulator step (docs/performance.md, the profile), written the
 way a parallel step would have to be written:
 
-* the joints: :func:`drillfatigue.dynamics.joints.joint_force` for every joint into
+* the joints: :func:`drillfatigue.dynamics.core.joints.joint_force` for every joint into
   per-joint rows (a thread may not add into the rows of a segment another thread
   also adds into), then one serial pass adding each joint's force and moments to its
   two segments;
-* the wall search: :func:`drillfatigue.dynamics.contact.find_contact` for each segment's
+* the wall search: :func:`drillfatigue.dynamics.contact.wall.find_contact` for each segment's
   two end points, into per-point rows.
 
 Three versions of that step are timed in wall time (a parallel region is what the
@@ -40,9 +40,9 @@ from drillfatigue.numba_cache import scope_numba_cache
 
 scope_numba_cache()
 
-from drillfatigue.dynamics.contact import build_cylinder_chain, find_contact  # noqa: E402
-from drillfatigue.dynamics.joints import joint_force  # noqa: E402
-from drillfatigue.dynamics.rigid import quat_to_rot  # noqa: E402
+from drillfatigue.dynamics.contact.wall import build_cylinder_chain, find_contact  # noqa: E402
+from drillfatigue.dynamics.core.joints import joint_force  # noqa: E402
+from drillfatigue.dynamics.core.rigid import quat_to_rot  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results" / "threads.json"
 SEG_M = 9.0

@@ -130,7 +130,7 @@ def child_profile(tree: Path, work: Path, n: int) -> dict[str, Any]:
     import pandas as pd
 
     from drillfatigue.config import case_from_dict
-    from drillfatigue.dynamics.api import simulate
+    from drillfatigue.dynamics.run.simulation import simulate
     from drillfatigue.fatigue.run import evaluate_run
     from drillfatigue.sweep.cases import api_rp7g_rows, position_columns, run_case
     from drillfatigue.sweep.dataset import build_dataset

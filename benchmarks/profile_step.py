@@ -49,19 +49,19 @@ from drillfatigue.numba_cache import scope_numba_cache  # noqa: E402
 
 scope_numba_cache()
 
-from drillfatigue.dynamics import layout as L  # noqa: E402
-from drillfatigue.dynamics.api import Runner  # noqa: E402
-from drillfatigue.dynamics.boundaries import bit_guide, top_boundary  # noqa: E402
-from drillfatigue.dynamics.bundles import new_records  # noqa: E402
-from drillfatigue.dynamics.contact import wall_contact  # noqa: E402
-from drillfatigue.dynamics.forces import body_forces, rotations  # noqa: E402
-from drillfatigue.dynamics.growth import grow_top, growth_rate  # noqa: E402
-from drillfatigue.dynamics.integrator import (  # noqa: E402
+from drillfatigue.dynamics.core import layout as L  # noqa: E402
+from drillfatigue.dynamics.run.simulation import Runner  # noqa: E402
+from drillfatigue.dynamics.top.boundaries import bit_guide, top_boundary  # noqa: E402
+from drillfatigue.dynamics.core.bundles import new_records  # noqa: E402
+from drillfatigue.dynamics.contact.wall import wall_contact  # noqa: E402
+from drillfatigue.dynamics.step.forces import body_forces, rotations  # noqa: E402
+from drillfatigue.dynamics.top.growth import grow_top, growth_rate  # noqa: E402
+from drillfatigue.dynamics.step.integrator import (  # noqa: E402
     advance, drift, half_kicks, half_kicks_checked, record,
 )
-from drillfatigue.dynamics.joints import joint_forces  # noqa: E402
-from drillfatigue.dynamics.model import stable_step  # noqa: E402
-from drillfatigue.dynamics.span_record import span_sample  # noqa: E402
+from drillfatigue.dynamics.core.joints import joint_forces  # noqa: E402
+from drillfatigue.dynamics.run.model import stable_step  # noqa: E402
+from drillfatigue.dynamics.span.record import span_sample  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_simulator import OPTION_SETS, deviated_case, reference_us_per_segment_step  # noqa: E402

@@ -34,7 +34,7 @@ binds first: ROP = c1 WOB sqrt(Omega) of the bit law), the bit's torque and
 its negative damping -dTOB/dOmega at the set speed (Yigit-Christoforou: the
 velocity weakening that feeds stick-slip), the wall-friction torque of the
 soft-string model at that WOB and torque on bit
-(:func:`drillfatigue.dynamics.torque_drag.torque_drag_for_case`), and the
+(:func:`drillfatigue.softstring.torque_drag.torque_drag_for_case`), and the
 stick-slip number Pi = (Delta T_bit + Delta T_wall) / (Z Omega) (the torque
 drop from the bit's peak friction and from static to dynamic wall friction,
 over the drill pipe's torsional impedance Z = J_p sqrt(G rho) times the set
@@ -63,8 +63,8 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
 from drillfatigue.config import case_from_dict, load_params
-from drillfatigue.dynamics.bitrock import MODEL_IDS, bit_response, pack_bit_params
-from drillfatigue.dynamics.torque_drag import torque_drag_for_case
+from drillfatigue.dynamics.bit.laws import MODEL_IDS, bit_response, pack_bit_params
+from drillfatigue.softstring.torque_drag import torque_drag_for_case
 from drillfatigue.sweep.dataset import summary_dynamics
 from drillfatigue.surrogate.data import case_folds, log10_target
 from drillfatigue.surrogate.evaluation import deciding_metrics

@@ -5,7 +5,7 @@ horizontal section, the paper BHA, the bit on bottom at ``bit_md_end_m``, 50 rpm
 docs/case3.md) is run on the plan and on the same plan with the micro-doglegs of
 ``well.tortuosity`` (docs/wells.md#tortuosity) from the surface down:
 
-- soft string (:func:`drillfatigue.dynamics.torque_drag.torque_drag_for_case`,
+- soft string (:func:`drillfatigue.softstring.torque_drag.torque_drag_for_case`,
   string and friction of case 3's simulator case, drilling at its autodriller's WOB
   set-point and the bit law's torque at 50 rpm): surface torque rotating off bottom
   and drilling, hook loads picking up, slacking off and rotating, largest side force;
@@ -52,7 +52,7 @@ scope_numba_cache()
 
 from drillfatigue import rundir  # noqa: E402
 from drillfatigue.config import case_from_dict  # noqa: E402
-from drillfatigue.dynamics.torque_drag import torque_drag_for_case  # noqa: E402
+from drillfatigue.softstring.torque_drag import torque_drag_for_case  # noqa: E402
 from drillfatigue.plotting import subplots  # noqa: E402
 from drillfatigue.studies.case3 import case_dict, run_case3  # noqa: E402
 from drillfatigue.studies.common import write_json  # noqa: E402

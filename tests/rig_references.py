@@ -37,8 +37,8 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
-from drillfatigue.dynamics import bitrock as BR
-from drillfatigue.dynamics import rig as R
+from drillfatigue.dynamics.bit import laws as BR
+from drillfatigue.dynamics.top import rig as R
 
 G_SHEAR = 79.6e9
 RHO = 7850.0

@@ -14,26 +14,31 @@ line, the pipeline stages and the tests.
 
 from __future__ import annotations
 
+from importlib.metadata import PackageNotFoundError, version
+
 from drillfatigue.numba_cache import scope_numba_cache, source_digest
 
 __all__ = ["SimulationResult", "scope_numba_cache", "simulate", "source_digest"]
 
-__version__ = "0.1.0"
+try:
+    __version__ = version("drillfatigue")
+except PackageNotFoundError:  # sources on the path without an installed distribution
+    __version__ = "0+unknown"
 
 
 def __getattr__(name: str) -> object:
     """Lazy top-level API: ``drillfatigue.simulate``.
 
-    Imported on first use, not at the top: the simulator imports this package
-    (a real cycle at import time), and its numba kernels must load only after
-    :func:`_scope_numba_cache` has chosen the cache folder.
+    Imported on first use, not at the top: the simulator's numba kernels must load
+    only after :func:`scope_numba_cache` has chosen the cache folder, and a command
+    that never simulates does not pay for importing them.
     """
     if name == "simulate":
-        from drillfatigue.dynamics.api import simulate  # cycle: dynamics.api imports this package
+        from drillfatigue.dynamics.run.simulation import simulate  # start-up: numba loads on use
 
         return simulate
     if name == "SimulationResult":
-        from drillfatigue.dynamics.api import SimulationResult  # cycle: dynamics.api imports this package
+        from drillfatigue.dynamics.run.simulation import SimulationResult  # start-up: numba loads on use
 
         return SimulationResult
     raise AttributeError(f"module 'drillfatigue' has no attribute {name!r}")

@@ -70,7 +70,7 @@ def raise_for_status(status: int, kernel: str) -> None:
 
     Nothing happens for ``OK``. The message is ``"<kernel>: <what failed>
     (status <code>)"``, the text from :data:`drillfatigue.status.MESSAGES`. The
-    simulator's codes go through :func:`drillfatigue.dynamics.model.raise_for_status`
+    simulator's codes go through :func:`drillfatigue.dynamics.run.model.raise_for_status`
     instead, which adds the time and the segment of the failure.
     """
     if status == OK:

@@ -19,7 +19,7 @@ numba binds a function's cache folder when the function is decorated::
     import drillfatigue.numba_cache
 
     drillfatigue.numba_cache.scope_numba_cache()
-    import drillfatigue.dynamics  # kernels now cache under the scoped folder
+    from drillfatigue.dynamics import simulate  # kernels now cache under the scoped folder
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ _IMPORTS_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[\s.])", re.M)
 #: Modules (paths under the package root) without numba whose module-level
 #: numbers the kernels read as compile-time constants: numba freezes them into
 #: the compiled code, so they key the cache like the kernels themselves.
-KERNEL_CONSTANT_MODULES: tuple[str, ...] = ("status.py", "dynamics/status.py", "dynamics/layout.py")
+KERNEL_CONSTANT_MODULES: tuple[str, ...] = ("status.py", "dynamics/core/status.py", "dynamics/core/layout.py")
 
 
 def kernel_digest(root: Path) -> str:

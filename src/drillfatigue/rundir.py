@@ -1,6 +1,6 @@
 """The run directory of one simulation: file names, columns and their units, defined once.
 
-Written by the simulator (:mod:`drillfatigue.dynamics.api`), read by the
+Written by the simulator (:mod:`drillfatigue.dynamics.run.simulation`), read by the
 fatigue chain, the sweep, the studies and the tests. All quantities SI; each
 column name carries its unit.
 

@@ -5,7 +5,7 @@ say where in an ``info`` array). The numba kernels read these module-level
 ints as compile-time constants, so :mod:`drillfatigue.numba_cache` counts this
 module as kernel source. The Python layer turns a code other than ``OK`` into
 an exception in one wrapper per chain:
-:func:`drillfatigue.dynamics.model.raise_for_status` for the simulator (it
+:func:`drillfatigue.dynamics.run.model.raise_for_status` for the simulator (it
 adds the time and the segment) and :func:`drillfatigue.errors.raise_for_status`
 for the fatigue kernels.
 
@@ -20,13 +20,13 @@ NONFINITE = 1
 #: the kinetic energy exceeded ``bp[B_ESCALE]`` (energy blow-up)
 BLOWUP = 2
 #: a segment moved faster than ``MAX_SPEED_M_PER_S`` or spun faster than
-#: ``MAX_SPIN_RAD_S`` (:mod:`drillfatigue.dynamics.status`)
+#: ``MAX_SPIN_RAD_S`` (:mod:`drillfatigue.dynamics.core.status`)
 SPEED = 3
-#: a friction model id outside :mod:`drillfatigue.dynamics.friction`'s list
+#: a friction model id outside :mod:`drillfatigue.dynamics.contact.friction`'s list
 UNKNOWN_FRICTION = 4
-#: a bit-law id outside :mod:`drillfatigue.dynamics.bitrock`'s list
+#: a bit-law id outside :mod:`drillfatigue.dynamics.bit.laws`'s list
 UNKNOWN_BIT = 5
-#: a block or top-drive mode id outside :mod:`drillfatigue.dynamics.rig`'s list
+#: a block or top-drive mode id outside :mod:`drillfatigue.dynamics.top.rig`'s list
 UNKNOWN_RIG_MODE = 6
 
 # --- fatigue chain (drillfatigue.fatigue.kernels) ---------------------------
@@ -36,7 +36,7 @@ STACK_OVERFLOW = 7
 #: more cycles than the output arrays hold
 OUT_OVERFLOW = 8
 
-# --- span bending (drillfatigue.dynamics.span_bending) ----------------------
+# --- span bending (drillfatigue.dynamics.span.bending) ----------------------
 #: a span or bending stiffness <= 0 or not finite, unsorted supports, or a
 #: read point outside its span
 BAD_SPAN = 9

@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.contact import build_cylinder_chain, find_contact
+from drillfatigue.dynamics.contact.wall import build_cylinder_chain, find_contact
 
 R_HOLE = 0.108
 R_PIPE = 0.0635

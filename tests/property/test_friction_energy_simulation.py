@@ -16,9 +16,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.examples import uniform_chain_case
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path, total_energy
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.examples import uniform_chain_case
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path, total_energy
 
 MODELS = ("coulomb", "benson_hallquist", "karnopp", "tanh", "velocity_trig", "tanh_exp", "stick_band")
 

@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drillfatigue.config.friction import FrictionConfig
-from drillfatigue.dynamics import status
-from drillfatigue.dynamics.friction import (
+from drillfatigue.dynamics.core import status
+from drillfatigue.dynamics.contact.friction import (
     KARNOPP,
     MODEL_IDS,
     friction_force,

@@ -12,8 +12,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.joints import joint_force
-from drillfatigue.dynamics.rigid import quat_from_rot, quat_mul, quat_to_rot
+from drillfatigue.dynamics.core.joints import joint_force
+from drillfatigue.dynamics.core.rigid import quat_from_rot, quat_mul, quat_to_rot
 
 K = (4e8, 8e7, 2e6, 1.5e6, 1e4, 5e3, 50.0, 30.0)  # k_a, k_s, k_b, k_t, c_a, c_s, c_b, c_t
 

@@ -7,8 +7,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drillfatigue.config.bit import BitConfig
-from drillfatigue.dynamics import bitrock as BR
-from drillfatigue.dynamics import rockface as RF
+from drillfatigue.dynamics.bit import laws as BR
+from drillfatigue.dynamics.bit import rockface as RF
 
 finite = dict(allow_nan=False, allow_infinity=False)
 

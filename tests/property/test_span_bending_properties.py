@@ -12,7 +12,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.span import (chain_span_moments, continuous_beam_moments,
+from drillfatigue.dynamics.span.beam import (chain_span_moments, continuous_beam_moments,
                                         pipe_frame_moments)
 
 spans = st.lists(st.floats(1.0, 15.0), min_size=1, max_size=8)

@@ -20,11 +20,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.model import build_model, evaluate_forces, straight_path
-from drillfatigue.dynamics.rigid import quat_mul
-from drillfatigue.dynamics.span import continuous_beam_moments
-from drillfatigue.dynamics.span_record import span_sample
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.model import build_model, evaluate_forces, straight_path
+from drillfatigue.dynamics.core.rigid import quat_mul
+from drillfatigue.dynamics.span.beam import continuous_beam_moments
+from drillfatigue.dynamics.span.record import span_sample
 
 JOINT_M = 9.144
 

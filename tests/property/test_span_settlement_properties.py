@@ -19,9 +19,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics import span_bending as K
-from drillfatigue.dynamics.span import continuous_beam_moments
-from drillfatigue.dynamics.span_chain import chain_static_moments
+from drillfatigue.dynamics.span import bending as K
+from drillfatigue.dynamics.span.beam import continuous_beam_moments
+from drillfatigue.dynamics.span.chain import chain_static_moments
 
 spans = st.lists(st.floats(1.0, 15.0), min_size=1, max_size=8)
 ENDS = st.sampled_from([K.END_PINNED, K.END_CLAMPED])

@@ -34,8 +34,8 @@ from drillfatigue.numba_cache import scope_numba_cache
 scope_numba_cache()
 
 from drillfatigue.config import CaseConfig, case_from_dict  # noqa: E402
-from drillfatigue.dynamics.api import simulate  # noqa: E402
-from drillfatigue.dynamics.model import straight_path  # noqa: E402
+from drillfatigue.dynamics.run.simulation import simulate  # noqa: E402
+from drillfatigue.dynamics.run.model import straight_path  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).resolve().parent / "data"

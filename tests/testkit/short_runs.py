@@ -6,8 +6,8 @@ from __future__ import annotations
 from typing import Any
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.model import straight_path
+from drillfatigue.dynamics.run.simulation import simulate
+from drillfatigue.dynamics.run.model import straight_path
 
 
 def given_tob_run(dt_s: float | None, implicit_bit_torque: bool = False) -> Any:

@@ -27,7 +27,7 @@ torque per length ``r w mu / sqrt(1 + mu^2)`` (the climb; Jansen, J. Sound Vib. 
 
 ``tanh_exp``
     ``mu = tanh(v / v_t) [mu_d + (mu_s - mu_d) exp(-v / v_s)]``: the simulator's
-    default law (:mod:`drillfatigue.dynamics.friction`).
+    default law (:mod:`drillfatigue.dynamics.contact.friction`).
 ``stick_band``
     The inclusion of Aarsnes & Shor (eq. 4): inside the stick band ``v < v_b`` the
     wall holds the string with whatever torque keeps it still, up to the static

@@ -21,12 +21,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics import status
-from drillfatigue.dynamics.api import _wellpath
-from drillfatigue.dynamics.examples import j_well_rotating_case
-from drillfatigue.dynamics.forces import compute_forces
-from drillfatigue.dynamics.model import build_model
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.core import status
+from drillfatigue.dynamics.run.simulation import _wellpath
+from drillfatigue.dynamics.run.examples import j_well_rotating_case
+from drillfatigue.dynamics.step.forces import compute_forces
+from drillfatigue.dynamics.run.model import build_model
 
 
 def _bit_force(extra_lag_m: float) -> tuple[np.ndarray, float]:

@@ -9,8 +9,8 @@ import pytest
 
 from drillfatigue.config.base import validate
 from drillfatigue.config.bit import BitConfig
-from drillfatigue.dynamics import status
-from drillfatigue.dynamics.bitrock import I_B0, bit_response, pack_bit_params
+from drillfatigue.dynamics.core import status
+from drillfatigue.dynamics.bit.laws import I_B0, bit_response, pack_bit_params
 from drillfatigue.errors import InputError
 
 

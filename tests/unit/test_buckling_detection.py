@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import buckling as B
-from drillfatigue.dynamics.torque_drag import torque_drag_for_case
+from drillfatigue.dynamics.run import buckling as BD
+from drillfatigue.softstring import buckling as B
+from drillfatigue.softstring.torque_drag import torque_drag_for_case
 
 INC = math.radians(60.0)
 T_AXIS = np.array([math.sin(INC), 0.0, math.cos(INC)])
@@ -28,9 +29,9 @@ def _string(theta: np.ndarray, s: np.ndarray, rho: float = 1.0) -> tuple[np.ndar
 
 def _detect(theta: np.ndarray, s: np.ndarray, window: float, contact: bool = True):
     pos, centre = _string(theta, s)
-    rho, th = B.lateral_offsets(pos, centre, np.tile(T_AXIS, (s.size, 1)), RC)
+    rho, th = BD.lateral_offsets(pos, centre, np.tile(T_AXIS, (s.size, 1)), RC)
     assert np.allclose(rho, 1.0) and np.allclose(np.unwrap(th), theta, atol=1e-9)
-    return B.detect_buckling(s, rho, th, np.full(s.size, contact), window)
+    return BD.detect_buckling(s, rho, th, np.full(s.size, contact), window)
 
 
 S = np.arange(0.0, 200.0, 1.0)
@@ -64,14 +65,14 @@ def test_helix_off_the_wall_is_not_helical() -> None:
     pitch = 18.0
     theta = 2.0 * np.pi * S / pitch
     pos, centre = _string(theta, S, rho=0.2)
-    rho, th = B.lateral_offsets(pos, centre, np.tile(T_AXIS, (S.size, 1)), RC)
-    det = B.detect_buckling(S, rho, th, np.zeros(S.size, bool), 40.0)
+    rho, th = BD.lateral_offsets(pos, centre, np.tile(T_AXIS, (S.size, 1)), RC)
+    det = BD.detect_buckling(S, rho, th, np.zeros(S.size, bool), 40.0)
     assert 2 not in det.state
 
 
 def test_detector_rejects_bad_input() -> None:
     with pytest.raises(ValueError, match="increasing"):
-        B.detect_buckling(S[::-1], np.ones(S.size), np.zeros(S.size), np.ones(S.size, bool), 10.0)
+        BD.detect_buckling(S[::-1], np.ones(S.size), np.zeros(S.size), np.ones(S.size, bool), 10.0)
 
 
 J_CASE = {
@@ -168,7 +169,7 @@ def test_detector_on_a_run_maps_segments_to_the_hole_by_md() -> None:
     clear = 0.2159 / 2 - r_contact
     theta = np.where(s < 150.0, 2.0 * np.pi * s / 18.0, 0.0)
     pos = centre + clear[:, None] * (np.cos(theta)[:, None] * low + np.sin(theta)[:, None] * side)
-    det = B.detect_buckling_in_run(wb, bit_md, s[::-1], pos[::-1], np.full(s.size, 100.0),
+    det = BD.detect_buckling_in_run(wb, bit_md, s[::-1], pos[::-1], np.full(s.size, 100.0),
                                    r_contact, window_m=40.0)
     names = det.state_names()
     near_bit = det.s_end_m <= 150.0

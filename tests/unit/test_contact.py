@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics.contact import (
+from drillfatigue.dynamics.contact.wall import (
     OUTSIDE_CHAIN,
     build_cylinder_chain,
     damping_from_ratio,
@@ -146,7 +146,7 @@ def test_build_chain_rejects_bad_shape():
 def test_contact_config_defaults_and_damping():
     from drillfatigue.config.base import validate
     from drillfatigue.config.contact import ContactConfig
-    from drillfatigue.dynamics.contact import contact_damping
+    from drillfatigue.dynamics.contact.wall import contact_damping
     from drillfatigue.errors import InputError
 
     cfg = ContactConfig()

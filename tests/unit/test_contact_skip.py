@@ -15,14 +15,16 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.contact import (
+from drillfatigue.dynamics.contact.wall import (
     build_cylinder_chain,
     find_contact,
     located_wall_force,
     wall_force,
 )
-from drillfatigue.dynamics.friction import TANH_EXP, N_PARAMS, I_AX_RATIO, I_MU_D, I_MU_S, I_V_S, I_V_T
-from drillfatigue.dynamics.layout import WALL_INFO_SIZE, WI_DELTA
+from drillfatigue.dynamics.contact.friction import (
+    I_AX_RATIO, I_MU_D, I_MU_S, I_V_S, I_V_T, N_PARAMS, TANH_EXP,
+)
+from drillfatigue.dynamics.core.layout import WALL_INFO_SIZE, WI_DELTA
 
 R_HOLE = 0.108
 N_CYL = 12

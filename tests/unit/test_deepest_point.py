@@ -19,7 +19,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.contact import deepest_point
+from drillfatigue.dynamics.contact.wall import deepest_point
 
 HOLE_R = 0.10795
 

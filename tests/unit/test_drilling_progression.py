@@ -16,8 +16,8 @@ import pytest
 
 import drillfatigue
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.model import straight_path
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.model import straight_path
 
 STRING = {"components": [{"type": "collar", "od_m": 0.17145, "id_m": 0.0714, "length_m": 10.0,
                           "n_segments": 5}]}

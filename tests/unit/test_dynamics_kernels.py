@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.examples import uniform_chain_case
-from drillfatigue.dynamics.joints import joint_force
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
-from drillfatigue.dynamics.rigid import free_rotation, quat_from_rot, quat_log, quat_to_rot
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.examples import uniform_chain_case
+from drillfatigue.dynamics.core.joints import joint_force
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.core.rigid import free_rotation, quat_from_rot, quat_log, quat_to_rot
 from drillfatigue.errors import SimulationError
 
 def test_quaternion_round_trip_and_log() -> None:

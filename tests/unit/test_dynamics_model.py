@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.boundaries import drive_omega
-from drillfatigue.dynamics.model import advance_model, build_model, rpm_table, straight_path
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.simulation import simulate
+from drillfatigue.dynamics.top.boundaries import drive_omega
+from drillfatigue.dynamics.run.model import advance_model, build_model, rpm_table, straight_path
 from drillfatigue.errors import InputError
 
 STRING = {"components": [

@@ -11,9 +11,9 @@ import pytest
 
 import drillfatigue
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.api import EVENT_KEYS, classify_whirl
-from drillfatigue.dynamics.examples import j_well_rotating_case
-from drillfatigue.dynamics.model import straight_path
+from drillfatigue.dynamics.run.simulation import EVENT_KEYS, classify_whirl
+from drillfatigue.dynamics.run.examples import j_well_rotating_case
+from drillfatigue.dynamics.run.model import straight_path
 
 TURN = 2.0 * math.pi
 

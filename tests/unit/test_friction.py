@@ -8,7 +8,7 @@ import pytest
 from drillfatigue.config import case_from_dict
 from drillfatigue.config.base import validate
 from drillfatigue.config.friction import FrictionConfig
-from drillfatigue.dynamics.friction import (
+from drillfatigue.dynamics.contact.friction import (
     I_AX_RATIO,
     I_MU_D,
     I_MU_S,

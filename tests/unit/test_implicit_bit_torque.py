@@ -18,11 +18,11 @@ from numba import njit
 from drillfatigue.config import case_from_dict
 from drillfatigue.config.bit import BitConfig
 from drillfatigue.config.studies import Case2Config
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.bitrock import bit_response, bit_torque_slope, pack_bit_params
-from drillfatigue.dynamics.boundaries import implicit_bit_damping
-from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.bundles import Params, new_state, new_work
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.bit.laws import bit_response, bit_torque_slope, pack_bit_params
+from drillfatigue.dynamics.top.boundaries import implicit_bit_damping
+from drillfatigue.dynamics.run.simulation import simulate
+from drillfatigue.dynamics.core.bundles import Params, new_state, new_work
 from drillfatigue.studies.case2 import case_dict
 from testkit.short_runs import given_tob_run
 

@@ -16,7 +16,7 @@ from drillfatigue.cli import main
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
 from drillfatigue.io.logs import load_log
-from drillfatigue.io.surveys import twin_survey_table
+from drillfatigue.well.survey_file import twin_survey_table
 from drillfatigue.io.tally import load_tally
 from drillfatigue.surrogate import Surrogate, fit_surrogate, make_synthetic_dataset
 from drillfatigue.surrogate.twin import components_from_string, replay_log

@@ -1,4 +1,4 @@
-"""drillfatigue.io.surveys: field survey files (CSV m/ft, WITSML) against known values."""
+"""drillfatigue.well.survey_file: field survey files (CSV m/ft, WITSML) against known values."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import pytest
 from drillfatigue.cli import main
 from drillfatigue.config import WellConfig
 from drillfatigue.errors import InputError
-from drillfatigue.io.surveys import load_survey, read_survey, twin_survey_table, write_survey
+from drillfatigue.well.survey_file import load_survey, read_survey, twin_survey_table, write_survey
 from drillfatigue.units import FT_M
 from drillfatigue.well import build_survey
 

@@ -17,9 +17,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drillfatigue.config import CaseConfig, case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
-from drillfatigue.dynamics.rigid import kick, kick_lateral
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.core.rigid import kick, kick_lateral
 
 finite = st.floats(-1e4, 1e4, allow_nan=False)
 

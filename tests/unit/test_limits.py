@@ -16,8 +16,8 @@ from drillfatigue.config.bit import BitConfig
 from drillfatigue.config.operation import OperationConfig
 from drillfatigue.config.rig import AutodrillerConfig
 from drillfatigue.config.well import TortuosityConfig
-from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.model import straight_path
+from drillfatigue.dynamics.run.simulation import simulate
+from drillfatigue.dynamics.run.model import straight_path
 from drillfatigue.errors import InputError
 from drillfatigue.limits import (FEATURE_BOUNDS, MD_MAX_M, RPM_MAX, check_feature_values,
                                  check_recording_rates, check_value, feature_bound)
@@ -151,7 +151,7 @@ def test_cli_simulate_bit_below_td_writes_nothing(tmp_path, monkeypatch, capsys)
 
 def test_reference_cases_are_within_bounds() -> None:
     """Every shipped case starts its bit inside its well (the check rejects none of them)."""
-    from drillfatigue.dynamics.api import _wellpath
+    from drillfatigue.dynamics.run.simulation import _wellpath
 
     for f in sorted(CASES.glob("*.yaml")):
         cfg = load_case(f)

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.api import simulate
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.simulation import simulate
 from drillfatigue.errors import InputError
 
 BASE: dict[str, Any] = {
@@ -287,7 +287,7 @@ def test_rig_run_resumes_bit_for_bit_with_its_state_and_figures(tmp_path: Any,
 
     import pyarrow.parquet as pq
 
-    from drillfatigue.dynamics import api
+    from drillfatigue.dynamics.run import simulation as api
 
     d = case(rig=dict(BASE["rig"], top_drive={"tuning": "pi", "kp_Nm_s_per_rad": 2e3,
                                               "ki_Nm_per_rad": 4e3}),

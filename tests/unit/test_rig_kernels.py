@@ -1,4 +1,4 @@
-"""Block and top-drive kernels (drillfatigue.dynamics.rig) and the rig configuration checks."""
+"""Block and top-drive kernels (drillfatigue.dynamics.top.rig) and the rig configuration checks."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 from drillfatigue.config import case_from_dict
 from drillfatigue.config.base import validate
 from drillfatigue.config.rig import RigConfig
-from drillfatigue.dynamics.rig_setup import check_rig_setup, string_axial_properties
-from drillfatigue.dynamics import rig as R
+from drillfatigue.dynamics.top.setup import check_rig_setup, string_axial_properties
+from drillfatigue.dynamics.top import rig as R
 from drillfatigue.errors import InputError
 
 
@@ -264,7 +264,7 @@ def test_string_first_torsional_mode_matches_the_shaft_with_end_inertia() -> Non
     # collars' own compliance (GJ of 6 3/4 in collars is 7x the pipe's over 1/9 of the
     # length) and the 20 m lumping move the mode by a few tenths of a per cent (measured
     # -0.12 %): tolerance 1 %.
-    from drillfatigue.dynamics.rig_setup import string_torsional_properties
+    from drillfatigue.dynamics.top.setup import string_torsional_properties
 
     pipe = {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 1800.0, "n_segments": 90,
             "tool_joint_length_fraction": 0.0}
@@ -282,7 +282,7 @@ def test_string_first_torsional_mode_matches_the_shaft_with_end_inertia() -> Non
 
 
 def test_packed_parameters_follow_the_modes() -> None:
-    from drillfatigue.dynamics.rig_setup import block_params, top_drive_params
+    from drillfatigue.dynamics.top.setup import block_params, top_drive_params
 
     mode, p = block_params(RigConfig(), hook_off_N=8e5)
     assert mode == R.BLOCK_AUTODRILLER_HOOK and p[R.BP_HOFF] == 8e5 and p[R.BP_WOBSET] == 1e5
@@ -294,7 +294,7 @@ def test_packed_parameters_follow_the_modes() -> None:
     mode, p, info = top_drive_params(RigConfig(), case)
     assert mode == R.TOP_DRIVE_STIFF and p[R.TP_J] == pytest.approx(10.5**2 * 8.0 + 50.0)
     mode, p, info = top_drive_params(validate(RigConfig, {"top_drive": {"tuning": "soft_torque"}}), case)
-    from drillfatigue.dynamics.rig_setup import string_torsional_properties
+    from drillfatigue.dynamics.top.setup import string_torsional_properties
     props = string_torsional_properties(case)
     assert mode == R.TOP_DRIVE_PI
     assert p[R.TP_KP] == pytest.approx(props["impedance_Nms_per_rad"])

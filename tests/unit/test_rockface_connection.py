@@ -11,9 +11,9 @@ import pytest
 from drillfatigue.config.base import validate
 from drillfatigue.config.bit import BitConfig
 from drillfatigue.config.rig import ConnectionConfig, RigConfig
-from drillfatigue.dynamics import bitrock as BR
-from drillfatigue.dynamics import connection as C
-from drillfatigue.dynamics import rockface as RF
+from drillfatigue.dynamics.bit import laws as BR
+from drillfatigue.dynamics.top import connection as C
+from drillfatigue.dynamics.bit import rockface as RF
 from drillfatigue.errors import InputError
 
 
@@ -67,13 +67,23 @@ def test_bit_leaves_bottom_only_above_the_lobe_acceleration_limit() -> None:
     assert _off_bottom_fraction(20e3, 1.2 * w_lim) > 0.02
 
 
+#: An 8 1/2 in PDC bit in a medium-hard rock, in the ranges Detournay, Richard & Shepherd
+#: (Int. J. Rock Mech. Min. Sci. 45 (2008) 1347) identified: bit radius a (m), intrinsic
+#: specific energy eps (Pa), zeta, contact strength sigma (Pa), wear flat l (m), mu gamma.
+PDC = {"a": 0.10795, "eps": 200e6, "zeta": 0.6, "sigma": 60e6, "l": 2e-3, "mg": 0.6}
+
+
+def _detournay(wob_N: float, omega_rad_s: float, out: np.ndarray) -> None:
+    BR.detournay_law(PDC["a"], PDC["eps"], PDC["zeta"], PDC["sigma"], PDC["l"], PDC["mg"],
+                     wob_N, omega_rad_s, out)
+
+
 def test_detournay_points_lie_on_the_friction_line() -> None:
     # Detournay & Defourny (1992): E = (1 - mu gamma zeta) eps + mu gamma S in the cutting phase
-    p = RF.pack_detournay_params()
-    a, eps, zeta, mg = p[RF.DP_A], p[RF.DP_EPS], p[RF.DP_ZETA], p[RF.DP_MUGAMMA]
+    a, eps, zeta, mg = PDC["a"], PDC["eps"], PDC["zeta"], PDC["mg"]
     out = np.empty(3)
     for wob in (2e4, 5e4, 1e5, 2e5):
-        RF.detournay_response(p, wob, 15.7, out)
+        _detournay(wob, 15.7, out)
         tob, rop, d = out
         e_spec = 2.0 * tob / (a * a * d)
         s_str = wob / (a * d)
@@ -82,19 +92,18 @@ def test_detournay_points_lie_on_the_friction_line() -> None:
 
 
 def test_detournay_no_cut_below_the_wear_flat_limit_and_continuous_above() -> None:
-    p = RF.pack_detournay_params()
-    wf = p[RF.DP_SIGMA] * p[RF.DP_A] * p[RF.DP_L]
+    wf = PDC["sigma"] * PDC["a"] * PDC["l"]
     out = np.empty(3)
-    RF.detournay_response(p, 0.9 * wf, 15.7, out)
-    assert out[1] == 0.0 and out[0] == pytest.approx(0.5 * p[RF.DP_MUGAMMA] * p[RF.DP_A] * 0.9 * wf)
+    _detournay(0.9 * wf, 15.7, out)
+    assert out[1] == 0.0 and out[0] == pytest.approx(0.5 * PDC["mg"] * PDC["a"] * 0.9 * wf)
     below = out.copy()
-    RF.detournay_response(p, wf * (1 + 1e-9), 15.7, out)
-    assert out[0] == pytest.approx(0.5 * p[RF.DP_MUGAMMA] * p[RF.DP_A] * wf, rel=1e-6)
+    _detournay(wf * (1 + 1e-9), 15.7, out)
+    assert out[0] == pytest.approx(0.5 * PDC["mg"] * PDC["a"] * wf, rel=1e-6)
     assert out[1] < 1e-9 and below[0] < out[0]
-    RF.detournay_response(p, 1e5, 15.7, out)  # documented operating point: 6.7 mm/rev, 60 m/h
+    _detournay(1e5, 15.7, out)  # operating point of these numbers: 6.7 mm/rev, 60 m/h
     assert out[2] == pytest.approx(6.7e-3, rel=0.01)
     assert out[1] * 3600.0 == pytest.approx(60.0, rel=0.01)
-    RF.detournay_response(p, 1e5, -1.0, out)  # backwards: friction only, resisting
+    _detournay(1e5, -1.0, out)  # backwards: friction only, resisting
     assert out[0] < 0.0 and out[1] == 0.0
 
 

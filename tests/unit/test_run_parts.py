@@ -7,12 +7,12 @@ import pyarrow.parquet as pq
 import pytest
 
 from drillfatigue import rundir
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.checkpoint import load_checkpoint, save_checkpoint
-from drillfatigue.dynamics.events import RunningStats
-from drillfatigue.dynamics.examples import uniform_chain_case
-from drillfatigue.dynamics.model import build_model, straight_path
-from drillfatigue.dynamics.recorder import Recorder
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.checkpoint import load_checkpoint, save_checkpoint
+from drillfatigue.dynamics.contact.events import RunningStats
+from drillfatigue.dynamics.run.examples import uniform_chain_case
+from drillfatigue.dynamics.run.model import build_model, straight_path
+from drillfatigue.dynamics.run.recorder import Recorder
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder
 

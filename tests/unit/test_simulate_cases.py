@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from drillfatigue.config import load_case
-from drillfatigue.dynamics.model import build_model, straight_path
+from drillfatigue.dynamics.run.model import build_model, straight_path
 
 CASES = sorted((Path(__file__).resolve().parents[2] / "data" / "cases").glob("*.yaml"))
 

@@ -29,8 +29,9 @@ import yaml
 from drillfatigue import rundir
 from drillfatigue.cli import main
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import api, status
-from drillfatigue.dynamics.api import simulate
+from drillfatigue.dynamics.run import simulation as api
+from drillfatigue.dynamics.core import status
+from drillfatigue.dynamics.run.simulation import simulate
 from drillfatigue.errors import InputError, SimulationError
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -13,8 +13,8 @@ import drillfatigue
 from drillfatigue import rundir
 from drillfatigue.cli import main
 from drillfatigue.config import case_from_dict, load_case
-from drillfatigue.dynamics import api
-from drillfatigue.dynamics.model import stable_step
+from drillfatigue.dynamics.run import simulation as api
+from drillfatigue.dynamics.run.model import stable_step
 from drillfatigue.errors import SimulationError
 
 CASE = {

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import span_bending as K
+from drillfatigue.dynamics.span import bending as K
 from drillfatigue.errors import InputError
-from drillfatigue.dynamics.span import (chain_span_moments, continuous_beam_moments,
+from drillfatigue.dynamics.span.beam import (chain_span_moments, continuous_beam_moments,
                                          spans_from_supports)
 
 

@@ -1,4 +1,4 @@
-"""The rigid chain's static moments kept inside the hole (drillfatigue.dynamics.span_chain).
+"""The rigid chain's static moments kept inside the hole (drillfatigue.dynamics.span.chain).
 
 Reference: the chain's own statics and the hole's geometry. A chain of rigid segments
 on joint springs k = EI/L, held at given points, is solved exactly by
@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from drillfatigue.dynamics.span_chain import (
+from drillfatigue.dynamics.span.chain import (
     STATUS_OK, STATUS_SINGULAR, WALL_TOL_M, chain_static_moments, chain_static_moments_in_hole,
 )
 

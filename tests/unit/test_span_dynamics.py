@@ -1,4 +1,4 @@
-"""The span filter (drillfatigue.dynamics.span_dynamics) against closed forms of the
+"""The span filter (drillfatigue.dynamics.span.modal) against closed forms of the
 single-degree-of-freedom oscillator, and its bookkeeping in the integrator's state.
 
 References (Biggs, *Introduction to Structural Dynamics*, 1964, ch. 2; Clough &
@@ -29,13 +29,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.examples import j_well_rotating_case
-from drillfatigue.dynamics.layout import (
+from drillfatigue.dynamics.run.examples import j_well_rotating_case
+from drillfatigue.dynamics.core.layout import (
     CS_SQA, CS_SQF, CS_SQON, CS_SQT, P_SPANDYN, P_SPANZ, S_CL, S_H, S_M,
 )
-from drillfatigue.dynamics.api import _wellpath
-from drillfatigue.dynamics.model import build_model
-from drillfatigue.dynamics.span_dynamics import (
+from drillfatigue.dynamics.run.simulation import _wellpath
+from drillfatigue.dynamics.run.model import build_model
+from drillfatigue.dynamics.span.modal import (
     ZETA_MAX, accumulate_span_load, sdof_hold_step, span_length_m, span_mode, span_modes,
     update_span_filters,
 )

@@ -1,7 +1,7 @@
 """The continuous beam against the wall: mid-span supports where the elastic pipe reaches
 it or buckles between its supports, and wall supports it would pull from let go of.
 
-Reference: the beam-column's own validity limits (drillfatigue.dynamics.span_bending)
+Reference: the beam-column's own validity limits (drillfatigue.dynamics.span.bending)
 and the wall's one-sidedness: a span whose middle (chord plus mid-span deflection) lies
 beyond the wall, or whose compression reaches the Euler load of the pinned span
 (pi^2 EI / L^2), lies on the wall in between, so the touching point is a support; a wall
@@ -22,10 +22,10 @@ import math
 
 import numpy as np
 
-from drillfatigue.dynamics.span_bending import (
+from drillfatigue.dynamics.span.bending import (
     END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments, chain_span_moments_settled,
 )
-from drillfatigue.dynamics.span_record import (
+from drillfatigue.dynamics.span.record import (
     ACT_NONE, ACT_RELEASE, ACT_SPLIT, MAX_RELEASES, MAX_SPLIT_ROUNDS, MIN_SPLIT_SPAN_M, SPLIT_TOL_M,
     STATUS_SPLIT, _solve_chain, _solve_or_split,
 )

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import drillfatigue.dynamics.status as dynamics_status
-import drillfatigue.dynamics.span_bending as SB
+import drillfatigue.dynamics.core.status as dynamics_status
+import drillfatigue.dynamics.span.bending as SB
 import drillfatigue.fatigue.kernels as K
 import drillfatigue.numba_cache as NC
 import drillfatigue.status as S

@@ -19,7 +19,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drillfatigue.dynamics.span_record import tangency_length_m
+from drillfatigue.dynamics.span.record import tangency_length_m
 
 
 def _offset_misfit(ei: float, r: float, q: float, kappa: float, length: float) -> float:

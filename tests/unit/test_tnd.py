@@ -11,7 +11,7 @@ import yaml
 
 from drillfatigue.cli import main
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.torque_drag import torque_drag_for_case
+from drillfatigue.softstring.torque_drag import torque_drag_for_case
 from drillfatigue.string import build_segments
 
 # explicit string (the defaults may change): 180 m of collars in 20 segments, 900 m of DP

@@ -20,12 +20,12 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.examples import uniform_chain_case
-from drillfatigue.dynamics.boundaries import top_joint
-from drillfatigue.dynamics.bundles import new_work
-from drillfatigue.dynamics.model import build_model, straight_path
-from drillfatigue.dynamics.rigid import quat_exp_mul, quat_to_rot
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.examples import uniform_chain_case
+from drillfatigue.dynamics.top.boundaries import top_joint
+from drillfatigue.dynamics.core.bundles import new_work
+from drillfatigue.dynamics.run.model import build_model, straight_path
+from drillfatigue.dynamics.core.rigid import quat_exp_mul, quat_to_rot
 
 
 def _top_loads(top_axial: str, axial_offset_m: float, tilt_rad: float) -> tuple[np.ndarray, np.ndarray]:

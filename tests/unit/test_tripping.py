@@ -16,7 +16,7 @@ import pytest
 
 import drillfatigue
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
+from drillfatigue.dynamics.core import layout as L
 from drillfatigue.string import build_segments
 
 

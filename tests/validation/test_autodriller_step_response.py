@@ -1,6 +1,6 @@
 """Autodriller: step response against the closed-loop second-order model, and the stability rule.
 
-Reference (drillfatigue.dynamics.rig docstring): with the string quasi-static,
+Reference (drillfatigue.dynamics.top.rig docstring): with the string quasi-static,
 ``WOB(s)/WOB_set(s) = k (Kp s + Ki) / (s^2 + k (Kp + c) s + k Ki)`` for a string
 of axial stiffness k (string in series with the rock) and the linearised bit
 law ROP = c WOB. The kernel is integrated in time on a single-mass model of
@@ -22,7 +22,7 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import rig as R
+from drillfatigue.dynamics.top import rig as R
 
 from rig_references import (C_ROP, K_EFF, KI, KP, KS, W0, W1,
                             single_mass_autodriller)

@@ -1,6 +1,6 @@
 """The bit stays on a lobed rock face when the face's dynamic force is below the WOB.
 
-Reference: the linear rod model of :func:`drillfatigue.dynamics.rig_setup.lobe_force_amplitude_N`
+Reference: the linear rod model of :func:`drillfatigue.dynamics.top.setup.lobe_force_amplitude_N`
 (docs/rig.md, "Why the case-2 bit bounces"): the face ``A sin(n Omega t)`` drives the
 bit through the rock spring into the string's axial driving-point impedance (collars,
 then drill pipe continuing upward), ``|F| = A / |1/k + 1/(i w Z)|``. The bit pressed
@@ -25,8 +25,8 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.rig_setup import lobe_force_amplitude_N, rod_input_impedance
+from drillfatigue.dynamics.run.simulation import simulate
+from drillfatigue.dynamics.top.setup import lobe_force_amplitude_N, rod_input_impedance
 
 E_PA = 207e9
 RHO = 7850.0

@@ -22,9 +22,10 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import buckling as B
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.run import buckling as BD
+from drillfatigue.softstring import buckling as B
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 from drillfatigue.string import build_segments
 
 INC_DEG = 60.0
@@ -34,7 +35,7 @@ CHUNK_S = 0.05
 HOLD_S = 3.0
 
 
-def _final_detection(ratio: float) -> tuple[B.BucklingDetection, float]:
+def _final_detection(ratio: float) -> tuple[BD.BucklingDetection, float]:
     cfg = case_from_dict({
         "string": {"components": [{"type": "drill_pipe", "od_m": OD, "id_m": ID,
                                    "length_m": 100.0, "n_segments": 50}]},
@@ -71,10 +72,10 @@ def _final_detection(ratio: float) -> tuple[B.BucklingDetection, float]:
     centre = p0 + along[:, None] * axis
     s_bit = float(along.max()) - along  # distance from the lowest segment centre
     order = np.argsort(s_bit)
-    rho, theta = B.lateral_offsets(x[order], centre[order], np.tile(axis, (n, 1)), r_c)
+    rho, theta = BD.lateral_offsets(x[order], centre[order], np.tile(axis, (n, 1)), r_c)
     # the pipe body clearance: the detector measures the offset of segment centres
     wave = 2.0 * math.pi * (ei * r_c / (w * math.sin(math.radians(INC_DEG)))) ** 0.25
-    det = B.detect_buckling(s_bit[order], rho, theta, np.ones(n, bool), window_m=2.0 * wave)
+    det = BD.detect_buckling(s_bit[order], rho, theta, np.ones(n, bool), window_m=2.0 * wave)
     return det, wave
 
 

@@ -1,7 +1,7 @@
 """The simulator's buckling detections in summary.json (docs/rig.md#buckling).
 
 Set-up of test_buckling_detected_in_simulation.py, run through the run driver
-(:class:`drillfatigue.dynamics.api.Runner`) with a rig section so that the detector is on by
+(:class:`drillfatigue.dynamics.run.simulation.Runner`) with a rig section so that the detector is on by
 default: 100 m of 5 in pipe in 50 segments, a straight 60 deg hole, frictionless, a small
 lateral imperfection of the 25 m buckle's shape; the autodriller (downhole WOB) holds the
 bit at ``ratio x F_DP`` plus the axial weight of the lower 50 m, so the middle of the string
@@ -27,9 +27,9 @@ import pytest
 
 from drillfatigue import rundir
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import buckling as B
-from drillfatigue.dynamics.api import Runner
-from drillfatigue.dynamics.model import straight_path
+from drillfatigue.softstring import buckling as B
+from drillfatigue.dynamics.run.simulation import Runner
+from drillfatigue.dynamics.run.model import straight_path
 from drillfatigue.string import build_segments
 
 PIPE = {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086, "length_m": 100.0, "n_segments": 50}

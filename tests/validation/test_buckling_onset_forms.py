@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import buckling as B
+from drillfatigue.softstring import buckling as B
 
 # 5 in 19.5 lb/ft drill pipe (docs/model.md#bodies) in 8 1/2 in hole, 1.2 SG mud
 OD, ID = 0.127, 0.1086

@@ -15,10 +15,10 @@ import math
 
 import numpy as np
 
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.examples import COLLAR_ID_M, COLLAR_OD_M, uniform_chain_case
-from drillfatigue.dynamics.model import build_model, evaluate_forces, straight_path
-from drillfatigue.dynamics.rigid import quat_from_rot, quat_to_rot
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.examples import COLLAR_ID_M, COLLAR_OD_M, uniform_chain_case
+from drillfatigue.dynamics.run.model import build_model, evaluate_forces, straight_path
+from drillfatigue.dynamics.core.rigid import quat_from_rot, quat_to_rot
 
 E = 207e9
 I_AREA = math.pi / 64 * (COLLAR_OD_M ** 4 - COLLAR_ID_M ** 4)

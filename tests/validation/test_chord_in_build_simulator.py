@@ -48,10 +48,10 @@ import math
 import numpy as np
 
 import drillfatigue
-from drillfatigue.dynamics.contact import OUT_DELTA, OUT_SIZE, find_contact
-from drillfatigue.dynamics.examples import j_well_rotating_case
-from drillfatigue.dynamics.layout import C_NACT, MAX_CONTACT_POINTS, S_H, S_RB, S_RC, S_W
-from drillfatigue.dynamics.rigid import quat_to_rot
+from drillfatigue.dynamics.contact.wall import OUT_DELTA, OUT_SIZE, find_contact
+from drillfatigue.dynamics.run.examples import j_well_rotating_case
+from drillfatigue.dynamics.core.layout import C_NACT, MAX_CONTACT_POINTS, S_H, S_RB, S_RC, S_W
+from drillfatigue.dynamics.core.rigid import quat_to_rot
 
 HOLE_R = 0.5 * 0.2159
 COLLAR_OD = 0.17145

@@ -9,7 +9,7 @@ rotating J-well of the stiff/soft-string check).
 from __future__ import annotations
 
 import drillfatigue
-from drillfatigue.dynamics.examples import j_well_rotating_case
+from drillfatigue.dynamics.run.examples import j_well_rotating_case
 
 
 def _means(k_c: float) -> tuple[float, float]:

@@ -19,15 +19,15 @@ import pytest
 from numba import njit
 
 from drillfatigue.config.friction import FrictionConfig
-from drillfatigue.dynamics.contact import (
+from drillfatigue.dynamics.contact.wall import (
     WALL_INFO_SIZE,
     build_cylinder_chain,
     damping_from_ratio,
     stable_dt,
     wall_force,
 )
-from drillfatigue.dynamics.friction import pack_friction_params
-from drillfatigue.dynamics.layout import WI_CYL
+from drillfatigue.dynamics.contact.friction import pack_friction_params
+from drillfatigue.dynamics.core.layout import WI_CYL
 
 G = 9.80665
 M = 30.0  # kg, ~1 m of 5 in drill pipe

@@ -21,7 +21,7 @@ import pytest
 from drillfatigue.config.string import StringConfig
 from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 from drillfatigue.string import build_segments
-from drillfatigue.dynamics.span import (chain_span_moments, continuous_beam_moments,
+from drillfatigue.dynamics.span.beam import (chain_span_moments, continuous_beam_moments,
                                         pipe_frame_moments)
 from drillfatigue.status import OK, SPAN_BUCKLED
 

@@ -20,8 +20,8 @@ import math
 import numpy as np
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 from drillfatigue.string import build_segments
 
 INC_DEG = 60.0

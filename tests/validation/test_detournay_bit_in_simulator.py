@@ -39,9 +39,9 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics import rig as R
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.top import rig as R
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 
 COLLAR = {"type": "collar", "od_m": 0.17145, "id_m": 0.0714}
 PIPE = {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086}

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.examples import uniform_chain_case
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path, total_energy
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.examples import uniform_chain_case
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path, total_energy
 
 
 def _perturbed(damping: bool):

@@ -14,10 +14,10 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.examples import COLLAR_ID_M, COLLAR_OD_M, uniform_chain_case
-from drillfatigue.dynamics.model import advance_model, build_model, evaluate_forces, straight_path
-from drillfatigue.dynamics.rigid import quat_from_rot
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.examples import COLLAR_ID_M, COLLAR_OD_M, uniform_chain_case
+from drillfatigue.dynamics.run.model import advance_model, build_model, evaluate_forces, straight_path
+from drillfatigue.dynamics.core.rigid import quat_from_rot
 
 E, NU, RHO = 207e9, 0.3, 7850.0
 G_MOD = E / (2 * (1 + NU))
@@ -60,7 +60,7 @@ def linearised_omegas(model, state, kind: str) -> np.ndarray:
 
 
 def _rot(q: np.ndarray) -> np.ndarray:
-    from drillfatigue.dynamics.rigid import quat_to_rot
+    from drillfatigue.dynamics.core.rigid import quat_to_rot
     out = np.zeros((3, 3))
     quat_to_rot(q, out)
     return out

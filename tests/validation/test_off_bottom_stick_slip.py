@@ -39,8 +39,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 
 from rig_references import stick_slip_metrics
 

@@ -38,11 +38,12 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics import buckling as B
-from drillfatigue.dynamics import layout as L
-from drillfatigue.dynamics import rig as R
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
-from drillfatigue.dynamics.rockface import rop_slope_m_per_N_s
+from drillfatigue.dynamics.run import buckling as BD
+from drillfatigue.softstring import buckling as B
+from drillfatigue.dynamics.core import layout as L
+from drillfatigue.dynamics.top import rig as R
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.bit.rockface import rop_slope_m_per_N_s
 from drillfatigue.string import build_segments
 
 from rig_references import TorsionalWell, stick_slip_metrics, torsional_reference
@@ -157,7 +158,7 @@ HOLE_D = 0.2159
 HOLD_S = 3.0
 
 
-def _slack_off_detection(ratio: float) -> tuple[B.BucklingDetection, float, float]:
+def _slack_off_detection(ratio: float) -> tuple[BD.BucklingDetection, float, float]:
     od, idm = PIPE["od_m"], PIPE["id_m"]
     segs = build_segments(case_from_dict({"string": {"components": [
         dict(PIPE, length_m=100.0, n_segments=50)]}}).string, 1200.0)
@@ -206,9 +207,9 @@ def _slack_off_detection(ratio: float) -> tuple[B.BucklingDetection, float, floa
     centre = p0 + along[:, None] * axis
     s_bit = float(along.max()) - along
     order = np.argsort(s_bit)
-    rho, theta = B.lateral_offsets(x[order], centre[order], np.tile(axis, (n, 1)), r_c)
+    rho, theta = BD.lateral_offsets(x[order], centre[order], np.tile(axis, (n, 1)), r_c)
     wave = 2.0 * math.pi * (ei * r_c / (w * math.sin(math.radians(INC_DEG)))) ** 0.25
-    det = B.detect_buckling(s_bit[order], rho, theta, np.ones(n, bool), window_m=2.0 * wave)
+    det = BD.detect_buckling(s_bit[order], rho, theta, np.ones(n, bool), window_m=2.0 * wave)
     return det, force / f_dp, wave
 
 

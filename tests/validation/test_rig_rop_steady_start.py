@@ -27,8 +27,8 @@ import numpy as np
 import pytest
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.api import check_rig, simulate
-from drillfatigue.dynamics.rockface import rop_tob_from_wob, steady_wob_for_rop_N
+from drillfatigue.dynamics.run.simulation import check_rig, simulate
+from drillfatigue.dynamics.bit.rockface import rop_tob_from_wob, steady_wob_for_rop_N
 from drillfatigue.errors import InputError
 
 ROP_SET = 0.002

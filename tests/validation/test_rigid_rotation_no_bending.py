@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 
 
 def test_constant_rpm_gives_no_bending_or_shear() -> None:

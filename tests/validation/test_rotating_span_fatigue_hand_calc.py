@@ -24,7 +24,7 @@ from drillfatigue.fatigue.critical_plane import CriterionParams, evaluate_locati
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Pressure, Section, true_wall_force_N
 from drillfatigue.string import build_segments
-from drillfatigue.dynamics.span import continuous_beam_moments, pipe_frame_moments
+from drillfatigue.dynamics.span.beam import continuous_beam_moments, pipe_frame_moments
 
 
 @pytest.mark.parametrize("scf", [SCF(), SCF(2.0, 2.0, 1.5)], ids=["body", "upset"])

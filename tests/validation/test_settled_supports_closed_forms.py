@@ -34,7 +34,7 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics.span import chain_span_moments, continuous_beam_moments
+from drillfatigue.dynamics.span.beam import chain_span_moments, continuous_beam_moments
 
 EI = 207e9 * math.pi / 64.0 * (0.17145 ** 4 - 0.0714 ** 4)  # 6 3/4 in collar, N m^2
 W = 1244.0  # its buoyed weight per length in 1.2 SG mud, N/m

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.dynamics.softstring import soft_string_march, soft_string_torque_drag
+from drillfatigue.softstring.march import soft_string_march, soft_string_torque_drag
 from drillfatigue.well.survey import tangent_vectors
 
 W = 300.0  # buoyed weight per length, N/m

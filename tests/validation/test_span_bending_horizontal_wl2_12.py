@@ -35,8 +35,8 @@ import pytest
 from drillfatigue import rundir
 from drillfatigue.config import case_from_dict
 from drillfatigue.config.fatigue import FatigueConfig
-from drillfatigue.dynamics.api import simulate
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.run.simulation import simulate
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import Section

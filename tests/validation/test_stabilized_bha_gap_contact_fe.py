@@ -56,8 +56,8 @@ import math
 import numpy as np
 
 import drillfatigue
-from drillfatigue.dynamics.examples import j_well_rotating_case
-from drillfatigue.dynamics.layout import S_H, S_RB, S_W
+from drillfatigue.dynamics.run.examples import j_well_rotating_case
+from drillfatigue.dynamics.core.layout import S_H, S_RB, S_W
 
 DC = {"od_m": 0.17145, "id_m": 0.0714}
 STAB = {"type": "stabilizer", "length_m": 1.5, "blade_od_m": 0.2143, "blade_length_m": 0.45, **DC}

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from drillfatigue.config import case_from_dict
-from drillfatigue.dynamics.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 
 G = 9.80665
 RHO_S, RHO_MUD = 7850.0, 1200.0
@@ -56,7 +56,7 @@ def test_hook_load_equals_buoyed_weight_minus_wob() -> None:
     model, out = _settle(_case("hook_load", hook))
     ch = out["channels"]
     tail = ch[-20:]
-    from drillfatigue.dynamics import layout as L
+    from drillfatigue.dynamics.core import layout as L
     wob = tail[:, 1 + L.H_WOB].mean()
     # 0.5 % (the bound); damping settles the perturbation to << 0.1 %
     assert abs(wob - (w_total - hook)) <= 0.005 * (w_total - hook)

@@ -15,8 +15,8 @@ import math
 import numpy as np
 
 import drillfatigue
-from drillfatigue.dynamics.examples import j_well_rotating_case
-from drillfatigue.dynamics.torque_drag import torque_drag_for_case
+from drillfatigue.dynamics.run.examples import j_well_rotating_case
+from drillfatigue.softstring.torque_drag import torque_drag_for_case
 from drillfatigue.string import build_segments
 
 T_AVG_FROM_S = 1.0  # average after the rpm ramp (0.5 s); ~5 torsional periods of 300 m pipe

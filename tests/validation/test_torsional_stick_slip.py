@@ -22,7 +22,7 @@ import pytest
 
 import rig_references as RR
 
-from drillfatigue.dynamics import rig as R
+from drillfatigue.dynamics.top import rig as R
 
 WELL = RR.TorsionalWell()
 

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 from drillfatigue.config.well import TortuosityConfig
-from drillfatigue.dynamics.softstring import soft_string_torque_drag
+from drillfatigue.softstring.march import soft_string_torque_drag
 from drillfatigue.well import apply_tortuosity, minimum_curvature
 
 W = 250.0  # buoyed weight per length, N/m

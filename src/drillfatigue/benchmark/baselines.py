@@ -16,7 +16,7 @@ and a conformal interval where the model has one):
 - ``physics``: no training. API RP7G / Lubinski bending of pipe rotating in a
   dogleg (:func:`drillfatigue.fatigue.rp7g.lubinski_bending_stress_Pa`) under
   the soft-string drilling tension of the case
-  (:func:`drillfatigue.dynamics.torque_drag.torque_drag_for_case`), at each
+  (:func:`drillfatigue.softstring.torque_drag.torque_drag_for_case`), at each
   row's hole curvature, with the case's S-N curve, stress concentration and
   Goodman correction of the location; one fully reversed cycle per revolution
   (docs/fatigue.md#api-rp7g). It needs the held-out cases' configurations
@@ -191,7 +191,7 @@ def physics_log10_rate(rows: pd.DataFrame, case: CaseConfig, fatigue: FatigueCon
         Rows of one case: ``md_m``, ``s_from_bit_m``, ``local_dls_deg_per_30m``,
         ``component_type``, ``location`` (body, connection or upset) and
         ``operation.wob_N`` (the weight on bit of the drilling tension; without
-        it, the case's own: :func:`~drillfatigue.dynamics.torque_drag.torque_drag_for_case`).
+        it, the case's own: :func:`~drillfatigue.softstring.torque_drag.torque_drag_for_case`).
     case : CaseConfig
         The case's configuration (well, string, operation, friction).
     fatigue : FatigueConfig
@@ -207,7 +207,7 @@ def physics_log10_rate(rows: pd.DataFrame, case: CaseConfig, fatigue: FatigueCon
         curvature, or below the curve's endurance) is returned as -inf.
     """
     # start-up: the physics baseline alone loads the simulator's soft-string model
-    from drillfatigue.dynamics.torque_drag import torque_drag_for_case
+    from drillfatigue.softstring.torque_drag import torque_drag_for_case
     from drillfatigue.fatigue.rp7g import lubinski_bending_stress_Pa
     from drillfatigue.fatigue.run import build_curve
     from drillfatigue.fatigue.sn import correct_mean_stress, get_grade

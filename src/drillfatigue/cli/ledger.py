@@ -134,7 +134,7 @@ def run_start(name: str = typer.Argument(..., help="run name, unique in the ledg
     survey_t = None
     if survey is not None:
         # start-up: SQLAlchemy and the ledger load only when a ledger command runs
-        from drillfatigue.io.surveys import twin_survey_table
+        from drillfatigue.well.survey_file import twin_survey_table
 
         if not survey.is_file():
             raise InputError("--survey", f"file {str(survey)!r} not found", "an existing file")

@@ -13,7 +13,7 @@ import typer
 from drillfatigue.cli.app import app
 from drillfatigue import rundir
 from drillfatigue.config import load_case
-from drillfatigue.dynamics.api import simulate
+from drillfatigue.dynamics.run.simulation import simulate
 from drillfatigue.errors import InputError, Interrupted, SimulationError
 
 

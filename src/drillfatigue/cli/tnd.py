@@ -2,9 +2,9 @@
 
 Prints the surface hook loads for pick-up, slack-off, rotating off bottom and
 drilling, and the surface torque rotating and drilling (Johancsik soft-string
-model, :mod:`drillfatigue.dynamics.softstring`), the smallest margin to
+model, :mod:`drillfatigue.softstring.march`), the smallest margin to
 sinusoidal buckling along the string in slack-off and drilling
-(:mod:`drillfatigue.dynamics.buckling`); optionally plots tension and torque
+(:mod:`drillfatigue.softstring.buckling`); optionally plots tension and torque
 against MD with the buckling onset loads.
 """
 
@@ -21,8 +21,8 @@ from rich.table import Table
 
 from drillfatigue.cli.app import app
 from drillfatigue.config import load_case
-from drillfatigue.dynamics.buckling import BucklingProfile, buckling_for_case
-from drillfatigue.dynamics.torque_drag import TorqueDrag, torque_drag_for_case
+from drillfatigue.softstring.buckling import BucklingProfile, buckling_for_case
+from drillfatigue.softstring.torque_drag import TorqueDrag, torque_drag_for_case
 from drillfatigue.errors import InputError
 from drillfatigue.limits import check_value
 from drillfatigue.files import atomic_output, check_output_file

@@ -12,7 +12,7 @@ filled is printed and reported in ``summary.json``).
 ``--string``/``--well`` take a case or params file (its ``string``/``well``
 section) or the bare section, ``--string`` also a tally CSV
 (:mod:`drillfatigue.io.tally`); ``--components`` takes a CSV table and
-``--survey`` a survey file (:mod:`drillfatigue.io.surveys`). ``--units
+``--survey`` a survey file (:mod:`drillfatigue.well.survey_file`). ``--units
 field`` prints and plots in ft.
 The log may carry a hook-load channel instead of WOB (``hook_load_kN`` with
 ``--set off_bottom_hook_load_kN=...``).
@@ -35,7 +35,7 @@ from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder
 from drillfatigue.io.display import Display, check_system
 from drillfatigue.io.logs import DEFAULT_MAX_FILL_S, DEFAULT_MAX_GAP_S, load_log
-from drillfatigue.io.surveys import twin_survey_table
+from drillfatigue.well.survey_file import twin_survey_table
 from drillfatigue.io.tables import read_csv_file
 from drillfatigue.io.tally import load_tally
 

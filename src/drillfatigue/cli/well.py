@@ -16,7 +16,7 @@ from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
 from drillfatigue.io.display import Display, check_system
-from drillfatigue.io.surveys import write_survey
+from drillfatigue.well.survey_file import write_survey
 from drillfatigue.well import Survey, build_plan_survey, build_survey, key_points
 from drillfatigue.well.outputs import plot_survey
 from drillfatigue.well.profiles import resolve_profile

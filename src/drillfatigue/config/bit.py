@@ -1,6 +1,6 @@
 """``bit`` section of params.yaml: the bit-rock interaction law (docs/model.md#bit).
 
-Kernel: :mod:`drillfatigue.dynamics.bitrock`. Defaults: the public parameter set
+Kernel: :mod:`drillfatigue.dynamics.bit.laws`. Defaults: the public parameter set
 of the Yigit & Christoforou torque-on-bit shape, b0 = r_b mu0 = 0.0239 m,
 b1 = 1.91 s/rad, b2 = 8.5 s/rad, b3 = 5.47 s^2/rad^2, for an 8 1/2 in bit. The
 lobed axial bit motion (lobe count, amplitude) and the prescribed ROP value

@@ -1,6 +1,6 @@
 """``contact`` section of params.yaml: penalty wall contact and contact-point placement.
 
-Kernel: :mod:`drillfatigue.dynamics.contact` (docs/model.md#contact). Choice of
+Kernel: :mod:`drillfatigue.dynamics.contact.wall` (docs/model.md#contact). Choice of
 the defaults (see that module's docstring): k_c = 5e7 N/m keeps the contact
 spring softer than the joint springs, so the explicit step stays set by the
 joints (``contact.stable_dt(k_c, m_min)`` gives the contact limit), while the
@@ -52,7 +52,7 @@ class ContactConfig(StrictModel):
     span_bending : bool
         Record the span-bending correction (the bending of the pipe's own
         weight between the contact points in the wall,
-        :mod:`drillfatigue.dynamics.span_record`) at the recorded joints as
+        :mod:`drillfatigue.dynamics.span.record`) at the recorded joints as
         ``span_bending_x_Nm`` / ``span_bending_y_Nm`` in ``loads.parquet``;
         the fatigue chain adds it to the joint moment. Default on
         (docs/bending.md); its supports are the contact points, so it is
@@ -60,7 +60,7 @@ class ContactConfig(StrictModel):
     span_dynamic : bool
         The span correction takes its distributed load through each span's
         first bending mode (a single degree of freedom per segment, static
-        gain 1, :mod:`drillfatigue.dynamics.span_dynamics`) instead of
+        gain 1, :mod:`drillfatigue.dynamics.span.modal`) instead of
         quasi-statically: a wall impact of a few milliseconds bends the span
         by the factor omega tau of its quasi-static moment, and rings down
         at the span's frequency. Default on (docs/bending.md#dynamic-span-response);
@@ -72,7 +72,7 @@ class ContactConfig(StrictModel):
         Each segment with three or more contact points also tests, every
         step, the point of its axis furthest out towards the wall between
         them (the vertex of the parabola through the outermost tested point
-        and its neighbours, :func:`drillfatigue.dynamics.contact.deepest_point`),
+        and its neighbours, :func:`drillfatigue.dynamics.contact.wall.deepest_point`),
         so that the wall holds a chord in a bend everywhere, not only at the
         points; the span recorder takes it as a support where it touches.
         Default on (docs/bending.md).

@@ -2,7 +2,7 @@
 
 The model is chosen by name; all coefficients of all models live in this one
 section so a case can switch model without editing anything else. Kernel:
-:mod:`drillfatigue.dynamics.friction` (docs/model.md#friction).
+:mod:`drillfatigue.dynamics.contact.friction` (docs/model.md#friction).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """``rig`` section: the travelling block, the autodriller, the top drive, the rock face, connections.
 
-Kernels: :mod:`drillfatigue.dynamics.rig` (block, top drive, rock face) and
-:mod:`drillfatigue.dynamics.connection` (connection event sequence). User
+Kernels: :mod:`drillfatigue.dynamics.top.rig` (block, top drive, rock face) and
+:mod:`drillfatigue.dynamics.top.connection` (connection event sequence). User
 documentation with the basis of every default: ``docs/rig.md``.
 
 Every mode uses only some inputs; an input given for a mode that cannot use it
@@ -9,7 +9,7 @@ is an error naming the mode (no silent overrides), and
 :meth:`RigConfig.effective_inputs` lists what a mode does use (for
 ``summary.json``). Checks that need the string and the window (autodriller
 loop stability, a connection longer than the window) are in
-:func:`drillfatigue.dynamics.rig_setup.check_rig_setup`, called before any
+:func:`drillfatigue.dynamics.top.setup.check_rig_setup`, called before any
 step is taken.
 """
 
@@ -140,7 +140,7 @@ class TopDriveConfig(StrictModel):
     stick_slip_period_s : float or None
         ``soft_torque`` only: the stick-slip period to tune for, s; default
         the first torsional mode of the string
-        (:func:`drillfatigue.dynamics.rig.torsional_first_mode_rad_s`).
+        (:func:`drillfatigue.dynamics.top.rig.torsional_first_mode_rad_s`).
     """
 
     tuning: Literal["stiff", "pi", "soft_torque"] = "stiff"
@@ -199,7 +199,7 @@ class RockConfig(StrictModel):
 
 
 class ConnectionConfig(StrictModel):
-    """The connection sequence when the block reaches the floor (``drillfatigue.dynamics.connection``).
+    """The connection sequence when the block reaches the floor (``drillfatigue.dynamics.top.connection``).
 
     Durations, s: ``rotation_stop_s`` (rpm ramps to 0 after the bit is picked
     off bottom), ``pickup_s`` (block raised off bottom by ``pickup_m``),

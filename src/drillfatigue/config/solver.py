@@ -1,7 +1,7 @@
 """``solver`` section of params.yaml: integration and numerical stiffness.
 
 The integrator is explicit velocity Verlet with a fixed step set by the
-stiffest element (see :mod:`drillfatigue.dynamics.integrator`).
+stiffest element (see :mod:`drillfatigue.dynamics.step.integrator`).
 """
 
 from __future__ import annotations

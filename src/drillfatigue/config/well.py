@@ -28,7 +28,7 @@ specifications are a union discriminated on ``kind``:
     A survey file, path relative to the working directory: CSV in m or ft
     with common header spellings (``md_m,inc_deg,azi_deg``, ``MD (ft), Incl,
     Azim, TVD, DLS (deg/100ft)``) or WITSML 1.4.1.1 trajectory XML, read by
-    :mod:`drillfatigue.io.surveys` (``depth_unit`` for depth columns whose
+    :mod:`drillfatigue.well.survey_file` (``depth_unit`` for depth columns whose
     header names no unit).
 
 Hole tortuosity (``well.tortuosity``, off when absent): micro-doglegs added to

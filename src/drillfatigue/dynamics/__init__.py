@@ -1,22 +1,31 @@
-"""Numba rigid-segment drill-string dynamics (docs/model.md): one module per submodel.
+"""Numba rigid-segment drill-string dynamics (docs/model.md), a folder per kind of submodel.
 
-Kernel modules (numpy, numba and math only; map in ``docs/dynamics.md``):
+* :mod:`~drillfatigue.dynamics.core` -- array layout, bundles, status codes, rigid bodies, joints;
+* :mod:`~drillfatigue.dynamics.step` -- the force assembly and the integrator;
+* :mod:`~drillfatigue.dynamics.contact` -- wall contact, friction laws, events;
+* :mod:`~drillfatigue.dynamics.bit` -- bit laws and the rock face;
+* :mod:`~drillfatigue.dynamics.top` -- top boundary, rig (block, top drive), connections, growth;
+* :mod:`~drillfatigue.dynamics.span` -- bending between the wall supports;
+* :mod:`~drillfatigue.dynamics.run` -- the run driver, packers, recorder, checkpoints.
 
-* :mod:`rigid` -- rigid bodies: quaternions, the Newton-Euler kick, the free rotor;
-* :mod:`integrator` -- velocity Verlet over a chunk of steps, recording, divergence checks;
-* :mod:`forces` -- the force assembly, one kernel per force kind (gravity, mud);
-* :mod:`joints` -- the joint spring-dampers between segments;
-* :mod:`contact` -- wall contact with its friction call and the Karnopp pre-pass;
-* :mod:`friction` -- the seven wall-friction laws;
-* :mod:`bitrock` -- the bit-rock laws (torque on bit, rate of penetration);
-* :mod:`boundaries` -- the top drive and hoisting system; the bit guide;
-* :mod:`growth` -- drilling and tripping: the top segment grows, splits, merges;
-* :mod:`events` -- contact statistics, whirl detection and classification, bit bounce;
-* :mod:`bundles`, :mod:`layout`, :mod:`status` -- named bundles of arrays, their
-  column layout, the status codes.
-
-Python layer: :mod:`model` (packers: a case into arrays and the initial
-state; the status wrapper), :mod:`api` (the run driver :func:`api.simulate`)
-with :mod:`recorder`, :mod:`checkpoint`; :mod:`softstring` (soft-string
-torque and drag), :mod:`examples` (reference cases).
+The map of modules and kernels is ``docs/dynamics.md`` (tested against this tree).
+This package exports :func:`simulate` and its result, :class:`SimulationResult`; they
+load on first use, so importing a kernel module does not import the run driver.
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from drillfatigue.dynamics.run.simulation import SimulationResult, simulate
+
+__all__ = ["SimulationResult", "simulate"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in __all__:
+        from drillfatigue.dynamics.run import simulation  # start-up: kernels need not load it
+
+        return getattr(simulation, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

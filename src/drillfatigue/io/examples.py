@@ -34,7 +34,7 @@ import pandas as pd
 
 from drillfatigue import units
 from drillfatigue.files import atomic_write_text
-from drillfatigue.io.surveys import twin_survey_table
+from drillfatigue.well.survey_file import twin_survey_table
 from drillfatigue.well.survey import minimum_curvature
 
 NULL = -999.25
@@ -346,7 +346,7 @@ FIELD_EXAMPLE_CONSTANTS: dict[str, float] = {"mu_dynamic": 0.28, "mud_density_sg
 def field_example() -> dict[str, object]:
     """The field example as a twin replay takes it: the rig day's LAS text, the tally CSV,
     the survey as SI rows (``md_m``, ``inc_deg``, ``dls_deg_per_30m``, read from the
-    example's field-unit CSV by :func:`drillfatigue.io.surveys.twin_survey_table`) and
+    example's field-unit CSV by :func:`drillfatigue.well.survey_file.twin_survey_table`) and
     the constant inputs (:data:`FIELD_EXAMPLE_CONSTANTS`)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "survey_ft.csv"

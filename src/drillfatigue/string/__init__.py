@@ -5,7 +5,7 @@ configuration (components from the bit up) into per-segment and per-joint
 arrays (index 0 at the bit end, going up). Beside it:
 :mod:`.contacts` (contact points along each segment and their spacing rule)
 and :mod:`.added_mass` (mud in the bore and hydrodynamic added mass). Span
-bending between supports is :mod:`drillfatigue.dynamics.span`. See
+bending between supports is :mod:`drillfatigue.dynamics.span.beam`. See
 docs/bending.md.
 """
 

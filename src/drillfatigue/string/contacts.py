@@ -2,7 +2,7 @@
 
 A rigid segment tested for wall contact only at its ends lets a straight
 chord cut through the inside of a build unseen, and puts the supports of the
-span bending (:mod:`drillfatigue.dynamics.span_bending`) in the wrong place.
+span bending (:mod:`drillfatigue.dynamics.span.bending`) in the wrong place.
 :func:`contact_points` lists, for every segment, points along its axis with
 the radius that touches the wall there:
 
@@ -36,7 +36,7 @@ clamped span deflects w s^4 / (384 EI), so
 hole). Points are spread evenly between the fixed points (tool joints, blades,
 segment ends) so that no gap exceeds the smaller bound. The simulator tests
 these points against the wall with ``contact.points: string``
-(:func:`drillfatigue.dynamics.model.pack_contact_points`).
+(:func:`drillfatigue.dynamics.run.model.pack_contact_points`).
 """
 
 from __future__ import annotations

@@ -44,9 +44,9 @@ import pandas as pd
 from drillfatigue import rundir
 from drillfatigue.config import CaseConfig, FatigueConfig
 from drillfatigue.config.studies import Case2Config
-from drillfatigue.dynamics.rig import drilling_window_metrics
-from drillfatigue.dynamics.rockface import rop_tob_from_wob
-from drillfatigue.dynamics.torque_drag import torque_drag_for_case
+from drillfatigue.dynamics.top.rig import drilling_window_metrics
+from drillfatigue.dynamics.bit.rockface import rop_tob_from_wob
+from drillfatigue.softstring.torque_drag import torque_drag_for_case
 from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.stress import SCF, Section, surface_stresses
 from drillfatigue.plotting import subplots
@@ -151,7 +151,7 @@ def drilling_metrics(run_dir: Path, summary: dict[str, Any], cfg: Case2Config, p
     """What one rig-driven window did at the rig and the bit (case-2 metrics).
 
     From the run's channels after ``metrics_skip_s``
-    (:func:`drillfatigue.dynamics.rig.drilling_window_metrics`): the on-bottom
+    (:func:`drillfatigue.dynamics.top.rig.drilling_window_metrics`): the on-bottom
     fraction, mean WOB and its error from the set-point, mean ROP and surface
     torque, the block within its travel and the string top never above the
     rotary; the classes of the run: whirl (the simulator's dominant class), bit

@@ -54,7 +54,7 @@ from drillfatigue import rundir
 from drillfatigue.config import FatigueConfig
 from drillfatigue.config.string import ComponentConfig
 from drillfatigue.config.studies import Case3Config
-from drillfatigue.dynamics.rig import drilling_window_metrics
+from drillfatigue.dynamics.top.rig import drilling_window_metrics
 from drillfatigue.fatigue.run import SPAN_COLUMNS, evaluate_run, joint_locations, location_section
 from drillfatigue.fatigue.stress import LOAD_COLUMNS, SCF, Section, surface_stresses
 from drillfatigue.plotting import subplots

@@ -20,7 +20,7 @@ from drillfatigue import rundir
 from drillfatigue.config import CaseConfig, FatigueConfig, case_from_dict
 from drillfatigue.config.string import PRESETS
 from drillfatigue.config.studies import StringSpec
-from drillfatigue.dynamics.api import simulate
+from drillfatigue.dynamics.run.simulation import simulate
 from drillfatigue.errors import InputError
 from drillfatigue.files import atomic_output, atomic_write_text
 from drillfatigue.sweep.cases import api_rp7g_rows

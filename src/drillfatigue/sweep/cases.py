@@ -28,7 +28,7 @@ import pandas as pd
 
 from drillfatigue import rundir
 from drillfatigue.config import FatigueConfig, case_from_dict, validate
-from drillfatigue.dynamics.api import simulate
+from drillfatigue.dynamics.run.simulation import simulate
 from drillfatigue.errors import SimulationError
 from drillfatigue.fatigue.run import api_rp7g_baseline, evaluate_run
 from drillfatigue.files import atomic_output, atomic_write_text

@@ -39,6 +39,7 @@ from drillfatigue.config.well import (
     WellConfig,
 )
 from drillfatigue.errors import InputError, SimulationError
+from drillfatigue.well.survey_file import read_survey
 from drillfatigue.well.survey import (
     Survey,
     dogleg_rad,
@@ -169,9 +170,6 @@ def _family_legs(spec: FamilyMemberProfile, fam: FamilySpec, field: str,
 def _design(spec: object, cfg: WellConfig, field: str) -> tuple[Survey, list[KeyPoint]]:
     down = np.array([0.0, 0.0, 1.0])
     if isinstance(spec, SurveyFileProfile):
-        # cycle: drillfatigue.io.surveys imports drillfatigue.well.survey (this package)
-        from drillfatigue.io.surveys import read_survey
-
         sv = read_survey(spec.path, spec.depth_unit)
         keys = [KeyPoint("surface", float(sv.md_m[0])), KeyPoint("TD", float(sv.md_m[-1]))]
         return sv, keys
