@@ -105,7 +105,7 @@ def bit_damping(m, wob_N: float) -> dict:
     limit ``2 / omega (sqrt(1 + zeta^2) - zeta)`` with ``zeta = c / (2 I_a omega)``,
     which for large ``zeta`` is ``2 I_a / c``."""
     cp = m.cpar
-    p = cp[L.P_BP:L.P_BP + 10]
+    p = cp[L.P_BP:L.P_BP + bitrock.N_PARAMS]
     mid = int(cp[L.P_BITMODEL])
     oms = np.linspace(0.0, 2.0, 20001)
     slopes = np.array([bitrock.bit_torque_slope(mid, p, wob_N, o) for o in oms])

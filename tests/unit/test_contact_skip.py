@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -21,9 +22,8 @@ from drillfatigue.dynamics.contact.wall import (
     located_wall_force,
     wall_force,
 )
-from drillfatigue.dynamics.contact.friction import (
-    I_AX_RATIO, I_MU_D, I_MU_S, I_V_S, I_V_T, N_PARAMS, TANH_EXP,
-)
+from drillfatigue.config.friction import FrictionConfig
+from drillfatigue.dynamics.contact.friction import I_AX_RATIO, TANH_EXP, pack_friction_params
 from drillfatigue.dynamics.core.layout import WALL_INFO_SIZE, WI_DELTA
 
 R_HOLE = 0.108
@@ -42,12 +42,11 @@ def chain(dogleg_deg: float):
 
 
 def friction_params() -> np.ndarray:
-    fp = np.zeros(N_PARAMS)
-    fp[I_MU_S] = 0.35
-    fp[I_MU_D] = 0.25
-    fp[I_AX_RATIO] = 1.2
-    fp[I_V_T] = 0.01
-    fp[I_V_S] = 0.2
+    # mu_axial / mu_dynamic = 1.2; tanh_exp with v_t = 0.01, v_s = 0.2 m/s
+    _, fp = pack_friction_params(FrictionConfig(model="tanh_exp", mu_static=0.35,
+                                                mu_dynamic=0.25, mu_axial=0.3,
+                                                v_t_m_per_s=0.01, v_s_m_per_s=0.2))
+    assert fp[I_AX_RATIO] == pytest.approx(1.2)
     return fp
 
 

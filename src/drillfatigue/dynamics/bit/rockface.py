@@ -43,13 +43,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from drillfatigue.dynamics.bit.laws import bit_response, pack_bit_params
+from drillfatigue.dynamics.bit.laws.kernel import bit_response
+from drillfatigue.dynamics.bit.laws.registry import LAWS, pack_bit_params
 
 if TYPE_CHECKING:
     from drillfatigue.config.bit import BitConfig
 
 #: bit laws whose ROP follows from the WOB (the rig's bit cuts what the weight lets it)
-ROP_FROM_WOB_MODELS = ("yigit_christoforou", "detournay")
+ROP_FROM_WOB_MODELS = tuple(law.NAME for law in LAWS if not law.ROP_PRESCRIBED)
 
 
 @njit(cache=True)

@@ -1,6 +1,6 @@
 """Wall contact: where the string touches the hole, the friction there, and the events it makes.
 
 * :mod:`~drillfatigue.dynamics.contact.wall` -- point-in-cylinder test, penalty force, contact kernel;
-* :mod:`~drillfatigue.dynamics.contact.friction` -- the wall-friction laws and their packer;
+* :mod:`~drillfatigue.dynamics.contact.friction` -- the wall-friction laws, their registry and kernel;
 * :mod:`~drillfatigue.dynamics.contact.events` -- contact statistics, whirl detection, bit bounce.
 """

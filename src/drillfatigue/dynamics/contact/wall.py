@@ -68,7 +68,9 @@ import numpy as np
 from numba import njit
 
 from drillfatigue.dynamics.contact.events import record_contact, track_whirl
-from drillfatigue.dynamics.contact.friction import KARNOPP, friction_force_split
+from drillfatigue.dynamics.contact.friction.dispatch import has_stiction
+from drillfatigue.dynamics.contact.friction.kernel import friction_force_split
+from drillfatigue.dynamics.contact.friction.registry import N_PARAMS as N_FRICTION_PARAMS
 from drillfatigue.dynamics.core.layout import (
     B_TWIN, C_MDROCK, H_FCMAX, H_NCON, H_NSEG, H_PDISS, H_PE, MAX_CONTACT_POINTS,
     MAX_TABLE_POINTS, P_CPTAB, P_DEEP, P_FMODEL, P_FP,
@@ -329,7 +331,7 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
         Penalty stiffness (N/m) and damping (N s/m).
     fmodel : int
         Friction model id (:mod:`drillfatigue.dynamics.contact.friction`).
-    fp : ndarray, shape (friction.N_PARAMS,)
+    fp : ndarray, shape (friction.registry.N_PARAMS,)
         Friction parameters.
     f_other : ndarray, shape (3,)
         Net other force on the segment at this point, N (Karnopp only; its
@@ -591,7 +593,7 @@ def wall_contact(t, n, s, p, wk):
         kc = cpar[P_KC]
         fmodel = int(cpar[P_FMODEL])
         npts = int(cpar[P_NPTS])
-        fp = cpar[P_FP:P_FP + 10]
+        fp = cpar[P_FP:P_FP + N_FRICTION_PARAMS]
         p0 = wall[:, 0:3]
         axc = wall[:, 3:6]
         lnc = wall[:, 6]
@@ -608,7 +610,7 @@ def wall_contact(t, n, s, p, wk):
         whirl = vec[V_W_WHIRL]
         t_win = p.bp[B_TWIN]
         md_bit = s.sc[C_MDROCK]
-        karn = fmodel == KARNOPP
+        karn = has_stiction(fmodel)
         table = cpar[P_CPTAB] != 0.0
         cp_n = p.cp_n
         cp = p.cp

@@ -1,10 +1,18 @@
 """Column layout of the packed parameter and state arrays shared by the kernels.
 
 Plain integer constants (numba treats module-level ints as compile-time
-constants). The packers of :mod:`drillfatigue.dynamics.run.model` build the arrays
-with these indices; the kernels read them. The arrays travel in the bundles of
+constants). Where a block holds another module's vector (a law's parameters, the
+rig's block and top-drive vectors) its length comes from that module and the
+offsets after it are computed, never typed. The packers of
+:mod:`drillfatigue.dynamics.run.model` build the arrays with these indices; the
+kernels read them. The arrays travel in the bundles of
 :mod:`drillfatigue.dynamics.core.bundles`.
 """
+
+from drillfatigue.dynamics.bit.laws import N_PARAMS as N_BIT_PARAMS
+from drillfatigue.dynamics.contact.friction.registry import N_PARAMS as N_FRICTION_PARAMS
+from drillfatigue.dynamics.top.connection import N_PHASES
+from drillfatigue.dynamics.top.rig import N_BLOCK_P, N_BLOCK_S, N_TD_P, N_TD_S
 
 # seg[i, :] -- per-segment parameters, shape (n, N_SEG)
 S_M = 0      # mass (kg)
@@ -29,22 +37,23 @@ W_RAD = 7    # hole radius (m)
 N_WALL = 8
 
 # cpar -- wall contact and friction parameters, packed by the contact/friction layer.
-# cpar[P_ON] == 0 switches wall contact off.
+# cpar[P_ON] == 0 switches wall contact off. The two law blocks take the length
+# their registries derive; every offset after them follows.
 P_ON = 0
 P_KC = 1         # penalty stiffness k_c (N/m)
-P_FMODEL = 2     # friction model id (drillfatigue.dynamics.contact.friction)
+P_FMODEL = 2     # friction law id (drillfatigue.dynamics.contact.friction.registry)
 P_NPTS = 3       # contact points per segment: 2 (ends) or 3 (ends and middle)
 P_BITLAW = 4     # 0: given TOB tanh(omega/WREF), prescribed ROP; 1: bit_response law
 P_BITMODEL = 5   # bit law id (drillfatigue.dynamics.bit.laws)
-P_FP = 6         # 6..15: friction parameters (friction.N_PARAMS = 10)
-P_BP = 16        # 16..25: bit parameters (bitrock.N_PARAMS = 10)
-P_CPTAB = 26     # 1: segments below the top use their own contact points (Params.cp_n / cp)
-P_SPAN = 27      # 1: record the span-bending correction at the recorded joints (span_record)
-P_LATMASS = 28   # 1: lateral mass m * Params.mlat[i] across the axis (mud inside, added mass)
-P_DEEP = 29      # 1: each segment with >= 3 points also tests its deepest point (contact.deepest_point)
-P_SPANDYN = 30   # 1: the span correction takes its load through each span's first mode (span_dynamics)
-P_SPANZ = 31     # the span filter's least damping ratio (contact.span_damping_min)
-N_CPAR = 32
+P_FP = 6                         # friction parameters (friction.registry.N_PARAMS)
+P_BP = P_FP + N_FRICTION_PARAMS  # bit parameters (bit.laws.N_PARAMS)
+P_CPTAB = P_BP + N_BIT_PARAMS    # 1: segments below the top use their own contact points (Params.cp_n / cp)
+P_SPAN = P_CPTAB + 1     # 1: record the span-bending correction at the recorded joints (span.record)
+P_LATMASS = P_SPAN + 1   # 1: lateral mass m * Params.mlat[i] across the axis (mud inside, added mass)
+P_DEEP = P_LATMASS + 1   # 1: a segment with >= 3 points also tests its deepest point (contact.deepest_point)
+P_SPANDYN = P_DEEP + 1   # 1: the span correction takes its load through each span's first mode (span.modal)
+P_SPANZ = P_SPANDYN + 1  # the span filter's least damping ratio (contact.span_damping_min)
+N_CPAR = P_SPANZ + 1
 N_CPAR_MIN = 1
 
 # jp[j, :] -- joint parameters; rows 0..n-2: joint j between segment j and j+1;
@@ -93,16 +102,16 @@ B_RIG = 28       # 1: the block, top drive and rock face of the rig section driv
 B_BLKMODE = 29   # block mode id (rig.BLOCK_*)
 B_TDMODE = 30    # top-drive mode id (rig.TOP_DRIVE_*)
 B_CONON = 31     # 1: a connection starts when the block reaches the floor
-B_BLKP = 32      # 32..42: block parameter vector (rig.BP_*, rig.N_BLOCK_P = 11)
-B_TDP = 43       # 43..46: top-drive parameter vector (rig.TP_*, rig.N_TD_P = 4)
-B_CONDUR = 47    # 47..53: connection phase durations (s), pickup .. tag
-B_CONPICK = 54   # connection pick-up distance (m)
-B_CONSTAND = 55  # stand length (m)
-B_KROCK = 56     # rock contact stiffness (N/m)
-B_CROCK = 57     # rock contact damping (N s/m)
-B_GROWTRAP = 58  # 1: growth work booked with the force trapezoid (solver.growth_work_trapezoid)
-B_IMPBIT = 59    # 1: the bit torque's own damping taken linearly implicit (solver.implicit_bit_torque)
-N_BP = 60
+B_BLKP = 32                      # block parameter vector (rig.BP_*, rig.N_BLOCK_P)
+B_TDP = B_BLKP + N_BLOCK_P       # top-drive parameter vector (rig.TP_*, rig.N_TD_P)
+B_CONDUR = B_TDP + N_TD_P        # connection phase durations (s), pickup .. tag (N_PHASES)
+B_CONPICK = B_CONDUR + N_PHASES  # connection pick-up distance (m)
+B_CONSTAND = B_CONPICK + 1       # stand length (m)
+B_KROCK = B_CONSTAND + 1         # rock contact stiffness (N/m)
+B_CROCK = B_KROCK + 1            # rock contact damping (N s/m)
+B_GROWTRAP = B_CROCK + 1   # 1: growth work booked with the force trapezoid (solver.growth_work_trapezoid)
+B_IMPBIT = B_GROWTRAP + 1  # 1: the bit torque's damping taken linearly implicit (solver.implicit_bit_torque)
+N_BP = B_IMPBIT + 1
 
 # topp -- per-length properties of the extensible top segment (index n-1) and
 # section of segment n-2, to rebuild the top rows as the top grows
@@ -145,16 +154,16 @@ C_NMERGE = 12   # segments merged (tripping out)
 C_GUARD = 13    # 1 once tripping out stopped at the minimum string length
 N_SC = 14
 # rig state: only with the rig boundaries (bp[B_RIG] == 1), sc then has N_SC_RIG entries
-C_BLK = 14      # 14..21: block state (rig.BS_*, rig.N_BLOCK_S = 8)
-C_TD = 22       # 22..25: top-drive state (rig.TS_*, rig.N_TD_S = 4)
-C_CON = 26      # 26..33: start times of the connection phases (connection.ConnectionSchedule)
-C_CONP = 34     # 34..36: connection parameters [pickup_m, stand_length_m, 0]
-C_NSTAND = 37   # stands added (connections completed up to the stand)
-C_SHIFTED = 38  # 1 once the block travel shift of the current connection is applied
-C_VGROW = 39    # rate (m/s) at which the string below the rotary grows this step (block speed)
-C_CONPH = 40    # connection phase now (connection.PH_*)
-C_TSET = 41     # top-drive speed set-point now (rad/s)
-N_SC_RIG = 42
+C_BLK = N_SC                  # block state (rig.BS_*, rig.N_BLOCK_S)
+C_TD = C_BLK + N_BLOCK_S       # top-drive state (rig.TS_*, rig.N_TD_S)
+C_CON = C_TD + N_TD_S          # start times of the connection phases and their end (connection)
+C_CONP = C_CON + N_PHASES + 1  # connection parameters [pickup_m, stand_length_m, 0]
+C_NSTAND = C_CONP + 3   # stands added (connections completed up to the stand)
+C_SHIFTED = C_NSTAND + 1  # 1 once the block travel shift of the current connection is applied
+C_VGROW = C_SHIFTED + 1   # rate (m/s) at which the string below the rotary grows this step (block speed)
+C_CONPH = C_VGROW + 1     # connection phase now (connection.PH_*)
+C_TSET = C_CONPH + 1      # top-drive speed set-point now (rad/s)
+N_SC_RIG = C_TSET + 1
 
 # cst[i, :] -- per-segment contact / whirl statistics (state, checkpointed)
 CS_ONT = 0      # contact onset time (s), -1 if never

@@ -28,11 +28,13 @@ import numpy as np
 
 from drillfatigue.config import CaseConfig
 from drillfatigue.dynamics.top.setup import block_params, rop_start_wob_N, top_drive_params
-from drillfatigue.dynamics.bit import laws as bitrock
-from drillfatigue.dynamics.contact import friction
+from drillfatigue.dynamics.bit.laws import registry as bitrock
+from drillfatigue.dynamics.bit.laws.kernel import bit_response
+from drillfatigue.dynamics.contact.friction import registry as friction
 from drillfatigue.dynamics.core import layout as L
 from drillfatigue.dynamics.core import status
 from drillfatigue.dynamics.top import rig as R
+from drillfatigue.dynamics.top.connection import N_PHASES
 from drillfatigue.dynamics.core.bundles import Params, State, Work, new_records, new_work
 from drillfatigue.dynamics.contact.wall import contact_damping
 from drillfatigue.dynamics.step.forces import compute_forces
@@ -182,7 +184,7 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
 
     With wall contact (``cpar[P_ON] != 0``) every contact point adds its
     penalty spring k_c (translation, and tilt through the lever arm h), and the
-    Karnopp friction adds the limit dt < 2 m_eff v_min / (mu_s N) (a slip
+    a stiction law (Karnopp) adds the limit dt < 2 m_eff v_min / (mu_s N) (a slip
     overshoot in one step must land inside the stick band; m_eff = m / 3 for
     rolling/spinning), with N estimated as twice the segment's buoyed weight;
     the smaller step is taken. The smooth friction laws need no such limit:
@@ -242,13 +244,11 @@ def stable_step(seg: np.ndarray, jp: np.ndarray, bp: np.ndarray,
         rows[:, 0] += npts * kc / m + 2.0 * kc * h / np.sqrt(m * it)
         rows[:, 2] += 2.0 * kc * h ** 2 / it + 2.0 * kc * h / np.sqrt(m * it)
         fp = cpar[L.P_FP:L.P_FP + fr.N_PARAMS]
-        vmin = {fr.COULOMB: fp[fr.I_V_REG], fr.BENSON_HALLQUIST: fp[fr.I_V_REG],
-                fr.KARNOPP: fp[fr.I_DV], fr.TANH: fp[fr.I_V_T],
-                fr.VELOCITY_TRIG: fp[fr.I_TRIG_PEAK] * 2.0 / math.pi,
-                fr.TANH_EXP: fp[fr.I_V_T], fr.STICK_BAND: fp[fr.I_V_REG]}[int(cpar[L.P_FMODEL])]
+        law = int(cpar[L.P_FMODEL])
+        vmin = fr.slip_scale_m_per_s(law, fp)
         mu = max(fp[fr.I_MU_S], fp[fr.I_MU_D] * max(fp[fr.I_AX_RATIO], 1.0))
         w_seg = np.abs(seg[:, L.S_W]) + 1e-12
-        if mu > 0.0 and int(cpar[L.P_FMODEL]) == fr.KARNOPP:
+        if mu > 0.0 and fr.has_stiction(law):
             dt_f = float((2.0 * (m / 3.0) * vmin / (mu * 2.0 * w_seg)).min())
         cc = seg[:, L.S_CC]
         zc = float((cc / (2.0 * np.sqrt(kc * m / npts))).max())
@@ -493,7 +493,7 @@ def pack_rig(config: CaseConfig, bp: np.ndarray, seg: np.ndarray, hook_off_N: fl
     bp[L.B_TDP:L.B_TDP + R.N_TD_P] = tpar
     con = rig.connection
     bp[L.B_CONON] = 1.0 if con.enabled else 0.0
-    bp[L.B_CONDUR:L.B_CONDUR + 7] = [con.pickup_s, con.rotation_stop_s, con.slips_s, con.stand_s,
+    bp[L.B_CONDUR:L.B_CONDUR + N_PHASES] = [con.pickup_s, con.rotation_stop_s, con.slips_s, con.stand_s,
                                      con.slips_out_s, con.ramp_s, con.tag_s]
     bp[L.B_CONPICK] = con.pickup_m
     bp[L.B_CONSTAND] = con.stand_length_m
@@ -531,8 +531,8 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
     rop0 = 0.0
     if int(bp[L.B_BLKMODE]) in (R.BLOCK_AUTODRILLER_WOB, R.BLOCK_AUTODRILLER_HOOK):
         out = np.zeros(2)
-        bitrock.bit_response(int(model.cpar[L.P_BITMODEL]),
-                             model.cpar[L.P_BP:L.P_BP + bitrock.N_PARAMS],
+        bit_response(int(model.cpar[L.P_BITMODEL]),
+                     model.cpar[L.P_BP:L.P_BP + bitrock.N_PARAMS],
                              float(bp[L.B_BLKP + R.BP_WOBSET]), omega0, out)
         rop0 = min(float(out[1]), float(bp[L.B_BLKP + R.BP_ROPLIM]))
         ki = float(bp[L.B_BLKP + R.BP_KI])
@@ -546,12 +546,12 @@ def init_rig_state(model: Model, state: State, omega0: float, phi0: float) -> No
     v_block = rop0
     if model.rig_rop_start:
         out = np.zeros(2)
-        bitrock.bit_response(int(model.cpar[L.P_BITMODEL]),
-                             model.cpar[L.P_BP:L.P_BP + bitrock.N_PARAMS], model.wob0_N, omega0, out)
+        bit_response(int(model.cpar[L.P_BITMODEL]),
+                     model.cpar[L.P_BP:L.P_BP + bitrock.N_PARAMS], model.wob0_N, omega0, out)
         rop0 = float(out[1])
         v_block = float(bp[L.B_BLKP + R.BP_VSET])
         blk[R.BS_V] = v_block
-    sc[L.C_CON:L.C_CON + 8] = -np.inf  # no connection yet: the drilling phase
+    sc[L.C_CON:L.C_CON + N_PHASES + 1] = -np.inf  # no connection yet: the drilling phase
     sc[L.C_TD + R.TS_OMEGA] = omega0
     sc[L.C_TD + R.TS_PHI] = phi0
     sc[L.C_PHID] = phi0
@@ -656,7 +656,7 @@ def static_preload(config: CaseConfig, seg: np.ndarray, jp: np.ndarray, bp: np.n
         # the bit law's torque at the initial WOB and speed (no start-up kick)
         bid, bpar = bitrock.pack_bit_params(config.bit, op.rop_m_per_s)
         out2 = np.zeros(2)
-        bitrock.bit_response(bid, bpar, wob, omega0, out2)
+        bit_response(bid, bpar, wob, omega0, out2)
         tob0 = float(out2[0])
     torque0 = tob0 + float((seg[:, L.S_CRA] * omega0).sum())
     psi = np.zeros(n)
@@ -1077,14 +1077,10 @@ def max_segments(config: CaseConfig, n0: int, lnom: float, omega_max: float,
     op = config.operation
     if op.bit_on_bottom:
         rate = op.rop_m_per_s
-        b = config.bit
-        if b.model == "yigit_christoforou":
-            rate = max(rate, b.rop_c1_m_per_N_sqrt_s * abs(weight_N) * math.sqrt(omega_max)
-                       + max(b.rop_c2_m_per_s, 0.0))
-        elif b.model == "detournay":
-            # the depth of cut with the whole buoyed weight on the bit
-            rate = max(rate, abs(weight_N) / (b.detournay_zeta * b.detournay_eps_Pa
-                                              * b.bit_radius_m) * omega_max / (2.0 * math.pi))
+        law = bitrock.LAWS[bitrock.MODEL_IDS[config.bit.model]]
+        bound = law.rop_bound_m_per_s(config.bit, abs(weight_N), omega_max)
+        if bound is not None:
+            rate = max(rate, bound)
     else:
         rate = max(op.trip_speed_m_per_s, 0.0)
     extra = int(math.ceil(rate * op.duration_s / max(lnom, 1e-6))) + 2 if rate > 0 else 0

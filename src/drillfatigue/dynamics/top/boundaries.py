@@ -34,9 +34,11 @@ import math
 
 from numba import njit
 
-from drillfatigue.dynamics.bit.laws import PRESCRIBED_ROP, bit_response, bit_torque_slope
+from drillfatigue.dynamics.bit.laws.dispatch import rop_prescribed
+from drillfatigue.dynamics.bit.laws.kernel import bit_response, bit_torque_slope
+from drillfatigue.dynamics.bit.laws.registry import N_PARAMS as N_BIT_PARAMS
 from drillfatigue.dynamics.top.connection import (
-    CC_BLOCK_V, CC_RPM_FACTOR, CC_SLIPS, CC_TRAVEL_SHIFT, PH_DRILL, connection_controls,
+    CC_BLOCK_V, CC_RPM_FACTOR, CC_SLIPS, CC_TRAVEL_SHIFT, N_PHASES, PH_DRILL, connection_controls,
 )
 from drillfatigue.dynamics.contact.events import count_bounce
 from drillfatigue.dynamics.core.joints import joint_force
@@ -116,7 +118,7 @@ def rig_step(t0, s, p, wk):
     blk = sc[C_BLK:C_BLK + N_BLOCK_S]
     bpar = bp[B_BLKP:B_BLKP + N_BLOCK_P]
     cc = wk.rig.cc
-    cst = sc[C_CON:C_CON + 8]
+    cst = sc[C_CON:C_CON + N_PHASES + 1]
     cpar = sc[C_CONP:C_CONP + 3]
     ph = connection_controls(t0, cst, cpar, cc)
     sc[C_CONPH] = ph
@@ -440,20 +442,20 @@ def bit_guide(s, p, wk):
     # torque on bit, opposing the bit rotation
     if cpar.size > P_BITLAW and cpar[P_BITLAW] == 1.0:
         out2 = vec[V_B_OUT]
-        st = bit_response(int(cpar[P_BITMODEL]), cpar[P_BP:P_BP + 10], wob_f, w[0, 2], out2)
+        st = bit_response(int(cpar[P_BITMODEL]), cpar[P_BP:P_BP + N_BIT_PARAMS], wob_f, w[0, 2], out2)
         if st != OK:
             return st
         tob = out2[0]
         # prescribed ROP: the rock face is kinematic and keeps advancing through a
         # bounce (the string catches up); computed ROP: the law's, 0 off bottom
-        sc[C_ROPNOW] = bp[B_ROP] if int(cpar[P_BITMODEL]) == PRESCRIBED_ROP else out2[1]
+        sc[C_ROPNOW] = bp[B_ROP] if rop_prescribed(int(cpar[P_BITMODEL])) else out2[1]
     else:
         tob = bp[B_TOB] * math.tanh(w[0, 2] / bp[B_WREF])
         sc[C_ROPNOW] = bp[B_ROP]
     if bp[B_IMPBIT] == 1.0:
         # the law's own damping of the bit's spin, for implicit_bit_damping
         if cpar.size > P_BITLAW and cpar[P_BITLAW] == 1.0:
-            slope = bit_torque_slope(int(cpar[P_BITMODEL]), cpar[P_BP:P_BP + 10], wob_f, w[0, 2])
+            slope = bit_torque_slope(int(cpar[P_BITMODEL]), cpar[P_BP:P_BP + N_BIT_PARAMS], wob_f, w[0, 2])
         else:
             th = math.tanh(w[0, 2] / bp[B_WREF])
             slope = bp[B_TOB] * (1.0 - th * th) / bp[B_WREF]

@@ -49,6 +49,8 @@ PH_SLIPS_OUT = 5
 PH_RAMP = 6
 PH_TAG = 7
 PHASE_NAMES = ("drill", "pickup", "stop", "slips", "stand", "slips_out", "ramp", "tag")
+#: Timed phases of a connection (pickup .. tag): their durations and start times are packed.
+N_PHASES = PH_TAG
 
 #: controls vector written by :func:`connection_controls`
 CC_PHASE = 0  # phase code
