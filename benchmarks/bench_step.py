@@ -62,7 +62,7 @@ from drillfatigue.dynamics.bit import laws as bitrock  # noqa: E402
 from drillfatigue.dynamics.core import layout as L  # noqa: E402
 from drillfatigue.dynamics.run.simulation import Runner, simulate  # noqa: E402
 from drillfatigue.dynamics.top.growth import update_top  # noqa: E402
-from drillfatigue.dynamics.run.model import stable_step  # noqa: E402
+from drillfatigue.dynamics.step.pack import stable_step  # noqa: E402
 from drillfatigue.studies.case2 import case_dict  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results" / "step.json"

@@ -60,7 +60,7 @@ from drillfatigue.dynamics.step.integrator import (  # noqa: E402
     advance, drift, half_kicks, half_kicks_checked, record,
 )
 from drillfatigue.dynamics.core.joints import joint_forces  # noqa: E402
-from drillfatigue.dynamics.run.model import stable_step  # noqa: E402
+from drillfatigue.dynamics.step.pack import stable_step  # noqa: E402
 from drillfatigue.dynamics.span.record import span_sample  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

@@ -55,7 +55,8 @@ _IMPORTS_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[\s.])", re.M)
 #: Modules (paths under the package root) without numba whose module-level
 #: numbers the kernels read as compile-time constants: numba freezes them into
 #: the compiled code, so they key the cache like the kernels themselves.
-KERNEL_CONSTANT_MODULES: tuple[str, ...] = ("status.py", "dynamics/core/status.py", "dynamics/core/layout.py")
+KERNEL_CONSTANT_MODULES: tuple[str, ...] = ("status.py", "units.py", "dynamics/core/status.py",
+                                             "dynamics/core/layout.py")
 
 
 def kernel_digest(root: Path) -> str:

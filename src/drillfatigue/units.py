@@ -6,7 +6,33 @@ e.g. ``od_m = od_in * INCH_M``. Exact factors from NIST SP 811 (2008), App. B.
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
+from typing import TYPE_CHECKING, TypeVar
+
+if TYPE_CHECKING:
+    import numpy as np
+
+#: A float or an array of them.
+_X = TypeVar("_X", float, "np.ndarray")
+
+# --- physical constants and rotation speed ---
+STANDARD_GRAVITY_M_PER_S2 = 9.80665  # standard gravity (exact, CGPM 1901)
+RAD_S_PER_RPM = 2.0 * math.pi / 60.0  # (rad/s) per rpm
+RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)  # rpm per (rad/s)
+
+
+def rad_per_s_from_rpm(rpm: _X) -> _X:
+    """``rpm`` in rad/s, computed as ``rpm * 2 pi / 60`` in that order (the order the
+    callers' results were recorded with; ``rpm * RAD_S_PER_RPM`` can differ in the
+    last bit)."""
+    return rpm * 2.0 * math.pi / 60.0
+
+
+def rpm_from_rad_per_s(omega: _X) -> _X:
+    """``omega`` (rad/s) in rpm, computed as ``omega * 30 / pi`` in that order."""
+    return omega * 30.0 / math.pi
+
 
 INCH_M = 0.0254  # m per inch (exact)
 FT_M = 0.3048  # m per foot (exact)
@@ -45,7 +71,7 @@ BBL_M3 = 42.0 * US_GAL_M3  # m^3 per oil barrel (42 US gal, exact)
 BBL_PER_MIN_M3_PER_S = BBL_M3 / MINUTE_S  # (m^3/s) per bbl/min
 FT_PER_MIN_M_PER_S = FT_M / MINUTE_S  # (m/s) per ft/min
 KDAN_N = 1e4  # N per kilodecanewton
-TONNE_FORCE_N = 1000.0 * 9.80665  # N per metric tonne-force (standard gravity, exact)
+TONNE_FORCE_N = 1000.0 * STANDARD_GRAVITY_M_PER_S2  # N per metric tonne-force (exact)
 US_SURVEY_FT_M = 1200.0 / 3937.0  # m per US survey foot (exact by definition)
 M_PER_MIN_M_PER_S = 1.0 / MINUTE_S  # (m/s) per m/min
 M3_PER_MIN_M3_PER_S = 1.0 / MINUTE_S  # (m^3/s) per m^3/min

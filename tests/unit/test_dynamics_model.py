@@ -9,7 +9,8 @@ from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics.core import layout as L
 from drillfatigue.dynamics.run.simulation import simulate
 from drillfatigue.dynamics.top.boundaries import drive_omega
-from drillfatigue.dynamics.run.model import advance_model, build_model, rpm_table, straight_path
+from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
+from drillfatigue.dynamics.top.pack import rpm_table
 from drillfatigue.errors import InputError
 
 STRING = {"components": [

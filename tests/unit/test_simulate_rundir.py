@@ -14,7 +14,7 @@ from drillfatigue import rundir
 from drillfatigue.cli import main
 from drillfatigue.config import case_from_dict, load_case
 from drillfatigue.dynamics.run import simulation as api
-from drillfatigue.dynamics.run.model import stable_step
+from drillfatigue.dynamics.step.pack import stable_step
 from drillfatigue.errors import SimulationError
 
 CASE = {

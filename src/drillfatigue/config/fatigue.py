@@ -41,11 +41,10 @@ from typing import Any, Literal
 from pydantic import Field, ValidationError, field_validator, model_validator
 
 from drillfatigue.config.base import StrictModel
+from drillfatigue.config.string import COMPONENT_TYPES, JOINTED_TYPES
 
-COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub",
-                                    "jar", "mwd")
 #: Component types with an upset run-out location beside body and connection.
-UPSET_TYPES: tuple[str, ...] = ("drill_pipe", "hwdp")
+UPSET_TYPES: tuple[str, ...] = JOINTED_TYPES  # jointed pipe: a tube upset to its tool joints
 _CURVE_NAMES: tuple[str, ...] = ("B1", "C", "D", "F1", "W3", "thread_rolled", "thread_cut")
 
 

@@ -25,13 +25,16 @@ a string stabilizer, drill pipe cut at its joints).
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from pydantic import Field, field_serializer, model_validator
 
 from drillfatigue.config.base import StrictModel
 
 ComponentType = Literal["bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub", "jar", "mwd"]
+#: Component type names, in the order of ``ComponentType``: ``Segments.component_type_code``
+#: indexes this tuple, so a new type goes at the end.
+COMPONENT_TYPES: tuple[str, ...] = get_args(ComponentType)
 #: Component types that may be cut at their joints (``joints_per_segment``).
 JOINTED_TYPES: tuple[str, ...] = ("drill_pipe", "hwdp")
 #: API range-2 joint length, 30 ft, m.

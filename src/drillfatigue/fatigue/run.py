@@ -33,12 +33,8 @@ import pandas as pd
 from drillfatigue import rundir
 from drillfatigue.config import case_from_dict
 from drillfatigue.config.base import read_yaml
-from drillfatigue.config.fatigue import (
-    COMPONENT_TYPES,
-    UPSET_TYPES,
-    FatigueConfig,
-    UserCurveConfig,
-)
+from drillfatigue.config.fatigue import UPSET_TYPES, FatigueConfig, UserCurveConfig
+from drillfatigue.config.string import COMPONENT_TYPES
 from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import (
     CRITERIA,

@@ -49,6 +49,7 @@ import numpy as np
 
 from drillfatigue import rundir
 from drillfatigue.errors import InputError
+from drillfatigue.units import STANDARD_GRAVITY_M_PER_S2
 
 #: Load columns of ``loads.parquet`` in the order used by every array here.
 LOAD_COLUMNS: tuple[str, ...] = rundir.LOAD_COLUMNS
@@ -173,10 +174,6 @@ def surface_stresses(loads: np.ndarray, section: Section, scf: SCF, n_points: in
     return cs @ loads.T, ct @ loads.T, phi
 
 
-#: Standard gravity, m/s^2 (for hydrostatic pressure).
-GRAVITY_M_PER_S2 = 9.80665
-
-
 def hydrostatic_pressure_Pa(tvd_m: np.ndarray | float, mud_density_kg_per_m3: float,
                             surface_pressure_Pa: float = 0.0) -> np.ndarray | float:
     """Hydrostatic mud pressure p = p_surface + rho_mud g TVD, Pa.
@@ -192,7 +189,7 @@ def hydrostatic_pressure_Pa(tvd_m: np.ndarray | float, mud_density_kg_per_m3: fl
     if not (math.isfinite(mud_density_kg_per_m3) and mud_density_kg_per_m3 >= 0.0):
         raise InputError("mud_density_kg_per_m3",
                          f"must be a finite number >= 0, got {mud_density_kg_per_m3!r}", ">= 0")
-    p = surface_pressure_Pa + mud_density_kg_per_m3 * GRAVITY_M_PER_S2 * np.asarray(
+    p = surface_pressure_Pa + mud_density_kg_per_m3 * STANDARD_GRAVITY_M_PER_S2 * np.asarray(
         tvd_m, dtype=np.float64)
     return p if p.ndim else float(p)
 

@@ -36,9 +36,6 @@ from numba import njit
 
 from drillfatigue.dynamics.core.status import NONFINITE, OK
 
-#: Gravity, m/s^2 (standard value, ISO 80000-3).
-G = 9.80665
-
 
 
 @njit(cache=True)

@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from drillfatigue.config import CaseConfig
+from drillfatigue.config.string import JOINTED_TYPES
 from drillfatigue.dynamics.bit.laws import bit_response, pack_bit_params
 from drillfatigue.softstring.march import (
     TorqueDrag, path_tangents, resample_path, soft_string_torque_drag,
@@ -16,6 +17,7 @@ from drillfatigue.softstring.march import (
 from drillfatigue.errors import InputError
 from drillfatigue.string import build_segments
 from drillfatigue.well import build_survey
+from drillfatigue.units import rad_per_s_from_rpm
 
 __all__ = ["TorqueDrag", "torque_drag_for_case"]
 
@@ -80,7 +82,7 @@ def torque_drag_for_case(
             else:
                 comps = case.string.components
                 k = len(comps)
-                while k > 0 and comps[k - 1].type in ("drill_pipe", "hwdp"):
+                while k > 0 and comps[k - 1].type in JOINTED_TYPES:
                     k -= 1
                 s_np = float(sum(c.length_m for c in comps[:k]))
             below = s_mid < s_np
@@ -101,6 +103,6 @@ def torque_drag_for_case(
         if tob_Nm == 0.0 and wob_N > 0.0:
             mid, p = pack_bit_params(case.bit, op.rop_m_per_s)
             out = np.empty(2)
-            bit_response(mid, p, wob_N, op.rpm * 2.0 * math.pi / 60.0, out)
+            bit_response(mid, p, wob_N, rad_per_s_from_rpm(op.rpm), out)
             tob_Nm = float(out[0])
     return soft_string_torque_drag(md, inc, azi, w, r, mu_t, mu_d, wob_N, tob_Nm)

@@ -36,7 +36,7 @@ clamped span deflects w s^4 / (384 EI), so
 hole). Points are spread evenly between the fixed points (tool joints, blades,
 segment ends) so that no gap exceeds the smaller bound. The simulator tests
 these points against the wall with ``contact.points: string``
-(:func:`drillfatigue.dynamics.run.model.pack_contact_points`).
+(:func:`drillfatigue.dynamics.contact.pack.pack_contact_points`).
 """
 
 from __future__ import annotations

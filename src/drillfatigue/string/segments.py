@@ -38,12 +38,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drillfatigue.config.string import JOINTED_TYPES, ComponentConfig, StringConfig
+from drillfatigue.config.string import (
+    COMPONENT_TYPES, JOINTED_TYPES, ComponentConfig, StringConfig,
+)
 from drillfatigue.errors import InputError
-
-#: Component type names; ``Segments.component_type_code`` indexes this tuple.
-COMPONENT_TYPES: tuple[str, ...] = ("bit", "collar", "stabilizer", "hwdp", "drill_pipe", "sub",
-                                    "jar", "mwd")
+from drillfatigue.units import STANDARD_GRAVITY_M_PER_S2
 
 
 @dataclass(frozen=True)
@@ -292,7 +291,7 @@ def build_segments(string_cfg: StringConfig, mud_density_kg_per_m3: float,
     # joint j between segment j and j+1: take the section of the weaker side
     weaker = np.where(arr["ei"][:-1] <= arr["ei"][1:], np.arange(n - 1), np.arange(1, n))
     mass = arr["mass_kg"]
-    buoyed = (mass - mud_density_kg_per_m3 * arr["volume_m3"]) * 9.80665
+    buoyed = (mass - mud_density_kg_per_m3 * arr["volume_m3"]) * STANDARD_GRAVITY_M_PER_S2
     return Segments(
         length_m=length,
         od_m=arr["od_m"],

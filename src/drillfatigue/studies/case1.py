@@ -50,6 +50,7 @@ from drillfatigue.studies.common import (
     write_json,
 )
 from drillfatigue.well import build_survey
+from drillfatigue.units import rad_per_s_from_rpm
 
 #: The named reference case this study varies (pipe, hole, torque, free top).
 CASE_FILE = Path(__file__).resolve().parents[3] / "data" / "cases" / "case1_whirl.yaml"
@@ -137,12 +138,12 @@ def run_case1(cfg: Case1Config, out_dir: Path, *, dpi: int = 110) -> dict[str, A
             ch = pd.read_parquet(run_dir / rundir.CHANNELS)
             t_from = 0.5 * cfg.duration_s
             late = ch[ch["time_s"] >= t_from]
-            omega = float(np.mean(late["top_rpm"])) * 2 * math.pi / 60.0
+            omega = rad_per_s_from_rpm(float(np.mean(late["top_rpm"])))
             rate = whirl_rate(kin, t_from)
             orbits[name] = kin
             if level == "high":  # the rolling reference, from the spin rate, rad/s
                 spins[name] = (ch["time_s"].to_numpy(),
-                               ch["top_rpm"].to_numpy() * 2 * math.pi / 60.0)
+                               rad_per_s_from_rpm(ch["top_rpm"].to_numpy()))
             contact = kin[kin["time_s"] >= t_from]
             rows.append({
                 "model": model, "friction": level, "mu_dynamic": mu,

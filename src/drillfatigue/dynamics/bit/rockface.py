@@ -45,6 +45,7 @@ from numba import njit
 
 from drillfatigue.dynamics.bit.laws.kernel import bit_response
 from drillfatigue.dynamics.bit.laws.registry import LAWS, pack_bit_params
+from drillfatigue.units import rad_per_s_from_rpm
 
 if TYPE_CHECKING:
     from drillfatigue.config.bit import BitConfig
@@ -116,7 +117,7 @@ def rop_tob_from_wob(bit: BitConfig, wob_N: float | np.ndarray, rpm: float | np.
     tob = np.empty(w.shape)
     out = np.empty(2)
     for i in np.ndindex(w.shape):
-        bit_response(mid, p, float(w[i]), float(r[i]) * 2.0 * math.pi / 60.0, out)
+        bit_response(mid, p, float(w[i]), rad_per_s_from_rpm(float(r[i])), out)
         tob[i] = out[0]
         rop[i] = out[1]
     return rop, tob
@@ -154,7 +155,7 @@ def steady_wob_for_rop_N(bit: BitConfig, rop_m_per_s: float, rpm: float, wob_max
     if bit.model not in ROP_FROM_WOB_MODELS:
         raise ValueError(f"bit.model {bit.model} prescribes the ROP; the steady WOB needs "
                          f"bit.model {' or '.join(ROP_FROM_WOB_MODELS)}")
-    omega = abs(rpm) * 2.0 * math.pi / 60.0
+    omega = rad_per_s_from_rpm(abs(rpm))
 
     def rop_at(w: float) -> float:
         return float(rop_tob_from_wob(bit, w, abs(rpm))[0])

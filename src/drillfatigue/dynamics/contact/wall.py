@@ -571,7 +571,7 @@ def wall_contact(t, n, s, p, wk):
     a slip within a step but never reverse it). Where the cap binds the point
     is effectively stuck (creep ~ F_other dt / m_eff), as it would be with the
     true law; elsewhere the law is untouched. Karnopp keeps its own stick band
-    and the step limit of :func:`drillfatigue.dynamics.run.model.stable_step`.
+    and the step limit of :func:`drillfatigue.dynamics.step.pack.stable_step`.
     """
     ch = wk.ch
     cpar = p.cpar

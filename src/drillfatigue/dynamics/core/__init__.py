@@ -4,5 +4,6 @@
 * :mod:`~drillfatigue.dynamics.core.bundles` -- the named bundles of arrays the kernels take;
 * :mod:`~drillfatigue.dynamics.core.status` -- status codes of the kernels;
 * :mod:`~drillfatigue.dynamics.core.rigid` -- unit quaternions and the Newton-Euler update;
-* :mod:`~drillfatigue.dynamics.core.joints` -- the spring-damper joint between two segments.
+* :mod:`~drillfatigue.dynamics.core.joints` -- the spring-damper joint between two segments;
+* :mod:`~drillfatigue.dynamics.core.pack` -- a case's segments and joints as ``seg`` and ``jp`` rows.
 """

@@ -21,7 +21,7 @@ free-rotor drift (the explicit form of that term drifts in energy by O(dt):
   linear solves, so one step costs a few microseconds for 120 segments.
 * The scheme is symplectic for the conservative part: with damping off the
   energy error stays bounded (no drift) -- tested over 1e5 steps.
-* Stability needs dt < 2 / omega_max. :func:`drillfatigue.dynamics.run.model.stable_step`
+* Stability needs dt < 2 / omega_max. :func:`drillfatigue.dynamics.step.pack.stable_step`
   bounds omega_max from above by Gershgorin's theorem on the mass-normalised
   stiffness of every element (axial, shear with its lever arms, bending,
   torsion, boundary springs), reduces it for the damping ratio

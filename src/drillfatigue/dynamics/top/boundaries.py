@@ -52,6 +52,7 @@ from drillfatigue.dynamics.core.layout import (
     S_H, S_IA, C_NACT, M_D_R, V_B_DV, V_B_DX, V_B_F, V_B_IMP, V_B_OUT, V_B_P2, V_B_POS, V_B_T2,
     V_B_TAN, V_D_P, V_D_Q, V_D_QZ, V_D_V, V_D_W, V_J_ED, V_J_F, V_J_MLO, V_J_MUP,
 )
+from drillfatigue.units import RPM_PER_RAD_S
 from drillfatigue.dynamics.top.rig import (
     BLOCK_AT_FLOOR, BLOCK_BAD_MODE, BLOCK_NONFINITE, BLOCK_VELOCITY, BP_VSET, BS_V, BS_X,
     N_BLOCK_P, N_BLOCK_S, N_TD_P, N_TD_S, TD_BAD_MODE, TD_NONFINITE, TOP_DRIVE_PI, TS_OMEGA,
@@ -62,7 +63,6 @@ from drillfatigue.dynamics.bit.rockface import rock_face_contact
 from drillfatigue.dynamics.core.status import NONFINITE, OK, UNKNOWN_RIG_MODE
 from drillfatigue.well.kernels import path_point
 
-RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 
 
 @njit(cache=True)

@@ -23,6 +23,7 @@ from drillfatigue.dynamics.bit.rockface import steady_wob_for_rop_N
 from drillfatigue.errors import InputError
 from drillfatigue.limits import FEATURE_BOUNDS
 from drillfatigue.string import build_segments
+from drillfatigue.units import rad_per_s_from_rpm
 
 if TYPE_CHECKING:
     from drillfatigue.config import CaseConfig
@@ -294,7 +295,7 @@ def lobe_force_amplitude_N(rpm: float, lobe_count: int, amplitude_m: float,
     above ``|F|`` and leaves it below (bit bounce). Undamped: near a resonance
     of the string it overestimates, away from one it is the linear answer.
     """
-    w = lobe_count * abs(rpm) * 2.0 * math.pi / 60.0
+    w = rad_per_s_from_rpm(lobe_count * abs(rpm))
     if w == 0.0 or amplitude_m == 0.0:
         return 0.0
     z = rod_input_impedance(w, sections)

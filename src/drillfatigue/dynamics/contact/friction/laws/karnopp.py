@@ -8,7 +8,7 @@ an explicit integrator back to zero), clipped to ``|F| <= mu_s N``; a force
 that would push along the slip loses that component, so friction never adds
 energy. Needs the net applied tangential force (the contact kernel's pre-pass),
 and limits the step: a slip overshoot in one step must land inside the band
-(:func:`drillfatigue.dynamics.run.model.stable_step`).
+(:func:`drillfatigue.dynamics.step.pack.stable_step`).
 """
 
 from __future__ import annotations
