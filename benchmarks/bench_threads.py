@@ -52,10 +52,9 @@ R_TJ = 0.0841
 
 @njit(cache=True, inline="always")
 def _joint(j, x, v, R, q, w, h, kp, out, loads, ed):
-    joint_force(x[j], v[j], R[j], q[j], w[j], h[j], x[j + 1], v[j + 1], R[j + 1], q[j + 1],
-                w[j + 1], h[j + 1], kp[0], kp[1], kp[2], kp[3], kp[4], kp[5], kp[6], kp[7],
-                out[j, 0], out[j, 1], out[j, 2],
-                loads[j], ed[j])
+    joint_force((x[j], v[j], R[j], q[j], w[j], h[j]),
+                (x[j + 1], v[j + 1], R[j + 1], q[j + 1], w[j + 1], h[j + 1]), kp,
+                (out[j, 0], out[j, 1], out[j, 2], loads[j], ed[j]))
 
 
 @njit(cache=True, inline="always")

@@ -34,8 +34,8 @@ def _rot(q: np.ndarray) -> np.ndarray:
 def _loads(x_lo, v_lo, q_lo, w_lo, x_up, v_up, q_up, w_up, h=4.5):
     out = {k: np.zeros(3) for k in ("F", "Ml", "Mu")}
     loads, ed = np.zeros(6), np.zeros(2)
-    joint_force(x_lo, v_lo, _rot(q_lo), q_lo, w_lo, h, x_up, v_up, _rot(q_up), q_up, w_up, h,
-                *K, out["F"], out["Ml"], out["Mu"], loads, ed)
+    joint_force((x_lo, v_lo, _rot(q_lo), q_lo, w_lo, h), (x_up, v_up, _rot(q_up), q_up, w_up, h),
+                np.array(K), (out["F"], out["Ml"], out["Mu"], loads, ed))
     return loads, ed, out
 
 

@@ -78,8 +78,10 @@ def test_skip_drops_nothing_and_the_force_is_the_same(dogleg, cyl, s, radial, ph
     ref_info = np.full(WALL_INFO_SIZE, np.nan)
     ref_f = np.full(3, np.nan)
     ref_m = np.full(3, np.nan)
-    st_ref = wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hint,
-                        5e7, 5e4, TANH_EXP, fp, fo, dt, ref_info, ref_f, ref_m)
+    body = (xc, vc, omega, t_axis)
+    law = (5e7, 5e4, TANH_EXP, fp, dt)
+    st_ref = wall_force(X, r_contact, body, (p0, axis, length, radius), hint, law, fo,
+                        (ref_info, ref_f, ref_m))
 
     info = np.full(WALL_INFO_SIZE, np.nan)
     ic = find_contact(X, r_contact, p0, axis, length, radius, hint, info)
@@ -90,8 +92,7 @@ def test_skip_drops_nothing_and_the_force_is_the_same(dogleg, cyl, s, radial, ph
     else:
         f = np.full(3, np.nan)
         m = np.full(3, np.nan)
-        st_new = located_wall_force(X, xc, vc, omega, t_axis, r_contact, ic, 5e7, 5e4, TANH_EXP,
-                                    fp, fo, dt, info, f, m)
+        st_new = located_wall_force(X, r_contact, ic, body, law, fo, (info, f, m))
         assert st_new == st_ref
         np.testing.assert_array_equal(info, ref_info)
         np.testing.assert_array_equal(f, ref_f)

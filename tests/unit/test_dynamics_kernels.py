@@ -57,9 +57,10 @@ def _pair(gap_z: float = 0.0, twist: float = 0.0):
     quat_to_rot(q_up, r_up)
     z = np.zeros(3)
     f, ml, mu, loads, ed = np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(6), np.zeros(2)
-    joint_force(x_lo, z, r_lo, q_lo, z, h, x_up, z, r_up, q_up, z, h,
-                100.0, 10.0, 5.0, 2.0, 0.0, 0.0, 0.0, 0.0,
-                f, ml, mu, loads, ed)
+    jrow = np.zeros(L.N_JP)
+    jrow[[L.J_KA, L.J_KS, L.J_KB, L.J_KT]] = 100.0, 10.0, 5.0, 2.0  # springs only, no dampers
+    joint_force((x_lo, z, r_lo, q_lo, z, h), (x_up, z, r_up, q_up, z, h), jrow,
+                (f, ml, mu, loads, ed))
     return f, ml, loads, ed
 
 

@@ -120,7 +120,7 @@ def test_rop_from_wob_is_the_bit_law_and_zero_below_thresholds() -> None:
 
 def test_detournay_bit_model_is_the_law_with_a_continuous_torque_through_rest() -> None:
     # bit.model detournay through the simulator's bit kernel: at drilling speed exactly the
-    # law of rockface.detournay_response with the same parameters (the default 8 1/2 in bit:
+    # unregularised law (detournay_law) with the same parameters (the default 8 1/2 in bit:
     # 6.7 mm/rev and 60 m/h at 100 kN and 150 rpm, docs/rig.md); the torque rises through zero
     # speed as tanh(omega / 0.5 rad/s); backwards only the wear-flat friction; off bottom nothing
     bit = BitConfig(model="detournay")
@@ -129,7 +129,7 @@ def test_detournay_bit_model_is_the_law_with_a_continuous_torque_through_rest() 
     om = 150.0 * 2 * math.pi / 60.0
     out, ref = np.empty(2), np.empty(3)
     BR.bit_response(mid, p, 1e5, om, out)
-    RF.detournay_response(RF.pack_detournay_params(), 1e5, om, ref)
+    _detournay(1e5, om, ref)  # PDC above: BitConfig's detournay defaults
     assert out[0] == pytest.approx(ref[0], rel=1e-12) and out[1] == pytest.approx(ref[1], rel=1e-12)
     assert ref[2] == pytest.approx(6.72e-3, rel=1e-3) and out[1] * 3600 == pytest.approx(60.5, rel=1e-2)
     rop, tob = RF.rop_tob_from_wob(bit, 1e5, 150.0)

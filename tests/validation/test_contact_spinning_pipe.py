@@ -52,8 +52,8 @@ def _run(p0, axis, length, radius, k_c, c_c, fmodel, fp, dt, n_steps, n_avg, out
     sum_t = 0.0
     sum_phi = 0.0
     for k in range(n_steps):
-        wall_force(x, x, v, om, tax, R_PIPE, p0, axis, length, radius, hint,
-                   k_c, c_c, fmodel, fp, zero, dt, info, f, mo)
+        wall_force(x, R_PIPE, (x, v, om, tax), (p0, axis, length, radius), hint,
+                   (k_c, c_c, fmodel, fp, dt), zero, (info, f, mo))
         ic = int(info[WI_CYL])
         if ic >= 0:
             hint = ic
@@ -112,13 +112,13 @@ def test_rolling_without_slip_gives_no_friction():
     info = np.empty(WALL_INFO_SIZE)
     f = np.empty(3)
     mo = np.empty(3)
-    wall_force(x, x, vc, om, np.array([1.0, 0, 0]), R_PIPE, *chain, 0, 5e7, 0.0, mid, fp,
-               np.zeros(3), 1e-5, info, f, mo)
+    wall_force(x, R_PIPE, (x, vc, om, np.array([1.0, 0, 0])), chain, 0, (5e7, 0.0, mid, fp, 1e-5),
+               np.zeros(3), (info, f, mo))
     assert info[7] < 1e-15  # no slip at the surface point
     np.testing.assert_allclose(f, [0.0, 0.0, -5e7 * 1e-4], rtol=1e-9, atol=1e-9)
     # same state without the orbital velocity: full sliding friction mu_d N against the spin
-    wall_force(x, x, np.zeros(3), om, np.array([1.0, 0, 0]), R_PIPE, *chain, 0, 5e7, 0.0, mid, fp,
-               np.zeros(3), 1e-5, info, f, mo)
+    wall_force(x, R_PIPE, (x, np.zeros(3), om, np.array([1.0, 0, 0])), chain, 0,
+               (5e7, 0.0, mid, fp, 1e-5), np.zeros(3), (info, f, mo))
     # tanh_exp at 0.64 m/s slip: the Stribeck term adds (mu_s - mu_d) exp(-12.7) ~ 3e-7
     assert mo[0] == pytest.approx(-0.25 * 5e3 * R_PIPE, rel=1e-5)
     assert f[1] == pytest.approx(0.25 * 5e3, rel=1e-5)  # slip along -y at the bottom: friction +y

@@ -303,8 +303,7 @@ def normal_force(delta, delta_dot, k_c, c_c):
 
 
 @njit(cache=True, inline="always")
-def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hint,
-               k_c, c_c, fmodel, fp, f_other, dt, info, force, moment):
+def wall_force(X, r_contact, body, chain, hint, law, f_other, out):
     """Wall contact plus friction force on one segment at one of its contact points.
 
     The string touches the wall at its surface point ``Y = X + r n`` (X on the
@@ -317,37 +316,32 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
     ----------
     X : ndarray, shape (3,)
         Contact point on the segment's centre line (world frame), m.
-    xc, vc : ndarray, shape (3,)
-        Segment centre of mass position (m) and velocity (m/s).
-    omega : ndarray, shape (3,)
-        Segment angular velocity in the world frame, rad/s.
-    t_axis : ndarray, shape (3,)
-        Unit axis of the segment (world frame), for the axial drag coefficient.
     r_contact : float
         Contact radius at this point, m.
-    p0, axis, length, radius, hint
-        Hole cylinder chain and search hint, as in :func:`find_contact`.
-    k_c, c_c : float
-        Penalty stiffness (N/m) and damping (N s/m).
-    fmodel : int
-        Friction model id (:mod:`drillfatigue.dynamics.contact.friction`).
-    fp : ndarray, shape (friction.registry.N_PARAMS,)
-        Friction parameters.
+    body : tuple
+        The segment, ``(xc, vc, omega, t_axis)``: centre of mass position (m) and
+        velocity (m/s), angular velocity (rad/s) and unit axis (for the axial drag
+        coefficient), all (3,) in the world frame.
+    chain : tuple
+        The hole's cylinder chain ``(p0, axis, length, radius)``, as in :func:`find_contact`.
+    hint : int
+        The search hint, as in :func:`find_contact`.
+    law : tuple
+        ``(k_c, c_c, fmodel, fp, dt)``: penalty stiffness (N/m) and damping (N s/m),
+        the friction law id and its parameters
+        (:mod:`drillfatigue.dynamics.contact.friction`), the integrator step (s).
     f_other : ndarray, shape (3,)
-        Net other force on the segment at this point, N (Karnopp only; its
+        Net other force on the segment at this point, N (stiction laws only; its
         component along n is removed here).
-    dt : float
-        Integrator step, s (passed to the friction kernel).
-    info : ndarray, shape (WALL_INFO_SIZE,) = (15,)
-        Written (columns ``WI_*`` of :mod:`layout`): ``find_contact``'s six
-        values, the normal force N (N), the slip speed at Y (m/s), the slip
-        velocity vector at Y (3, m/s), the tangential part of ``f_other`` (3,
-        N; scratch) and the cylinder located (the next ``hint``; -1 beyond the
-        chain's ends, where the end cylinder is prolonged: keep the previous
-        hint then). No allocation.
-    force, moment : ndarray, shape (3,)
-        Written: wall force on the segment (normal plus friction), N, and its
-        moment about ``xc``, N m (world frame). Zero when not in contact.
+    out : tuple
+        ``(info, force, moment)``, written. ``info`` (WALL_INFO_SIZE,): the columns
+        ``WI_*`` of :mod:`layout`, ``find_contact``'s six values, the normal force N
+        (N), the slip speed at Y (m/s), the slip velocity vector at Y (3, m/s), the
+        tangential part of ``f_other`` (3, N; scratch) and the cylinder located (the
+        next ``hint``; -1 beyond the chain's ends, where the end cylinder is
+        prolonged: keep the previous hint then). ``force``, ``moment`` (3,): the wall
+        force on the segment (normal plus friction), N, and its moment about ``xc``,
+        N m (world frame); zero when not in contact. No allocation.
 
     Returns
     -------
@@ -355,22 +349,24 @@ def wall_force(X, xc, vc, omega, t_axis, r_contact, p0, axis, length, radius, hi
         A status code (:mod:`drillfatigue.dynamics.core.status`): ``OK`` or
         ``UNKNOWN_FRICTION``.
     """
-    ic = find_contact(X, r_contact, p0, axis, length, radius, hint, info)
-    return located_wall_force(X, xc, vc, omega, t_axis, r_contact, ic, k_c, c_c, fmodel, fp,
-                              f_other, dt, info, force, moment)
+    p0, axis, length, radius = chain
+    ic = find_contact(X, r_contact, p0, axis, length, radius, hint, out[0])
+    return located_wall_force(X, r_contact, ic, body, law, f_other, out)
 
 
 @njit(cache=True, inline="always")
-def located_wall_force(X, xc, vc, omega, t_axis, r_contact, ic, k_c, c_c, fmodel, fp, f_other,
-                       dt, info, force, moment):
-    """:func:`wall_force` after the search: ``info[:6]`` holds what :func:`find_contact`
-    wrote for this point and ``ic`` is the cylinder it returned.
+def located_wall_force(X, r_contact, ic, body, law, f_other, out):
+    """:func:`wall_force` after the search: ``info[:6]`` (``out[0]``) holds what
+    :func:`find_contact` wrote for this point and ``ic`` is the cylinder it returned.
 
     Fills the rest of ``info`` and ``force``/``moment`` exactly as :func:`wall_force`
     does (it is that function's second half). The wall loop locates every point first and
     calls this only for the points that penetrate (``info[WI_DELTA] > 0``): for the others
     the result is zero force, and the search alone is a third of the work.
     """
+    xc, vc, omega, t_axis = body
+    k_c, c_c, fmodel, fp, dt = law
+    info, force, moment = out
     for k in range(3):
         force[k] = 0.0
         moment[k] = 0.0
@@ -513,6 +509,143 @@ def deepest_point(off, g, npt):
     return k, u, gv
 
 
+# numpy's error model, as wall_contact that it is inlined into
+@njit(cache=True, inline="always", error_model="numpy")
+def _stiction_prepass(i, m, R, Mb, Mw, Fw, seg, tax, alin, alpha):
+    """The stiction pre-pass of :func:`wall_contact`: the linear (``alin``, m/s^2) and
+    angular (``alpha``, rad/s^2) acceleration segment ``i`` would have from its non-wall
+    loads alone.
+
+    Karnopp pre-pass. Karnopp needs the "other" tangential force at a contact
+    point. In this explicit scheme it is estimated first: the acceleration the
+    contact point would have from all non-wall forces and moments on the
+    segment (gravity, mud, joints, boundaries: this kernel runs after them),
+    times the share of the segment's mass carried by the point (m / points).
+    Friction is then computed point by point against that estimate.
+    """
+    mb0 = R[i, 0, 0] * Mb[i, 0] + R[i, 0, 1] * Mb[i, 1] + R[i, 0, 2] * Mb[i, 2] + Mw[i, 0]
+    mb1 = R[i, 1, 0] * Mb[i, 0] + R[i, 1, 1] * Mb[i, 1] + R[i, 1, 2] * Mb[i, 2] + Mw[i, 1]
+    mb2 = R[i, 2, 0] * Mb[i, 0] + R[i, 2, 1] * Mb[i, 1] + R[i, 2, 2] * Mb[i, 2] + Mw[i, 2]
+    max_ = mb0 * tax[0] + mb1 * tax[1] + mb2 * tax[2]
+    it = seg[i, S_IT]
+    ia = seg[i, S_IA]
+    alpha[0] = (mb0 - max_ * tax[0]) / it + max_ * tax[0] / ia
+    alpha[1] = (mb1 - max_ * tax[1]) / it + max_ * tax[1] / ia
+    alpha[2] = (mb2 - max_ * tax[2]) / it + max_ * tax[2] / ia
+    for k in range(3):
+        alin[k] = Fw[i, k] / m
+
+
+# numpy's error model, as wall_contact that it is inlined into
+@njit(cache=True, inline="always", error_model="numpy")
+def _point_of(i, pt, npi, own, seg, cp, hint, tbase, offs, gs, dpen):
+    """Point ``pt`` of segment ``i`` in :func:`wall_contact`: whether it is tested, its
+    offset along the axis (m), its contact radius (m) and its hint's index.
+
+    ``pt == npi`` is the deepest point (:func:`deepest_point`), tested with the body
+    radius less the tested points' largest penetration ``dpen``: its force grows from
+    zero as the vertex leaves a tested point, and is the whole penalty force where no
+    tested point touches. A table point not located yet starts from the segment's
+    first hint.
+
+    Contact points from the string. With ``cpar[P_CPTAB]`` set, every segment
+    below the top tests its own points ``p.cp[i, :p.cp_n[i]]`` (tool joints,
+    blades, centre upsets and the extra points of
+    :func:`drillfatigue.string.contacts.contact_points`) instead of its ends;
+    the growing top segment keeps the ``cpar[P_NPTS]`` points of
+    :func:`contact_point`. Each point adds its force and that force's moment
+    about the centre; friction acts at that point's radius. A point not yet
+    located (hint -1, e.g. on a piece just split off the top) starts its search
+    from the segment's first hint.
+
+    Deepest point (``cpar[P_DEEP]``, ``contact.deepest_point``). A segment with
+    three or more points then also tests, after them, the vertex of
+    :func:`deepest_point` (the point of its axis furthest out towards the wall
+    between its points, in a bend) with the body radius less the tested points'
+    largest penetration delta_max >= 0: the force there is the whole penalty
+    force where no tested point touches and grows from zero as the vertex
+    leaves a tested point that touches. It has the friction, damping and
+    Karnopp share of any point and the hint of the outermost point (which it
+    does not update).
+    """
+    if pt == npi:
+        kd, off, gd = deepest_point(offs, gs, npi)
+        if kd < 0 or gd + seg[i, S_RB] <= dpen:
+            return False, 0.0, 0.0, 0
+        rc = seg[i, S_RB] - dpen
+        if own:
+            ih = tbase + MAX_TABLE_POINTS * i + kd
+        else:
+            ih = MAX_CONTACT_POINTS * i + kd
+    elif own:
+        off = cp[i, pt, 0]
+        rc = cp[i, pt, 1]
+        ih = tbase + MAX_TABLE_POINTS * i + pt
+        if hint[ih] < 0:
+            hint[ih] = hint[MAX_CONTACT_POINTS * i]
+    else:
+        off, rc = contact_point(seg, i, pt)
+        ih = MAX_CONTACT_POINTS * i + pt
+    return True, off, rc, ih
+
+
+# numpy's error model, as wall_contact that it is inlined into
+@njit(cache=True, inline="always", error_model="numpy")
+def _add_point_load(i, X, rc, delta, state, out, m_cap, karn, kc, dt, ch):
+    """A penetrating point's force in :func:`wall_contact`: the slip cap of the smooth
+    laws, the penalty energy and dissipated power (``ch``), and the force and its moment
+    added to segment ``i``. ``state``: ``(x, v, wW, Fw, Mw)``; ``out``: the point's
+    ``(info, force, moment)`` from :func:`located_wall_force`. Returns its normal force (N).
+
+    Slip cap (smooth models, all but Karnopp). Near zero slip a regularised
+    friction law is a viscous damper of slope mu N / v_reg, which an explicit
+    step resolves only for dt < 2 m_eff v_reg / (mu N) -- far below the joint
+    step at large normal forces. Instead, the tangential force at a point is
+    capped at m_eff |v_slip| / dt with m_eff = m / (3 points) (translation, spin
+    and tilt of the segment all move the surface point; the factor 3 keeps the
+    combined velocity change of one step below the slip, so friction can stop
+    a slip within a step but never reverse it). Where the cap binds the point
+    is effectively stuck (creep ~ F_other dt / m_eff), as it would be with the
+    true law; elsewhere the law is untouched. Karnopp keeps its own stick band
+    and the step limit of :func:`drillfatigue.dynamics.step.pack.stable_step`.
+    """
+    x, v, wW, Fw, Mw = state
+    info, force, moment = out
+    nrm = info[WI_N]
+    nx = info[WI_NX]
+    ny = info[WI_NX + 1]
+    nz = info[WI_NX + 2]
+    # velocity of the surface contact point Y = X + r n
+    ax_ = X[0] + rc * nx - x[i, 0]
+    ay_ = X[1] + rc * ny - x[i, 1]
+    az_ = X[2] + rc * nz - x[i, 2]
+    vy0 = v[i, 0] + wW[i, 1] * az_ - wW[i, 2] * ay_
+    vy1 = v[i, 1] + wW[i, 2] * ax_ - wW[i, 0] * az_
+    vy2 = v[i, 2] + wW[i, 0] * ay_ - wW[i, 1] * ax_
+    vn = vy0 * nx + vy1 * ny + vy2 * nz
+    if not karn and nrm > 0.0:
+        # slip cap (see above): |F_t| <= m_eff |v_slip| / dt
+        ft0 = force[0] + nrm * nx
+        ft1 = force[1] + nrm * ny
+        ft2 = force[2] + nrm * nz
+        ftm = math.sqrt(ft0 * ft0 + ft1 * ft1 + ft2 * ft2)
+        cap = m_cap * info[WI_SLIP] / dt
+        if ftm > cap:
+            sf = cap / ftm
+            force[0] = sf * ft0 - nrm * nx
+            force[1] = sf * ft1 - nrm * ny
+            force[2] = sf * ft2 - nrm * nz
+            moment[0] = ay_ * force[2] - az_ * force[1]
+            moment[1] = az_ * force[0] - ax_ * force[2]
+            moment[2] = ax_ * force[1] - ay_ * force[0]
+    ch[H_PE] += 0.5 * kc * delta * delta
+    ch[H_PDISS] += -(force[0] * vy0 + force[1] * vy1 + force[2] * vy2) - kc * delta * vn
+    for k in range(3):
+        Fw[i, k] += force[k]
+        Mw[i, k] += moment[k]
+    return nrm
+
+
 # without numba's reference counting: the rows handed to the inlined point kernels are
 # views, each an atomic increment and decrement with it; the loop allocates nothing
 # (:func:`drillfatigue.dynamics.core.joints.joint_forces`); divisions with numpy's error model,
@@ -534,44 +667,9 @@ def wall_contact(t, n, s, p, wk):
     Reads ``s.x, s.v, s.hint`` (updated), ``wk.R, wk.wW``, ``p.seg, p.wall,
     p.cpar, p.bp, p.cp_n, p.cp``. Returns a status code.
 
-    Contact points from the string. With ``cpar[P_CPTAB]`` set, every segment
-    below the top tests its own points ``p.cp[i, :p.cp_n[i]]`` (tool joints,
-    blades, centre upsets and the extra points of
-    :func:`drillfatigue.string.contacts.contact_points`) instead of its ends;
-    the growing top segment keeps the ``cpar[P_NPTS]`` points of
-    :func:`contact_point`. Each point adds its force and that force's moment
-    about the centre; friction acts at that point's radius. A point not yet
-    located (hint -1, e.g. on a piece just split off the top) starts its search
-    from the segment's first hint.
-
-    Deepest point (``cpar[P_DEEP]``, ``contact.deepest_point``). A segment with
-    three or more points then also tests, after them, the vertex of
-    :func:`deepest_point` (the point of its axis furthest out towards the wall
-    between its points, in a bend) with the body radius less the tested points'
-    largest penetration delta_max >= 0: the force there is the whole penalty
-    force where no tested point touches and grows from zero as the vertex
-    leaves a tested point that touches. It has the friction, damping and
-    Karnopp share of any point and the hint of the outermost point (which it
-    does not update).
-
-    Karnopp pre-pass. Karnopp needs the "other" tangential force at a contact
-    point. In this explicit scheme it is estimated first: the acceleration the
-    contact point would have from all non-wall forces and moments on the
-    segment (gravity, mud, joints, boundaries: this kernel runs after them),
-    times the share of the segment's mass carried by the point (m / points).
-    Friction is then computed point by point against that estimate.
-
-    Slip cap (smooth models, all but Karnopp). Near zero slip a regularised
-    friction law is a viscous damper of slope mu N / v_reg, which an explicit
-    step resolves only for dt < 2 m_eff v_reg / (mu N) -- far below the joint
-    step at large normal forces. Instead, the tangential force at a point is
-    capped at m_eff |v_slip| / dt with m_eff = m / (3 points) (translation, spin
-    and tilt of the segment all move the surface point; the factor 3 keeps the
-    combined velocity change of one step below the slip, so friction can stop
-    a slip within a step but never reverse it). Where the cap binds the point
-    is effectively stuck (creep ~ F_other dt / m_eff), as it would be with the
-    true law; elsewhere the law is untouched. Karnopp keeps its own stick band
-    and the step limit of :func:`drillfatigue.dynamics.step.pack.stable_step`.
+    The points: :func:`_point_of` (from the string's table, or the segment's ends and
+    middle; the deepest point); the stiction pre-pass: :func:`_stiction_prepass`; the
+    slip cap of the smooth laws: :func:`_add_point_load`.
     """
     ch = wk.ch
     cpar = p.cpar
@@ -629,44 +727,15 @@ def wall_contact(t, n, s, p, wk):
                 tax[k] = R[i, k, 2]
                 fo[k] = 0.0
             if karn:
-                # acceleration from the non-wall loads (pre-pass, see above)
-                mb0 = R[i, 0, 0] * Mb[i, 0] + R[i, 0, 1] * Mb[i, 1] + R[i, 0, 2] * Mb[i, 2] + Mw[i, 0]
-                mb1 = R[i, 1, 0] * Mb[i, 0] + R[i, 1, 1] * Mb[i, 1] + R[i, 1, 2] * Mb[i, 2] + Mw[i, 1]
-                mb2 = R[i, 2, 0] * Mb[i, 0] + R[i, 2, 1] * Mb[i, 1] + R[i, 2, 2] * Mb[i, 2] + Mw[i, 2]
-                max_ = mb0 * tax[0] + mb1 * tax[1] + mb2 * tax[2]
-                it = seg[i, S_IT]
-                ia = seg[i, S_IA]
-                alpha[0] = (mb0 - max_ * tax[0]) / it + max_ * tax[0] / ia
-                alpha[1] = (mb1 - max_ * tax[1]) / it + max_ * tax[1] / ia
-                alpha[2] = (mb2 - max_ * tax[2]) / it + max_ * tax[2] / ia
-                for k in range(3):
-                    alin[k] = Fw[i, k] / m
+                _stiction_prepass(i, m, R, Mb, Mw, Fw, seg, tax, alin, alpha)
             nsum = 0.0
             dmax = 0.0
             m_cap = m / (3.0 * npi)
             for pt in range(n_test):
-                if pt == npi:
-                    # the deepest point (deepest_point), tested with the body radius less
-                    # the tested points' largest penetration: its force grows from zero
-                    # as the vertex leaves a tested point, and is the whole penalty
-                    # force where no tested point touches
-                    kd, off, gd = deepest_point(offs, gs, npi)
-                    if kd < 0 or gd + seg[i, S_RB] <= dpen:
-                        continue
-                    rc = seg[i, S_RB] - dpen
-                    if own:
-                        ih = tbase + MAX_TABLE_POINTS * i + kd
-                    else:
-                        ih = MAX_CONTACT_POINTS * i + kd
-                elif own:
-                    off = cp[i, pt, 0]
-                    rc = cp[i, pt, 1]
-                    ih = tbase + MAX_TABLE_POINTS * i + pt
-                    if hint[ih] < 0:
-                        hint[ih] = hint[MAX_CONTACT_POINTS * i]
-                else:
-                    off, rc = contact_point(seg, i, pt)
-                    ih = MAX_CONTACT_POINTS * i + pt
+                tested, off, rc, ih = _point_of(i, pt, npi, own, seg, cp, hint, tbase, offs, gs,
+                                                dpen)
+                if not tested:
+                    continue
                 for k in range(3):
                     X[k] = x[i, k] + off * tax[k]
                 if karn:
@@ -685,8 +754,9 @@ def wall_contact(t, n, s, p, wk):
                     info[OUT_S] = s_along
                     info[WI_DIST] = d
                     unit_normal(wx, wy, wz, d, info)
-                    st = located_wall_force(X, x[i], v[i], wW[i], tax, rc, ic, kc, seg[i, S_CC],
-                                            fmodel, fp, fo, dt, info, force, moment)
+                    st = located_wall_force(X, rc, ic, (x[i], v[i], wW[i], tax),
+                                            (kc, seg[i, S_CC], fmodel, fp, dt), fo,
+                                            (info, force, moment))
                     if st != OK:
                         return st
                 if ic >= 0 and pt < npi:
@@ -702,39 +772,8 @@ def wall_contact(t, n, s, p, wk):
                 if d > dmax:
                     dmax = d
                 if delta > 0.0:
-                    nrm = info[WI_N]
-                    nsum += nrm
-                    nx = info[WI_NX]
-                    ny = info[WI_NX + 1]
-                    nz = info[WI_NX + 2]
-                    # velocity of the surface contact point Y = X + r n
-                    ax_ = X[0] + rc * nx - x[i, 0]
-                    ay_ = X[1] + rc * ny - x[i, 1]
-                    az_ = X[2] + rc * nz - x[i, 2]
-                    vy0 = v[i, 0] + wW[i, 1] * az_ - wW[i, 2] * ay_
-                    vy1 = v[i, 1] + wW[i, 2] * ax_ - wW[i, 0] * az_
-                    vy2 = v[i, 2] + wW[i, 0] * ay_ - wW[i, 1] * ax_
-                    vn = vy0 * nx + vy1 * ny + vy2 * nz
-                    if not karn and nrm > 0.0:
-                        # slip cap (see above): |F_t| <= m_eff |v_slip| / dt
-                        ft0 = force[0] + nrm * nx
-                        ft1 = force[1] + nrm * ny
-                        ft2 = force[2] + nrm * nz
-                        ftm = math.sqrt(ft0 * ft0 + ft1 * ft1 + ft2 * ft2)
-                        cap = m_cap * info[WI_SLIP] / dt
-                        if ftm > cap:
-                            sf = cap / ftm
-                            force[0] = sf * ft0 - nrm * nx
-                            force[1] = sf * ft1 - nrm * ny
-                            force[2] = sf * ft2 - nrm * nz
-                            moment[0] = ay_ * force[2] - az_ * force[1]
-                            moment[1] = az_ * force[0] - ax_ * force[2]
-                            moment[2] = ax_ * force[1] - ay_ * force[0]
-                    ch[H_PE] += 0.5 * kc * delta * delta
-                    ch[H_PDISS] += -(force[0] * vy0 + force[1] * vy1 + force[2] * vy2) - kc * delta * vn
-                    for k in range(3):
-                        Fw[i, k] += force[k]
-                        Mw[i, k] += moment[k]
+                    nsum += _add_point_load(i, X, rc, delta, (x, v, wW, Fw, Mw), (info, force, moment),
+                                            m_cap, karn, kc, dt, ch)
             if record_contact(i, t, md_bit, nsum, dmax, dt, cst):
                 ncon += 1
                 if nsum > fcmax:

@@ -40,46 +40,11 @@ from drillfatigue.dynamics.core.layout import (
 
 
 @njit(cache=True, inline="always")
-def joint_terms(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_up,
-                k_a, k_s, k_b, k_t, c_a, c_s, c_b, c_t):
-    """Spring-damper loads of one joint, as a tuple of floats.
-
-    Parameters
-    ----------
-    x_lo, v_lo : ndarray, shape (3,)   lower body centre (m) and velocity (m/s), world
-    R_lo : ndarray, shape (3, 3)       lower body rotation matrix
-    q_lo : ndarray, shape (4,)         lower body quaternion
-    wl : ndarray, shape (3,)           lower body angular velocity, WORLD frame (rad/s)
-    h_lo : float                       centre -> upper end distance of the lower body (m)
-    x_up, v_up, R_up, q_up, wu, h_up   same for the upper body (h_up: centre -> lower end)
-    k_a, k_s, k_b, k_t : float         axial, shear (N/m), bending, torsion (N m/rad) stiffness
-    c_a, c_s, c_b, c_t : float         matching damping coefficients
-
-    Returns
-    -------
-    tuple of 17 floats
-        The force on the lower body (3, N, world; -F on the upper), the moments about
-        each centre on the lower and on the upper body (3 + 3, N m, world), the
-        joint-frame loads (6, see the module doc), the spring potential energy (J) and
-        the damper power (W, >= 0).
-
-    Every intermediate is a local, not a scratch array: a store to an array the
-    compiler cannot tell apart from the inputs makes it load them again.
-    """
-    # attachment points and lever arms
-    rl0 = -h_lo * R_lo[0, 2]
-    rl1 = -h_lo * R_lo[1, 2]
-    rl2 = -h_lo * R_lo[2, 2]
-    ru0 = h_up * R_up[0, 2]
-    ru1 = h_up * R_up[1, 2]
-    ru2 = h_up * R_up[2, 2]
-    d0 = (x_up[0] + ru0) - (x_lo[0] + rl0)
-    d1 = (x_up[1] + ru1) - (x_lo[1] + rl1)
-    d2 = (x_up[2] + ru2) - (x_lo[2] + rl2)
-    # relative velocity of the attachment points
-    vd0 = (v_up[0] + wu[1] * ru2 - wu[2] * ru1) - (v_lo[0] + wl[1] * rl2 - wl[2] * rl1)
-    vd1 = (v_up[1] + wu[2] * ru0 - wu[0] * ru2) - (v_lo[1] + wl[2] * rl0 - wl[0] * rl2)
-    vd2 = (v_up[2] + wu[0] * ru1 - wu[1] * ru0) - (v_lo[2] + wl[0] * rl1 - wl[1] * rl0)
+def joint_rotation(q_lo, q_up):
+    """The joint's rotation and frame from its bodies' quaternions, as a tuple of floats:
+    the rotation vector theta = log(conj(q_lo) q_up) on the shortest arc, components in
+    the lower frame (3, rad), and the rotation matrix of the mid (joint) frame
+    q_lo (1 + qr) / |1 + qr|, row by row (9)."""
     # relative rotation conj(q_lo) q_up (rigid.quat_conj_mul) on the shortest arc
     a0 = q_lo[0]
     a1 = q_lo[1]
@@ -127,6 +92,61 @@ def joint_terms(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_
     m20 = 2.0 * (qx * qz - qw * qy)
     m21 = 2.0 * (qy * qz + qw * qx)
     m22 = 1.0 - 2.0 * (qx * qx + qy * qy)
+    return th0, th1, th2, m00, m01, m02, m10, m11, m12, m20, m21, m22
+
+
+@njit(cache=True, inline="always")
+def joint_terms(lo, up, jrow):
+    """Spring-damper loads of one joint, as a tuple of floats.
+
+    Parameters
+    ----------
+    lo : tuple
+        The lower body, ``(x, v, R, q, w, h)``: centre (m) and velocity (m/s), world,
+        shape (3,); rotation matrix (3, 3); quaternion (4,); angular velocity in the
+        WORLD frame (rad/s, (3,)); centre -> upper end distance h (m).
+    up : tuple
+        The upper body, the same (h: centre -> lower end).
+    jrow : ndarray, shape (N_JP,)
+        The joint's row of ``jp``: axial, shear (N/m), bending, torsion (N m/rad)
+        stiffness and the matching damping coefficients (``J_*``).
+
+    Returns
+    -------
+    tuple of 17 floats
+        The force on the lower body (3, N, world; -F on the upper), the moments about
+        each centre on the lower and on the upper body (3 + 3, N m, world), the
+        joint-frame loads (6, see the module doc), the spring potential energy (J) and
+        the damper power (W, >= 0).
+
+    Every intermediate is a local, not a scratch array: a store to an array the
+    compiler cannot tell apart from the inputs makes it load them again.
+    """
+    x_lo, v_lo, R_lo, q_lo, wl, h_lo = lo
+    x_up, v_up, R_up, q_up, wu, h_up = up
+    k_a = jrow[J_KA]
+    k_s = jrow[J_KS]
+    k_b = jrow[J_KB]
+    k_t = jrow[J_KT]
+    c_a = jrow[J_CA]
+    c_s = jrow[J_CS]
+    c_b = jrow[J_CB]
+    c_t = jrow[J_CT]
+    # attachment points and lever arms
+    rl0 = -h_lo * R_lo[0, 2]
+    rl1 = -h_lo * R_lo[1, 2]
+    rl2 = -h_lo * R_lo[2, 2]
+    ru0 = h_up * R_up[0, 2]
+    ru1 = h_up * R_up[1, 2]
+    ru2 = h_up * R_up[2, 2]
+    d0 = (x_up[0] + ru0) - (x_lo[0] + rl0)
+    d1 = (x_up[1] + ru1) - (x_lo[1] + rl1)
+    d2 = (x_up[2] + ru2) - (x_lo[2] + rl2)
+    # relative velocity of the attachment points
+    vd0 = (v_up[0] + wu[1] * ru2 - wu[2] * ru1) - (v_lo[0] + wl[1] * rl2 - wl[2] * rl1)
+    vd1 = (v_up[1] + wu[2] * ru0 - wu[0] * ru2) - (v_lo[1] + wl[2] * rl0 - wl[0] * rl2)
+    vd2 = (v_up[2] + wu[0] * ru1 - wu[1] * ru0) - (v_lo[2] + wl[0] * rl1 - wl[1] * rl0)
+    th0, th1, th2, m00, m01, m02, m10, m11, m12, m20, m21, m22 = joint_rotation(q_lo, q_up)
     # translation in the joint frame
     dl0 = m00 * d0 + m10 * d1 + m20 * d2
     dl1 = m01 * d0 + m11 * d1 + m21 * d2
@@ -194,19 +214,17 @@ def joint_terms(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_
 
 
 @njit(cache=True)
-def joint_force(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_up,
-                k_a, k_s, k_b, k_t, c_a, c_s, c_b, c_t, F_lo, M_lo, M_up, loads, ed):
+def joint_force(lo, up, jrow, out):
     """Spring-damper loads of one joint (:func:`joint_terms`) written into arrays.
 
-    Parameters: those of :func:`joint_terms`, and
-
-    F_lo : ndarray, shape (3,)         written: force on the lower body (N, world); -F_lo on the upper
-    M_lo, M_up : ndarray, shape (3,)   written: moments about each centre (N m, world)
-    loads : ndarray, shape (6,)        written: joint-frame loads (see module doc)
-    ed : ndarray, shape (2,)           written: [spring potential energy (J), damper power (W, >= 0)]
+    Parameters: ``lo``, ``up``, ``jrow`` as for :func:`joint_terms`, and ``out``, the
+    arrays written, ``(F_lo, M_lo, M_up, loads, ed)``: the force on the lower body
+    (3, N, world; -F_lo on the upper), the moments about each centre (3 + 3, N m,
+    world), the joint-frame loads (6, see the module doc) and
+    ``[spring potential energy (J), damper power (W, >= 0)]``.
     """
-    r = joint_terms(x_lo, v_lo, R_lo, q_lo, wl, h_lo, x_up, v_up, R_up, q_up, wu, h_up,
-                    k_a, k_s, k_b, k_t, c_a, c_s, c_b, c_t)
+    F_lo, M_lo, M_up, loads, ed = out
+    r = joint_terms(lo, up, jrow)
     for k in range(3):
         F_lo[k] = r[k]
         M_lo[k] = r[3 + k]
@@ -252,10 +270,8 @@ def joint_forces(n, growth, s, p, wk):
             for k in range(3):
                 vtop[k] = v[j + 1, k] + growth * R[j + 1, k, 2]
             vu = vtop
-        r = joint_terms(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
-                        x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
-                        jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
-                        jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT])
+        r = joint_terms((x[j], v[j], R[j], q[j], wW[j], seg[j, S_H]),
+                        (x[j + 1], vu, R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H]), jp[j])
         lj = loads[j]
         for k in range(6):
             lj[k] = r[9 + k]

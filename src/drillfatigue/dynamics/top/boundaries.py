@@ -48,7 +48,7 @@ from drillfatigue.dynamics.core.layout import (
     B_TOB, B_TOPMODE, B_TOPTQ, B_TRAMP, B_WREF, C_BLK, C_CON, C_CONP, C_CONPH, C_HINT, C_MDROCK,
     C_NSTAND, C_PHIB, C_PHID, C_ROPNOW, C_SHIFTED, C_TD, C_TSET, C_VGROW, H_BITMD, H_BITRPM,
     H_BLOCK, H_BLOCKV, H_CONPH, H_HOOK, H_PDISS, H_PE, H_PIN, H_ROP, H_TOB, H_TOPRPM, H_TOPSTR,
-    H_TSURF, H_WOB, J_CA, J_CB, J_CS, J_CT, J_KA, J_KB, J_KS, J_KT, P_BITLAW, P_BITMODEL, P_BP,
+    H_TSURF, H_WOB, J_KA, P_BITLAW, P_BITMODEL, P_BP,
     S_H, S_IA, C_NACT, M_D_R, V_B_DV, V_B_DX, V_B_F, V_B_IMP, V_B_OUT, V_B_P2, V_B_POS, V_B_T2,
     V_B_TAN, V_D_P, V_D_Q, V_D_QZ, V_D_V, V_D_W, V_J_ED, V_J_F, V_J_MLO, V_J_MUP,
 )
@@ -231,12 +231,9 @@ def top_joint(t, top, s, p, wk, loads_row):
         for k in range(3):
             pa[k] = anchor[k] + s_ax * anchor[7 + k]
             va[k] = v_ax * anchor[7 + k]
-    joint_force(x[top], v[top], R[top], s.q[top], wW[top], seg[top, S_H],
-                pa, va, Ra, qa, wa, 0.0,
-                jp[top, J_KA], jp[top, J_KS], jp[top, J_KB], jp[top, J_KT],
-                jp[top, J_CA], jp[top, J_CS], jp[top, J_CB], jp[top, J_CT],
-                vec[V_J_F], vec[V_J_MLO],
-                vec[V_J_MUP], loads_row, vec[V_J_ED])
+    joint_force((x[top], v[top], R[top], s.q[top], wW[top], seg[top, S_H]),
+                (pa, va, Ra, qa, wa, 0.0), jp[top],
+                (vec[V_J_F], vec[V_J_MLO], vec[V_J_MUP], loads_row, vec[V_J_ED]))
     return omega_d
 
 

@@ -174,12 +174,9 @@ def tail_energy(lo, t, s, p, wk):
         e += 0.5 * seg[i, S_IT] * (w[i, 0] ** 2 + w[i, 1] ** 2) + 0.5 * seg[i, S_IA] * w[i, 2] ** 2
         e -= seg[i, S_W] * x[i, 2]
     for j in range(first, n - 1):
-        joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
-                    x[j + 1], v[j + 1], R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H],
-                    jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
-                    jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
-                    vec[V_J_F],
-                    vec[V_J_MLO], vec[V_J_MUP], loads[j], vec[V_J_ED])
+        joint_force((x[j], v[j], R[j], q[j], wW[j], seg[j, S_H]),
+                    (x[j + 1], v[j + 1], R[j + 1], q[j + 1], wW[j + 1], seg[j + 1, S_H]), jp[j],
+                    (vec[V_J_F], vec[V_J_MLO], vec[V_J_MUP], loads[j], vec[V_J_ED]))
         e += vec[V_J_ED, 0]
     top_joint(t, top, s, p, wk, loads[top])
     e += vec[V_J_ED, 0]
@@ -204,12 +201,9 @@ def joint_below_top_axial(top, growth, s, p, wk):
     vu = vec[V_J_VUP]
     for k in range(3):
         vu[k] = v[top, k] + growth * R[top, k, 2]
-    joint_force(x[j], v[j], R[j], q[j], wW[j], seg[j, S_H],
-                x[top], vu, R[top], q[top], wW[top], seg[top, S_H],
-                jp[j, J_KA], jp[j, J_KS], jp[j, J_KB], jp[j, J_KT],
-                jp[j, J_CA], jp[j, J_CS], jp[j, J_CB], jp[j, J_CT],
-                vec[V_J_F],
-                vec[V_J_MLO], vec[V_J_MUP], wk.loads[j], vec[V_J_ED])
+    joint_force((x[j], v[j], R[j], q[j], wW[j], seg[j, S_H]),
+                (x[top], vu, R[top], q[top], wW[top], seg[top, S_H]), jp[j],
+                (vec[V_J_F], vec[V_J_MLO], vec[V_J_MUP], wk.loads[j], vec[V_J_ED]))
     return wk.loads[j, 0]
 
 
