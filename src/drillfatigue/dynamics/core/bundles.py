@@ -34,8 +34,9 @@ access, and the caller passes the same arrays it holds, no copies):
     The recording request and buffers of one :func:`integrator.advance` call.
 """
 
+from __future__ import annotations
+
 from collections import namedtuple
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -43,26 +44,12 @@ from drillfatigue.dynamics.top.connection import N_CC
 from drillfatigue.dynamics.core.layout import C_NACT, N_CH, N_MAT, N_VEC, N_VECW
 from drillfatigue.dynamics.top.rig import N_BLOCK_P
 
-STATE_FIELDS = ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint", "cst")
-
-
-class State(namedtuple("State", STATE_FIELDS)):
+class State(namedtuple("State", ("x", "v", "q", "w", "Fw", "Mw", "Mb", "sc", "hint", "cst"))):
     """Integrator state (see the module docstring); all float64 but ``hint`` (int64)."""
 
     __slots__ = ()
-    if TYPE_CHECKING:  # the fields, for the type checker (they come from STATE_FIELDS)
-        x: np.ndarray
-        v: np.ndarray
-        q: np.ndarray
-        w: np.ndarray
-        Fw: np.ndarray
-        Mw: np.ndarray
-        Mb: np.ndarray
-        sc: np.ndarray
-        hint: np.ndarray
-        cst: np.ndarray
 
-    def copy(self) -> "State":
+    def copy(self) -> State:
         return State(*(a.copy() for a in self))
 
     def arrays(self) -> dict:
@@ -73,6 +60,10 @@ class State(namedtuple("State", STATE_FIELDS)):
     def n_active(self) -> int:
         """Active segments now."""
         return int(self.sc[C_NACT])
+
+
+#: The state's arrays, in order.
+STATE_FIELDS: tuple[str, ...] = State._fields
 
 
 def new_state(x, v, q, w, sc, hint, cst) -> State:

@@ -381,6 +381,7 @@ def evaluate_forces(model: Model, state: State) -> np.ndarray:
     """Fill ``state.Fw/Mw/Mb`` and ``model.work.loads/ch`` at the current state; return ch."""
     st = compute_forces(state, model.params, model.work)
     raise_for_status(st, np.array([state.sc[L.C_STEP], -1.0, 0.0]), model)
+    assert model.work is not None  # built with the model
     return model.work.ch
 
 
