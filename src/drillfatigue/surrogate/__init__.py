@@ -1,4 +1,12 @@
-"""Torch surrogate of the simulator: operating conditions -> fatigue damage rate.
+"""Surrogate of the simulator: operating conditions -> fatigue damage rate.
+
+What ``drillfatigue query``, the digital twin, the service and ``plan rank``
+serve is gradient boosting (scikit-learn, ``surrogate.served_model: gbm`` in
+``params.yaml``) with a cross-conformal interval by case and a domain check
+(:mod:`drillfatigue.surrogate.served_gbm`, :mod:`drillfatigue.surrogate.gbm`);
+a torch deep ensemble (:class:`DeepEnsembleRegressor`, split-conformal, with
+TorchScript and ONNX exports) is the alternative behind the same interface and
+the library's default. docs/surrogate.md says why gradient boosting is served.
 
 Public API: :class:`Surrogate` (``Surrogate.load(path).predict(frame)``),
 :func:`fit_surrogate`, :class:`DeepEnsembleRegressor`, :class:`SplitConformal`,
