@@ -11,6 +11,7 @@ from rich.console import Console
 from rich.table import Table
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.vocabulary import profile_option
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.errors import InputError
@@ -29,7 +30,7 @@ app.add_typer(well_app, name="well")
 _PLOT_FORMATS = ("png", "pdf", "svg")
 
 CaseArg = typer.Argument(..., help="case YAML file (sections as in params.yaml)")
-ProfileOpt = typer.Option(None, "--profile", "-p", help="profile name (default: well.profile)")
+ProfileOpt = profile_option(help="profile name (default: well.profile)")
 UnitsOpt = typer.Option("si", "--units", help="si (m, deg/30m) or field (ft, deg/100ft)")
 
 
