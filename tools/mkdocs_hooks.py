@@ -30,7 +30,7 @@ def cli_reference_markdown() -> str:
              "bad input as one line `error: <field>: <problem> (allowed: ...)` on stderr, exits "
              "with code 2 and writes nothing. The same thing has the same option in every "
              "command: a command writes to `--out` (`-o`), a second file to `--out-<what>`; "
-             "`--model` is a surrogate model folder, `--profile` a well profile, `--params` "
+             "`--model` is a surrogate model folder, `--well-profile` a well profile, `--params` "
              "(`-p`) the params file. Old spellings still work for one release and say so "
              "(CHANGELOG.md).\n\n")
     head, _, rest = body.partition("\n\n")

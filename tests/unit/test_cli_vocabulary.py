@@ -8,7 +8,10 @@ still work for one release, with one deprecation line.
 
 from __future__ import annotations
 
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[2]
 #: a thing several commands take -> (its option, how its help names it)
 CONCEPTS: dict[str, tuple[str, str]] = {
     "surrogate model folder": ("--model", r"\bmodel folder\b"),
-    "well profile": ("--profile", r"^profile\b"),
+    "well profile": ("--well-profile", r"^profile\b"),
     "params file": ("--params", r"^params(\.yaml| file)\b"),
     "worker processes": ("--workers", r"\bworker processes\b"),
     "fatigue criterion": ("--criterion", r"^fatigue criterion\b"),
@@ -157,10 +160,17 @@ def test_each_command_lives_in_the_module_named_after_it() -> None:
 
 def test_a_group_keeps_its_subcommands_when_loaded_alone() -> None:
     """`python -m drillfatigue.cli.ledger` loads the ledger module only: `ledger` stays a
-    group of subcommands (typer makes an app of one command that command)."""
-    from drillfatigue.cli import main as cli_main
-
-    assert cli_main(["ledger", "--help"], modules=("drillfatigue.cli.ledger",)) == 0
+    group of subcommands (typer makes an app of one command that command), and its old
+    spellings are spelled the new way there too."""
+    src = str(ROOT / "src")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [src, os.environ.get(
+        "PYTHONPATH")])))
+    proc = subprocess.run([sys.executable, "-m", "drillfatigue.cli.ledger", "run", "start",
+                           "R", "--well", "W", "--help"], env=env, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == "drillfatigue: --well is deprecated, use --well-name\n"
+    assert "--well-name" in proc.stdout
     root = _root()
     for group in ("well", "string", "twin", "sweep", "dataset", "plan", "ledger", "benchmark"):
         assert hasattr(root.commands[group], "commands"), group
@@ -221,21 +231,23 @@ def test_old_and_new_spelling_together_is_one_error(capsys) -> None:  # type: ig
 
 
 def test_no_old_spelling_no_change() -> None:
-    args = ["well", "export", "case.yaml", "--profile", "p", "-o", "p.csv"]
+    args = ["well", "export", "case.yaml", "--well-profile", "p", "-o", "p.csv"]
     assert modernize_args(args, lambda: pytest.fail("tree built without an old spelling")) \
         is args
 
 
-def test_well_profile_old_short_option_behaves_as_profile(tmp_path: Path, monkeypatch,  # type: ignore[no-untyped-def]
+def test_well_profile_old_spellings_behave_as_the_new_one(tmp_path: Path, monkeypatch,  # type: ignore[no-untyped-def]
                                                           capsys) -> None:
     case = ROOT / "params.yaml"
     monkeypatch.chdir(tmp_path)
-    assert main(["well", "show", str(case), "--profile", "profile_2"]) == 0
+    assert main(["well", "show", str(case), "--well-profile", "profile_2"]) == 0
     new = capsys.readouterr()
-    assert main(["well", "show", str(case), "-p", "profile_2"]) == 0
-    old = capsys.readouterr()
-    assert old.out == new.out and "'profile_2'" in new.out
-    assert old.err == "drillfatigue: -p is deprecated, use --profile\n" and new.err == ""
+    assert "'profile_2'" in new.out and new.err == ""
+    for old_spelling in ("-p", "--profile"):
+        assert main(["well", "show", str(case), old_spelling, "profile_2"]) == 0
+        old = capsys.readouterr()
+        assert old.out == new.out
+        assert old.err == f"drillfatigue: {old_spelling} is deprecated, use --well-profile\n"
 
 
 def test_plan_rank_old_model_option_behaves_as_model(tmp_path: Path, monkeypatch,  # type: ignore[no-untyped-def]

@@ -195,7 +195,7 @@ def test_well_gives_the_geometry_features(tmp_path: Path, capsys) -> None:
     i = FLAGS.index("--local-dls-deg-per-30m")
     base = FLAGS[:i] + FLAGS[i + 2:]  # every geometry feature comes from the well
     base[base.index("--md-m") + 1] = "900"  # within profile_1 (TD 1021 m), bit at 940 m
-    assert main(["query", "--model", str(d), *base, "--well", str(params), "--profile",
+    assert main(["query", "--model", str(d), *base, "--well", str(params), "--well-profile",
                  "profile_1", "--json"]) == 0
     derived = json.loads(capsys.readouterr().out)
     geo = ("local_dls_deg_per_30m", *cols)
@@ -210,9 +210,9 @@ def test_well_gives_the_geometry_features(tmp_path: Path, capsys) -> None:
     # both at once, or a profile without a well: one-line errors, exit 2
     assert main(["query", "--model", str(d), *base, *explicit, "--well", str(params)]) == 2
     assert "given together with --well" in capsys.readouterr().err
-    assert main(["query", "--model", str(d), *base, "--profile", "profile_1"]) == 2
-    assert "--profile" in capsys.readouterr().err
-    assert main(["query", "--model", str(d), *base, "--well", str(params), "--profile",
+    assert main(["query", "--model", str(d), *base, "--well-profile", "profile_1"]) == 2
+    assert "--well-profile" in capsys.readouterr().err
+    assert main(["query", "--model", str(d), *base, "--well", str(params), "--well-profile",
                  "nope"]) == 2
     assert "unknown profile" in capsys.readouterr().err
     # the batch path derives the same values and writes them beside the inputs
@@ -220,7 +220,7 @@ def test_well_gives_the_geometry_features(tmp_path: Path, capsys) -> None:
                           for k in range(0, len(base), 2)})
     table.to_csv(tmp_path / "c.csv", index=False)
     assert main(["query", "--model", str(d), "--csv", str(tmp_path / "c.csv"), "--out",
-                 str(tmp_path / "p.csv"), "--well", str(params), "--profile",
+                 str(tmp_path / "p.csv"), "--well", str(params), "--well-profile",
                  "profile_1"]) == 0
     out = pd.read_csv(tmp_path / "p.csv")
     np.testing.assert_allclose(out["local_inc_deg"], g["local_inc_deg"][0], rtol=1e-12)
@@ -230,7 +230,7 @@ def test_well_gives_the_geometry_features(tmp_path: Path, capsys) -> None:
     # a location below the well's TD is an input error, not an extrapolation
     flags = list(base)
     flags[flags.index("--md-m") + 1] = "5000"
-    assert main(["query", "--model", str(d), *flags, "--well", str(params), "--profile",
+    assert main(["query", "--model", str(d), *flags, "--well", str(params), "--well-profile",
                  "profile_1"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: md_m: 5000 m is beyond the well's total depth ")

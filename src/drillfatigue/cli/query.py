@@ -17,7 +17,7 @@ Batch::
     drillfatigue query --model data/surrogate/model --csv conditions.csv --out predictions.csv
 
 With ``--well WELL.yaml`` (a params or case file, or the bare ``well``
-section; ``--profile`` picks a profile) the model's hole-geometry
+section; ``--well-profile`` picks a profile) the model's hole-geometry
 features (:mod:`drillfatigue.well.features`) are computed from that well's
 survey at ``md_m`` and at the bit (``md_m + s_from_bit_m``) instead of being
 given as flags or CSV columns.

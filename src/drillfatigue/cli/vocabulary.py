@@ -12,7 +12,7 @@ file or folder the command writes           ``--out``, ``-o``
 a second file it writes                     ``--out-<what>``
 params file (``params.yaml``)               ``--params``, ``-p``
 surrogate model folder                      ``--model``
-well profile name                           ``--profile``
+well profile name                           ``--well-profile``
 fatigue criterion                           ``--criterion``, ``-c``
 worker processes                            ``--workers``
 ==========================================  ======================
@@ -40,7 +40,9 @@ OUT_SHORT = "-o"
 PARAMS = "--params"
 PARAMS_SHORT = "-p"
 MODEL = "--model"
-PROFILE = "--profile"
+#: not ``--profile``: ``query`` takes a model's inputs as flags named after them, and a
+#: surrogate trained on the design's ``well.profile`` has an input ``--profile``
+PROFILE = "--well-profile"
 
 
 def out_option(default: Any, help: str, what: str = "") -> Any:  # noqa: A002
@@ -62,7 +64,7 @@ def model_option(default: Any, help: str = "surrogate model folder") -> Any:  # 
 
 
 def profile_option(help: str) -> Any:  # noqa: A002
-    """``--profile``: the name of a well profile (``well.profiles``)."""
+    """``--well-profile``: the name of a well profile (``well.profiles``)."""
     return typer.Option(None, PROFILE, help=help)
 
 
@@ -87,7 +89,7 @@ class OldSpelling:
 OLD_SPELLINGS: tuple[OldSpelling, ...] = (
     OldSpelling("", "--output", OUT),
     OldSpelling("well", "-p", PROFILE),
-    OldSpelling("query", "--well-profile", PROFILE),
+    OldSpelling("well", "--profile", PROFILE),
     OldSpelling("plan rank", "--surrogate", MODEL),
     OldSpelling("window", "--csv", f"{OUT}-csv"),
     OldSpelling("benchmark leaderboard", "--page", f"{OUT}-page"),

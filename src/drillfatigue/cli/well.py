@@ -11,7 +11,7 @@ from rich.console import Console
 from rich.table import Table
 
 from drillfatigue.cli.app import app
-from drillfatigue.cli.vocabulary import profile_option
+from drillfatigue.cli.vocabulary import PROFILE, profile_option
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.errors import InputError
@@ -37,7 +37,7 @@ UnitsOpt = typer.Option("si", "--units", help="si (m, deg/30m) or field (ft, deg
 def _load(case: Path, profile: str | None) -> tuple[WellConfig, str, Survey]:
     cfg = load_case(case).well
     if profile is not None and profile not in cfg.profiles:
-        raise InputError("--profile", f"{profile!r} is not defined in well.profiles",
+        raise InputError(PROFILE, f"{profile!r} is not defined in well.profiles",
                          ", ".join(cfg.profiles))
     name = resolve_profile(cfg, profile)
     return cfg, name, build_survey(cfg, name)
