@@ -45,7 +45,7 @@ MODEL = "--model"
 PROFILE = "--well-profile"
 
 
-def out_option(default: Any, help: str, what: str = "") -> Any:  # noqa: A002
+def out_option(default: Any, help: str, what: str = "") -> Any:
     """The option of a file or folder the command writes: ``--out``/``-o``, or
     ``--out-WHAT`` (no short option) for a second output."""
     if what:
@@ -53,17 +53,17 @@ def out_option(default: Any, help: str, what: str = "") -> Any:  # noqa: A002
     return typer.Option(default, OUT, OUT_SHORT, help=help)
 
 
-def params_option(default: Path | None, help: str) -> Any:  # noqa: A002
+def params_option(default: Path | None, help: str) -> Any:
     """``--params``/``-p``: the params file a command reads."""
     return typer.Option(default, PARAMS, PARAMS_SHORT, help=help)
 
 
-def model_option(default: Any, help: str = "surrogate model folder") -> Any:  # noqa: A002
+def model_option(default: Any, help: str = "surrogate model folder") -> Any:
     """``--model``: a surrogate model folder (written by the train stage)."""
     return typer.Option(default, MODEL, help=help)
 
 
-def profile_option(help: str) -> Any:  # noqa: A002
+def profile_option(help: str) -> Any:
     """``--well-profile``: the name of a well profile (``well.profiles``)."""
     return typer.Option(None, PROFILE, help=help)
 
@@ -85,7 +85,7 @@ class OldSpelling:
         return list(path[:len(words)]) == words
 
 
-#: Old spellings, accepted until the release after next (CHANGELOG.md).
+#: Old spellings: accepted in this release, removed in the next (CHANGELOG.md).
 OLD_SPELLINGS: tuple[OldSpelling, ...] = (
     OldSpelling("", "--output", OUT),
     OldSpelling("well", "-p", PROFILE),
