@@ -28,8 +28,11 @@ def cli_reference_markdown() -> str:
                                         title="Command line")
     intro = ("Generated from the command's own help at each docs build. Every command reports "
              "bad input as one line `error: <field>: <problem> (allowed: ...)` on stderr, exits "
-             "with code 2 and writes nothing. Commands that write take the output path as "
-             "`--out`.\n\n")
+             "with code 2 and writes nothing. The same thing has the same option in every "
+             "command: a command writes to `--out` (`-o`), a second file to `--out-<what>`; "
+             "`--model` is a surrogate model folder, `--well-profile` a well profile, `--params` "
+             "(`-p`) the params file. Old spellings still work for one release and say so "
+             "(CHANGELOG.md).\n\n")
     head, _, rest = body.partition("\n\n")
     return f"{head}\n\n{intro}{rest}"
 

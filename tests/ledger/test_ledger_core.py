@@ -292,7 +292,7 @@ def test_cli_walkthrough_and_export_formats(db_url: str, tmp_path: Path, run_cli
     tally = write_tally(tmp_path / "t.csv", SERIALS)
     log = write_log(tmp_path / "log.csv", make_log(80, seed=7))
     assert run_cli("init", "--db", db_url).returncode == 0
-    out = run_cli("run", "start", "R1", "--well", "W-1", "--tally", str(tally),
+    out = run_cli("run", "start", "R1", "--well-name", "W-1", "--tally", str(tally),
                   "--damage-function", STANDIN, "--db", db_url)
     assert out.returncode == 0, out.stderr
     out = run_cli("ingest", str(log), "--run", "R1", "--chunk-rows", "25", "--db", db_url)

@@ -40,7 +40,7 @@ CHUNK = 4
 def _setup(db: str, tmp_path: Path) -> None:
     tally = write_tally(tmp_path / "tally.csv", SERIALS)
     assert main(["ledger", "init", "--db", db]) == 0
-    assert main(["ledger", "run", "start", "R1", "--well", "W-1", "--tally", str(tally),
+    assert main(["ledger", "run", "start", "R1", "--well-name", "W-1", "--tally", str(tally),
                  "--damage-function", STANDIN, "--db", db]) == 0
 
 

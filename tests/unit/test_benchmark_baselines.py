@@ -104,7 +104,7 @@ def test_cli_leaderboard_writes_page_and_json(tmp_path: Path,
     page, results = tmp_path / "leaderboard.md", tmp_path / "leaderboard.json"
     assert main(["benchmark", "leaderboard", "--dataset", str(DATA), "--models", "physics",
                  "--design", str(DATA / "heldout_design.parquet"), "--out",
-                 str(tmp_path / "lb"), "--page", str(page), "--json", str(results),
+                 str(tmp_path / "lb"), "--out-page", str(page), "--out-json", str(results),
                  "--params", str(ROOT / "params.yaml"), "--note", "fixture"]) == 0
     text = page.read_text()
     assert "| physics |" in text and "fixture" in text
@@ -114,7 +114,7 @@ def test_cli_leaderboard_writes_page_and_json(tmp_path: Path,
     assert set(data["models"]) == {"physics"}
     capsys.readouterr()
     assert main(["benchmark", "leaderboard", "--dataset", str(DATA), "--models", "physics",
-                 "--out", str(tmp_path / "lb"), "--page", str(page), "--json",
+                 "--out", str(tmp_path / "lb"), "--out-page", str(page), "--out-json",
                  str(results), "--params", str(ROOT / "params.yaml")]) == 2
     assert "needs the held-out cases' design" in capsys.readouterr().err
 

@@ -53,7 +53,7 @@ CASES = [
      "well.profiles.p", "tag"),
     ("profile_not_defined", "well:\n  profile: profile_9\n", {}, [], "well.profile",
      "not defined"),
-    ("cli_profile_not_defined", "well: {}\n", {}, ["--profile", "nope"], "--profile",
+    ("cli_profile_not_defined", "well: {}\n", {}, ["--well-profile", "nope"], "--well-profile",
      "not defined"),
     ("s_shape_drop_above_build",
      "well:\n  profiles:\n    p: {kind: s_shape, inc_deg: 30, final_inc_deg: 35}\n", {}, [],

@@ -78,11 +78,11 @@ def test_missing_file_and_bad_yaml_exit_2(tmp_path, capsys):
     assert "YAML syntax error" in capsys.readouterr().err
 
 
-def test_missing_surrogate_folder_exit_2(tmp_path, capsys):
+def test_missing_model_folder_exit_2(tmp_path, capsys):
     path = _write(tmp_path, {"candidates": PROFILES})
-    assert main(["plan", "rank", str(path), "--surrogate", str(tmp_path / "nope"),
+    assert main(["plan", "rank", str(path), "--model", str(tmp_path / "nope"),
                  "--out", str(tmp_path / "out")]) == 2
-    assert capsys.readouterr().err.startswith("error: --surrogate:")
+    assert capsys.readouterr().err.startswith("error: --model:")
     assert not (tmp_path / "out").exists()
 
 
@@ -174,8 +174,8 @@ def test_out_folder_with_foreign_files_refused_before_loading(tmp_path, capsys):
     out = tmp_path / "out"
     out.mkdir()
     (out / "ranking.csv").write_text("my own ranking\n")
-    # the surrogate folder does not exist either: the output is checked first
-    assert main(["plan", "rank", str(path), "--surrogate", str(tmp_path / "nope"),
+    # the model folder does not exist either: the output is checked first
+    assert main(["plan", "rank", str(path), "--model", str(tmp_path / "nope"),
                  "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: --out: ") and "did not write" in err
@@ -185,15 +185,15 @@ def test_out_folder_with_foreign_files_refused_before_loading(tmp_path, capsys):
 
 def test_params_without_plan_section_is_noted(tmp_path, capsys):
     """A --params file without a `plan` section: its defaults apply wholesale, and the
-    command says so on stderr (here before failing on the missing surrogate)."""
+    command says so on stderr (here before failing on the missing model)."""
     path = _write(tmp_path, {"candidates": PROFILES})
     params = tmp_path / "params.yaml"
     params.write_text("fatigue: {}\n")
-    assert main(["plan", "rank", str(path), "--params", str(params), "--surrogate",
+    assert main(["plan", "rank", str(path), "--params", str(params), "--model",
                  str(tmp_path / "nope"), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.splitlines()
     assert err[0] == f"note: {params} has no 'plan' section; using its defaults"
-    assert err[1].startswith("error: --surrogate:")
+    assert err[1].startswith("error: --model:")
 
 
 def test_no_best_plan_when_the_candidates_are_out_of_the_domain(tmp_path):

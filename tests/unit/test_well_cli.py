@@ -51,7 +51,7 @@ def test_show_reports_the_tortuosity(tmp_path: Path, monkeypatch, capsys) -> Non
 
 
 def test_show_other_profile(case: Path, capsys) -> None:
-    assert main(["well", "show", str(case), "--profile", "profile_3"]) == 0
+    assert main(["well", "show", str(case), "--well-profile", "profile_3"]) == 0
     assert "end of tangent" in capsys.readouterr().out
 
 

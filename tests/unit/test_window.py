@@ -112,7 +112,7 @@ def test_cli_writes_png_and_csv(model: Surrogate, tmp_path: Path, capsys) -> Non
     model.save(tmp_path / "m", export=False)
     out, csv = tmp_path / "maps" / "window.png", tmp_path / "maps" / "grid.csv"
     args = ["window", "--model", str(tmp_path / "m"), "--x", "rpm=40:200:17",
-            "--y", "wob_kN=20:200:10", "--out", str(out), "--csv", str(csv)]
+            "--y", "wob_kN=20:200:10", "--out", str(out), "--out-csv", str(csv)]
     for k, v in FIXED.items():
         args += ["--set", f"{k}={v}"]
     assert main(args) == 0
@@ -156,18 +156,18 @@ def test_cli_bad_input_exit_2_nothing_written(model: Surrogate, tmp_path: Path, 
 
 def test_cli_grid_csv_never_replaces_the_survey_it_reads(model: Surrogate, tmp_path: Path,
                                                          capsys) -> None:
-    """--csv naming the --survey file would replace the survey by the grid: refused, one
+    """--out-csv naming the --survey file would replace the survey by the grid: refused, one
     line, exit 2, the survey and the folder unchanged."""
     model.save(tmp_path / "m", export=False)
     survey = tmp_path / "survey.csv"
     survey.write_text("md_m,dls_deg_per_30m,inc_deg\n0,0,0\n2000,3,40\n")
     text = survey.read_text()
     args = ["window", "--model", str(tmp_path / "m"), "--out", str(tmp_path / "map.png"),
-            "--survey", str(survey), "--csv", str(survey)]
+            "--survey", str(survey), "--out-csv", str(survey)]
     for k, v in FIXED.items():
         args += ["--set", f"{k}={v}"]
     assert main(args) == 2
     err = capsys.readouterr().err
-    assert err.startswith("error: --csv:") and "--survey" in err and err.count("\n") == 1, err
+    assert err.startswith("error: --out-csv:") and "--survey" in err and err.count("\n") == 1, err
     assert survey.read_text() == text
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m", "survey.csv"]

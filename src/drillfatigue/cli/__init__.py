@@ -1,7 +1,9 @@
 """Command-line interface: ``drillfatigue <command> ...``.
 
-Each command lives in its own module of this package and registers itself on
-:data:`drillfatigue.cli.app.app` when imported. :func:`main` turns bad input
+Each command (or group of commands) lives in the module of this package named
+after it and registers itself on :data:`drillfatigue.cli.app.app` when
+imported. Option names follow one vocabulary (:mod:`drillfatigue.cli.vocabulary`);
+old spellings are accepted for one release with a deprecation line. :func:`main` turns bad input
 into one line ``error: <field>: <problem> (allowed: ...)`` on stderr and exit
 code 2.
 """
@@ -13,8 +15,10 @@ import sys
 
 import click
 import typer
+import typer.main
 
-from drillfatigue.cli.app import app, legacy_out_args
+from drillfatigue.cli.app import app
+from drillfatigue.cli.vocabulary import modernize_args
 from drillfatigue.errors import InputError, Interrupted
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -38,8 +42,11 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drillfatigue.cli.twin",
     "drillfatigue.cli.simulate",
     "drillfatigue.cli.sweep",
+    "drillfatigue.cli.dataset",
     "drillfatigue.cli.plan",
+    "drillfatigue.cli.study",
     "drillfatigue.cli.serve",
+    "drillfatigue.cli.window",
     "drillfatigue.cli.ledger",
     "drillfatigue.cli.benchmark",
 )
@@ -59,7 +66,8 @@ def main(argv: list[str] | None = None, modules: tuple[str, ...] = COMMAND_MODUL
     scope_numba_cache()  # before the command modules import any kernel
     _load_commands(modules)
     try:
-        args = legacy_out_args(list(sys.argv[1:] if argv is None else argv))
+        args = modernize_args(list(sys.argv[1:] if argv is None else argv),
+                              lambda: typer.main.get_command(app))
         result = app(args=args, standalone_mode=False)
     except InputError as exc:
         print(f"error: {exc.one_line()}", file=sys.stderr)

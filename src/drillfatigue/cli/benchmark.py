@@ -18,6 +18,7 @@ from typing import Any
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.vocabulary import out_option, params_option
 from drillfatigue.errors import InputError
 
 #: the command that generates the research dataset (docs/pipeline.md)
@@ -30,8 +31,8 @@ app.add_typer(benchmark_app, name="benchmark")
 
 _DATASET = typer.Option(Path("data/research/dataset"), "--dataset", "-d",
                         help="dataset folder (train.parquet, heldout.parquet)")
-_PARAMS = typer.Option(Path("params.yaml"), "--params", "-p",
-                       help="params.yaml: surrogate.criterion, rate_floor_per_h, horizon_h")
+_PARAMS = params_option(Path("params.yaml"),
+                        help="params.yaml: surrogate.criterion, rate_floor_per_h, horizon_h")
 
 
 def json_ready(data: Any) -> Any:
@@ -79,10 +80,10 @@ def card(dataset: Path = _DATASET, params: Path = _PARAMS,
 def score(predictions: Path = typer.Option(..., "--predictions", help="prediction file "
                                            "(parquet, or CSV by suffix)"),
           dataset: Path = _DATASET, params: Path = _PARAMS,
-          criterion: str | None = typer.Option(None, "--criterion",
-                                               help="target criterion (default: "
-                                                    "surrogate.criterion)"),
-          out: Path | None = typer.Option(None, "--out", "-o", help="write the metrics as JSON")
+          criterion: str | None = typer.Option(None, "--criterion", "-c",
+                                               help="fatigue criterion of the target "
+                                                    "(default: surrogate.criterion)"),
+          out: Path | None = out_option(None, help="write the metrics as JSON")
           ) -> None:
     """Score a model's predictions on the held-out split with the project's metrics."""
     # start-up: the benchmark's modules load only when its command runs
@@ -117,8 +118,8 @@ def score(predictions: Path = typer.Option(..., "--predictions", help="predictio
 
 @benchmark_app.command("leaderboard")
 def leaderboard(dataset: Path = _DATASET, params: Path = _PARAMS,
-                out_dir: Path = typer.Option(Path("data/research/leaderboard"), "--out", "-o",
-                                             help="folder of the baselines' prediction files"),
+                out_dir: Path = out_option(Path("data/research/leaderboard"),
+                                           help="folder of the baselines' prediction files"),
                 design: Path | None = typer.Option(None, "--design", help="the held-out "
                                                    "design's cases.parquet (physics baseline)"),
                 models: str = typer.Option("gbm,ensemble,gp,physics", "--models",
@@ -126,10 +127,10 @@ def leaderboard(dataset: Path = _DATASET, params: Path = _PARAMS,
                 variants: Path | None = typer.Option(None, "--variants",
                                                      help="JSON: name -> {model, surrogate "
                                                           "overrides}"),
-                page: Path = typer.Option(Path("docs/leaderboard.md"), "--page",
-                                          help="the markdown page"),
-                results: Path = typer.Option(Path("benchmarks/results/leaderboard.json"),
-                                             "--json", help="the full scores (JSON)"),
+                page: Path = out_option(Path("docs/leaderboard.md"),
+                                        help="the markdown page to write", what="page"),
+                results: Path = out_option(Path("benchmarks/results/leaderboard.json"),
+                                           help="the full scores (JSON) to write", what="json"),
                 note: str = typer.Option("", "--note", help="a note shown on the page")
                 ) -> None:
     """Fit the baselines on the train split, score them, write the leaderboard."""
@@ -140,7 +141,7 @@ def leaderboard(dataset: Path = _DATASET, params: Path = _PARAMS,
     from drillfatigue.config import load_params
     from drillfatigue.files import atomic_write_text, check_output_file
 
-    for path, option in ((page, "--page"), (results, "--json")):
+    for path, option in ((page, "--out-page"), (results, "--out-json")):
         check_output_file(path, option, [("--dataset", dataset)])
     if not params.is_file():
         raise InputError("--params", f"{params} not found", "the project's params.yaml")

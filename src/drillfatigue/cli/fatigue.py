@@ -47,7 +47,8 @@ def fatigue(
     run_dir: Path = typer.Argument(..., help="simulator run directory (loads.parquet, ...)"),
     out: Path = typer.Option(..., "--out", "-o", help="output folder for damage.parquet etc."),
     criterion: str | None = typer.Option(None, "--criterion", "-c",
-                                         help="|".join(CRITERIA) + " (default: fatigue.criterion)"),
+                                         help="fatigue criterion: " + "|".join(CRITERIA)
+                                         + " (default: fatigue.criterion)"),
     joints: str | None = typer.Option(None, "--joints", "-j", help="comma-separated joints"),
     params: Path | None = typer.Option(None, "--params", "-p",
                                        help="params.yaml whose fatigue section to use "

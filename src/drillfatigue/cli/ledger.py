@@ -30,6 +30,7 @@ import pandas as pd
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.vocabulary import model_option, out_option
 from drillfatigue.errors import InputError
 from drillfatigue.io.display import Display, check_system
 
@@ -101,9 +102,9 @@ def _parse_sets(items: list[str]) -> dict[str, str]:
 def run_start(name: str = typer.Argument(..., help="run name, unique in the ledger"),
               tally: Path = typer.Option(..., "--tally", help="joint tally CSV, from the bit up, "
                                          "one row and serial per joint"),
-              well: str = typer.Option(..., "--well", help="well name"),
-              model: Path | None = typer.Option(None, "--model", help="surrogate model folder "
-                                                "(the digital twin computes the damage)"),
+              well: str = typer.Option(..., "--well-name", help="well name"),
+              model: Path | None = model_option(None, help="surrogate model folder (the "
+                                                "digital twin computes the damage)"),
               damage_function: str | None = typer.Option(
                   None, "--damage-function", help="MODULE:FUNCTION computing the damage instead "
                   "of a model (drillfatigue.ledger.standin:standin_increments to try the ledger "
@@ -219,8 +220,8 @@ def follow_cmd(source: Path = typer.Argument(..., help="a growing CSV/LAS log, o
 
 @ledger_app.command("joints")
 def joints_cmd(units: str = UnitsOpt,
-               out: Path | None = typer.Option(None, "--out", help="also write the table "
-                                               "to this CSV file"),
+               out: Path | None = out_option(None, help="also write the table to this "
+                                             "CSV file"),
                db: str = DbOpt) -> None:
     """The inventory: every joint by remaining life (least first), with intervals."""
     # start-up: SQLAlchemy and the ledger load only when a ledger command runs
@@ -349,7 +350,7 @@ def serial_swap(a: str = typer.Argument(..., help="one serial"),
 
 
 @ledger_app.command("export")
-def export_cmd(out: Path = typer.Option(..., "--out", help="output folder"),
+def export_cmd(out: Path = out_option(..., help="output folder"),
                fmt: str = typer.Option("csv", "--format", help="csv or parquet"),
                db: str = DbOpt) -> None:
     """Export the ledger's tables (natural keys, fixed row order: comparable byte for byte)."""

@@ -1,12 +1,11 @@
-"""``drillfatigue plan rank`` and ``drillfatigue study``: well-plan ranking and the paper's cases.
+"""``drillfatigue plan rank``: well-plan ranking by predicted fatigue life.
 
 ::
 
-    drillfatigue plan rank CANDIDATES.yaml [--surrogate DIR] [--confirm K] [--out DIR]
-    drillfatigue study case1|case2|case3 [--params params.yaml] [--out DIR]
+    drillfatigue plan rank CANDIDATES.yaml [--model DIR] [--confirm K] [--out DIR]
 
 The candidates file format is in :mod:`drillfatigue.studies.plan`. Bad input
-(file, candidates, surrogate folder) is one line on stderr, exit code 2, and
+(file, candidates, model folder) is one line on stderr, exit code 2, and
 nothing is written.
 """
 
@@ -18,6 +17,7 @@ from pathlib import Path
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.vocabulary import model_option, out_option, params_option
 from drillfatigue.config import load_params, note_default_section
 from drillfatigue.config.studies import PlanConfig
 from drillfatigue.errors import InputError
@@ -31,15 +31,14 @@ app.add_typer(plan_app, name="plan")
 def rank(
     candidates: Path = typer.Argument(..., help="candidates YAML (profiles with shared end "
                                                 "points, drilling window)"),
-    surrogate: Path = typer.Option(None, "--surrogate",
-                                   help="surrogate model folder (default: plan.surrogate_dir)"),
+    model_dir: Path | None = model_option(None, help="surrogate model folder "
+                                          "(default: plan.surrogate_dir)"),
     confirm: int = typer.Option(None, "--confirm",
                                 help="simulate the top K (default: plan.confirm_top_k)"),
-    out: Path = typer.Option(None, "--out", help="output folder (default: plan.out_dir)"),
-    params: Path | None = typer.Option(None, "--params",
-                                       help="params file whose plan section to use (the whole "
-                                            "file is validated); default: params.yaml when it "
-                                            "exists, else the defaults"),
+    out: Path | None = out_option(None, help="output folder (default: plan.out_dir)"),
+    params: Path | None = params_option(None, help="params file whose plan section to use (the "
+                                        "whole file is validated); default: params.yaml when it "
+                                        "exists, else the defaults"),
 ) -> None:
     """Rank candidate well plans by the predicted life of the critical component."""
     # start-up: the studies import every stage (~0.9 s)
@@ -52,19 +51,19 @@ def rank(
     note = note_default_section(params, "plan") if params is not None else None
     if note:
         print(note, file=sys.stderr)
-    surrogate = surrogate if surrogate is not None else Path(cfg.surrogate_dir)
+    model_dir = model_dir if model_dir is not None else Path(cfg.surrogate_dir)
     confirm = confirm if confirm is not None else cfg.confirm_top_k
     out = out if out is not None else Path(cfg.out_dir)
     OutputFolder.check(out, PLAN_KIND, "--out")
     if confirm < 0 or confirm > 50:
         raise InputError("--confirm", f"got {confirm}", "0 <= K <= 50")
     cset = load_candidates(candidates)
-    if not surrogate.is_dir():
-        raise InputError("--surrogate", f"folder {str(surrogate)!r} not found",
+    if not model_dir.is_dir():
+        raise InputError("--model", f"folder {str(model_dir)!r} not found",
                          "a model folder written by the train stage")
     from drillfatigue.surrogate import Surrogate  # optional extra [surrogate]: torch
 
-    model = Surrogate.load(surrogate)
+    model = Surrogate.load(model_dir)
     table = rank_plans(cset, model, out, confirm=confirm)
     cols = [c for c in ("rank_surrogate", "candidate", "life_windows_surrogate",
                         "life_windows_surrogate_lower", "life_windows_surrogate_upper",
@@ -79,19 +78,3 @@ def rank(
     if len(refused):
         typer.echo("no best plan: the surrogate has no answer for every candidate")
     typer.echo(f"wrote {out / 'ranking.csv'}, {out / 'ranking.png'}")
-
-
-@app.command("study")
-def study(
-    name: str = typer.Argument(..., help="case1, case2 or case3"),
-    params: Path = typer.Option(Path("params.yaml"), "--params"),
-    out: Path = typer.Option(None, "--out", help="default: data/<name>"),
-) -> None:
-    """Run one of the founding paper's case studies (reduced by default, see params)."""
-    from drillfatigue.studies.stages import load_section, run_study  # start-up: every study, ~0.9 s
-
-    if name not in ("case1", "case2", "case3"):
-        raise InputError("study", f"unknown study {name!r}", "case1, case2, case3")
-    load_section(params, name)  # validate before anything is written
-    run_study(name, params, out or Path("data") / name)
-    typer.echo(f"wrote {out or Path('data') / name}")

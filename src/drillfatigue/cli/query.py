@@ -37,6 +37,7 @@ import typer
 
 from drillfatigue.cli.app import app
 from drillfatigue.cli.twin import read_section
+from drillfatigue.cli.vocabulary import PROFILE, model_option, out_option, profile_option
 from drillfatigue.config import WellConfig
 from drillfatigue.errors import InputError
 from drillfatigue.files import check_output_file
@@ -99,7 +100,7 @@ def _geometry_from_well(sur, well: Path, profile: str | None):  # noqa: ANN001, 
                              "a model with md_m and s_from_bit_m features")
     cfg = read_section(well, "well", "--well", WellConfig)
     if profile is not None and profile not in cfg.profiles:
-        raise InputError("--well-profile", f"unknown profile {profile!r}",
+        raise InputError(PROFILE, f"unknown profile {profile!r}",
                          ", ".join(sorted(cfg.profiles)))
     return cols, build_survey(cfg, profile)
 
@@ -127,16 +128,15 @@ def _add_geometry(frame, vocab, cols, survey):  # noqa: ANN001, ANN202
 
 @app.command("query", context_settings=_CONTEXT)
 def query(ctx: typer.Context,
-          model: Path = typer.Option(..., "--model", help="surrogate model folder"),
+          model: Path = model_option(...),
           csv: Path | None = typer.Option(None, "--csv", help="batch: conditions CSV "
                                           "(columns named like the flags, with _)"),
-          out: Path | None = typer.Option(None, "--out", help="batch: predictions CSV to write"),
+          out: Path | None = out_option(None, help="batch: predictions CSV to write"),
           as_json: bool = typer.Option(False, "--json", help="print JSON"),
           well: Path | None = typer.Option(None, "--well", help="well YAML: derive the hole-"
                                            "geometry features at md_m and the bit from it"),
-          well_profile: str | None = typer.Option(None, "--well-profile",
-                                                  help="profile of --well (default: its "
-                                                  "active profile)")) -> None:
+          well_profile: str | None = profile_option(help="profile of --well (default: its "
+                                                    "active profile)")) -> None:
     """Damage rate per hour, life in hours, the calibrated interval and the OOD flag.
 
     Feature flags come from the model (e.g. --rpm, --wob-kN, --rop-m-per-h,
@@ -160,7 +160,7 @@ def query(ctx: typer.Context,
         if out.suffix.lower() != ".csv":  # the predictions are written as CSV text
             raise InputError("--out", f"{str(out)!r} is not a .csv file", "FILE.csv")
     if well is None and well_profile is not None:
-        raise InputError("--well-profile", "only used with --well", "--well FILE")
+        raise InputError(PROFILE, "only used with --well", "--well FILE")
     sur = _load_model(model)
     vocab = Vocabulary(sur.features, sur.categorical)
     geometry = _geometry_from_well(sur, well, well_profile) if well is not None else None

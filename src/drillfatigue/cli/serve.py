@@ -1,33 +1,26 @@
-"""``drillfatigue serve`` and ``drillfatigue window``: the twin as a service, the window map.
+"""``drillfatigue serve``: the digital twin as a service.
 
 ::
 
     drillfatigue serve --model data/surrogate/model [--model other=PATH] [--port 8000] \
         [--ledger ledger.sqlite]
-    drillfatigue window --model data/surrogate/model --x rpm=60:180:25 --y wob_kN=30:120:19 \\
-        --set md_m=1500 --set s_from_bit_m=8 --set component_type=collar ... --out map.png
 
 ``serve`` loads every model once, answers on ``http://HOST:PORT/`` (web page)
 and ``/v1/...`` (API, schema at ``/openapi.json``); SIGHUP or
 ``POST /v1/model/reload`` reloads the models from their folders without
 dropping requests. ``--ledger`` opens a fatigue ledger (SQLite file or
 PostgreSQL URL) for the ``/v1/ledger`` endpoints and the page's inventory;
-a server may run with a ledger and no model. ``window`` writes the operating-window map
-(:mod:`drillfatigue.surrogate.window`) as a PNG and, with ``--csv``, the grid.
+a server may run with a ledger and no model.
 """
 
 from __future__ import annotations
 
 import signal
 import threading
-from pathlib import Path
-
 import typer
 
 from drillfatigue.cli.app import app
-from drillfatigue.cli.twin import _read_csv, parse_settings
 from drillfatigue.errors import InputError
-from drillfatigue.files import atomic_output, check_output_file
 
 
 @app.command("serve")
@@ -115,55 +108,3 @@ def serve(model: list[str] = typer.Option([], "--model", help="model folder, or 
     finally:
         if led is not None:
             led.dispose()
-
-
-@app.command("window")
-def window(model: Path = typer.Option(..., "--model", help="surrogate model folder"),
-           x: str = typer.Option("rpm", "--x", help="x axis NAME=START:STOP:NODES, or NAME "
-                                 "alone: 31 nodes over the model's domain"),
-           y: str = typer.Option("wob_kN", "--y", help="y axis NAME=START:STOP:NODES, or NAME "
-                                 "alone: 31 nodes over the model's domain (wob_kN, ...)"),
-           settings: list[str] = typer.Option([], "--set", help="fixed input NAME=VALUE, user "
-                                              "units (md_m, s_from_bit_m, component_type, ...)"),
-           survey: Path | None = typer.Option(None, "--survey", help="survey CSV (md_m, "
-                                              "dls_deg_per_30m, inc_deg): hole geometry at "
-                                              "md_m and the bit"),
-           out: Path = typer.Option(..., "--out", help="PNG file to write"),
-           csv: Path | None = typer.Option(None, "--csv", help="also write the grid as CSV"),
-           title: str | None = typer.Option(None, "--title", help="figure title")) -> None:
-    """Operating-window map: predicted life over rpm x WOB (or x ROP), OOD cells hatched."""
-    # optional extra [surrogate]: torch
-    from drillfatigue.surrogate import Surrogate
-    from drillfatigue.surrogate.window import Axis, operating_window, plot_window
-
-    if out.suffix.lower() != ".png":
-        raise InputError("--out", f"{str(out)!r} is not a .png file", "FILE.png")
-    if out.is_dir():
-        raise InputError("--out", f"{str(out)!r} is a folder", "FILE.png")
-    if csv is not None and (csv.suffix.lower() != ".csv" or csv.is_dir()):
-        raise InputError("--csv", f"{str(csv)!r} is not a .csv file", "FILE.csv")
-    inputs = [("--model", model), ("--survey", survey)]
-    check_output_file(out, "--out", inputs)
-    if csv is not None:
-        check_output_file(csv, "--csv", [*inputs, ("--out", out)])
-    fixed = parse_settings(list(settings))
-    survey_t = _read_csv(survey, "--survey") if survey is not None else None
-    if not (model / "metadata.json").is_file():
-        raise InputError("--model", f"{str(model)!r} is not a surrogate model folder",
-                         "a folder written by the train stage")
-    sur = Surrogate.load(model)
-    ax_x, ax_y = (Axis.parse(spec, opt) if "=" in spec
-                  else Axis.in_domain(spec.strip().replace("-", "_"), sur, field=opt)
-                  for spec, opt in ((x, "--x"), (y, "--y")))
-    wmap = operating_window(sur, ax_x, ax_y, fixed, survey_t)
-    plot_window(wmap, out, title)
-    if csv is not None:
-        with atomic_output(csv) as tmp:
-            wmap.to_frame().to_csv(tmp, index=False)
-    best = wmap.best_in_domain()
-    print(f"wrote {out}" + (f" and {csv}" if csv is not None else "")
-          + f"; {100 * wmap.ood.mean():.0f} % of the grid out of domain")
-    if best is not None:
-        print(f"longest life in domain: {best[ax_x.name]:.4g} {ax_x.name}, "
-              f"{best[ax_y.name]:.4g} {ax_y.name}: {best['life_h']:.3g} h "
-              f"(lower bound {best['life_h_lower']:.3g} h)")

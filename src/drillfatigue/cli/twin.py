@@ -29,6 +29,7 @@ from pathlib import Path
 import typer
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.vocabulary import model_option, out_option
 from drillfatigue.config import StringConfig, WellConfig
 from drillfatigue.config.base import read_yaml, validate
 from drillfatigue.errors import InputError
@@ -85,8 +86,8 @@ def read_section(path: Path, key: str, option: str, model: type) -> object:
 def replay(log: Path = typer.Argument(..., help="operating log: LAS 2.0 (.las), WITSML 1.4.1.1 "
                                       "log (.xml) or CSV (field headers such as 'WOB (klbf)', "
                                       "or time_s, bit_md_m, rpm, wob_kN, rop_m_per_h, ...)"),
-           model: Path = typer.Option(..., "--model", help="surrogate model folder"),
-           out: Path = typer.Option(..., "--out", help="output folder"),
+           model: Path = model_option(...),
+           out: Path = out_option(..., help="output folder"),
            string: Path | None = typer.Option(None, "--string", help="string YAML (a case or "
                                               "params file, or the string section) or a tally "
                                               "CSV: tracks every segment's body and connection"),

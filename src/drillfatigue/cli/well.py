@@ -11,6 +11,7 @@ from rich.console import Console
 from rich.table import Table
 
 from drillfatigue.cli.app import app
+from drillfatigue.cli.vocabulary import PROFILE, profile_option
 from drillfatigue.config import WellConfig, load_case
 from drillfatigue.config.well import TortuosityConfig
 from drillfatigue.errors import InputError
@@ -29,14 +30,14 @@ app.add_typer(well_app, name="well")
 _PLOT_FORMATS = ("png", "pdf", "svg")
 
 CaseArg = typer.Argument(..., help="case YAML file (sections as in params.yaml)")
-ProfileOpt = typer.Option(None, "--profile", "-p", help="profile name (default: well.profile)")
+ProfileOpt = profile_option(help="profile name (default: well.profile)")
 UnitsOpt = typer.Option("si", "--units", help="si (m, deg/30m) or field (ft, deg/100ft)")
 
 
 def _load(case: Path, profile: str | None) -> tuple[WellConfig, str, Survey]:
     cfg = load_case(case).well
     if profile is not None and profile not in cfg.profiles:
-        raise InputError("--profile", f"{profile!r} is not defined in well.profiles",
+        raise InputError(PROFILE, f"{profile!r} is not defined in well.profiles",
                          ", ".join(cfg.profiles))
     name = resolve_profile(cfg, profile)
     return cfg, name, build_survey(cfg, name)
