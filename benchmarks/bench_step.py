@@ -14,7 +14,7 @@ Usage: ``python benchmarks/bench_step.py [--quick] [--duration S] [--factors 0.5
    ``--factors``, plus the reference 0.5 with its step halved (0.25): CPU time of the
    run, real-time factor, whether it completed, and the difference of its histories
    from the 0.5 run measured as the step-halving convergence test does
-   (``tests/unit/test_integrator_convergence.py``: the largest difference of a history
+   (``tests/unit/dynamics/step/test_integrator.py``: the largest difference of a history
    interpolated to common times, relative to the largest value of that history; 1 %
    is its tolerance). The bit-rock interaction, friction and whirl make the string's
    motion chaotic over tens of seconds, so point-by-point histories of two steps part

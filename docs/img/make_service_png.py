@@ -2,7 +2,7 @@
 
 Trains two small demonstration models (the synthetic table of
 :func:`drillfatigue.surrogate.make_synthetic_dataset`, and one on the plan
-query rows of the three case-2 profiles, as in ``tests/service_helpers.py``),
+query rows of the three case-2 profiles, as in ``tests/testkit/service_helpers.py``),
 serves them on the loopback, and drives headless Chromium: upload the example
 log and component list, replay, map the operating window of the second
 component, rank the case-2 candidates with the plan model, screenshot.

@@ -17,7 +17,7 @@ import pytest
 
 from drillfatigue.service import ModelRegistry, create_app
 
-from service_helpers import EXAMPLES, running_server, synthetic_model
+from testkit.service_helpers import EXAMPLES, running_server, synthetic_model
 from testkit.tiny_surrogate import train_tiny_surrogate
 
 pytestmark = [pytest.mark.slow, pytest.mark.filterwarnings("ignore::DeprecationWarning")]

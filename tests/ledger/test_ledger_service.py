@@ -20,7 +20,7 @@ import httpx
 import numpy as np
 import pandas as pd
 import pytest
-from service_helpers import assert_one_line, running_server
+from testkit.service_helpers import assert_one_line, running_server
 from testkit.ledger_logs import STANDIN, cli_env, export_bytes, make_log, write_log, write_tally
 from testkit.served import served
 

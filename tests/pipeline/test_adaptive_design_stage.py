@@ -104,7 +104,7 @@ def test_row_level_acquisition_in_the_stage_builds_candidate_rows_and_resumes(tm
     frame = design_stage(params, case_fn=synthetic_case, fatigue_fn=synthetic_fatigue)
     assert frame["round"].tolist() == [0, 0, 0, 0, 1, 1, 2, 2]
     # (the synthetic chain's rates do not depend on the inputs: nothing to dispute here;
-    # tests/unit/test_sweep_adaptive.py checks where the row-level batches go)
+    # tests/unit/sweep/test_adaptive.py checks where the row-level batches go)
     assert (frame["acquisition_score"].iloc[4:] >= 0.0).all()
     # the candidates' rows: the locations of a finished case, moved to the candidate's bit
     src = adaptive_rows(params)

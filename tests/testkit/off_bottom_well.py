@@ -34,7 +34,7 @@ from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics.core import layout as L
 from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 
-from rig_references import stick_slip_metrics
+from testkit.rig_references import stick_slip_metrics
 from testkit.torsional_wave import Section, WaveWell, simulate_wave
 
 INC_DEG = 60.0

@@ -125,7 +125,7 @@ def open_domain(sur: Any) -> Any:
     """``sur`` with a domain that admits every row of the combinations it was trained on.
 
     For tests of what is computed from the answers (a replay's bookkeeping, a ranking's
-    order): what the domain refuses is tested in tests/unit/test_domain_combinations.py.
+    order): what the domain refuses is tested in tests/unit/surrogate/test_domain.py.
     """
     d = sur.domain
     d.group_min_ = np.full_like(d.group_min_, -np.inf)

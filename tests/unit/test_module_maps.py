@@ -101,3 +101,23 @@ def test_each_folder_stays_small_and_its_docstring_names_its_modules(pkg: str) -
         for name in mods + sub:
             assert f"{_dotted(folder / name)}`" in doc or f".{name}`" in doc, (
                 f"{init.relative_to(ROOT)} does not name {name}")
+
+
+def test_unit_tests_mirror_the_source_and_helpers_live_in_testkit() -> None:
+    tests = ROOT / "tests"
+    unit = tests / "unit"
+    n_files = 0
+    for path in sorted(unit.rglob("*.py")):
+        if "__pycache__" in path.parts:
+            continue
+        rel = path.relative_to(unit)
+        package = PKG.joinpath(*rel.parts[:-1])
+        assert (package / "__init__.py").is_file(), (
+            f"tests/unit/{rel}: no package src/drillfatigue/{'/'.join(rel.parts[:-1])}")
+        assert path.name == "__init__.py" or path.name.startswith("test_"), (
+            f"tests/unit/{rel}: a helper outside tests/testkit")
+        n_files += path.name.startswith("test_")
+    assert n_files > 80  # the walk saw the unit tests
+    # no helper module beside the test folders: shared code is testkit's
+    loose = [p.name for p in tests.glob("*.py") if p.name != "conftest.py"]
+    assert loose == [], f"helpers outside tests/testkit: {loose}"

@@ -24,7 +24,7 @@ import pytest
 
 from drillfatigue.dynamics.top import rig as R
 
-from rig_references import (C_ROP, K_EFF, KI, KP, KS, W0, W1,
+from testkit.rig_references import (C_ROP, K_EFF, KI, KP, KS, W0, W1,
                             single_mass_autodriller)
 
 

@@ -6,7 +6,7 @@ bit through the rock spring into the string's axial driving-point impedance (col
 then drill pipe continuing upward), ``|F| = A / |1/k + 1/(i w Z)|``. The bit pressed
 with a mean WOB above ``|F|`` follows the face; below it, it leaves the face.
 
-Set-up: the 100 m vertical string of ``tests/unit/test_rig_boundaries.py`` (40 m of
+Set-up: the 100 m vertical string of ``tests/unit/dynamics/top/test_boundaries.py`` (40 m of
 6 3/4 in collars, 60 m of 5 in pipe), autodriller on a 40 kN WOB, stiff top drive,
 three lobes. Bounds: the rod model is linear and leaves out the mud, the joint and
 rock damping and the block's spring at the top, so it is used only well away from the
@@ -51,7 +51,7 @@ def _case(rpm: float, amplitude_m: float) -> dict[str, Any]:
                       "rpm_ramp_s": 0.0},
         "bit": {"model": "yigit_christoforou"},
         "rig": {"block_mode": "autodriller",
-                # the loop of tests/unit/test_rig_boundaries.py (stable on this short string)
+                # the loop of tests/unit/dynamics/top/test_boundaries.py (stable on this short string)
                 "autodriller": {"measurement": "wob", "wob_set_N": WOB_N,
                                 "control_period_s": 0.0, "measurement_filter_s": 0.0,
                                 "kp_m_per_s_per_N": 1e-7, "ki_m_per_s2_per_N": 1e-6},

@@ -42,7 +42,7 @@ from drillfatigue.config import case_from_dict
 from drillfatigue.dynamics.core import layout as L
 from drillfatigue.dynamics.run.model import advance_model, build_model, straight_path
 
-from rig_references import stick_slip_metrics
+from testkit.rig_references import stick_slip_metrics
 
 G = 9.81
 RHO_S = 7850.0

@@ -11,7 +11,7 @@ drills"; docs/rig.md).
    (0.3 rad/s, damping ratio 1) is 40x slower than the string's first axial mode
    (~13 rad/s), so the quasi-static closed form should hold to a few per cent;
    the issue's bound is 10 % of the step, asked here of the WOB averaged over 20 ms.
-2. Torsional stick-slip with the PI top drive. The well of ``tests/rig_references.py``
+2. Torsional stick-slip with the PI top drive. The well of ``tests/testkit/rig_references.py``
    (2000 m of 5 in pipe above 200 m of collars, in 1.2 SG mud, default top drive with
    Kp = 2e4 N m s/rad, Ki = 4e4 N m/rad, 40 rpm after a 5 s ramp) on bottom at a held
    block: the bit law's torque at the WOB the string starts with (rop_c1 = 0, so the bit
@@ -46,7 +46,7 @@ from drillfatigue.dynamics.run.model import advance_model, build_model, straight
 from drillfatigue.dynamics.bit.rockface import rop_slope_m_per_N_s
 from drillfatigue.string import build_segments
 
-from rig_references import TorsionalWell, stick_slip_metrics, torsional_reference
+from testkit.rig_references import TorsionalWell, stick_slip_metrics, torsional_reference
 
 COLLAR = {"type": "collar", "od_m": 0.17145, "id_m": 0.0714}
 PIPE = {"type": "drill_pipe", "od_m": 0.127, "id_m": 0.1086}

@@ -1,6 +1,6 @@
 """A rig block lowering at its ROP set-point starts in steady drilling (docs/rig.md).
 
-The 100 m vertical string of ``tests/unit/test_rig_boundaries.py`` with
+The 100 m vertical string of ``tests/unit/dynamics/top/test_boundaries.py`` with
 ``block_mode: rop`` at 2 mm/s and 120 rpm, no rpm ramp and a flat rock face.
 Reference: the Yigit-Christoforou / Sarker ROP law in closed form,
 ``ROP = c1 WOB sqrt(Omega) + c2`` above its thresholds, so the steady WOB for

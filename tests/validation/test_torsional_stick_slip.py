@@ -1,6 +1,6 @@
 """Torsional stick-slip with a PI top drive: kernels against an independent lumped reference.
 
-The reference (tests/rig_references.py) is a 10-lump torsional model of a
+The reference (tests/testkit/rig_references.py) is a 10-lump torsional model of a
 stated well (2000 m of 5 in pipe over a 200 m collar BHA; BHA friction static
 8 kN m, Coulomb 5 kN m, Stribeck 1 rad/s; top drive 932 kg m^2 with a PI of
 Kp = 2e4 N m s/rad, Ki = 4e4 N m/rad; 40 rpm) integrated by LSODA at rtol
@@ -20,7 +20,7 @@ import math
 
 import pytest
 
-import rig_references as RR
+import testkit.rig_references as RR
 
 from drillfatigue.dynamics.top import rig as R
 

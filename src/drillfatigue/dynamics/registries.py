@@ -6,7 +6,7 @@ dispatch on the law id is a module written from the registry::
     python -m drillfatigue.dynamics.registries          # write what is out of date
     python -m drillfatigue.dynamics.registries --check  # exit 1 if anything is
 
-``tests/unit/test_law_registries.py`` runs the check.
+``tests/unit/dynamics/test_registries.py`` runs the check.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Surface stresses of a tubular section from the six internal loads.
 
-Sign conventions (fixed once, tested in ``tests/unit/test_fatigue_stress.py``):
+Sign conventions (fixed once, tested in ``tests/unit/fatigue/test_stress.py``):
 
 * local frame of a joint: z along the pipe axis, x and y across it;
 * a surface point sits at circumferential angle ``phi`` measured from +x

@@ -14,7 +14,7 @@ The same module is exported to ONNX (``model.onnx``, opset 17, inputs
 ``y`` float32 (n, 4), dynamic batch) through torch's TorchScript-based exporter
 (``dynamo=False``: needs only ``onnx``, not ``onnxscript``). It runs in
 ``onnxruntime`` (C, C++, C#, Java, JavaScript servers) and agrees with the
-Python model to float32 round-off (tests/unit/test_export.py).
+Python model to float32 round-off (tests/unit/surrogate/test_export.py).
 """
 
 from __future__ import annotations

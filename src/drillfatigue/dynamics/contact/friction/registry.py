@@ -11,7 +11,7 @@ which :func:`dispatch_source` gives and :mod:`drillfatigue.dynamics.registries` 
 
     python -m drillfatigue.dynamics.registries
 
-``tests/unit/test_law_registries.py`` fails when the dispatch is out of date, when a law
+``tests/unit/dynamics/test_registries.py`` fails when the dispatch is out of date, when a law
 is not a ``friction.model`` of the configuration, or when docs/model.md does not
 describe it.
 """
