@@ -8,8 +8,9 @@ this package, which recognises columns by name and unit, converts to SI once
   ``rop_ft_per_h``, ``mud_density_ppg``), the query/twin vocabulary;
 - :mod:`drillfatigue.io.headers`: unit spellings of file headers and unit
   fields (``MD (ft)``, ``HKLD [klbf]``, ``uom="dega"``), exact field-unit text;
-- :mod:`drillfatigue.well.survey_file`: surveys (CSV in m or ft, WITSML 1.4.1.1
-  trajectory), cross-checked against minimum curvature;
+- surveys (CSV in m or ft, WITSML 1.4.1.1 trajectory), cross-checked against
+  minimum curvature: :mod:`drillfatigue.well.survey_file`, beside the well that
+  reads them, on this package's header and unit parsing;
 - :mod:`drillfatigue.io.tally`: string tallies in field units with API
   grades and a cited catalogue of pipe, HWDP and collar sizes;
 - :mod:`drillfatigue.io.logs`: rig operating logs (LAS 2.0, WITSML 1.4.1.1
