@@ -331,13 +331,14 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
     cand_n[:, 2] = (plane_normal_offsets(planes, *hoop_radial_Pa) if any(hoop_radial_Pa)
                     else 0.0)
     mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
+    sectors = K.ShearSectors(grp.c, bpa, bgrp)
+    law = K.DamageLaw(grp.ptr, grp.cand, grp.scale, cand_n, crit, ca, cb, cc, sel,
+                      thickness_factor / MPA_PA, *seg)
     cap = 1024
     while True:
         st = K.multiplane_damage(LT, np.ascontiguousarray(coef_sigma),
-                                 np.ascontiguousarray(coef_tau), grp.c, grp.ptr, grp.cand,
-                                 grp.scale, cand_n, bpa, bgrp, crit, ca, cb, cc, sel,
-                                 thickness_factor / MPA_PA, seg[0], seg[1], seg[2], seg[3], mode,
-                                 cap, dmg, sel_d, par)
+                                 np.ascontiguousarray(coef_tau), sectors, law, mode, cap, dmg,
+                                 sel_d, par)
         if st == OK:
             return dmg, sel_d, par
         if st != STACK_OVERFLOW or cap > 4 * LT.shape[1] + 16:  # pragma: no cover - cannot happen
