@@ -43,6 +43,8 @@ from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import (
     CRITERIA,
     CriterionParams,
+    DamageOptions,
+    PlaneSearch,
     evaluate_location,
     loads_channels,
 )
@@ -395,6 +397,11 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     crit_info: dict[tuple[int, str], Any] = {}
     given = (uniaxial_damage if crit != "uniaxial" and cfg.residue != "carry"
              and cfg.load_classes is None else None)
+    search = PlaneSearch(cfg.n_surface_points, cfg.plane_step_deg, cfg.family_b,
+                         cfg.n_shear_axes, cfg.n_refine, cfg.n_refine_points)
+    options = DamageOptions(cfg.residue, cfg.mean_stress, grade.tensile_Pa,
+                            walker_gamma=cfg.walker_gamma,
+                            compressive_alpha=cfg.compressive_alpha)
     for j in sel:
         info = jrow.loc[j]
         t, L, md = per_joint[j]
@@ -409,14 +416,9 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                                  exc.allowed) from None
             s = getattr(cfg.scf[str(info["component_type"])], loc)
             scf = SCF(s.axial, s.bending, s.torsion)
-            res = evaluate_location(
-                L, section, scf, curves[loc], crit, params, n_points=cfg.n_surface_points,
-                plane_step_deg=cfg.plane_step_deg, family_b=cfg.family_b,
-                n_shear_axes=cfg.n_shear_axes, n_refine=cfg.n_refine,
-                n_refine_points=cfg.n_refine_points,
-                residue=cfg.residue, mean_stress=cfg.mean_stress, ultimate_Pa=grade.tensile_Pa,
-                walker_gamma=cfg.walker_gamma, compressive_alpha=cfg.compressive_alpha,
-                channels=LT, pressure=pres, with_uniaxial=given is None)
+            res = evaluate_location(L, section, scf, curves[loc], crit, params, search=search,
+                                    options=options, channels=LT, pressure=pres,
+                                    with_uniaxial=given is None)
             uni = res.uniaxial_damage if given is None else float(given[(int(j), loc)])
             if cfg.residue == "carry" or cfg.load_classes is not None:
                 Lp = L
