@@ -74,7 +74,7 @@ import numpy as np
 
 from drillfatigue.errors import InputError, raise_for_status
 from drillfatigue.fatigue import kernels as K
-from drillfatigue.fatigue.rainflow import find_cycles_indexed
+from drillfatigue.fatigue.rainflow import find_cycles_indexed, kernel_residue_mode
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress
 from drillfatigue.fatigue.stress import (SCF, Pressure, Section, surface_coefficients,
                                          surface_pressure_stresses, true_wall_force_N)
@@ -334,7 +334,7 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
     cand_n[:, :2] = planes.n
     cand_n[:, 2] = (plane_normal_offsets(planes, *hoop_radial_Pa) if any(hoop_radial_Pa)
                     else 0.0)
-    mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
+    mode = kernel_residue_mode(residue)
     sectors = K.ShearSectors(grp.c, bpa, bgrp)
     law = K.DamageLaw(grp.ptr, grp.cand, grp.scale, cand_n, crit, ca, cb, cc, sel,
                       thickness_factor / MPA_PA, *seg)
@@ -511,7 +511,7 @@ def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCu
     out = np.zeros(coef_sigma.shape[0])
     for p in range(coef_sigma.shape[0]):
         sig = L @ coef_sigma[p]  # one point at a time: memory O(n_time)
-        i0, i1, cnt = find_cycles_indexed(sig, "repeat" if residue == "repeat" else "half")
+        i0, i1, cnt = find_cycles_indexed(sig, residue)
         if cnt.size == 0:
             continue
         a, b = sig[i0], sig[i1]

@@ -51,6 +51,7 @@ from drillfatigue.fatigue.critical_plane import (
 from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, rainflow_matrix
 from drillfatigue.fatigue.rp7g import (
     E_RP7G_PA,
+    HALF_JOINT_SPACING_M,
     RP7G_GRADES,
     max_permissible_dogleg,
     rp7g_damage_rate_profile,
@@ -290,7 +291,7 @@ def api_rp7g_baseline(loads: pd.DataFrame, joints: pd.DataFrame, case: Any,
         if cfg.grade in RP7G_GRADES:
             sec = Section(od, idm)
             dl_max = max_permissible_dogleg(cfg.grade, max(axial, 0.0), od, sec.inertia_m4,
-                                            sec.area_m2, 4.572, E_RP7G_PA) \
+                                            sec.area_m2, HALF_JOINT_SPACING_M, E_RP7G_PA) \
                 * _RAD_PER_M_TO_DEG_PER_30M
         rows.append({"joint": int(j), "md_m": md, "s_from_bit_m": float(info["s_from_bit_m"]),
                      "component": str(info["component"]),
