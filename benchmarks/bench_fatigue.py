@@ -136,7 +136,7 @@ def main() -> None:
             t_kernel += time.perf_counter() - k0
             for loc, sec, scf in (("body", BODY, SCF_BODY), ("connection", CONN, SCF_CONN)):
                 k0 = time.perf_counter()
-                r = evaluate_location(L, sec, scf, curve, "matake", prm, n_points=36,
+                r = evaluate_location(L, sec, scf, curve, "matake", prm,
                                       with_uniaxial=False, channels=LT)
                 t_kernel += time.perf_counter() - k0
                 if r.damage > worst[0]:

@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drillfatigue.config.fatigue import FatigueConfig
-from drillfatigue.fatigue.critical_plane import CriterionParams, evaluate_location
+from drillfatigue.fatigue.critical_plane import (CriterionParams, DamageOptions, PlaneSearch,
+                                                 evaluate_location)
 from drillfatigue.fatigue.run import evaluate_run
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Section
@@ -34,18 +35,19 @@ def rotate(L: np.ndarray, alpha: float) -> np.ndarray:
 @given(k=st.integers(1, 35), criterion=st.sampled_from(["matake", "findley", "uniaxial"]))
 def test_rotating_the_load_frame_about_the_axis(k: int, criterion: str) -> None:
     alpha = np.radians(10.0 * k)  # a multiple of the 10 deg point spacing: exact mapping
-    kw = dict(plane_step_deg=15.0, mean_stress="goodman")
+    opt = DamageOptions(mean_stress="goodman")
+    s1, s0 = PlaneSearch(plane_step_deg=15.0, n_refine=1), PlaneSearch(plane_step_deg=15.0, n_refine=0)
     curve, prm = get_curve("B1"), CriterionParams()
-    a = evaluate_location(LOADS, SEC, SCF(), curve, criterion, prm, n_refine=1, **kw)
-    b = evaluate_location(rotate(LOADS, alpha), SEC, SCF(), curve, criterion, prm, n_refine=1,
-                          **kw)
+    a = evaluate_location(LOADS, SEC, SCF(), curve, criterion, prm, search=s1, options=opt)
+    b = evaluate_location(rotate(LOADS, alpha), SEC, SCF(), curve, criterion, prm, search=s1,
+                          options=opt)
     # same stress histories at relabelled points; only the rounding of the
     # rotation (1e-16 relative) separates them
     assert b.damage == pytest.approx(a.damage, rel=1e-9)
     # without refinement every point's damage maps to the point 10 k deg further on
-    a0 = evaluate_location(LOADS, SEC, SCF(), curve, criterion, prm, n_refine=0, **kw)
-    b0 = evaluate_location(rotate(LOADS, alpha), SEC, SCF(), curve, criterion, prm, n_refine=0,
-                           **kw)
+    a0 = evaluate_location(LOADS, SEC, SCF(), curve, criterion, prm, search=s0, options=opt)
+    b0 = evaluate_location(rotate(LOADS, alpha), SEC, SCF(), curve, criterion, prm, search=s0,
+                           options=opt)
     np.testing.assert_allclose(np.roll(a0.point_damage, k), b0.point_damage, rtol=1e-9)
 
 

@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.fatigue.critical_plane import CriterionParams, evaluate_location
+from drillfatigue.fatigue.critical_plane import CriterionParams, PlaneSearch, evaluate_location
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import (SCF, Pressure, Section, hydrostatic_pressure_Pa,
                                          lame_stresses_Pa, surface_pressure_stresses,
@@ -107,7 +107,7 @@ def test_matake_under_hydrostatic_pressure_closed_form(p: float) -> None:
     L = _bending_cycles()
     curve = get_curve("B1", "air")
     prm = CriterionParams()
-    r = evaluate_location(L, DP, SCF(), curve, "matake", prm, n_refine=4,
+    r = evaluate_location(L, DP, SCF(), curve, "matake", prm, search=PlaneSearch(n_refine=4),
                           pressure=Pressure(p, p))
     sig_a = 9e3 * DP.r_m / DP.inertia_m4
     ft = 1.0 / prm.torsion_to_tension_ratio

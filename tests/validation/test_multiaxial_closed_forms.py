@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from drillfatigue.fatigue.critical_plane import CriterionParams, evaluate_location
+from drillfatigue.fatigue.critical_plane import CriterionParams, DamageOptions, evaluate_location
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Section
 
@@ -32,7 +32,7 @@ def loads(sigma_a: float = 0.0, tau_a: float = 0.0) -> np.ndarray:
 def test_matake_reduces_to_the_uniaxial_result(sigma_a: float) -> None:
     curve = get_curve("B1")
     res = evaluate_location(loads(sigma_a), SEC, SCF(), curve, "matake", PARAMS,
-                            mean_stress="none")
+                            options=DamageOptions(mean_stress="none"))
     assert res.critical_plane_deg in (45.0, 135.0)  # 40/50 deg grid point refined by 5 deg
     n_over_N = N_CYC / curve.cycles_to_failure(2 * sigma_a)[0]
     # 4 full + 2 half cycles of range 2 sigma_a: Miner gives exactly n/N(S);
@@ -62,7 +62,7 @@ def test_findley_pure_tension_closed_form() -> None:
 def test_proportional_axial_torsion_plane_is_the_maximum_shear_plane() -> None:
     sigma_a, tau_a = 100e6, 50e6
     res = evaluate_location(loads(sigma_a, tau_a), SEC, SCF(), get_curve("B1"), "matake", PARAMS,
-                            mean_stress="none")
+                            options=DamageOptions(mean_stress="none"))
     # tau_u(theta) = -(sigma/2) sin 2theta + tau cos 2theta is largest at
     # 2 theta* = atan2(-sigma_a/2, tau_a) and at theta* + 90 (conjugate plane)
     t1 = (math.degrees(math.atan2(-sigma_a / 2, tau_a)) / 2) % 180

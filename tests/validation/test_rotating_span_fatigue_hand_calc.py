@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from drillfatigue.config.string import StringConfig
-from drillfatigue.fatigue.critical_plane import CriterionParams, evaluate_location
+from drillfatigue.fatigue.critical_plane import CriterionParams, DamageOptions, evaluate_location
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Pressure, Section, true_wall_force_N
 from drillfatigue.string import build_segments
@@ -49,8 +49,9 @@ def test_rotating_drill_pipe_life_against_hand_calculation(scf: SCF, p: float,
     curve = get_curve("B1", "air")
     su = 1.0e9
     prm = CriterionParams()
-    r = evaluate_location(loads, sec, scf, curve, crit, prm, mean_stress="goodman",
-                          ultimate_Pa=su, pressure=Pressure(p, p))
+    r = evaluate_location(loads, sec, scf, curve, crit, prm,
+                          options=DamageOptions(mean_stress="goodman", ultimate_Pa=su),
+                          pressure=Pressure(p, p))
     sig_a = scf.bending * (w * L * L / 12.0) * sec.r_m / sec.inertia_m4
     F_true = float(true_wall_force_N(1.0e5, sec, Pressure(p, p)))
     sig_m = scf.axial * F_true / sec.area_m2

@@ -68,12 +68,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from drillfatigue.errors import InputError, raise_for_status
 from drillfatigue.fatigue import kernels as K
-from drillfatigue.fatigue.rainflow import find_cycles_indexed
+from drillfatigue.fatigue.rainflow import find_cycles_indexed, kernel_residue_mode
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress
 from drillfatigue.fatigue.stress import (SCF, Pressure, Section, surface_coefficients,
                                          surface_pressure_stresses, true_wall_force_N)
@@ -83,6 +84,13 @@ from drillfatigue.units import MPA_PA
 CRITERIA: tuple[str, ...] = ("matake", "findley", "fatemi_socie", "uniaxial")
 _CRIT_CODE = {"matake": K.CRIT_MATAKE, "findley": K.CRIT_FINDLEY,
               "fatemi_socie": K.CRIT_FATEMI_SOCIE}
+
+
+def _check_criterion(criterion: str, allowed: tuple[str, ...] = CRITERIA) -> None:
+    """InputError unless ``criterion`` is one of ``allowed`` (the message lists all)."""
+    if criterion not in allowed:
+        raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
+                         ", ".join(CRITERIA))
 
 
 @dataclass(frozen=True)
@@ -115,10 +123,8 @@ class CriterionParams:
         if criterion == "findley":
             k = self.findley_k
             return k, 2.0 / (k + math.sqrt(1.0 + k * k)), 0.0
-        if criterion == "fatemi_socie":
-            return self.fs_k, 1.0 / self.yield_Pa, 0.0
-        raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
-                         ", ".join(CRITERIA))
+        _check_criterion(criterion, ("fatemi_socie",))
+        return self.fs_k, 1.0 / self.yield_Pa, 0.0
 
 
 @dataclass(frozen=True)
@@ -310,9 +316,7 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
         Miner damage, plane-selection damage (shear damage for Matake) and the
         largest criterion parameter of any cycle (Pa).
     """
-    if criterion not in _CRIT_CODE:
-        raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
-                         ", ".join(CRITERIA))
+    _check_criterion(criterion, tuple(_CRIT_CODE))
     LT = loads if loads_are_channels else loads_channels(loads)
     ca, cb, cc = params.constants(criterion)
     crit = _CRIT_CODE[criterion]
@@ -330,14 +334,15 @@ def plane_damage(loads: np.ndarray, coef_sigma: np.ndarray, coef_tau: np.ndarray
     cand_n[:, :2] = planes.n
     cand_n[:, 2] = (plane_normal_offsets(planes, *hoop_radial_Pa) if any(hoop_radial_Pa)
                     else 0.0)
-    mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
+    mode = kernel_residue_mode(residue)
+    sectors = K.ShearSectors(grp.c, bpa, bgrp)
+    law = K.DamageLaw(grp.ptr, grp.cand, grp.scale, cand_n, crit, ca, cb, cc, sel,
+                      thickness_factor / MPA_PA, *seg)
     cap = 1024
     while True:
         st = K.multiplane_damage(LT, np.ascontiguousarray(coef_sigma),
-                                 np.ascontiguousarray(coef_tau), grp.c, grp.ptr, grp.cand,
-                                 grp.scale, cand_n, bpa, bgrp, crit, ca, cb, cc, sel,
-                                 thickness_factor / MPA_PA, seg[0], seg[1], seg[2], seg[3], mode,
-                                 cap, dmg, sel_d, par)
+                                 np.ascontiguousarray(coef_tau), sectors, law, mode, cap, dmg,
+                                 sel_d, par)
         if st == OK:
             return dmg, sel_d, par
         if st != STACK_OVERFLOW or cap > 4 * LT.shape[1] + 16:  # pragma: no cover - cannot happen
@@ -374,27 +379,61 @@ def pick_planes(dmg: np.ndarray, sel: np.ndarray, rtol: float = 1e-9) -> np.ndar
 DENSE_LEVELS = 4
 
 
+@dataclass(frozen=True)
+class PlaneLaw:
+    """What :func:`plane_damage` evaluates on candidate planes besides the loads and
+    points: S-N curve, criterion and its constants, residue closure, DNV
+    thickness factor and the hoop and radial stress constant over the window, Pa."""
+
+    curve: SNCurve
+    criterion: str
+    params: CriterionParams
+    residue: str = "half"
+    thickness_factor: float = 1.0
+    hoop_radial_Pa: tuple[float, float] = (0.0, 0.0)
+
+    def damage(self, loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
+               planes: Planes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:func:`plane_damage` of loads given as channels (:func:`loads_channels`)."""
+        return plane_damage(loads_T, cs_rows, ct_rows, planes, self.curve, self.criterion,
+                            self.params, self.residue, self.thickness_factor,
+                            loads_are_channels=True, hoop_radial_Pa=self.hoop_radial_Pa)
+
+
+class Governing(NamedTuple):
+    """Governing plane of R surface points, each an ndarray of shape (R,).
+
+    Attributes
+    ----------
+    theta_deg : ndarray
+        Plane angle, deg.
+    damage, select, param : ndarray
+        Its damage, selection damage and largest criterion parameter (Pa).
+    """
+
+    theta_deg: np.ndarray
+    damage: np.ndarray
+    select: np.ndarray
+    param: np.ndarray
+
+
 def _pick_rows(trial_theta: np.ndarray, d: np.ndarray, s_: np.ndarray, p_: np.ndarray,
-               own: np.ndarray, th: np.ndarray, bd: np.ndarray, bs: np.ndarray, bp: np.ndarray
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+               own: np.ndarray, best: Governing) -> Governing:
     """Keep each row's best of its current plane and its own trial columns ``own``."""
     rows = np.arange(own.shape[0])
-    dd = np.column_stack([bd, d[rows[:, None], own]])
-    ss = np.column_stack([bs, s_[rows[:, None], own]])
-    pp = np.column_stack([bp, p_[rows[:, None], own]])
+    dd = np.column_stack([best.damage, d[rows[:, None], own]])
+    ss = np.column_stack([best.select, s_[rows[:, None], own]])
+    pp = np.column_stack([best.param, p_[rows[:, None], own]])
     k = pick_planes(dd, ss)
     moved = k > 0
-    th = th.copy()
+    th = best.theta_deg.copy()
     th[moved] = trial_theta[own[rows[moved], k[moved] - 1]]
-    return th, dd[rows, k], ss[rows, k], pp[rows, k]
+    return Governing(th, dd[rows, k], ss[rows, k], pp[rows, k])
 
 
 def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
-                  theta0: np.ndarray, beta: np.ndarray, psi: np.ndarray, best_dmg: np.ndarray,
-                  best_sel: np.ndarray, best_par: np.ndarray, step0: float, n_refine: int,
-                  curve: SNCurve, criterion: str, params: CriterionParams, residue: str,
-                  tf: float, hoop_radial_Pa: tuple[float, float] = (0.0, 0.0)
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                  start: Governing, beta: np.ndarray, psi: np.ndarray, step0: float,
+                  n_refine: int, law: PlaneLaw) -> Governing:
     """Refine the governing plane of several points to ``step0 / 2**n_refine``.
 
     The first ``DENSE_LEVELS`` halvings are done at once: every plane of the
@@ -412,48 +451,49 @@ def refine_planes(loads_T: np.ndarray, cs_rows: np.ndarray, ct_rows: np.ndarray,
         Loads as channels (:func:`loads_channels`).
     cs_rows, ct_rows : ndarray, shape (R, 6)
         Stress coefficients of the R points.
-    theta0, beta, psi : ndarray, shape (R,)
-        Coarse governing plane of each point, deg.
-    best_dmg, best_sel, best_par : ndarray, shape (R,)
-        Its damage, selection damage and parameter (from the coarse pass).
+    start : Governing
+        Coarse governing plane of each point, with its damages (from the
+        coarse pass).
+    beta, psi : ndarray, shape (R,)
+        Its inclination and shear axis, deg (kept while theta is refined).
+    step0 : float
+        Coarse grid step, deg.
+    n_refine : int
+        Halvings of ``step0``.
+    law : PlaneLaw
 
     Returns
     -------
-    theta, dmg, sel, par : ndarray, shape (R,)
+    Governing
+        The refined plane of each point.
     """
-    th = np.asarray(theta0, dtype=float).copy()
+    best = Governing(*(np.asarray(a, dtype=float).copy() for a in start))
     beta = np.asarray(beta, dtype=float)
     psi = np.asarray(psi, dtype=float)
-    bd, bs, bp = (np.asarray(best_dmg, float).copy(), np.asarray(best_sel, float).copy(),
-                  np.asarray(best_par, float).copy())
     if n_refine <= 0:
-        return th, bd, bs, bp
+        return best
     n_dense = min(n_refine, DENSE_LEVELS)
     step = step0 / 2.0**n_dense
     k = np.arange(1, 2**n_dense)
     offsets = np.concatenate([-k[::-1], k]) * step
     # trial planes of every row, shared where rows coincide
-    t_all = ((th[:, None] + offsets[None, :]) % 180.0)
+    t_all = ((best.theta_deg[:, None] + offsets[None, :]) % 180.0)
     keys = np.stack([np.round(t_all, 9), np.broadcast_to(beta[:, None], t_all.shape),
                      np.broadcast_to(psi[:, None], t_all.shape)], axis=-1).reshape(-1, 3)
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)
     pl = make_planes(uniq[:, 0], uniq[:, 1], uniq[:, 2])
-    d, s_, p_ = plane_damage(loads_T, cs_rows, ct_rows, pl, curve, criterion, params,
-                             residue, tf, loads_are_channels=True, hoop_radial_Pa=hoop_radial_Pa)
-    th, bd, bs, bp = _pick_rows(pl.theta_deg, d, s_, p_, inv.reshape(t_all.shape), th, bd,
-                                bs, bp)
-    R = th.shape[0]
-    rows = np.arange(R)
+    d, s_, p_ = law.damage(loads_T, cs_rows, ct_rows, pl)
+    best = _pick_rows(pl.theta_deg, d, s_, p_, inv.reshape(t_all.shape), best)
+    rows = np.arange(best.theta_deg.shape[0])
     for _ in range(n_refine - n_dense):
         step /= 2.0
+        th = best.theta_deg
         trial = (np.stack([th - step, th + step], axis=1) % 180.0).ravel()  # (2R,)
         pl = make_planes(trial, np.repeat(beta, 2), np.repeat(psi, 2))
-        d, s_, p_ = plane_damage(loads_T, cs_rows, ct_rows, pl, curve, criterion, params,
-                                 residue, tf, loads_are_channels=True,
-                                 hoop_radial_Pa=hoop_radial_Pa)
+        d, s_, p_ = law.damage(loads_T, cs_rows, ct_rows, pl)
         own = np.stack([2 * rows, 2 * rows + 1], axis=1)  # each point's own two trials
-        th, bd, bs, bp = _pick_rows(pl.theta_deg, d, s_, p_, own, th, bd, bs, bp)
-    return th, bd, bs, bp
+        best = _pick_rows(pl.theta_deg, d, s_, p_, own, best)
+    return best
 
 
 def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCurve,
@@ -471,7 +511,7 @@ def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCu
     out = np.zeros(coef_sigma.shape[0])
     for p in range(coef_sigma.shape[0]):
         sig = L @ coef_sigma[p]  # one point at a time: memory O(n_time)
-        i0, i1, cnt = find_cycles_indexed(sig, "repeat" if residue == "repeat" else "half")
+        i0, i1, cnt = find_cycles_indexed(sig, residue)
         if cnt.size == 0:
             continue
         a, b = sig[i0], sig[i1]
@@ -482,14 +522,57 @@ def uniaxial_point_damage(loads: np.ndarray, coef_sigma: np.ndarray, curve: SNCu
     return out
 
 
+@dataclass(frozen=True)
+class PlaneSearch:
+    """Where :func:`evaluate_location` looks for the critical plane.
+
+    Attributes
+    ----------
+    n_points : int
+        Surface points (>= 36 in production).
+    plane_step_deg, family_b, n_shear_axes
+        Coarse candidate grid (:func:`plane_grid`).
+    n_refine, n_refine_points : int
+        Halvings of ``plane_step_deg`` around the governing plane of the
+        ``n_refine_points`` most damaged points (:func:`refine_planes`).
+    """
+
+    n_points: int = 36
+    plane_step_deg: float = 10.0
+    family_b: bool = False
+    n_shear_axes: int = 2
+    n_refine: int = 4
+    n_refine_points: int = 2
+
+
+@dataclass(frozen=True)
+class DamageOptions:
+    """Counting and S-N options of :func:`evaluate_location`.
+
+    Attributes
+    ----------
+    residue : {'half', 'repeat', 'carry'}
+        Residue closure ('carry' closes as half).
+    mean_stress, ultimate_Pa, walker_gamma, compressive_alpha
+        Mean-stress correction of the uniaxial route
+        (:func:`drillfatigue.fatigue.sn.correct_mean_stress`).
+    thickness_m : float, optional
+        Wall thickness for the S-N thickness correction (default: the
+        section's).
+    """
+
+    residue: str = "half"
+    mean_stress: str = "none"
+    ultimate_Pa: float = 689e6
+    thickness_m: float | None = None
+    walker_gamma: float = 0.5
+    compressive_alpha: float = 0.6
+
+
 def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCurve,
-                      criterion: str, params: CriterionParams, *, n_points: int = 36,
-                      plane_step_deg: float = 10.0, family_b: bool = False,
-                      n_shear_axes: int = 2, n_refine: int = 4, n_refine_points: int = 2,
-                      residue: str = "half", mean_stress: str = "none",
-                      ultimate_Pa: float = 689e6, thickness_m: float | None = None,
-                      walker_gamma: float = 0.5, compressive_alpha: float = 0.6,
-                      with_uniaxial: bool = True,
+                      criterion: str, params: CriterionParams, *,
+                      search: PlaneSearch = PlaneSearch(),
+                      options: DamageOptions = DamageOptions(), with_uniaxial: bool = True,
                       channels: np.ndarray | None = None,
                       pressure: Pressure | None = None) -> LocationResult:
     """Damage of one location of one joint over one load window.
@@ -502,15 +585,12 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
         Section, stress concentration factors, S-N curve of the location.
     criterion : {'matake', 'findley', 'fatemi_socie', 'uniaxial'}
     params : CriterionParams
-    n_points : int
-        Surface points (>= 36 in production).
-    plane_step_deg, family_b, n_shear_axes, n_refine, n_refine_points
-        Plane grid and refinement (refinement at the ``n_refine_points`` most
-        damaged points).
+    search : PlaneSearch
+        Surface points, plane grid and refinement.
+    options : DamageOptions
+        Counting and uniaxial-route options.
     with_uniaxial : bool
         Also run the uniaxial route (``uniaxial_damage``; NaN when False).
-    residue, mean_stress, ultimate_Pa, thickness_m, walker_gamma, compressive_alpha
-        Counting and uniaxial-route options.
     channels : ndarray, shape (6, n_time), optional
         ``loads_channels(loads)``, computed once and shared by the locations
         of a joint (saves one transposition of the history per location).
@@ -526,9 +606,8 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
     -------
     LocationResult
     """
-    if criterion not in CRITERIA:
-        raise InputError("fatigue.criterion", f"unknown criterion {criterion!r}",
-                         ", ".join(CRITERIA))
+    _check_criterion(criterion)
+    n_points = search.n_points
     cs, ct, phi = surface_coefficients(section, scf, n_points)
     hoop_radial = (0.0, 0.0)
     if pressure is not None and not pressure.is_zero:
@@ -540,35 +619,35 @@ def evaluate_location(loads: np.ndarray, section: Section, scf: SCF, curve: SNCu
         if channels is not None:
             channels = channels.copy()
             channels[0] += d_f
-    tf = curve.thickness_factor(thickness_m if thickness_m is not None
+    o = options
+    tf = curve.thickness_factor(o.thickness_m if o.thickness_m is not None
                                 else (section.od_m - section.id_m) / 2.0)
     if with_uniaxial or criterion == "uniaxial":
-        uni = uniaxial_point_damage(loads, cs, curve, residue, mean_stress, ultimate_Pa, tf,
-                                    walker_gamma, compressive_alpha)
+        uni = uniaxial_point_damage(loads, cs, curve, o.residue, o.mean_stress, o.ultimate_Pa,
+                                    tf, o.walker_gamma, o.compressive_alpha)
     else:
         uni = np.full(n_points, np.nan)
     if criterion == "uniaxial":
         p = int(np.argmax(uni))
         return LocationResult(float(uni[p]), float(np.degrees(phi[p])), 0.0, 0.0, p, uni,
                               float(uni[p]), float("nan"))
-    planes = plane_grid(plane_step_deg, family_b, n_shear_axes)
+    planes = plane_grid(search.plane_step_deg, search.family_b, search.n_shear_axes)
     LT = channels if channels is not None else loads_channels(loads)
-    dmg, sel, par = plane_damage(LT, cs, ct, planes, curve, criterion, params, residue, tf,
-                                 loads_are_channels=True, hoop_radial_Pa=hoop_radial)
+    law = PlaneLaw(curve, criterion, params, o.residue, tf, hoop_radial)
+    dmg, sel, par = law.damage(LT, cs, ct, planes)
     jbest = pick_planes(dmg, sel)
     rows = np.arange(dmg.shape[0])
-    pdmg = dmg[rows, jbest].copy()
-    psel = sel[rows, jbest].copy()
-    theta = planes.theta_deg[jbest].copy()
-    pmax = par[rows, jbest].copy()
-    if n_refine > 0:
-        top = np.argsort(-psel, kind="stable")[:max(1, n_refine_points)]
+    best = Governing(planes.theta_deg[jbest].copy(), dmg[rows, jbest].copy(),
+                     sel[rows, jbest].copy(), par[rows, jbest].copy())
+    if search.n_refine > 0:
+        top = np.argsort(-best.select, kind="stable")[:max(1, search.n_refine_points)]
         jt = jbest[top]
-        t, d, s, pm = refine_planes(LT, cs[top], ct[top], planes.theta_deg[jt],
-                                    planes.beta_deg[jt], planes.psi_deg[jt], pdmg[top],
-                                    psel[top], pmax[top], plane_step_deg, n_refine, curve,
-                                    criterion, params, residue, tf, hoop_radial)
-        pdmg[top], psel[top], theta[top], pmax[top] = d, s, t, pm
+        refined = refine_planes(LT, cs[top], ct[top], Governing(*(a[top] for a in best)),
+                                planes.beta_deg[jt], planes.psi_deg[jt], search.plane_step_deg,
+                                search.n_refine, law)
+        for a, r in zip(best, refined, strict=True):
+            a[top] = r
+    theta, pdmg, psel, pmax = best
     # governing point: largest selection damage (= damage except for Matake)
     p = int(pick_planes(pdmg[None], psel[None])[0])
     return LocationResult(float(pdmg[p]), float(np.degrees(phi[p])), float(theta[p]),

@@ -37,7 +37,7 @@ from drillfatigue.errors import InputError, raise_for_status
 from drillfatigue.fatigue import kernels as K
 
 RESIDUE_MODES: tuple[str, ...] = ("half", "repeat", "carry")
-_KERNEL_MODE = {"half": K.RESIDUE_HALF, "repeat": K.RESIDUE_REPEAT, "none": K.RESIDUE_NONE}
+_KERNEL_MODE = {"half": K.RESIDUE_HALF, "repeat": K.RESIDUE_REPEAT}
 
 
 @dataclass(frozen=True)
@@ -101,6 +101,17 @@ def check_residue_mode(mode: str) -> str:
         raise InputError("fatigue.residue", f"unknown residue mode {mode!r}",
                          ", ".join(RESIDUE_MODES))
     return mode
+
+
+def residue_closure(mode: str) -> str:
+    """How the residue of a whole history is closed under residue mode ``mode``:
+    'repeat', else 'half' (``carry`` on a whole history behaves as ``half``)."""
+    return "repeat" if mode == "repeat" else "half"
+
+
+def kernel_residue_mode(mode: str) -> int:
+    """The kernels' residue code (``RESIDUE_*``) of residue mode ``mode`` on a whole history."""
+    return _KERNEL_MODE[residue_closure(mode)]
 
 
 def find_exact_reversals(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -211,7 +222,7 @@ def find_cycles(y: np.ndarray, residue: str = "half", load_classes: int | None =
     rev = _reversals(y, load_classes)
     cyc, res = _pass(rev)
     closed = Cycles(cyc[:, 0], cyc[:, 1], np.ones(cyc.shape[0]))
-    return Cycles.concat([closed, _close_residue(res, "repeat" if residue == "repeat" else "half")])
+    return Cycles.concat([closed, _close_residue(res, residue_closure(residue))])
 
 
 def find_cycles_indexed(y: np.ndarray, residue: str = "half"
@@ -238,8 +249,7 @@ def find_cycles_indexed(y: np.ndarray, residue: str = "half"
     i_to = np.empty(cap, dtype=np.int64)
     count = np.empty(cap)
     res = np.empty(n + 1, dtype=np.int64)
-    mode = K.RESIDUE_REPEAT if residue == "repeat" else K.RESIDUE_HALF
-    nc = K.rainflow_indexed(y, mode, i_from, i_to, count, res)
+    nc = K.rainflow_indexed(y, kernel_residue_mode(residue), i_from, i_to, count, res)
     if nc < 0:  # pragma: no cover - capacity is a proven bound
         raise_for_status(-nc, "rainflow_indexed")
     return i_from[:nc].copy(), i_to[:nc].copy(), count[:nc].copy()

@@ -30,10 +30,13 @@ import numpy as np
 
 from drillfatigue.errors import InputError
 from drillfatigue.fatigue.sn import SNCurve, correct_mean_stress
+from drillfatigue.fatigue.stress import Section
 from drillfatigue.units import PSI_PA
 
 #: Young's modulus used by API RP7G for steel (30e6 psi), Pa.
 E_RP7G_PA = 30.0e6 * PSI_PA
+#: Half the tool-joint spacing of 30 ft joints, L = 180 in, m.
+HALF_JOINT_SPACING_M = 4.572
 RP7G_GRADES: tuple[str, ...] = ("E-75", "S-135")
 
 
@@ -151,7 +154,8 @@ def hansford_lubinski_damage(rpm: float, rop_m_per_s: float, dogleg_length_m: fl
 def rp7g_damage_rate_profile(md_m: np.ndarray, curvature_rad_per_m: np.ndarray,
                              tension_N: np.ndarray, rpm: float, rop_m_per_s: float, od_m: float,
                              id_m: float, curve: SNCurve, *, E: float = 207e9,
-                             half_joint_spacing_m: float = 4.572, scf: float = 1.0,
+                             half_joint_spacing_m: float = HALF_JOINT_SPACING_M,
+                             scf: float = 1.0,
                              ultimate_Pa: float | None = None) -> dict[str, np.ndarray]:
     """RP7G/Lubinski baseline along the hole, for the side-by-side report column.
 
@@ -184,8 +188,9 @@ def rp7g_damage_rate_profile(md_m: np.ndarray, curvature_rad_per_m: np.ndarray,
                          "arrays of shape (n,)")
     if rpm < 0 or rop_m_per_s <= 0:
         raise InputError("rpm, rop_m_per_s", "need rpm >= 0 and ROP > 0", "rpm >= 0, ROP > 0")
-    A = np.pi * (od_m**2 - id_m**2) / 4.0
-    I = np.pi * (od_m**4 - id_m**4) / 64.0
+    sec = Section(od_m, id_m)
+    A = sec.area_m2
+    I = sec.inertia_m4
     sb = np.atleast_1d(lubinski_bending_stress_Pa(E, od_m, kap, T, I, half_joint_spacing_m))
     inv_n = _inverse_life(sb, curve, T / A, ultimate_Pa, scf)
     rate_h = rpm * 60.0 * inv_n

@@ -39,12 +39,15 @@ from drillfatigue.errors import InputError
 from drillfatigue.fatigue.critical_plane import (
     CRITERIA,
     CriterionParams,
+    DamageOptions,
+    PlaneSearch,
     evaluate_location,
     loads_channels,
 )
 from drillfatigue.fatigue.rainflow import RainflowStream, find_cycles, rainflow_matrix
 from drillfatigue.fatigue.rp7g import (
     E_RP7G_PA,
+    HALF_JOINT_SPACING_M,
     RP7G_GRADES,
     max_permissible_dogleg,
     rp7g_damage_rate_profile,
@@ -318,7 +321,7 @@ def api_rp7g_baseline(loads: pd.DataFrame, joints: pd.DataFrame, case: Any,
         if cfg.grade in RP7G_GRADES:
             sec = Section(od, idm)
             dl_max = max_permissible_dogleg(cfg.grade, max(axial, 0.0), od, sec.inertia_m4,
-                                            sec.area_m2, 4.572, E_RP7G_PA) \
+                                            sec.area_m2, HALF_JOINT_SPACING_M, E_RP7G_PA) \
                 * _RAD_PER_M_TO_DEG_PER_30M
         rows.append({"joint": int(j), "md_m": md, "s_from_bit_m": float(info["s_from_bit_m"]),
                      "component": str(info["component"]),
@@ -425,6 +428,11 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
     crit_info: dict[tuple[int, str], Any] = {}
     given = (uniaxial_damage if crit != "uniaxial" and cfg.residue != "carry"
              and cfg.load_classes is None else None)
+    search = PlaneSearch(cfg.n_surface_points, cfg.plane_step_deg, cfg.family_b,
+                         cfg.n_shear_axes, cfg.n_refine, cfg.n_refine_points)
+    options = DamageOptions(cfg.residue, cfg.mean_stress, grade.tensile_Pa,
+                            walker_gamma=cfg.walker_gamma,
+                            compressive_alpha=cfg.compressive_alpha)
     for j in sel:
         info = jrow.loc[j]
         t, L, md = per_joint[j]
@@ -439,14 +447,9 @@ def evaluate_run(run_dir: Path, cfg: FatigueConfig, out_dir: Path | None = None,
                                  exc.allowed) from None
             s = getattr(cfg.scf[str(info["component_type"])], loc)
             scf = SCF(s.axial, s.bending, s.torsion)
-            res = evaluate_location(
-                L, section, scf, curves[loc], crit, params, n_points=cfg.n_surface_points,
-                plane_step_deg=cfg.plane_step_deg, family_b=cfg.family_b,
-                n_shear_axes=cfg.n_shear_axes, n_refine=cfg.n_refine,
-                n_refine_points=cfg.n_refine_points,
-                residue=cfg.residue, mean_stress=cfg.mean_stress, ultimate_Pa=grade.tensile_Pa,
-                walker_gamma=cfg.walker_gamma, compressive_alpha=cfg.compressive_alpha,
-                channels=LT, pressure=pres, with_uniaxial=given is None)
+            res = evaluate_location(L, section, scf, curves[loc], crit, params, search=search,
+                                    options=options, channels=LT, pressure=pres,
+                                    with_uniaxial=given is None)
             uni = res.uniaxial_damage if given is None else float(given[(int(j), loc)])
             if cfg.residue == "carry" or cfg.load_classes is not None:
                 Lp = L

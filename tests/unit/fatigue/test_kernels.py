@@ -137,8 +137,8 @@ def test_shear_groups_pair_conjugate_planes() -> None:
 def test_dense_refinement_is_the_best_plane_of_the_fine_grid() -> None:
     """refine_planes with n levels returns the governing plane among all planes
     theta0 + k step/2^n, |k| < 2^n (brute force over the same lattice)."""
-    from drillfatigue.fatigue.critical_plane import (loads_channels, make_planes, pick_planes,
-                                                     refine_planes)
+    from drillfatigue.fatigue.critical_plane import (Governing, PlaneLaw, loads_channels,
+                                                     make_planes, pick_planes, refine_planes)
 
     rng = np.random.default_rng(2)
     n = 3000
@@ -155,9 +155,9 @@ def test_dense_refinement_is_the_best_plane_of_the_fine_grid() -> None:
     LT = loads_channels(L)
     d0, s0, p0 = plane_damage(L, cs[rows], ct[rows], make_planes(theta0, zero, zero), curve,
                               "findley", prm)
-    th, d, s, _ = refine_planes(LT, cs[rows], ct[rows], theta0, zero, zero,
-                                d0[[0, 1], [0, 1]], s0[[0, 1], [0, 1]], p0[[0, 1], [0, 1]],
-                                10.0, 3, curve, "findley", prm, "half", 1.0)
+    start = Governing(theta0, d0[[0, 1], [0, 1]], s0[[0, 1], [0, 1]], p0[[0, 1], [0, 1]])
+    th, d, s, _ = refine_planes(LT, cs[rows], ct[rows], start, zero, zero, 10.0, 3,
+                                PlaneLaw(curve, "findley", prm, "half", 1.0))
     for r in range(2):
         lattice = (theta0[r] + np.arange(-7, 8) * 10.0 / 8) % 180.0
         pl = make_planes(lattice, np.zeros(15), np.zeros(15))
@@ -172,7 +172,7 @@ def test_refinement_beyond_the_dense_levels_never_loses_selection_damage() -> No
     """Levels after the dense grid halve greedily from its best plane, so the
     selected plane's selection damage can only grow with n_refine (Findley:
     selection = damage)."""
-    from drillfatigue.fatigue.critical_plane import evaluate_location
+    from drillfatigue.fatigue.critical_plane import PlaneSearch, evaluate_location
 
     rng = np.random.default_rng(4)
     n = 2500
@@ -183,8 +183,9 @@ def test_refinement_beyond_the_dense_levels_never_loses_selection_damage() -> No
         1.2e4 * np.cos(2 * np.pi * 2.5 * t), 1e4 * np.sin(2 * np.pi * 0.9 * t)])
     sec = Section(0.127, 0.1086)
     curve, prm = get_curve("B1"), CriterionParams()
-    d = [evaluate_location(L, sec, SCF(1, 1, 1), curve, "findley", prm, n_points=36,
-                           n_refine=k, n_refine_points=1, with_uniaxial=False).damage
+    d = [evaluate_location(L, sec, SCF(1, 1, 1), curve, "findley", prm,
+                           search=PlaneSearch(n_points=36, n_refine=k, n_refine_points=1),
+                           with_uniaxial=False).damage
          for k in (0, 2, 4, 6)]
     assert all(b >= a * (1 - 1e-12) for a, b in zip(d, d[1:], strict=False))
 

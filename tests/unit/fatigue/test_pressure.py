@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drillfatigue.fatigue.critical_plane import CriterionParams, evaluate_location
+from drillfatigue.fatigue.critical_plane import CriterionParams, DamageOptions, evaluate_location
 from drillfatigue.fatigue.sn import get_curve
 from drillfatigue.fatigue.stress import SCF, Pressure, Section
 
@@ -52,7 +52,8 @@ def test_zero_pressure_is_bit_identical(crit: str) -> None:
     for loc, sec, scf in (("body", Section(0.127, 0.1086), SCF()),
                           ("connection", Section(0.1683, 0.0826), SCF(3.5, 3.5, 1.5))):
         res = [evaluate_location(L, sec, scf, get_curve("B1", "air"), crit, CriterionParams(),
-                                 mean_stress="goodman", ultimate_Pa=1e9, pressure=p)
+                                 options=DamageOptions(mean_stress="goodman", ultimate_Pa=1e9),
+                                 pressure=p)
                for p in (None, Pressure(0.0, 0.0))]
         got = [np.array([r.damage, r.critical_angle_deg, r.critical_plane_deg,
                          r.uniaxial_damage]) for r in res]
