@@ -12,8 +12,8 @@ Usage: ``python pipeline/dataset.py [--params params.yaml] [--cases PATH] [--run
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
 
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -22,28 +22,25 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
-from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
+from drillfatigue.stage import Option, stage_main  # noqa: E402
 from drillfatigue.sweep.stages import dataset_stage  # noqa: E402
 
 
+OPTIONS = (Option("--cases", help="default: sweep.cases_path"),
+           Option("--runs", help="default: sweep.sweep_dir"),
+           Option("--fatigue", help="default: sweep.fatigue_dir"),
+           Option("--out", help="default: sweep.dataset_dir"))
+
+
+def dataset(params: Params, args: Namespace) -> str:
+    metrics = dataset_stage(params, cases_path=args.cases, sweep_dir=args.runs,
+                            fatigue_dir=args.fatigue, dataset_dir=args.out)
+    return f"dataset: {metrics['n_rows']} rows from {metrics['n_cases_in_dataset']} cases"
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--cases", default=None, help="default: sweep.cases_path")
-    parser.add_argument("--runs", default=None, help="default: sweep.sweep_dir")
-    parser.add_argument("--fatigue", default=None, help="default: sweep.fatigue_dir")
-    parser.add_argument("--out", default=None, help="default: sweep.dataset_dir")
-    args = parser.parse_args(argv)
-    try:
-        metrics = dataset_stage(load_params(args.params), cases_path=args.cases,
-                                sweep_dir=args.runs, fatigue_dir=args.fatigue,
-                                dataset_dir=args.out)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    print(f"dataset: {metrics['n_rows']} rows from {metrics['n_cases_in_dataset']} cases")
-    return 0
+    return stage_main(__doc__, dataset, OPTIONS, argv)
 
 
 if __name__ == "__main__":

@@ -18,8 +18,8 @@ Usage: ``python pipeline/design.py [--params params.yaml] [--out data/design/cas
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
 
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -28,29 +28,23 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
-from drillfatigue.errors import InputError  # noqa: E402
-from drillfatigue.sweep.runner import SweepFailedError  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
+from drillfatigue.stage import Option, stage_main  # noqa: E402
 from drillfatigue.sweep.stages import design_stage  # noqa: E402
 
 
+OPTIONS = (Option("--out", help="case table (default: sweep.cases_path)"),
+           Option("--progress", switch=True,
+                  help="progress bars of the adaptive design's simulations"))
+
+
+def design(params: Params, args: Namespace) -> str:
+    frame = design_stage(params, args.out, progress=args.progress)
+    return f"design: {len(frame)} cases"
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--out", default=None, help="case table (default: sweep.cases_path)")
-    parser.add_argument("--progress", action="store_true",
-                        help="progress bars of the adaptive design's simulations")
-    args = parser.parse_args(argv)
-    try:
-        frame = design_stage(load_params(args.params), args.out, progress=args.progress)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    except SweepFailedError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
-    print(f"design: {len(frame)} cases")
-    return 0
+    return stage_main(__doc__, design, OPTIONS, argv)
 
 
 if __name__ == "__main__":

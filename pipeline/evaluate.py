@@ -26,8 +26,9 @@ case's draws (rpm moved by ``heldout.draw_rel_step``) beside the single run.
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
+from typing import TYPE_CHECKING, Any
 
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -36,8 +37,78 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
+from drillfatigue.config import Params, SurrogateConfig  # noqa: E402
 from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.stage import Option, stage_main  # noqa: E402
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+
+#: Kind of the ownership marker of the evaluation plots folder.
+PLOTS_KIND = "evaluation"
+
+OPTIONS = (
+    Option("--data", default="data/dataset/damage.parquet"),
+    Option("--model", default="data/surrogate/model"),
+    Option("--metrics", default="data/surrogate/metrics.json"),
+    Option("--plots", default="data/surrogate/plots", folder=PLOTS_KIND),
+    Option("--synthetic-cases", type=int, default=0),
+    Option("--noise-floor", help="spread.json of the replicates stage: adds the noise floor"),
+    Option("--heldout", help="held-out dataset to score (default: surrogate.heldout_path)"),
+    Option("--draws", help="spread.parquet of the heldout_draws stage: also scores the "
+                           "held-out rows against the mean rate of their case's draws"),
+)
+
+
+def evaluate_models(params: Params, args: Namespace) -> str:
+    from drillfatigue.files import OutputFolder
+    from drillfatigue.surrogate import Surrogate, make_synthetic_dataset
+    from drillfatigue.surrogate.data import read_dataset
+    from drillfatigue.surrogate.evaluation import evaluate, plot_parity, plot_residuals
+    from drillfatigue.surrogate.io import write_csv, write_json
+
+    cfg = params.surrogate
+    frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
+             if args.synthetic_cases > 0 else read_dataset(args.data))
+    model = Surrogate.load(args.model)
+    held_path = args.heldout or cfg.heldout_path
+    heldout = read_dataset(held_path) if held_path else None
+    metrics, pred = evaluate(frame, model, cfg, heldout=heldout)
+    if args.noise_floor:
+        from drillfatigue.surrogate.evaluation import noise_floor_metrics, read_spread
+
+        spread = read_spread(args.noise_floor, cfg.criterion)
+        metrics["noise_floor"] = noise_floor_metrics(spread, pred["y_true"].to_numpy(), metrics)
+    if args.draws:
+        metrics["deciding_draws"] = _draws_metrics(args.draws, pred, heldout, cfg)
+    plots = OutputFolder(args.plots, PLOTS_KIND, "--plots")
+    write_json(metrics, args.metrics)
+    write_csv(pred, plots.file("predictions.csv"))
+    plot_parity(pred, str(plots.file("parity.png")))
+    plot_residuals(pred, str(plots.file("residuals.png")))
+    return "\n".join(_summary_lines(metrics, cfg.horizon_h))
+
+
+def _draws_metrics(draws_path: str, pred: pd.DataFrame, heldout: pd.DataFrame | None,
+                   cfg: SurrogateConfig) -> dict[str, Any]:
+    """The held-out rows scored against the mean rate of their case's draws."""
+    import pandas as pd
+
+    from drillfatigue.surrogate.evaluation import draws_metrics, mean_of_draws_log10
+
+    if heldout is None:
+        raise InputError("--draws", "given without a held-out dataset",
+                         "--heldout or surrogate.heldout_path")
+    if not (pred["case_id"].astype(str).to_numpy()
+            == heldout["case_id"].astype(str).to_numpy()).all():
+        raise InputError("--draws", "the scored rows are not the held-out rows in order",
+                         "the held-out dataset the model was evaluated on")
+    table = pd.read_parquet(draws_path)
+    y_draws = mean_of_draws_log10(heldout, table, cfg.rate_floor_per_h)
+    y_log = mean_of_draws_log10(heldout, table, cfg.rate_floor_per_h, average="log10")
+    models = tuple(m for m in ("ensemble", "gp", "hgb") if m in pred.columns)
+    return draws_metrics(pred, y_draws, models, cfg.horizon_h, y_log)
 
 
 def _cell(v: float | None, width: int) -> str:
@@ -45,85 +116,21 @@ def _cell(v: float | None, width: int) -> str:
     return f"{v:{width}.3f}" if v is not None else f"{'-':>{width}s}"
 
 
-#: Kind of the ownership marker of the evaluation plots folder.
-PLOTS_KIND = "evaluation"
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--data", default="data/dataset/damage.parquet")
-    parser.add_argument("--model", default="data/surrogate/model")
-    parser.add_argument("--metrics", default="data/surrogate/metrics.json")
-    parser.add_argument("--plots", default="data/surrogate/plots")
-    parser.add_argument("--synthetic-cases", type=int, default=0)
-    parser.add_argument("--noise-floor", default=None,
-                        help="spread.json of the replicates stage: adds the noise floor")
-    parser.add_argument("--heldout", default=None,
-                        help="held-out dataset to score (default: surrogate.heldout_path)")
-    parser.add_argument("--draws", default=None,
-                        help="spread.parquet of the heldout_draws stage: also scores the "
-                             "held-out rows against the mean rate of their case's draws")
-    args = parser.parse_args(argv)
-    try:
-        from drillfatigue.files import OutputFolder
-        from drillfatigue.surrogate import Surrogate, make_synthetic_dataset
-        from drillfatigue.surrogate.evaluation import evaluate, plot_parity, plot_residuals
-        from drillfatigue.surrogate.io import write_csv, write_json
-        from drillfatigue.surrogate.data import read_dataset
-
-        OutputFolder.check(args.plots, PLOTS_KIND, "--plots")  # before the evaluation
-        cfg = load_params(args.params).surrogate
-        frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
-                 if args.synthetic_cases > 0 else read_dataset(args.data))
-        model = Surrogate.load(args.model)
-        held_path = args.heldout or cfg.heldout_path
-        heldout = read_dataset(held_path) if held_path else None
-        metrics, pred = evaluate(frame, model, cfg, heldout=heldout)
-        if args.noise_floor:
-            from drillfatigue.surrogate.evaluation import noise_floor_metrics, read_spread
-
-            spread = read_spread(args.noise_floor, cfg.criterion)
-            metrics["noise_floor"] = noise_floor_metrics(spread, pred["y_true"].to_numpy(),
-                                                         metrics)
-        if args.draws:
-            import pandas as pd
-
-            from drillfatigue.surrogate.evaluation import draws_metrics, mean_of_draws_log10
-
-            if heldout is None:
-                raise InputError("--draws", "given without a held-out dataset",
-                                 "--heldout or surrogate.heldout_path")
-            if not (pred["case_id"].astype(str).to_numpy()
-                    == heldout["case_id"].astype(str).to_numpy()).all():
-                raise InputError("--draws", "the scored rows are not the held-out rows in order",
-                                 "the held-out dataset the model was evaluated on")
-            table = pd.read_parquet(args.draws)
-            y_draws = mean_of_draws_log10(heldout, table, cfg.rate_floor_per_h)
-            y_log = mean_of_draws_log10(heldout, table, cfg.rate_floor_per_h, average="log10")
-            models = tuple(m for m in ("ensemble", "gp", "hgb") if m in pred.columns)
-            metrics["deciding_draws"] = draws_metrics(pred, y_draws, models, cfg.horizon_h,
-                                                      y_log)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    plots = OutputFolder(args.plots, PLOTS_KIND, "--plots")
-    write_json(metrics, args.metrics)
-    write_csv(pred, plots.file("predictions.csv"))
-    plot_parity(pred, str(plots.file("parity.png")))
-    plot_residuals(pred, str(plots.file("residuals.png")))
-    print(f"scored on {metrics['test_source']} cases ({metrics['n_test_cases']}); "
-          f"horizon {cfg.horizon_h:.3g} h")
+def _summary_lines(metrics: dict[str, Any], horizon_h: float) -> list[str]:
+    """The printed summary: scores per model, against the draws, by decade."""
+    lines = [f"scored on {metrics['test_source']} cases ({metrics['n_test_cases']}); "
+             f"horizon {horizon_h:.3g} h"]
     for m in ("ensemble", "gp", "hgb"):
         s = metrics[m]
         d = metrics["deciding"][m]
         rows, gov, bh = d["rows"], d["governing"], d["beyond_horizon"]
-        print(f"{m:9s} R2 {s['r2']:.4f}  RMSE {s['rmse']:.4f}  coverage {s['coverage']:.3f}  "
-              f"factor-2 {s['factor2_fraction']:.3f}; predicted within the horizon "
-              f"({rows['n']} rows): RMSE {rows['rmse']:.3f}, factor-2 "
-              f"{rows['factor2_fraction']:.3f}, coverage {rows['coverage']:.3f}; governing per "
-              f"component: factor-2 {gov['factor2_fraction']:.3f}; 'longer than' precision "
-              f"{bh['precision']:.3f}")
+        lines.append(
+            f"{m:9s} R2 {s['r2']:.4f}  RMSE {s['rmse']:.4f}  coverage {s['coverage']:.3f}  "
+            f"factor-2 {s['factor2_fraction']:.3f}; predicted within the horizon "
+            f"({rows['n']} rows): RMSE {rows['rmse']:.3f}, factor-2 "
+            f"{rows['factor2_fraction']:.3f}, coverage {rows['coverage']:.3f}; governing per "
+            f"component: factor-2 {gov['factor2_fraction']:.3f}; 'longer than' precision "
+            f"{bh['precision']:.3f}")
     dd = metrics.get("deciding_draws", {})
     if dd.get("n_rows"):
         for m in ("ensemble", "gp", "hgb"):
@@ -131,21 +138,28 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             one, avg = dd["single_run"][m]["rows"], dd["mean_of_draws"][m]["rows"]
             geo = dd["log_mean_of_draws"][m]["rows"]
-            print(f"{m:9s} predicted within the horizon, against the single run / the mean "
-                  f"rate of the case's draws / their mean log10 ({dd['n_cases']} cases): "
-                  f"factor-2 {one['factor2_fraction']:.3f} / {avg['factor2_fraction']:.3f} / "
-                  f"{geo['factor2_fraction']:.3f}, RMSE {one['rmse']:.3f} / {avg['rmse']:.3f} / "
-                  f"{geo['rmse']:.3f}")
+            lines.append(
+                f"{m:9s} predicted within the horizon, against the single run / the mean "
+                f"rate of the case's draws / their mean log10 ({dd['n_cases']} cases): "
+                f"factor-2 {one['factor2_fraction']:.3f} / {avg['factor2_fraction']:.3f} / "
+                f"{geo['factor2_fraction']:.3f}, RMSE {one['rmse']:.3f} / {avg['rmse']:.3f} / "
+                f"{geo['rmse']:.3f}")
     table = metrics.get("noise_floor", {}).get("by_decade")
     if table:
-        print("factor-2 fraction by decade of damage rate per h "
-              "(ceiling: replicate runs against each other)")
-        print(f"{'decade':>8s} {'ceiling':>8s} {'ensemble':>9s} {'gp':>6s} {'hgb':>6s} {'test rows':>10s}")
+        lines.append("factor-2 fraction by decade of damage rate per h "
+                     "(ceiling: replicate runs against each other)")
+        lines.append(f"{'decade':>8s} {'ceiling':>8s} {'ensemble':>9s} {'gp':>6s} {'hgb':>6s} "
+                     f"{'test rows':>10s}")
         for key, row in table.items():
-            print(f"{key:>8s} {_cell(row['ceiling_factor2'], 8)} {_cell(row.get('ensemble'), 9)} "
-                  f"{_cell(row.get('gp'), 6)} {_cell(row.get('hgb'), 6)} "
-                  f"{row.get('n_test_rows', 0):10d}")
-    return 0
+            lines.append(
+                f"{key:>8s} {_cell(row['ceiling_factor2'], 8)} {_cell(row.get('ensemble'), 9)} "
+                f"{_cell(row.get('gp'), 6)} {_cell(row.get('hgb'), 6)} "
+                f"{row.get('n_test_rows', 0):10d}")
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    return stage_main(__doc__, evaluate_models, OPTIONS, argv)
 
 
 if __name__ == "__main__":

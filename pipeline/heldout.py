@@ -14,8 +14,8 @@ Usage: ``python pipeline/heldout.py [--params params.yaml] [--no-progress]``
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
 
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -24,28 +24,19 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
-from drillfatigue.errors import InputError  # noqa: E402
-from drillfatigue.sweep.runner import SweepFailedError  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
+from drillfatigue.stage import NO_PROGRESS, stage_main  # noqa: E402
 from drillfatigue.sweep.stages import heldout_stage  # noqa: E402
 
 
+def heldout(params: Params, args: Namespace) -> str:
+    metrics = heldout_stage(params, progress=not args.no_progress)
+    return (f"heldout: {metrics['n_rows']} rows from {metrics['n_cases_in_dataset']} cases "
+            f"({metrics['n_cases_shared_with_training_dropped']} shared with training left out)")
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--no-progress", action="store_true")
-    args = parser.parse_args(argv)
-    try:
-        metrics = heldout_stage(load_params(args.params), progress=not args.no_progress)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    except SweepFailedError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
-    print(f"heldout: {metrics['n_rows']} rows from {metrics['n_cases_in_dataset']} cases "
-          f"({metrics['n_cases_shared_with_training_dropped']} shared with training left out)")
-    return 0
+    return stage_main(__doc__, heldout, [NO_PROGRESS], argv)
 
 
 if __name__ == "__main__":

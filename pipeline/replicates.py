@@ -15,8 +15,8 @@ Usage: ``python pipeline/replicates.py [--params params.yaml] [--no-progress]``
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
 
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -25,29 +25,20 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
-from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
+from drillfatigue.stage import NO_PROGRESS, stage_main  # noqa: E402
 from drillfatigue.sweep.replicates import replicates_stage  # noqa: E402
-from drillfatigue.sweep.runner import SweepFailedError  # noqa: E402
+
+
+def replicates(params: Params, args: Namespace) -> str:
+    result = replicates_stage(params, progress=not args.no_progress)
+    return (f"replicates: {result['n_cases']} cases x {result['n_replicates']} runs, "
+            f"sigma {result['sigma_log10']:.3f} decades, factor-2 ceiling "
+            f"{result['ceiling_factor2_fraction']:.3f}, R2 ceiling {result['ceiling_r2']:.3f}")
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--no-progress", action="store_true")
-    args = parser.parse_args(argv)
-    try:
-        result = replicates_stage(load_params(args.params), progress=not args.no_progress)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    except SweepFailedError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
-    print(f"replicates: {result['n_cases']} cases x {result['n_replicates']} runs, "
-          f"sigma {result['sigma_log10']:.3f} decades, factor-2 ceiling "
-          f"{result['ceiling_factor2_fraction']:.3f}, R2 ceiling {result['ceiling_r2']:.3f}")
-    return 0
+    return stage_main(__doc__, replicates, [NO_PROGRESS], argv)
 
 
 if __name__ == "__main__":

@@ -9,8 +9,9 @@ Usage: ``python pipeline/report.py [--params params.yaml] [--out data/report]``
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
+from functools import partial
 from pathlib import Path
 
 from drillfatigue.numba_cache import scope_numba_cache
@@ -20,31 +21,27 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.config.studies import ReportConfig  # noqa: E402
+from drillfatigue.stage import Option, stage_main  # noqa: E402
 from drillfatigue.studies.report import write_report  # noqa: E402
 from drillfatigue.studies.stages import load_section  # noqa: E402
 
 
+OPTIONS = (Option("--case1", default="data/case1"), Option("--case2", default="data/case2"),
+           Option("--case3", default="data/case3"), Option("--plan", default="data/plan"),
+           Option("--timings", default="pipeline/paper_scale_timings.json"),
+           Option("--out", help="default: report.out_dir"))
+
+
+def report(cfg: ReportConfig, args: Namespace) -> None:
+    out = Path(args.out or cfg.out_dir)
+    plan = Path(args.plan) if Path(args.plan).is_dir() else None
+    write_report(Path(args.case1), Path(args.case2), Path(args.case3), out, plan_dir=plan,
+                 timings_path=Path(args.timings))
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--case1", default="data/case1")
-    parser.add_argument("--case2", default="data/case2")
-    parser.add_argument("--case3", default="data/case3")
-    parser.add_argument("--plan", default="data/plan")
-    parser.add_argument("--timings", default="pipeline/paper_scale_timings.json")
-    parser.add_argument("--out", default=None, help="default: report.out_dir")
-    args = parser.parse_args(argv)
-    try:
-        cfg = load_section(args.params, "report")
-        out = Path(args.out or cfg.out_dir)
-        plan = Path(args.plan) if Path(args.plan).is_dir() else None
-        write_report(Path(args.case1), Path(args.case2), Path(args.case3), out, plan_dir=plan,
-                     timings_path=Path(args.timings))
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    return 0
+    return stage_main(__doc__, report, OPTIONS, argv, load=partial(load_section, name="report"))
 
 
 if __name__ == "__main__":

@@ -14,8 +14,8 @@ Usage: ``python pipeline/research_dataset.py [--params params.yaml] [--root data
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
 from pathlib import Path
 
 from drillfatigue.numba_cache import scope_numba_cache
@@ -24,8 +24,9 @@ from drillfatigue.numba_cache import scope_numba_cache
 scope_numba_cache()
 
 from drillfatigue.benchmark.card import case_provenance  # noqa: E402
-from drillfatigue.config import load_params  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
 from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.stage import Option, stage_main  # noqa: E402
 from drillfatigue.sweep.design import read_cases  # noqa: E402
 from drillfatigue.sweep.research import SPLITS, assemble_research, read_lineage  # noqa: E402
 
@@ -48,21 +49,16 @@ def check_case_files(root: Path) -> None:
                          "dataset restamp found equal (digests.json)")
 
 
+def research_dataset(params: Params, args: Namespace) -> str:
+    root = Path(args.root)
+    check_case_files(root)
+    counts = assemble_research(root, params)
+    return (f"research dataset: {counts['n_cases_train']} + {counts['n_cases_heldout']} cases, "
+            f"{counts['n_rows_train']} + {counts['n_rows_heldout']} rows -> {root / 'dataset'}")
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--root", default="data/research")
-    args = parser.parse_args(argv)
-    try:
-        root = Path(args.root)
-        check_case_files(root)
-        counts = assemble_research(root, load_params(args.params))
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    print(f"research dataset: {counts['n_cases_train']} + {counts['n_cases_heldout']} cases, "
-          f"{counts['n_rows_train']} + {counts['n_rows_heldout']} rows -> {root / 'dataset'}")
-    return 0
+    return stage_main(__doc__, research_dataset, [Option("--root", default="data/research")], argv)
 
 
 if __name__ == "__main__":

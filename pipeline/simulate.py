@@ -14,8 +14,8 @@ Usage: ``python pipeline/simulate.py [--params params.yaml] [--cases PATH] [--ou
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
 
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -24,38 +24,27 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
-from drillfatigue.errors import InputError  # noqa: E402
-from drillfatigue.sweep.runner import SweepFailedError  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
+from drillfatigue.stage import SWEEP_OPTIONS, Option, stage_main  # noqa: E402
 from drillfatigue.sweep.stages import simulate_stage, write_report  # noqa: E402
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--cases", default=None, help="default: sweep.cases_path")
-    parser.add_argument("--out", default=None, help="default: sweep.sweep_dir")
-    parser.add_argument("--scheduler", default=None, help="override sweep.scheduler")
-    parser.add_argument("--n-workers", type=int, default=None, help="override sweep.n_workers")
-    parser.add_argument("--no-progress", action="store_true")
-    parser.add_argument("--metrics", default=None, help="also write the sweep report here (JSON)")
-    args = parser.parse_args(argv)
-    try:
-        params = load_params(args.params)
-        report = simulate_stage(params, cases_path=args.cases, sweep_dir=args.out,
-                                scheduler=args.scheduler, n_workers=args.n_workers,
-                                progress=not args.no_progress)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    except SweepFailedError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
+OPTIONS = (Option("--cases", help="default: sweep.cases_path"),
+           Option("--out", help="default: sweep.sweep_dir"), *SWEEP_OPTIONS)
+
+
+def simulate(params: Params, args: Namespace) -> str:
+    report = simulate_stage(params, cases_path=args.cases, sweep_dir=args.out,
+                            scheduler=args.scheduler, n_workers=args.n_workers,
+                            progress=not args.no_progress)
     if args.metrics:
         write_report(report, args.metrics)
-    print(f"simulate: {report.n_done} done, {report.n_skipped} already done, "
-          f"{report.n_failed} failed, {report.wall_s:.1f} s")
-    return 0
+    return (f"simulate: {report.n_done} done, {report.n_skipped} already done, "
+            f"{report.n_failed} failed, {report.wall_s:.1f} s")
+
+
+def main(argv: list[str] | None = None) -> int:
+    return stage_main(__doc__, simulate, OPTIONS, argv)
 
 
 if __name__ == "__main__":

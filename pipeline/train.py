@@ -13,8 +13,8 @@ Usage: ``python pipeline/train.py [--params params.yaml] [--data data/dataset/da
 
 from __future__ import annotations
 
-import argparse
 import sys
+from argparse import Namespace
 
 from drillfatigue.numba_cache import scope_numba_cache
 
@@ -23,43 +23,41 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
-from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
+from drillfatigue.stage import Option, stage_main  # noqa: E402
+
+
+OPTIONS = (Option("--data", default="data/dataset/damage.parquet"),
+           Option("--out", default="data/surrogate/model"),
+           Option("--live", default="data/surrogate/training"),
+           Option("--synthetic-cases", type=int, default=0))
+
+
+def train(params: Params, args: Namespace) -> str:
+    from drillfatigue.files import OutputFolder
+    from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
+    from drillfatigue.surrogate.bounds import domain_bounds
+    from drillfatigue.surrogate.data import read_dataset
+    from drillfatigue.surrogate.facade import MODEL_KIND
+
+    cfg = params.surrogate
+    OutputFolder.check(args.out, MODEL_KIND, "--out")  # before minutes of training
+    frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
+             if args.synthetic_cases > 0 else read_dataset(args.data))
+    # the sweep's design bounds the domain the model answers (the synthetic
+    # table has its own ranges: bounded by its rows)
+    bounds = (domain_bounds(params, cfg.features, frame["s_from_bit_m"].to_numpy())
+              if args.synthetic_cases == 0 else None)
+    model = fit_surrogate(frame, cfg, live_dir=args.live, bounds=bounds)
+    model.save(args.out, option="--out")
+    t = model.metadata["training"]
+    return (f"trained {len(cfg.seeds)} members on {t['n_train_rows']} rows "
+            f"({t['epochs']} epochs); conformal q = {model.conformal_quantile:.3f}; "
+            f"saved {args.out}")
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--data", default="data/dataset/damage.parquet")
-    parser.add_argument("--out", default="data/surrogate/model")
-    parser.add_argument("--live", default="data/surrogate/training")
-    parser.add_argument("--synthetic-cases", type=int, default=0)
-    args = parser.parse_args(argv)
-    try:
-        from drillfatigue.files import OutputFolder
-        from drillfatigue.surrogate import fit_surrogate, make_synthetic_dataset
-        from drillfatigue.surrogate.bounds import domain_bounds
-        from drillfatigue.surrogate.facade import MODEL_KIND
-        from drillfatigue.surrogate.data import read_dataset
-
-        params = load_params(args.params)
-        cfg = params.surrogate
-        OutputFolder.check(args.out, MODEL_KIND, "--out")  # before minutes of training
-        frame = (make_synthetic_dataset(args.synthetic_cases, seed=cfg.split_seed)
-                 if args.synthetic_cases > 0 else read_dataset(args.data))
-        # the sweep's design bounds the domain the model answers (the synthetic
-        # table has its own ranges: bounded by its rows)
-        bounds = (domain_bounds(params, cfg.features, frame["s_from_bit_m"].to_numpy())
-                  if args.synthetic_cases == 0 else None)
-        model = fit_surrogate(frame, cfg, live_dir=args.live, bounds=bounds)
-        model.save(args.out, option="--out")
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    t = model.metadata["training"]
-    print(f"trained {len(cfg.seeds)} members on {t['n_train_rows']} rows "
-          f"({t['epochs']} epochs); conformal q = {model.conformal_quantile:.3f}; saved {args.out}")
-    return 0
+    return stage_main(__doc__, train, OPTIONS, argv)
 
 
 if __name__ == "__main__":

@@ -10,9 +10,9 @@ Usage: ``python pipeline/wells.py [--params params.yaml] [--out data/wells]``
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
+from argparse import Namespace
 from pathlib import Path
 
 from drillfatigue.numba_cache import scope_numba_cache
@@ -22,23 +22,15 @@ from drillfatigue.numba_cache import scope_numba_cache
 # imported above it in the unscoped in-tree cache (stale across modules).
 scope_numba_cache()
 
-from drillfatigue.config import load_params  # noqa: E402
-from drillfatigue.errors import InputError  # noqa: E402
+from drillfatigue.config import Params  # noqa: E402
+from drillfatigue.stage import Option, stage_main  # noqa: E402
 from drillfatigue.well.outputs import write_well_outputs  # noqa: E402
 from drillfatigue.well.survey import atomic_output  # noqa: E402
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--out", default="data/wells")
-    args = parser.parse_args(argv)
-    try:
-        cfg = load_params(args.params).well
-        summary = write_well_outputs(cfg, args.out)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
+def wells(params: Params, args: Namespace) -> None:
+    cfg = params.well
+    summary = write_well_outputs(cfg, args.out)
     family = [s for n, s in summary.items() if cfg.profiles[n].kind == "family_member"]
     metrics = {"profiles": summary}
     if family:
@@ -48,7 +40,10 @@ def main(argv: list[str] | None = None) -> int:
         metrics["family_end_spread_m"] = spread
     with atomic_output(Path(args.out) / "summary.json") as tmp:
         tmp.write_text(json.dumps(metrics, indent=2) + "\n", encoding="utf-8")
-    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    return stage_main(__doc__, wells, [Option("--out", default="data/wells")], argv)
 
 
 if __name__ == "__main__":

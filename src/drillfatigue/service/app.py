@@ -31,6 +31,7 @@ from __future__ import annotations
 import json
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from importlib import resources
 from pathlib import Path
@@ -324,6 +325,14 @@ def _candidates(req: PlanRankRequest, limits: Limits) -> CandidateFile:
     return cset
 
 
+#: Error answers the model and ledger endpoints document.
+ERRORS: dict[int | str, dict[str, Any]] = {
+    422: {"model": ErrorResponse, "description": "invalid request, one line"},
+    413: {"model": ErrorResponse, "description": "body over the size limit"},
+    503: {"model": ErrorResponse, "description": "the server was started without the "
+          "model or the ledger this needs"}}
+
+
 def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
                ledger: Ledger | None = None) -> FastAPI:
     """The service answering with the models of ``registry`` and from ``ledger``.
@@ -340,11 +349,6 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
         ``/v1/ledger`` endpoints; None: they answer 503.
     """
     lim = limits or Limits()
-    errors: dict[int | str, dict[str, Any]] = {
-        422: {"model": ErrorResponse, "description": "invalid request, one line"},
-        413: {"model": ErrorResponse, "description": "body over the size limit"},
-        503: {"model": ErrorResponse, "description": "the server was started without the "
-              "model or the ledger this needs"}}
     app = FastAPI(title="drillfatigue digital twin", version=__version__,
                   description="Fatigue damage of a drill string from the surrogate: "
                   "queries, operating-log replay, operating-window maps, well-plan ranking; "
@@ -359,6 +363,26 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
             raise NotServed("model", "this server loaded no model",
                             "start it with drillfatigue serve --model FOLDER")
         return registry
+
+    _add_error_handlers(app)
+
+    @app.get("/healthz", response_model=HealthResponse)
+    def healthz() -> HealthResponse:
+        return HealthResponse(status="ok",
+                              models={} if registry is None else
+                              {m.name: m.generation for m in registry.all()},
+                              ledger=None if ledger is None else ledger.dialect)
+
+    _add_model_routes(app, models, lim)
+    _add_twin_routes(app, models, lim)
+    add_ledger_routes(app, ledger, lim.max_log_rows, ERRORS)
+    _add_pages(app)
+    app.add_middleware(_Guard, max_body_bytes=lim.max_body_bytes)
+    return app
+
+
+def _add_error_handlers(app: FastAPI) -> None:
+    """Every refusal as one JSON line: bad input 422, a refusal its status, 404 naming the path."""
 
     @app.exception_handler(InputError)
     async def _input_error(request: StarletteRequest, exc: InputError) -> JSONResponse:
@@ -383,30 +407,27 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
                             content={"detail": " ".join(detail.split())},
                             headers=getattr(exc, "headers", None))
 
-    @app.get("/healthz", response_model=HealthResponse)
-    def healthz() -> HealthResponse:
-        return HealthResponse(status="ok",
-                              models={} if registry is None else
-                              {m.name: m.generation for m in registry.all()},
-                              ledger=None if ledger is None else ledger.dialect)
 
-    @app.get("/v1/models", response_model=ModelsResponse, responses=errors)
+def _add_model_routes(app: FastAPI, models: Callable[[], ModelRegistry], lim: Limits) -> None:
+    """The model endpoints: list, card, reload, query, and the field example."""
+
+    @app.get("/v1/models", response_model=ModelsResponse, responses=ERRORS)
     def models_list() -> ModelsResponse:
         reg = models()
         return ModelsResponse(default=reg.default, models=[_summary(m) for m in reg.all()])
 
-    @app.get("/v1/model", response_model=ModelCard, responses=errors)
+    @app.get("/v1/model", response_model=ModelCard, responses=ERRORS)
     def model(name: str | None = None) -> ModelCard:
         return model_card(models().get(name, "name"), lim)
 
-    @app.post("/v1/model/reload", response_model=ReloadResponse, responses=errors)
+    @app.post("/v1/model/reload", response_model=ReloadResponse, responses=ERRORS)
     def reload(req: ReloadRequest | None = None) -> ReloadResponse:
         fresh = models().reload(req.model if req is not None else None)
         log.info("reloaded %s", ", ".join(f"{m.name} (generation {m.generation})"
                                           for m in fresh))
         return ReloadResponse(reloaded=[_summary(m) for m in fresh])
 
-    @app.post("/v1/query", response_model=QueryResponse, responses=errors)
+    @app.post("/v1/query", response_model=QueryResponse, responses=ERRORS)
     def query(req: QueryRequest) -> QueryResponse:
         lm = models().get(req.model)
         if len(req.rows) > lim.max_query_rows:
@@ -420,40 +441,17 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
         the survey (SI rows), as a replay request takes them."""
         return ExampleResponse(**field_example())
 
-    @app.post("/v1/twin/replay", response_model=ReplayResponse, responses=errors)
+
+def _add_twin_routes(app: FastAPI, models: Callable[[], ModelRegistry], lim: Limits) -> None:
+    """The endpoints that answer from a model: log replay, plan ranking, window maps."""
+
+    @app.post("/v1/twin/replay", response_model=ReplayResponse, responses=ERRORS)
     def twin_replay(req: ReplayRequest) -> ReplayResponse:
         lm = models().get(req.model)
         log_t = read_log(req.log.format, req.log.text.encode("utf-8"))
         if len(log_t) > lim.max_log_rows:
             raise InputError("log.text", f"{len(log_t)} rows", f"at most {lim.max_log_rows}")
-        given = [k for k in ("components", "components_csv", "string", "tally_csv")
-                 if getattr(req, k) is not None]
-        if len(given) != 1:
-            raise InputError("components", f"given {len(given)} of components, "
-                             "components_csv, string, tally_csv", "exactly one of them")
-        if req.string is not None:
-            comp_t = components_from_string(req.string)
-        elif req.tally_csv is not None:
-            try:
-                tally = load_tally_text(req.tally_csv, "tally_csv")
-            except InputError as exc:
-                raise _prefixed(exc, "tally_csv") from None
-            comp_t = components_from_string(tally.string, kinds=tally.kinds)
-        elif req.components is not None:
-            comp_t = _table(req.components, "components")
-        else:
-            try:
-                comp_t = read_csv_table((req.components_csv or "").encode("utf-8"),
-                                        "component list")
-            except InputError as exc:
-                raise _prefixed(exc, "components_csv") from None
-        if len(comp_t) == 0 or len(comp_t) > lim.max_components:
-            raise InputError(given[0], f"{len(comp_t)} components",
-                             f"1 to {lim.max_components}")
-        try:
-            components_from_table(comp_t)
-        except InputError as exc:
-            raise _prefixed(exc, given[0]) from None
+        comp_t = _replay_components(req, lim)
         if req.survey is not None and req.well is not None:
             raise InputError("well", "given together with survey", "at most one of them")
         survey_t = (survey_from_well(req.well) if req.well is not None
@@ -468,7 +466,7 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
                               columns=[str(k) for k in c.columns], components=_records(c),
                               retire=retire)
 
-    @app.post("/v1/plan/rank", response_model=PlanRankResponse, responses=errors)
+    @app.post("/v1/plan/rank", response_model=PlanRankResponse, responses=ERRORS)
     def plan_rank(req: PlanRankRequest) -> PlanRankResponse:
         lm = models().get(req.model)
         cset = _candidates(req, lim)
@@ -480,7 +478,7 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
                                 window_s=float(cset.window.window_s),
                                 columns=[str(k) for k in table.columns], rows=_records(table))
 
-    @app.post("/v1/window", response_model=WindowResponse, responses=errors)
+    @app.post("/v1/window", response_model=WindowResponse, responses=ERRORS)
     def window(req: WindowRequest) -> WindowResponse:
         lm, wmap = _window(models(), req, lim)
         return WindowResponse(**_answer(lm),
@@ -493,13 +491,47 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
                               fixed={k: _cell(v) for k, v in wmap.fixed.items()})
 
     @app.post("/v1/window.png", response_class=Response, responses={
-        **errors, 200: {"content": {"image/png": {}}, "description": "the map as PNG"}})
+        **ERRORS, 200: {"content": {"image/png": {}}, "description": "the map as PNG"}})
     def window_image(req: WindowRequest) -> Response:
         _, wmap = _window(models(), req, lim)
         return Response(content=window_png(wmap), media_type="image/png")
 
-    add_ledger_routes(app, ledger, lim.max_log_rows, errors)
 
+def _replay_components(req: ReplayRequest, lim: Limits) -> pd.DataFrame:
+    """The component table of a replay request, from exactly one of its four forms."""
+    given = [k for k in ("components", "components_csv", "string", "tally_csv")
+             if getattr(req, k) is not None]
+    if len(given) != 1:
+        raise InputError("components", f"given {len(given)} of components, "
+                         "components_csv, string, tally_csv", "exactly one of them")
+    if req.string is not None:
+        comp_t = components_from_string(req.string)
+    elif req.tally_csv is not None:
+        try:
+            tally = load_tally_text(req.tally_csv, "tally_csv")
+        except InputError as exc:
+            raise _prefixed(exc, "tally_csv") from None
+        comp_t = components_from_string(tally.string, kinds=tally.kinds)
+    elif req.components is not None:
+        comp_t = _table(req.components, "components")
+    else:
+        try:
+            comp_t = read_csv_table((req.components_csv or "").encode("utf-8"),
+                                    "component list")
+        except InputError as exc:
+            raise _prefixed(exc, "components_csv") from None
+    if len(comp_t) == 0 or len(comp_t) > lim.max_components:
+        raise InputError(given[0], f"{len(comp_t)} components",
+                         f"1 to {lim.max_components}")
+    try:
+        components_from_table(comp_t)
+    except InputError as exc:
+        raise _prefixed(exc, given[0]) from None
+    return comp_t
+
+
+def _add_pages(app: FastAPI) -> None:
+    """The web page, the API docs page (Swagger UI from the package) and its static files."""
     static = Path(str(resources.files("drillfatigue.service") / "static"))
 
     @app.get("/", include_in_schema=False)
@@ -516,6 +548,4 @@ def create_app(registry: ModelRegistry | None, limits: Limits | None = None,
                                    swagger_favicon_url="data:,")
 
     app.mount("/static", StaticFiles(directory=static), name="static")
-    app.add_middleware(_Guard, max_body_bytes=lim.max_body_bytes)
-    return app
 

@@ -8,10 +8,10 @@ runs, and writes its folder plus a small metrics JSON.
 from __future__ import annotations
 
 import argparse
-import sys
+import functools
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from drillfatigue.config import FatigueConfig, WellConfig
 from drillfatigue.config.base import read_yaml, validate
@@ -24,10 +24,22 @@ from drillfatigue.config.studies import (
 )
 from drillfatigue.errors import InputError
 from drillfatigue.files import OutputFolder
+from drillfatigue.stage import Option
+from drillfatigue.stage import stage_main as shared_stage_main
 from drillfatigue.studies.case1 import run_case1
 from drillfatigue.studies.case2 import run_case2
 from drillfatigue.studies.case3 import run_case3
 from drillfatigue.studies.common import write_json
+
+
+class StudyInputs(NamedTuple):
+    """What a case study reads of the params file, validated."""
+
+    name: str
+    config: Any
+    well: dict[str, Any]
+    fatigue: FatigueConfig
+
 
 SECTIONS: dict[str, type] = {"case1": Case1Config, "case2": Case2Config, "case3": Case3Config,
                              "plan": PlanConfig, "report": ReportConfig}
@@ -55,6 +67,15 @@ def shared_sections(params_path: str | Path) -> tuple[dict[str, Any], FatigueCon
     return dict(well), validate(FatigueConfig, fat, "fatigue")
 
 
+def load_study(params_path: str | Path, name: str) -> StudyInputs:
+    """Validate what study ``case1``, ``case2`` or ``case3`` reads of a params file."""
+    if name not in ("case1", "case2", "case3"):
+        raise InputError("study", f"unknown study {name!r}", "case1, case2, case3")
+    cfg = load_section(params_path, name)
+    well, fatigue = shared_sections(params_path)
+    return StudyInputs(name, cfg, well, fatigue)
+
+
 def run_study(name: str, params_path: str | Path, out_dir: str | Path,
               metrics_path: str | Path | None = None, dpi: int = 110) -> dict[str, Any]:
     """Run study ``case1``, ``case2`` or ``case3`` into ``out_dir``; return its summary.
@@ -64,10 +85,13 @@ def run_study(name: str, params_path: str | Path, out_dir: str | Path,
     drillfatigue did not write is refused before the study runs; the files
     the study writes are recorded in its marker.
     """
-    if name not in ("case1", "case2", "case3"):
-        raise InputError("study", f"unknown study {name!r}", "case1, case2, case3")
-    cfg = load_section(params_path, name)
-    well, fatigue = shared_sections(params_path)
+    return run_loaded_study(load_study(params_path, name), out_dir, metrics_path, dpi)
+
+
+def run_loaded_study(study: StudyInputs, out_dir: str | Path,
+                     metrics_path: str | Path | None = None, dpi: int = 110) -> dict[str, Any]:
+    """:func:`run_study` on the inputs :func:`load_study` validated."""
+    name, cfg, well, fatigue = study
     folder = OutputFolder(out_dir, name)
     foreign = _files_under(folder.path) - folder.owned
     t0 = time.perf_counter()
@@ -133,18 +157,13 @@ def _metrics(name: str, s: dict[str, Any], wall: float) -> dict[str, Any]:
 def stage_main(name: str, argv: list[str] | None = None) -> int:
     """Command line of the ``pipeline/<name>.py`` stage script of a case study.
 
-    ``[--params params.yaml] [--out data/<name>] [--metrics JSON]``; bad input
-    is one line ``error: ...`` on stderr and exit code 2.
+    ``[--params params.yaml] [--out data/<name>] [--metrics JSON]``, through the
+    stage scripts' shared :func:`drillfatigue.stage.stage_main`: bad input is one
+    line ``error: ...`` on stderr and exit code 2.
     """
-    parser = argparse.ArgumentParser(description=f"DVC stage {name}: the founding paper's "
-                                                 f"case study {name[-1]}")
-    parser.add_argument("--params", default="params.yaml")
-    parser.add_argument("--out", default=f"data/{name}")
-    parser.add_argument("--metrics", default=None)
-    args = parser.parse_args(argv)
-    try:
-        run_study(name, args.params, args.out, args.metrics)
-    except InputError as exc:
-        print(f"error: {exc.one_line()}", file=sys.stderr)
-        return 2
-    return 0
+    def study(inputs: StudyInputs, args: argparse.Namespace) -> None:
+        run_loaded_study(inputs, args.out, args.metrics)
+
+    return shared_stage_main(f"DVC stage {name}: the founding paper's case study {name[-1]}",
+                             study, (Option("--out", default=f"data/{name}"), Option("--metrics")),
+                             argv, load=functools.partial(load_study, name=name))

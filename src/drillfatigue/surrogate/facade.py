@@ -40,7 +40,8 @@ from drillfatigue.surrogate.conformal import SplitConformal
 from drillfatigue.surrogate.data import case_folds, check_columns, gbm_rows, log10_target, split_by_case
 from drillfatigue.surrogate.export import export_onnx, export_torchscript
 from drillfatigue.surrogate.gbm import FlatForest, design_matrix, monotone_constraints
-from drillfatigue.surrogate.model import DeepEnsembleRegressor, EnsembleModule, Preprocessor
+from drillfatigue.surrogate.model import (DeepEnsembleRegressor, EnsembleModule, Preprocessor,
+                                          TrainingSettings)
 from drillfatigue.surrogate.ood import DomainChecker
 from drillfatigue.surrogate.parallel import map_chunks
 from drillfatigue.surrogate.served_gbm import fit_served_gbm, half_width, interval_bins, scale_model
@@ -64,14 +65,16 @@ PREDICTION_COLUMNS = (
 
 def regressor_from_config(cfg: SurrogateConfig) -> DeepEnsembleRegressor:
     """The ensemble estimator with the hyper-parameters of the ``surrogate`` section."""
+    training = TrainingSettings(
+        learning_rate=cfg.learning_rate, weight_decay=cfg.weight_decay,
+        batch_size=cfg.batch_size, max_epochs=cfg.max_epochs, patience=cfg.patience,
+        validation_fraction=cfg.validation_fraction, nll_beta=cfg.nll_beta,
+        stop_on=cfg.stop_on, random_state=cfg.split_seed, n_threads=cfg.n_threads)
     return DeepEnsembleRegressor(
         numeric_features=list(cfg.features), categorical_features=list(cfg.categorical),
         seeds=list(cfg.seeds), hidden_layers=list(cfg.hidden_layers),
-        activation=cfg.activation, loss=cfg.loss, learning_rate=cfg.learning_rate,
-        weight_decay=cfg.weight_decay, batch_size=cfg.batch_size, max_epochs=cfg.max_epochs,
-        patience=cfg.patience, validation_fraction=cfg.validation_fraction,
-        nll_beta=cfg.nll_beta, stop_on=cfg.stop_on, censor_below=censor_level(cfg),
-        random_state=cfg.split_seed, n_threads=cfg.n_threads)
+        activation=cfg.activation, loss=cfg.loss, censor_below=censor_level(cfg),
+        training=training)
 
 
 def censor_level(cfg: SurrogateConfig) -> float | None:

@@ -19,7 +19,8 @@ from sklearn.model_selection import GroupShuffleSplit
 
 from drillfatigue.config.surrogate import SurrogateConfig
 from drillfatigue.errors import InputError
-from drillfatigue.surrogate.kernels import forest_sum, forest_sum_leafmask, forest_sum_ranked
+from drillfatigue.surrogate.kernels import (Design, LeafMasks, Outputs, RankedTrees, Ranks, Trees,
+                                            forest_sum, forest_sum_leafmask, forest_sum_ranked)
 from drillfatigue.surrogate.model import Preprocessor
 from drillfatigue.surrogate.parallel import map_chunks
 
@@ -355,23 +356,21 @@ class FlatForest:
         return int(self.roots.size)
 
     def _run(self, x_num: np.ndarray, x_cat: np.ndarray, out: np.ndarray) -> None:
+        design = Design(self.mean, self.scale, self.col_cat, self.col_index, self.col_level)
+        outputs = Outputs(self.tree_output, self.baselines)
         if np.isnan(x_num).any():  # NaN has no rank: the float walk, which knows its side
-            forest_sum(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
-                       self.col_level, self.feature, self.threshold, self.child,
-                       self.nan_right, self.value, self.roots, self.depth, self.tree_output,
-                       self.baselines, out)
+            trees = Trees(self.feature, self.threshold, self.child, self.nan_right, self.value,
+                          self.roots, self.depth)
+            forest_sum(x_num, x_cat, design, trees, outputs, out)
             return
+        ranks = Ranks(self.cuts, self.cut_start)
         if self.masks is not None:
-            forest_sum_leafmask(x_num, x_cat, self.mean, self.scale, self.col_cat,
-                                self.col_index, self.col_level, self.cuts, self.cut_start,
-                                self.grid_lo, self.grid_inv, self.grid_start, self.grid_rank,
-                                self.mask_start, self.masks, self.leaf_mask_value,
-                                self.tree_output, self.baselines, out)
+            leafmasks = LeafMasks(self.mask_start, self.masks, self.leaf_mask_value,
+                                  self.grid_lo, self.grid_inv, self.grid_start, self.grid_rank)
+            forest_sum_leafmask(x_num, x_cat, design, ranks, leafmasks, outputs, out)
             return
-        forest_sum_ranked(x_num, x_cat, self.mean, self.scale, self.col_cat, self.col_index,
-                          self.col_level, self.cuts, self.cut_start, self.packed,
-                          self.leaf_value, self.ranked_roots, self.depth, self.tree_output,
-                          self.baselines, out)
+        ranked = RankedTrees(self.packed, self.leaf_value, self.ranked_roots, self.depth)
+        forest_sum_ranked(x_num, x_cat, design, ranks, ranked, outputs, out)
 
     def predict(self, x_num: np.ndarray, x_cat: np.ndarray) -> np.ndarray:
         """Prediction from raw numeric features (n, n_numeric) and level codes.

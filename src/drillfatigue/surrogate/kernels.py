@@ -1,15 +1,53 @@
-"""Numba kernels of the surrogate package (numpy/numba only, STYLE.md habit 1)."""
+"""Numba kernels of the surrogate package (numpy/numba only, STYLE.md habit 1).
+
+The forest kernels take their arrays in named bundles (numba compiles a field
+access to a plain array access; the caller passes the arrays it holds, no copies):
+
+:data:`Design`
+    How the model's input column ``j`` is built from a row: per numeric
+    feature ``mean``, ``scale`` (float64); per input column ``col_cat`` (0
+    numeric, 1 one-hot level), ``col_index`` (the feature) and ``col_level``
+    (the level of a one-hot column), int64.
+:data:`Outputs`
+    Which output each tree adds to, ``tree_output`` (n_trees,) int64, and each
+    output's ``baseline`` (n_outputs,) float64.
+:data:`Trees`
+    The trees as nodes for the float walk of :func:`forest_sum`: ``feature``,
+    ``threshold``, ``child`` (n_nodes, 2), ``nan_right``, leaf ``value``, and
+    per tree its ``roots`` node and ``depth``.
+:data:`Ranks`
+    Per input column the sorted distinct split thresholds ``cuts``, column ``j``
+    at ``cut_start[j]:cut_start[j + 1]``.
+:data:`RankedTrees`
+    The trees as packed nodes for :func:`forest_sum_ranked`: ``packed``,
+    ``value``, ``roots``, ``depth``.
+:data:`LeafMasks`
+    The leaf masks of :func:`forest_sum_leafmask` (``mask_start``, ``masks``,
+    ``leaf_value``) and its rank guesses (``grid_lo``, ``grid_inv``,
+    ``grid_start``, ``grid_rank``).
+"""
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
 from numba.cpython.unsafe.numbers import trailing_zeros
 
-__all__ = ["forest_sum", "forest_sum_leafmask", "forest_sum_ranked", "knn_mean_distance",
-           "knn_within", "outside_ranges"]
+__all__ = ["Design", "LeafMasks", "Outputs", "RankedTrees", "Ranks", "Trees", "forest_sum",
+           "forest_sum_leafmask", "forest_sum_ranked", "knn_mean_distance", "knn_within",
+           "outside_ranges"]
+
+Design = namedtuple("Design", ("mean", "scale", "col_cat", "col_index", "col_level"))
+Outputs = namedtuple("Outputs", ("tree_output", "baseline"))
+Trees = namedtuple("Trees", ("feature", "threshold", "child", "nan_right", "value", "roots",
+                             "depth"))
+Ranks = namedtuple("Ranks", ("cuts", "cut_start"))
+RankedTrees = namedtuple("RankedTrees", ("packed", "value", "roots", "depth"))
+LeafMasks = namedtuple("LeafMasks", ("mask_start", "masks", "leaf_value", "grid_lo", "grid_inv",
+                                     "grid_start", "grid_rank"))
 
 
 @njit(cache=True, nogil=True)
@@ -62,12 +100,8 @@ def _rank(cuts: np.ndarray, lo: int, hi: int, v: float) -> int:
 
 
 @njit(cache=True, nogil=True)
-def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np.ndarray,
-               col_cat: np.ndarray, col_index: np.ndarray, col_level: np.ndarray,
-               feature: np.ndarray, threshold: np.ndarray, child: np.ndarray,
-               nan_right: np.ndarray, value: np.ndarray, roots: np.ndarray,
-               depth: np.ndarray, tree_output: np.ndarray, baseline: np.ndarray,
-               out: np.ndarray) -> None:
+def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, design: Design, trees: Trees,
+               outputs: Outputs, out: np.ndarray) -> None:
     """Sums of the leaf values of forests of binary regression trees, per row, into ``out``.
 
     The model's input column ``j`` is built per row as the gradient boosting's
@@ -91,6 +125,9 @@ def forest_sum(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray, scale: np
     ``baseline`` tree by tree, in the model's order, so each sum is
     scikit-learn's float64 number for that model.
     """
+    mean, scale, col_cat, col_index, col_level = design
+    feature, threshold, child, nan_right, value, roots, depth = trees
+    tree_output, baseline = outputs
     n = x_num.shape[0]
     n_cols = col_cat.shape[0]
     n_trees = roots.shape[0]
@@ -129,12 +166,8 @@ _LEAF = 0xFFFF  # rank "threshold" of a leaf: above every rank, so a leaf never 
 
 
 @njit(cache=True, nogil=True)
-def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
-                      scale: np.ndarray, col_cat: np.ndarray, col_index: np.ndarray,
-                      col_level: np.ndarray, cuts: np.ndarray, cut_start: np.ndarray,
-                      packed: np.ndarray, value: np.ndarray, roots: np.ndarray,
-                      depth: np.ndarray, tree_output: np.ndarray, baseline: np.ndarray,
-                      out: np.ndarray) -> None:
+def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, design: Design, ranks: Ranks,
+                      trees: RankedTrees, outputs: Outputs, out: np.ndarray) -> None:
     """:func:`forest_sum` on rows without NaN, with each input replaced by its rank.
 
     Input column ``j`` is built per row as in :func:`forest_sum`, then
@@ -152,6 +185,10 @@ def forest_sum_ranked(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
     :func:`forest_sum`'s (and scikit-learn's) float64 numbers. A NaN input
     has no rank: such rows go to :func:`forest_sum`.
     """
+    mean, scale, col_cat, col_index, col_level = design
+    cuts, cut_start = ranks
+    packed, value, roots, depth = trees
+    tree_output, baseline = outputs
     n = x_num.shape[0]
     n_cols = col_cat.shape[0]
     n_trees = roots.shape[0]
@@ -199,13 +236,8 @@ def _rank_near(cuts: np.ndarray, lo: int, hi: int, r: int, v: float) -> int:
 
 
 @njit(cache=True, nogil=True)
-def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
-                        scale: np.ndarray, col_cat: np.ndarray, col_index: np.ndarray,
-                        col_level: np.ndarray, cuts: np.ndarray, cut_start: np.ndarray,
-                        grid_lo: np.ndarray, grid_inv: np.ndarray, grid_start: np.ndarray,
-                        grid_rank: np.ndarray, mask_start: np.ndarray, masks: np.ndarray,
-                        leaf_value: np.ndarray, tree_output: np.ndarray, baseline: np.ndarray,
-                        out: np.ndarray) -> None:
+def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, design: Design, ranks: Ranks,
+                        leafmasks: LeafMasks, outputs: Outputs, out: np.ndarray) -> None:
     """:func:`forest_sum` on rows without NaN, by leaf masks: no tree is walked.
 
     The leaves of each tree (at most 32 with uint32 ``masks``, 64 with
@@ -235,6 +267,10 @@ def forest_sum_leafmask(x_num: np.ndarray, x_cat: np.ndarray, mean: np.ndarray,
     and ends by steps (:func:`_rank_near`), so it is exact whatever the
     guess; a one-hot column has two ranks, that of 1.0 and of 0.0.
     """
+    mean, scale, col_cat, col_index, col_level = design
+    cuts, cut_start = ranks
+    mask_start, masks, leaf_value, grid_lo, grid_inv, grid_start, grid_rank = leafmasks
+    tree_output, baseline = outputs
     n = x_num.shape[0]
     n_cols = col_cat.shape[0]
     n_trees = masks.shape[1]

@@ -26,6 +26,7 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -319,6 +320,50 @@ class EnsembleModule(nn.Module):
 # ---------------------------------------------------------------------------
 # estimator
 # ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class TrainingSettings:
+    """How :class:`DeepEnsembleRegressor` trains its members (one hyper-parameter of it).
+
+    Parameters
+    ----------
+    learning_rate, weight_decay : float
+        Adam settings.
+    batch_size, max_epochs, patience : int
+        Minibatch size; epochs at most; early stopping when the validation loss
+        of a member has not improved for ``patience`` epochs (its best state is
+        kept).
+    nll_beta : float
+        beta of the beta-NLL training loss (Seitzer et al., "On the pitfalls of
+        heteroscedastic uncertainty estimation with probabilistic neural
+        networks", ICLR 2022): the per-row NLL is weighted by sigma^(2 beta)
+        (no gradient through the weight). beta = 0 is the plain Gaussian NLL;
+        0.5 keeps the mean fit from being starved where the variance is large.
+    stop_on : {"mse", "nll"}
+        Validation metric of early stopping: the member's mean squared error
+        (default: the mean is what matters, sigma is recalibrated by split
+        conformal prediction afterwards) or its plain Gaussian NLL.
+    validation_fraction : float
+        Fraction of rows (of groups, if ``groups`` is given to ``fit``) held
+        out for early stopping.
+    random_state : int
+        Seed of the validation split (shared by all members, so a member's
+        result does not depend on the other members).
+    n_threads : int
+        ``torch.set_num_threads`` during fit.
+    """
+
+    learning_rate: float = 2e-3
+    weight_decay: float = 0.0
+    batch_size: int = 256
+    max_epochs: int = 300
+    patience: int = 30
+    validation_fraction: float = 0.15
+    nll_beta: float = 0.5
+    stop_on: str = "mse"
+    random_state: int = 0
+    n_threads: int = 2
+
+
 class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
     """Deep ensemble regressor with the scikit-learn estimator contract.
 
@@ -337,22 +382,6 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
     loss : {"gaussian_nll", "mse"}
         Gaussian NLL with a log-variance head, or MSE with the ensemble spread
         as sigma.
-    learning_rate, weight_decay : float
-        Adam settings.
-    batch_size, max_epochs, patience : int
-        Minibatch size; epochs at most; early stopping when the validation loss
-        of a member has not improved for ``patience`` epochs (its best state is
-        kept).
-    nll_beta : float
-        beta of the beta-NLL training loss (Seitzer et al., "On the pitfalls of
-        heteroscedastic uncertainty estimation with probabilistic neural
-        networks", ICLR 2022): the per-row NLL is weighted by sigma^(2 beta)
-        (no gradient through the weight). beta = 0 is the plain Gaussian NLL;
-        0.5 keeps the mean fit from being starved where the variance is large.
-    stop_on : {"mse", "nll"}
-        Validation metric of early stopping: the member's mean squared error
-        (default: the mean is what matters, sigma is recalibrated by split
-        conformal prediction afterwards) or its plain Gaussian NLL.
     censor_below : float or None
         Censoring level of the target (e.g. log10 of 1 / horizon): a row with
         ``y <= censor_below`` only says "the target is at most this" (a life
@@ -362,14 +391,9 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         of the density at the recorded value; with ``loss="mse"`` and in the
         validation metric it is the squared excess max(mu - c, 0)^2. None: no
         row is censored.
-    validation_fraction : float
-        Fraction of rows (of groups, if ``groups`` is given to ``fit``) held
-        out for early stopping.
-    random_state : int
-        Seed of the validation split (shared by all members, so a member's
-        result does not depend on the other members).
-    n_threads : int
-        ``torch.set_num_threads`` during fit.
+    training : TrainingSettings, optional
+        Optimiser, early stopping, validation split and threads (default:
+        :class:`TrainingSettings`' defaults).
 
     Attributes
     ----------
@@ -383,29 +407,21 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                  categorical_features: Sequence[str] = (),
                  seeds: Sequence[int] = (0, 1, 2, 3, 4),
                  hidden_layers: Sequence[int] = (64, 64), activation: str = "hardswish",
-                 loss: str = "gaussian_nll", learning_rate: float = 2e-3,
-                 weight_decay: float = 0.0, batch_size: int = 256, max_epochs: int = 300,
-                 patience: int = 30, validation_fraction: float = 0.15,
-                 nll_beta: float = 0.5, stop_on: str = "mse",
-                 censor_below: float | None = None, random_state: int = 0,
-                 n_threads: int = 2) -> None:
+                 loss: str = "gaussian_nll", censor_below: float | None = None,
+                 training: TrainingSettings | None = None) -> None:
         self.numeric_features = numeric_features
         self.categorical_features = categorical_features
         self.seeds = seeds
         self.hidden_layers = hidden_layers
         self.activation = activation
         self.loss = loss
-        self.learning_rate = learning_rate
-        self.weight_decay = weight_decay
-        self.batch_size = batch_size
-        self.max_epochs = max_epochs
-        self.patience = patience
-        self.validation_fraction = validation_fraction
-        self.nll_beta = nll_beta
-        self.stop_on = stop_on
         self.censor_below = censor_below
-        self.random_state = random_state
-        self.n_threads = n_threads
+        self.training = training
+
+    @property
+    def _settings(self) -> TrainingSettings:
+        """The training settings in force (``training``, or the defaults)."""
+        return self.training if self.training is not None else TrainingSettings()
 
     # -- data ---------------------------------------------------------------
     def _as_frame(self, X: Any) -> pd.DataFrame:
@@ -431,8 +447,9 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         """
         if self.loss not in ("gaussian_nll", "mse"):
             raise InputError("loss", f"unknown loss {self.loss!r}", "gaussian_nll, mse")
-        if self.stop_on not in ("mse", "nll"):
-            raise InputError("stop_on", f"unknown metric {self.stop_on!r}", "mse, nll")
+        stop_on = self._settings.stop_on
+        if stop_on not in ("mse", "nll"):
+            raise InputError("stop_on", f"unknown metric {stop_on!r}", "mse, nll")
         if self.activation not in ACTIVATIONS:
             raise InputError("activation", f"unknown activation {self.activation!r}",
                              ", ".join(ACTIVATIONS))
@@ -451,16 +468,16 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         self.feature_names_in_ = np.asarray(nums + cats, dtype=object)
 
         seeds = [int(s) for s in self.seeds]
-        rng = np.random.default_rng(int(self.random_state))
+        rng = np.random.default_rng(int(self._settings.random_state))
         n = len(yv)
         if groups is not None:
             g = np.asarray(groups)
             ug = np.unique(g)
-            n_val_g = max(1, int(round(self.validation_fraction * len(ug))))
+            n_val_g = max(1, int(round(self._settings.validation_fraction * len(ug))))
             val_groups = rng.choice(ug, size=n_val_g, replace=False)
             is_val = np.isin(g, val_groups)
         else:
-            n_val = max(1, int(round(self.validation_fraction * n)))
+            n_val = max(1, int(round(self._settings.validation_fraction * n)))
             is_val = np.zeros(n, dtype=bool)
             is_val[rng.choice(n, size=n_val, replace=False)] = True
         if is_val.all() or not is_val.any():
@@ -483,7 +500,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
             module.y_scale.fill_(y_std)
 
         old_threads = torch.get_num_threads()
-        torch.set_num_threads(int(self.n_threads))
+        torch.set_num_threads(int(self._settings.n_threads))
         try:
             self.history_ = self._train(module, x_num, x_cat, (yv - y_mean) / y_std,
                                         is_val, seeds, callback)
@@ -528,16 +545,16 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
         n_tr = z_tr.shape[0]
         M = len(seeds)
         rngs = [np.random.default_rng(s + 7919) for s in seeds]
-        opt = torch.optim.Adam(module.parameters(), lr=float(self.learning_rate),
-                               weight_decay=float(self.weight_decay))
+        opt = torch.optim.Adam(module.parameters(), lr=float(self._settings.learning_rate),
+                               weight_decay=float(self._settings.weight_decay))
         best = np.full(M, np.inf)
         best_epoch = np.zeros(M, dtype=np.int64)
         best_state = [copy.deepcopy([p.detach()[m].clone() for p in module.parameters()])
                       for m in range(M)]
         active = np.ones(M, dtype=bool)
-        bs = min(int(self.batch_size), n_tr)
+        bs = min(int(self._settings.batch_size), n_tr)
         train_hist, val_hist = [], []
-        for epoch in range(int(self.max_epochs)):
+        for epoch in range(int(self._settings.max_epochs)):
             perms = np.stack([r.permutation(n_tr) for r in rngs])  # (M, n_tr)
             module.train()
             tot = torch.zeros(M)
@@ -545,14 +562,14 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                 idx = torch.as_tensor(perms[:, start:start + bs])
                 zb = z_tr[idx]  # (M, b, n_in)
                 yb = y_tr[idx]  # (M, b)
-                loss_m = self._member_loss(module, zb, yb, float(self.nll_beta))
+                loss_m = self._member_loss(module, zb, yb, float(self._settings.nll_beta))
                 opt.zero_grad(set_to_none=True)
                 loss_m.sum().backward()
                 opt.step()
                 tot += loss_m.detach() * idx.shape[1]
             module.eval()
             with torch.no_grad():
-                if self.stop_on == "mse":
+                if self._settings.stop_on == "mse":
                     mu_va, _ = module.members(z_va)
                     c = self.censor_scaled_
                     val = self._squared_error(mu_va, y_va, y_va <= c, c).mean(dim=1)
@@ -567,7 +584,7 @@ class DeepEnsembleRegressor(RegressorMixin, BaseEstimator):
                     best[m] = val[m]
                     best_epoch[m] = epoch
                     best_state[m] = [p.detach()[m].clone() for p in module.parameters()]
-                elif epoch - best_epoch[m] >= int(self.patience):
+                elif epoch - best_epoch[m] >= int(self._settings.patience):
                     active[m] = False
             if callback is not None:
                 callback(epoch, tr, val, active.copy())

@@ -400,6 +400,34 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
     t = log_times_s(log)
     bit_md = log_bit_md_m(log)
     vocab = Vocabulary(model.features, model.categorical)
+    inputs = _replay_inputs(log, comps, vocab, constants)
+    geometry = _survey_geometry(survey, model, bit_md)
+    sources = _feature_sources(model, vocab, inputs, {MD_COLUMN, *geometry.columns})
+    damage = _accumulate(model, inputs, sources, geometry, comps[S_COLUMN].to_numpy(), t,
+                         bit_md)
+    return ReplayResult(components=_replay_table(all_comps, comps, covered, reasons, damage),
+                        duration_s=float(t[-1] - t[0]), ignored_channels=inputs.ignored)
+
+
+@dataclass(frozen=True)
+class _ReplayInputs:
+    """The log, the components and the constants of a replay in the model's units."""
+
+    log: pd.DataFrame
+    components: pd.DataFrame
+    constants: pd.DataFrame
+    #: surface channels of the log the model does not use
+    ignored: tuple[str, ...]
+
+    def frame(self, source: str) -> pd.DataFrame:
+        return {"log": self.log, "components": self.components,
+                "constants": self.constants}[source]
+
+
+def _replay_inputs(log: pd.DataFrame, comps: pd.DataFrame, vocab: Vocabulary,
+                   constants: Mapping[str, Any] | None) -> _ReplayInputs:
+    """The log (without its time, bit depth and unused surface channels), the covered
+    components and the constants, each as a frame of the model's columns."""
     skip = {"time_s", "time",
             *(c for c in map(str, log.columns) if channel_stem(c) == "bit_md")}
     ignored = tuple(str(c) for c in log.columns
@@ -412,28 +440,47 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
                                                   if c not in vocab.terms and c != "serial"])
     const_si = (vocab.frame_from_mapping(dict(constants), require=()) if constants
                 else pd.DataFrame(index=[0]))
-    derived = {MD_COLUMN}
-    geo_cols: tuple[str, ...] = ()
-    if survey is not None:
-        geo_cols = tuple(c for c in model.features if c in POSITION_COLUMNS)
-        derived.update(geo_cols)
-        for col in ("md_m", "dls_deg_per_30m"):
-            if col not in survey.columns:
-                raise InputError(col, "missing column in the survey",
-                                 "md_m, dls_deg_per_30m (and inc_deg)")
-        survey_cols = check_survey(survey["md_m"], survey["dls_deg_per_30m"],
-                                   survey["inc_deg"] if "inc_deg" in survey.columns else None,
-                                   geo_cols)
-        td_m = float(np.max(survey_cols[0]))
-        if np.any(bit_md > td_m):
-            i = int(np.argmax(bit_md > td_m))
-            raise InputError("bit_md_m", f"{bit_md[i]:.6g} m at row {i + 1} of the log is "
-                             f"beyond the well's total depth {td_m:.6g} m",
-                             f"0 <= bit_md_m <= {td_m:.6g} (the survey's last MD)")
+    return _ReplayInputs(log_si, comp_si, const_si, ignored)
+
+
+@dataclass(frozen=True)
+class _Geometry:
+    """The hole geometry features the model takes from the survey, and the survey."""
+
+    columns: tuple[str, ...] = ()
+    survey: tuple[np.ndarray, np.ndarray, np.ndarray | None] | None = None
+
+
+def _survey_geometry(survey: pd.DataFrame | None, model: Surrogate,
+                     bit_md: np.ndarray) -> _Geometry:
+    """The checked survey; a bit depth of the log beyond its TD is an input error."""
+    if survey is None:
+        return _Geometry()
+    geo_cols = tuple(c for c in model.features if c in POSITION_COLUMNS)
+    for col in ("md_m", "dls_deg_per_30m"):
+        if col not in survey.columns:
+            raise InputError(col, "missing column in the survey",
+                             "md_m, dls_deg_per_30m (and inc_deg)")
+    survey_cols = check_survey(survey["md_m"], survey["dls_deg_per_30m"],
+                               survey["inc_deg"] if "inc_deg" in survey.columns else None,
+                               geo_cols)
+    td_m = float(np.max(survey_cols[0]))
+    if np.any(bit_md > td_m):
+        i = int(np.argmax(bit_md > td_m))
+        raise InputError("bit_md_m", f"{bit_md[i]:.6g} m at row {i + 1} of the log is "
+                         f"beyond the well's total depth {td_m:.6g} m",
+                         f"0 <= bit_md_m <= {td_m:.6g} (the survey's last MD)")
+    return _Geometry(geo_cols, survey_cols)
+
+
+def _feature_sources(model: Surrogate, vocab: Vocabulary, inputs: _ReplayInputs,
+                     derived: set[str]) -> dict[str, str]:
+    """Where each model feature comes from: ``log``, ``components``, ``constants`` or
+    ``derived``; a feature from none or from two is an input error."""
     sources: dict[str, str] = {}
     for col in model.features + model.categorical:
-        where = [name for name, fr in (("log", log_si), ("components", comp_si),
-                                       ("constants", const_si)) if col in fr.columns]
+        where = [name for name in ("log", "components", "constants")
+                 if col in inputs.frame(name).columns]
         if col in derived:
             where.append("derived")
         if not where:
@@ -443,23 +490,35 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
             raise InputError(vocab.names_for(col)[0], f"given twice ({' and '.join(where)})",
                              "one source per feature")
         sources[col] = where[0]
+    return sources
 
-    # encode category codes once (per component / constant)
+
+@dataclass(frozen=True)
+class _Damage:
+    """What a replay accumulates per component (n_components,)."""
+
+    damage: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    ood_s: np.ndarray
+    in_hole_s: np.ndarray
+    #: (n_components, 3): rate, lower, upper per hour at the last in-hole step
+    last: np.ndarray
+
+
+def _accumulate(model: Surrogate, inputs: _ReplayInputs, sources: dict[str, str],
+                geometry: _Geometry, s_comp: np.ndarray, t: np.ndarray,
+                bit_md: np.ndarray) -> _Damage:
+    """Rate x time per component over the log's steps, in chunks of rows."""
     pre = model.preprocessor
-    n_t, n_c = t.size, len(comps)
-    s_comp = comps[S_COLUMN].to_numpy()
+    n_t, n_c = t.size, s_comp.size
     dt_s = np.diff(t)  # (n_t - 1,)
     dt_h = dt_s / units.HOUR_S
-    dmg = np.zeros(n_c)
-    dmg_lo = np.zeros(n_c)
-    dmg_hi = np.zeros(n_c)
-    ood_s = np.zeros(n_c)
-    in_hole_s = np.zeros(n_c)
-    last = np.full((n_c, 3), np.nan)  # rate, lower, upper at the last in-hole step
-    cat_codes: dict[str, np.ndarray] = {}
-    for col in model.categorical:
-        fr = {"log": log_si, "components": comp_si, "constants": const_si}[sources[col]]
-        cat_codes[col] = pre.codes_for(col, fr[col].to_numpy())
+    acc = _Damage(np.zeros(n_c), np.zeros(n_c), np.zeros(n_c), np.zeros(n_c), np.zeros(n_c),
+                  np.full((n_c, 3), np.nan))
+    # category codes encoded once (per component / constant)
+    cat_codes = {col: pre.codes_for(col, inputs.frame(sources[col])[col].to_numpy())
+                 for col in model.categorical}
     steps_per_chunk = max(1, _STEP_CHUNK // max(n_c, 1))
     cache = _ConditionCache(model)
     for a in range(0, n_t - 1, steps_per_chunk):
@@ -468,27 +527,8 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         idx_c = np.tile(np.arange(n_c), b - a)
         md = bit_md[idx_t] - s_comp[idx_c]
         in_hole = md >= 0.0
-        x_num = np.empty((idx_t.size, len(model.features)))
-        geo = (position_features(*survey_cols, md, bit_md[idx_t], geo_cols) if geo_cols
-               else {})
-        for j, col in enumerate(model.features):
-            src = sources[col]
-            if col == MD_COLUMN:
-                x_num[:, j] = md
-            elif src == "derived":  # hole geometry from the survey
-                x_num[:, j] = geo[col]
-            elif src == "log":
-                x_num[:, j] = log_si[col].to_numpy(dtype=np.float64)[idx_t]
-            elif src == "components":
-                x_num[:, j] = comp_si[col].to_numpy(dtype=np.float64)[idx_c]
-            else:
-                x_num[:, j] = float(const_si[col].iloc[0])
-        x_cat = np.zeros((idx_t.size, len(model.categorical)), dtype=np.int64)
-        for j, col in enumerate(model.categorical):
-            src = sources[col]
-            codes = cat_codes[col]
-            x_cat[:, j] = (codes[idx_t] if src == "log" else codes[idx_c] if src == "components"
-                           else codes[0])
+        x_num, x_cat = _chunk_rows(model, inputs, sources, geometry, cat_codes,
+                                   (idx_t, idx_c, md, bit_md[idx_t]))
         r = cache.predict(x_num[in_hole], x_cat[in_hole])
         rate = np.zeros(idx_t.size)
         lo = np.zeros(idx_t.size)
@@ -501,30 +541,69 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         lo[answered] = 10.0 ** r["lower"][~r["ood"]]
         hi[answered] = 10.0 ** r["upper"][~r["ood"]]
         w = dt_h[idx_t]
-        dmg += np.bincount(idx_c, rate * w, minlength=n_c)
-        dmg_lo += np.bincount(idx_c, lo * w, minlength=n_c)
-        dmg_hi += np.bincount(idx_c, hi * w, minlength=n_c)
-        ood_s += np.bincount(idx_c, ood * dt_s[idx_t], minlength=n_c)
-        in_hole_s += np.bincount(idx_c, in_hole * dt_s[idx_t], minlength=n_c)
-        last_rows = answered
-        if last_rows.size:
+        acc.damage[:] += np.bincount(idx_c, rate * w, minlength=n_c)
+        acc.lower[:] += np.bincount(idx_c, lo * w, minlength=n_c)
+        acc.upper[:] += np.bincount(idx_c, hi * w, minlength=n_c)
+        acc.ood_s[:] += np.bincount(idx_c, ood * dt_s[idx_t], minlength=n_c)
+        acc.in_hole_s[:] += np.bincount(idx_c, in_hole * dt_s[idx_t], minlength=n_c)
+        if answered.size:
             # later rows overwrite earlier ones: the last in-hole step per component
-            last[idx_c[last_rows], 0] = rate[last_rows]
-            last[idx_c[last_rows], 1] = lo[last_rows]
-            last[idx_c[last_rows], 2] = hi[last_rows]
-    remaining = np.clip(1.0 - dmg, 0.0, None)
+            acc.last[idx_c[answered], 0] = rate[answered]
+            acc.last[idx_c[answered], 1] = lo[answered]
+            acc.last[idx_c[answered], 2] = hi[answered]
+    return acc
+
+
+def _chunk_rows(model: Surrogate, inputs: _ReplayInputs, sources: dict[str, str],
+                geometry: _Geometry, cat_codes: dict[str, np.ndarray],
+                rows: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """The model's numeric and categorical inputs of a chunk of (step, component) rows.
+
+    ``rows``: per row its step, its component, the component's MD and the bit's MD.
+    """
+    idx_t, idx_c, md, bit_md = rows
+    x_num = np.empty((idx_t.size, len(model.features)))
+    geo = (position_features(*geometry.survey, md, bit_md, geometry.columns)
+           if geometry.columns and geometry.survey is not None else {})
+    for j, col in enumerate(model.features):
+        src = sources[col]
+        if col == MD_COLUMN:
+            x_num[:, j] = md
+        elif src == "derived":  # hole geometry from the survey
+            x_num[:, j] = geo[col]
+        elif src == "log":
+            x_num[:, j] = inputs.log[col].to_numpy(dtype=np.float64)[idx_t]
+        elif src == "components":
+            x_num[:, j] = inputs.components[col].to_numpy(dtype=np.float64)[idx_c]
+        else:
+            x_num[:, j] = float(inputs.constants[col].iloc[0])
+    x_cat = np.zeros((idx_t.size, len(model.categorical)), dtype=np.int64)
+    for j, col in enumerate(model.categorical):
+        src = sources[col]
+        codes = cat_codes[col]
+        x_cat[:, j] = (codes[idx_t] if src == "log" else codes[idx_c] if src == "components"
+                       else codes[0])
+    return x_num, x_cat
+
+
+def _replay_table(all_comps: pd.DataFrame, comps: pd.DataFrame, covered: np.ndarray,
+                  reasons: np.ndarray, acc: _Damage) -> pd.DataFrame:
+    """Every item of the string with its damage, remaining life and times; the ones the
+    model does not cover with the reason."""
+    last = acc.last
+    remaining = np.clip(1.0 - acc.damage, 0.0, None)
     res = comps.copy()
-    res["damage"] = dmg
-    res["damage_lower"] = dmg_lo
-    res["damage_upper"] = dmg_hi
+    res["damage"] = acc.damage
+    res["damage_lower"] = acc.lower
+    res["damage_upper"] = acc.upper
     res["last_damage_rate_per_h"] = last[:, 0]
     with np.errstate(divide="ignore", invalid="ignore"):
         res["remaining_life_h"] = remaining / last[:, 0]
-        res["remaining_life_h_lower"] = np.clip(1.0 - dmg_hi, 0.0, None) / last[:, 2]
-        res["remaining_life_h_upper"] = np.clip(1.0 - dmg_lo, 0.0, None) / last[:, 1]
-    res["time_in_hole_s"] = in_hole_s
-    res["ood_time_s"] = ood_s
-    # every item of the string, the ones the model does not cover with the reason
+        res["remaining_life_h_lower"] = np.clip(1.0 - acc.upper, 0.0, None) / last[:, 2]
+        res["remaining_life_h_upper"] = np.clip(1.0 - acc.lower, 0.0, None) / last[:, 1]
+    res["time_in_hole_s"] = acc.in_hole_s
+    res["ood_time_s"] = acc.ood_s
     out = all_comps.copy()
     for col in res.columns.difference(all_comps.columns, sort=False):
         full = np.full(len(out), np.nan)
@@ -532,8 +611,7 @@ def replay_log(log: pd.DataFrame, components: pd.DataFrame, model: Surrogate,
         out[col] = full
     out["covered"] = covered
     out["not_covered_reason"] = reasons
-    return ReplayResult(components=out, duration_s=float(t[-1] - t[0]),
-                        ignored_channels=ignored)
+    return out
 
 
 def replay_summary(result: ReplayResult) -> dict[str, Any]:

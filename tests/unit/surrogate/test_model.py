@@ -7,6 +7,7 @@ contract, determinism, save/load round trip, prediction frame, input errors.
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -26,6 +27,7 @@ from drillfatigue.surrogate import (PREDICTION_COLUMNS, DeepEnsembleRegressor, S
                                     fit_surrogate, make_synthetic_dataset)
 from drillfatigue.surrogate.data import log10_target, synthetic_noise_sigma
 from drillfatigue.surrogate.evaluation import _design, score
+from drillfatigue.surrogate.model import TrainingSettings
 
 # every row regressed (no censoring): the synthetic rates sit around 1e-7 per hour
 CFG = SurrogateConfig(hidden_layers=(32, 32), max_epochs=120, patience=20, batch_size=64,
@@ -171,7 +173,8 @@ def _xy(n: int = 300, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     return x, np.sin(2 * x[:, 0]) + x[:, 1] ** 2 + 0.05 * rng.normal(size=n)
 
 
-SMALL = dict(hidden_layers=(16,), max_epochs=15, patience=5, batch_size=64, n_threads=1)
+SMALL_TRAINING = TrainingSettings(max_epochs=15, patience=5, batch_size=64, n_threads=1)
+SMALL = dict(hidden_layers=(16,), training=SMALL_TRAINING)
 
 
 def test_sklearn_contract() -> None:
@@ -204,7 +207,7 @@ def test_member_independent_of_the_others() -> None:
     # element-wise, the loss is a sum over members): member 0 with seed 3
     # alone equals member 3 of the five-member ensemble
     x, y = _xy()
-    cfg = dict(SMALL, max_epochs=5, patience=100)
+    cfg = dict(SMALL, training=replace(SMALL_TRAINING, max_epochs=5, patience=100))
     five = DeepEnsembleRegressor(**cfg).fit(x, y)
     one = DeepEnsembleRegressor(**cfg, seeds=(3,)).fit(x, y)
     z = five.module_.encode(*[__import__("torch").as_tensor(a) for a in
@@ -453,7 +456,8 @@ def test_damaged_model_folder_is_one_line(tiny: Surrogate, tmp_path, capsys, dam
 def test_censored_loss_is_the_gaussian_mass_below_the_level() -> None:
     # reference: scipy's normal log-CDF (an independent implementation)
     x, y = _xy()
-    est = DeepEnsembleRegressor(**(SMALL | {"max_epochs": 1}), censor_below=float(np.median(y)))
+    est = DeepEnsembleRegressor(**(SMALL | {"training": replace(SMALL_TRAINING, max_epochs=1)}),
+                                censor_below=float(np.median(y)))
     est.fit(x, y)
     ys = (y - est.module_.y_mean.item()) / est.module_.y_scale.item()
     z = est.module_.encode(torch.as_tensor(x, dtype=torch.float32),
@@ -478,8 +482,8 @@ def test_censored_fit_is_not_pulled_to_the_floor() -> None:
     x = rng.uniform(-1.0, 1.0, (1200, 1))
     y_true = 2.0 * x[:, 0]
     y = np.where(y_true <= 0.0, -3.0, y_true + rng.normal(0.0, 0.05, 1200))
-    kw = dict(hidden_layers=(32,), max_epochs=150, patience=30, batch_size=128, n_threads=1,
-              learning_rate=5e-3)
+    kw = dict(hidden_layers=(32,), training=TrainingSettings(
+        max_epochs=150, patience=30, batch_size=128, n_threads=1, learning_rate=5e-3))
     cens = DeepEnsembleRegressor(**kw, censor_below=0.0).fit(x, y)
     plain = DeepEnsembleRegressor(**kw).fit(x, y)
     grid = np.linspace(0.1, 0.4, 31)[:, None]
