@@ -14,7 +14,7 @@ import pytest
 from drillfatigue.sweep import dataset
 from drillfatigue.sweep.dataset import dataset_card
 
-REFERENCE = Path(__file__).resolve().parents[1] / "data" / "dataset_card_reference.md"
+REFERENCE = Path(__file__).resolve().parents[2] / "data" / "dataset_card_reference.md"
 
 
 def _frame() -> pd.DataFrame:
