@@ -5,5 +5,6 @@
 * :mod:`~drillfatigue.dynamics.core.status` -- status codes of the kernels;
 * :mod:`~drillfatigue.dynamics.core.rigid` -- unit quaternions and the Newton-Euler update;
 * :mod:`~drillfatigue.dynamics.core.joints` -- the spring-damper joint between two segments;
-* :mod:`~drillfatigue.dynamics.core.pack` -- a case's segments and joints as ``seg`` and ``jp`` rows.
+* :mod:`~drillfatigue.dynamics.core.pack` -- a case's segments and joints as ``seg`` and ``jp`` rows;
+* :mod:`~drillfatigue.dynamics.core.lawtable` -- what the friction and bit-law registries share.
 """

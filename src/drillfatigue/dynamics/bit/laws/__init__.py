@@ -19,8 +19,7 @@ gives, or None: a run's growth allowance). Adding a law: docs/development.md, "A
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from drillfatigue.dynamics.core.lawtable import lazy_exports
 
 #: Public names, by the module that defines them (loaded on first use, so that a
 #: registry can be imported, and its dispatch written, before the dispatch exists).
@@ -49,9 +48,4 @@ _EXPORTS = {
     "rop_prescribed": "drillfatigue.dynamics.bit.laws.dispatch",
 }
 __all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        return getattr(importlib.import_module(_EXPORTS[name]), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _EXPORTS)

@@ -10,13 +10,13 @@ its length (:data:`N_PARAMS`), the packer and the kernels' dispatch on the law i
 
 from __future__ import annotations
 
-import textwrap
 from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from drillfatigue.dynamics.core.lawtable import block_offsets, dispatch_prelude
 from drillfatigue.dynamics.bit.laws import detournay, prescribed_rop, yigit_christoforou
 
 if TYPE_CHECKING:  # pydantic stays out of the kernel modules at run time
@@ -33,18 +33,9 @@ MODEL_IDS: dict[str, int] = {name: i for i, law in enumerate(LAWS)
                              for name in (law.NAME, *law.ALIASES)}
 
 
-def _offsets() -> tuple[int, ...]:
-    out, at = [], 0
-    for law in LAWS:
-        out.append(at)
-        at += len(law.PARAMS)
-    return tuple(out)
 
-
-#: Start of each law's block in the parameter vector, by id.
-OFFSETS: tuple[int, ...] = _offsets()
-#: Length of the parameter vector.
-N_PARAMS: int = OFFSETS[-1] + len(LAWS[-1].PARAMS)
+#: Start of each law's block in the parameter vector, by id, and the vector's length.
+OFFSETS, N_PARAMS = block_offsets(LAWS, 0)
 
 
 def pack_bit_params(cfg: BitConfig, rop_m_per_s: float = 0.0) -> tuple[int, np.ndarray]:
@@ -61,30 +52,12 @@ def pack_bit_params(cfg: BitConfig, rop_m_per_s: float = 0.0) -> tuple[int, np.n
 
 # --- the dispatch module, written from the registry ---------------------------------------
 DISPATCH = Path(__file__).with_name("dispatch.py")
-_HEADER = '''"""Dispatch of the bit-law kernels on the law id (written by
-:mod:`drillfatigue.dynamics.bit.laws.registry` from its ``LAWS``; do not edit:
-run ``python -m drillfatigue.dynamics.registries``)."""
-
-from numba import njit
-
-from drillfatigue.dynamics.bit.laws import (
-{imports}
-)
-
-#: Number of registered laws (ids 0 .. N_LAWS - 1).
-N_LAWS = {n}
-#: Law ids by name.
-'''
 
 
 def dispatch_source() -> str:
     """The source of the dispatch module for :data:`LAWS`."""
-    names = [law.__name__.rsplit(".", 1)[1] for law in LAWS]
-    imports = textwrap.fill(", ".join(sorted(names)) + ",", 96, initial_indent="    ",
-                            subsequent_indent="    ")
-    out = [_HEADER.format(imports=imports, n=len(LAWS))]
-    for i, law in enumerate(LAWS):
-        out.append(f"{law.NAME.upper()} = {i}\n")
+    head, names = dispatch_prelude("bit-law", "drillfatigue.dynamics.bit.laws.registry", LAWS)
+    out = [head]
     out.append('\n\n@njit(cache=True, inline="always")\ndef law_response(model, p, wob_N, om, out):\n'
                '    """``out = [TOB, ROP]`` of law ``model`` at WOB ``wob_N`` > 0 (``out`` zeroed\n'
                '    by the caller, untouched for an unknown law)."""\n')

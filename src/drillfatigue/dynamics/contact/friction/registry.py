@@ -18,13 +18,13 @@ describe it.
 
 from __future__ import annotations
 
-import textwrap
 from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from drillfatigue.dynamics.core.lawtable import block_offsets, dispatch_prelude
 from drillfatigue.dynamics.contact.friction.base import I_AX_RATIO, I_MU_D, I_MU_S, N_SHARED
 from drillfatigue.dynamics.contact.friction.laws import (
     benson_hallquist, coulomb, karnopp, stick_band, tanh, tanh_exp, velocity_trig,
@@ -47,18 +47,9 @@ LAWS: tuple[ModuleType, ...] = (
 MODEL_IDS: dict[str, int] = {law.NAME: i for i, law in enumerate(LAWS)}
 
 
-def _offsets() -> tuple[int, ...]:
-    out, at = [], N_SHARED
-    for law in LAWS:
-        out.append(at)
-        at += len(law.PARAMS)
-    return tuple(out)
 
-
-#: Start of each law's block in the parameter vector, by id.
-OFFSETS: tuple[int, ...] = _offsets()
-#: Length of the parameter vector.
-N_PARAMS: int = OFFSETS[-1] + len(LAWS[-1].PARAMS)
+#: Start of each law's block in the parameter vector, by id, and the vector's length.
+OFFSETS, N_PARAMS = block_offsets(LAWS, N_SHARED)
 
 
 def pack_friction_params(cfg: FrictionConfig) -> tuple[int, np.ndarray]:
@@ -96,30 +87,12 @@ def has_stiction(model: int) -> bool:
 
 # --- the dispatch module, written from the registry ---------------------------------------
 DISPATCH = Path(__file__).with_name("dispatch.py")
-_HEADER = '''"""Dispatch of the friction kernels on the law id (written by
-:mod:`drillfatigue.dynamics.contact.friction.registry` from its ``LAWS``; do not edit:
-run ``python -m drillfatigue.dynamics.registries``)."""
-
-from numba import njit
-
-from drillfatigue.dynamics.contact.friction.laws import (
-{imports}
-)
-
-#: Number of registered laws (ids 0 .. N_LAWS - 1).
-N_LAWS = {n}
-#: Law ids by name.
-'''
 
 
 def dispatch_source() -> str:
     """The source of the dispatch module for :data:`LAWS`."""
-    names = [law.__name__.rsplit(".", 1)[1] for law in LAWS]
-    imports = textwrap.fill(", ".join(sorted(names)) + ",", 96, initial_indent="    ",
-                            subsequent_indent="    ")
-    out = [_HEADER.format(imports=imports, n=len(LAWS))]
-    for i, law in enumerate(LAWS):
-        out.append(f"{law.NAME.upper()} = {i}\n")
+    head, names = dispatch_prelude("friction", "drillfatigue.dynamics.contact.friction.registry", LAWS)
+    out = [head]
     out.append('\n\n@njit(cache=True, inline="always")\ndef slip_coefficient(model, p, speed):\n'
                '    """Coefficient ``mu(|v|)`` of law ``model`` at slip speed ``speed`` (m/s), in\n'
                '    [0, mu_s]; -1.0 for an unknown law (the caller checks)."""\n')
