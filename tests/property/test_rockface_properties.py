@@ -26,15 +26,21 @@ def test_rock_contact_never_pulls(u, ud, phi, om, a, n, k, c) -> None:
         assert out[0] == 0.0 and out[1] <= 0.0
 
 
+def _detournay(wob_N: float, omega_rad_s: float, out: np.ndarray) -> None:
+    """The unregularised law with BitConfig's detournay defaults (an 8 1/2 in PDC bit)."""
+    b = BitConfig(model="detournay")
+    BR.detournay_law(b.bit_radius_m, b.detournay_eps_Pa, b.detournay_zeta, b.detournay_sigma_Pa,
+                     b.detournay_wear_flat_m, b.detournay_mu_gamma, wob_N, omega_rad_s, out)
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.floats(0.0, 5e5, **finite), st.floats(0.0, 5e5, **finite), st.floats(0.01, 40.0, **finite))
 def test_detournay_more_weight_cuts_and_turns_no_less(w1, w2, om) -> None:
-    p = RF.pack_detournay_params()
     lo, hi = sorted((w1, w2))
     a = np.empty(3)
     b = np.empty(3)
-    RF.detournay_response(p, lo, om, a)
-    RF.detournay_response(p, hi, om, b)
+    _detournay(lo, om, a)
+    _detournay(hi, om, b)
     assert 0.0 <= a[1] <= b[1] and 0.0 <= a[2] <= b[2]
     assert a[0] <= b[0] * (1 + 1e-12)
 
@@ -50,5 +56,5 @@ def test_detournay_bit_model_torque_resists_the_rotation_and_cuts_only_forward(w
     if om <= 0.0 or w <= 0.0:
         assert out[1] == 0.0
     ref = np.empty(3)
-    RF.detournay_response(RF.pack_detournay_params(), w, abs(om), ref)
+    _detournay(w, abs(om), ref)
     assert abs(out[0]) <= ref[0] * (1.0 + 1e-12)  # the regularisation only lowers the torque
