@@ -433,18 +433,244 @@ CYCLE_BATCH = 256  # closed cycles buffered per group before their damage is eva
 MASK_GROUPS = 62  # up to this many shear groups, reversals are sorted by a group bit mask
 #: The damage law of ``multiplane_damage``: members of each shear group (group g
 #: is ``mem_cand[mem_ptr[g]:mem_ptr[g + 1]]``, member ranges ``mem_scale`` times
-#: the group's), the candidates' normal-stress coefficients ``cand_n``, the
+#: the group's, > 0), the candidates' normal-stress coefficients on (sigma, tau)
+#: and constant normal stress, Pa, ``cand_n`` (n_cand, 3), the
 #: criterion for damage ``crit`` and for plane selection ``sel_crit`` with its
-#: constants (ca, cb, cc), the factor ``s_scale`` from Pa to the S-N unit and the
+#: constants (ca, cb, cc) (see ``_equivalent_batch``), the factor ``s_scale``
+#: from Pa to the S-N unit times the thickness correction, and the
 #: S-N curve (seg_S_low, seg_m, seg_inv_a, S_cut) (see ``sn_inverse_life``).
 DamageLaw = namedtuple("DamageLaw", ["mem_ptr", "mem_cand", "mem_scale", "cand_n", "crit",
                                      "ca", "cb", "cc", "sel_crit", "s_scale", "seg_S_low",
                                      "seg_m", "seg_inv_a", "S_cut"])
 #: The shear groups' reversal geometry of ``multiplane_damage``: representative
-#: shear coefficients ``grp_c`` (n_grp, 2) on (sigma, tau), the sorted
+#: shear coefficients ``grp_c`` (n_grp, 2) on (sigma, tau); the sorted
 #: pseudo-angles ``bnd_pa`` (2 n_grp,) where some group's shear increment
-#: changes sign, and the group ``bnd_grp`` owning each.
+#: changes sign, the first half B in [0, 2), the second B + 2 (the antipodes);
+#: the group ``bnd_grp`` (2 n_grp,), int64, owning each.
 ShearSectors = namedtuple("ShearSectors", ["grp_c", "bnd_pa", "bnd_grp"])
+
+
+@njit(cache=True)
+def _plane_stress(loads_T, k0, nb, a, b, tube, sgb, tab):
+    """Plane stress (sigma, tau) of samples k0 .. k0 + nb - 1 into ``sgb[1:]``,
+    ``tab[1:]``: one fused pass over the channels, vectorisable; tube surface
+    points (``tube``: the other coefficients are zero) use three each.
+    ``a``, ``b``: the point's load-to-stress rows, shape (6,)."""
+    # the loops index views with the bare loop counter: an offset index such
+    # as k0 + i or i + 1 is not provably >= 0, numba keeps its negative-index
+    # wraparound and LLVM does not vectorise
+    a0, a1, a2, a3, a4, a5 = a[0], a[1], a[2], a[3], a[4], a[5]
+    b0, b1, b2, b3, b4, b5 = b[0], b[1], b[2], b[3], b[4], b[5]
+    x0 = loads_T[0][k0:k0 + nb]
+    x1 = loads_T[1][k0:k0 + nb]
+    x2 = loads_T[2][k0:k0 + nb]
+    x3 = loads_T[3][k0:k0 + nb]
+    x4 = loads_T[4][k0:k0 + nb]
+    x5 = loads_T[5][k0:k0 + nb]
+    s_new = sgb[1:nb + 1]
+    t_new = tab[1:nb + 1]
+    if tube:
+        for i in range(nb):
+            s_new[i] = a0 * x0[i] + a3 * x3[i] + a4 * x4[i]
+            t_new[i] = b1 * x1[i] + b2 * x2[i] + b5 * x5[i]
+    else:
+        for i in range(nb):
+            s_new[i] = a0 * x0[i] + a1 * x1[i] + a2 * x2[i] + a3 * x3[i] \
+                + a4 * x4[i] + a5 * x5[i]
+            t_new[i] = b0 * x0[i] + b1 * x1[i] + b2 * x2[i] + b3 * x3[i] \
+                + b4 * x4[i] + b5 * x5[i]
+    return 0
+
+
+@njit(cache=True, error_model="numpy")
+def _sectors(bnd_pa, nb, sgb, tab, pab, paf, secb):
+    """Pseudo-angle ``pab`` of each of the block's nb increment directions (-1:
+    no change), branch-free so that it vectorises, folded to [0, 2) in ``paf``
+    (the boundaries come in antipodal pairs, pa and pa + 2); its sector
+    ``secb`` = the number of boundaries below it (boundary-outer loop over the
+    first half, vectorisable, four boundaries per pass: a quarter of the loads
+    and stores)."""
+    n_half = bnd_pa.shape[0] // 2
+    s_new = sgb[1:nb + 1]
+    t_new = tab[1:nb + 1]
+    s_old = sgb[0:nb]
+    t_old = tab[0:nb]
+    for i in range(nb):
+        dx = s_new[i] - s_old[i]
+        dy = t_new[i] - t_old[i]
+        den = abs(dx) + abs(dy)
+        r = dx / den
+        q = 1.0 - r if dy >= 0.0 else 3.0 + r
+        q = q if den != 0.0 else -1.0
+        pab[i] = q
+        up = q >= 2.0
+        paf[i] = q - 2.0 if up else q
+        secb[i] = n_half if up else 0
+    ib = 0
+    while ib + 4 <= n_half:
+        bp0 = bnd_pa[ib]
+        bp1 = bnd_pa[ib + 1]
+        bp2 = bnd_pa[ib + 2]
+        bp3 = bnd_pa[ib + 3]
+        for i in range(nb):
+            f = paf[i]
+            secb[i] += ((1 if f > bp0 else 0) + (1 if f > bp1 else 0)
+                        + (1 if f > bp2 else 0) + (1 if f > bp3 else 0))
+        ib += 4
+    while ib < n_half:
+        bp = bnd_pa[ib]
+        for i in range(nb):
+            secb[i] += 1 if paf[i] > bp else 0
+        ib += 1
+    return 0
+
+
+@njit(cache=True)
+def _sector_masks(bnd_grp, use_mask):
+    """Sector masks, shape (n_b + 1,), int64: bit g of ``smask[s]`` is the parity of
+    group g's boundaries below sector s; a change of sector crosses (along the
+    short arc) exactly the groups whose bits differ, each once (the long arc
+    crosses the other boundary of each: the same parity). Zeros unless
+    ``use_mask`` (at most ``MASK_GROUPS`` groups)."""
+    n_b = bnd_grp.shape[0]
+    smask = np.zeros(n_b + 1, dtype=np.int64)
+    if use_mask:
+        for s in range(1, n_b + 1):
+            smask[s] = smask[s - 1] ^ (1 << bnd_grp[s - 1])
+    return smask
+
+
+@njit(cache=True)
+def _changes_masked(smask, nb, secb, pab, chg_i, chg_m, cmask, cur):
+    """Mask mode: branch-free compaction of the block's samples where the sector
+    mask changes into ``chg_i``, the groups each change reverses as the bits of
+    ``chg_m`` (``smask[n_b] = smask[0]``: no folding; masks of two sectors
+    differ iff the sectors do). ``cmask``, ``cur``: mask and state (-1: no
+    increment yet, else 0) before the block. Returns (changes, cmask, cur)."""
+    nch = 0
+    for i in range(nb):
+        sm = smask[secb[i]]
+        sm = cmask if pab[i] < 0.0 else sm  # no increment: it stays
+        xm = sm ^ cmask
+        chg_i[nch] = i
+        chg_m[nch] = xm
+        nch += (xm != 0) & (cur >= 0)  # bitwise: no branch
+        cur = 0 if pab[i] >= 0.0 else cur
+        cmask = sm
+    return nch, cmask, cur
+
+
+@njit(cache=True)
+def _changes_walked(n_b, nb, secb, pab, chg_i, cur):
+    """Walk mode: the block's samples where the sector changes, into ``chg_i``;
+    ``secb`` becomes each sample's sector (no increment: it stays). ``cur``:
+    the sector before the block (-1: none yet). Returns (changes, cur)."""
+    nch = 0
+    for i in range(nb):
+        s = secb[i]
+        s = 0 if s >= n_b else s
+        s = cur if pab[i] < 0.0 else s  # no increment: the sector stays
+        secb[i] = s
+        chg_i[nch] = i
+        nch += 1 if (s != cur and cur >= 0) else 0
+        cur = s
+    return nch, cur
+
+
+@njit(cache=True)
+def _reversals_masked(nch, chg_i, chg_m, rev_i, rev_n):
+    """Mask mode: each group's list of reversal samples (``rev_i[g, :rev_n[g]]``),
+    in time order (a change crosses each group at most once, so a list holds
+    <= nb samples): one branch-free compaction of the change list per group,
+    three groups per pass over the list (a third of its loads)."""
+    n_g = rev_n.shape[0]
+    chq = chg_i[:nch]
+    cmq = chg_m[:nch]
+    g = 0
+    while g + 3 <= n_g:
+        r0 = rev_i[g]
+        r1 = rev_i[g + 1]
+        r2 = rev_i[g + 2]
+        n0 = 0
+        n1 = 0
+        n2 = 0
+        for q in range(nch):
+            c = chq[q]
+            xq = cmq[q] >> g
+            r0[n0] = c
+            r1[n1] = c
+            r2[n2] = c
+            n0 += xq & 1
+            n1 += (xq >> 1) & 1
+            n2 += (xq >> 2) & 1
+        rev_n[g] = n0
+        rev_n[g + 1] = n1
+        rev_n[g + 2] = n2
+        g += 3
+    while g < n_g:
+        r0 = rev_i[g]
+        n0 = 0
+        for q in range(nch):
+            r0[n0] = chq[q]
+            n0 += (cmq[q] >> g) & 1
+        rev_n[g] = n0
+        g += 1
+    return 0
+
+
+@njit(cache=True)
+def _reversals_walked(bnd_grp, nch, cur0, secb, chg_i, rev_i, rev_n):
+    """Walk mode: each group's list of reversal samples, in time order, by
+    walking the boundaries on the short arc of each sector change (``cur0``:
+    the sector before the block)."""
+    n_b = bnd_grp.shape[0]
+    for g in range(rev_n.shape[0]):
+        rev_n[g] = 0
+    for q in range(nch):
+        i = chg_i[q]
+        s = secb[i]
+        prev = secb[i - 1] if i > 0 else cur0
+        f = s - prev
+        if f < 0:
+            f += n_b
+        if 2 * f <= n_b:
+            i0 = prev
+            cnt = f
+        else:
+            i0 = s
+            cnt = n_b - f
+        for r in range(cnt):
+            ib = i0 + r
+            if ib >= n_b:
+                ib -= n_b
+            g = bnd_grp[ib]
+            rev_i[g, rev_n[g]] = i
+            rev_n[g] += 1
+    return 0
+
+
+@njit(cache=True)
+def _close_groups(grp_c, x, y, residue_mode, sv, sx, sy, ms, buf, law, acc):
+    """The last sample (sigma x, tau y) closes every group's sequence; each
+    residue is closed (half cycles, or repeated once) and every buffer is
+    evaluated. Returns the OR of the push codes."""
+    st = OK
+    for g in range(grp_c.shape[0]):
+        st |= _push_count(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y, x, y, buf, law,
+                          acc)
+        m = ms[g]
+        if residue_mode == RESIDUE_HALF:
+            for i in range(m - 1):
+                _add_cycle(g, abs(sv[g, i + 1] - sv[g, i]), sx[g, i], sy[g, i],
+                           sx[g, i + 1], sy[g, i + 1], 0.5, buf, law, acc)
+        elif residue_mode == RESIDUE_REPEAT:
+            rv = sv[g, :m].copy()
+            rx = sx[g, :m].copy()
+            ry = sy[g, :m].copy()
+            for i in range(m):
+                st |= _push_count(sv, sx, sy, ms, g, rv[i], rx[i], ry[i], buf, law, acc)
+        _flush_group(g, buf, law, acc)
+    return st
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -466,24 +692,18 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
 
     Instead of a reversal search per group, each increment's direction in the
     (sigma, tau) plane gets its sector among the sorted directions ``bnd_pa``
-    where some group's shear increment changes sign (pseudo-angles; the sector
-    is the number of boundaries below, a vectorised count); a sample is a
-    reversal of exactly the groups whose boundary lies on the short arc between
-    the previous and the new sector. The per-sample stages (plane stress,
-    pseudo-angle, sector) run vectorised over blocks of ``BLOCK`` samples; a
-    branch-free compaction keeps only the sector changes, which are sorted
-    into one list of reversal samples per group (up to ``MASK_GROUPS`` groups
-    by a bit mask per sector, bit g = parity of group g's boundaries below it,
-    so that a change reverses the groups whose bits differ, and one
-    branch-free compaction of the change list per group; beyond, by walking
-    the boundaries of each change's short arc); each group's list then goes
-    through that group's stack in one tight loop (the groups are independent,
-    so this gives the same cycles in the same order as a sample-by-sample
-    walk). Each group keeps its own 4-point rainflow stack with (shear, sigma,
-    tau) at each reversal; closed cycles are buffered per group and evaluated
-    in vectorised batches (the criterion's equivalent stress per member, Miner
-    damage 1/N from the S-N curve). The result equals a per-plane reversal
-    search and rainflow (exact values, no binning; batch sums are reassociated).
+    where some group's shear increment changes sign; a sample is a reversal of
+    exactly the groups whose boundary lies on the short arc between the
+    previous and the new sector. Blocks of ``BLOCK`` samples go through
+    vectorised stages (``_plane_stress``, ``_sectors``, ``_changes_*``,
+    ``_reversals_*``: by a bit mask per sector up to ``MASK_GROUPS`` groups,
+    else by walking the arc) to one list of reversal samples per group, which
+    then goes through that group's 4-point rainflow stack (shear, sigma, tau
+    at each reversal) in one tight loop: the same cycles in the same order as
+    a sample-by-sample walk. Closed cycles are buffered per group and evaluated
+    in vectorised batches (``_flush_group``). The result equals a per-plane
+    reversal search and rainflow (exact values, no binning; batch sums are
+    reassociated).
 
     Parameters
     ----------
@@ -492,20 +712,10 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
     coef_sig, coef_tau : ndarray, shape (n_points, 6)
         Load-to-stress maps (Pa per N or N m), from ``surface_coefficients``.
     sectors : ShearSectors
-        grp_c (n_grp, 2): representative shear coefficients of each group on
-        (sigma, tau); bnd_pa (2 n_grp,): sorted pseudo-angles of the
-        sign-change directions, the first half B in [0, 2), the second half
-        B + 2 (the antipodes); bnd_grp (2 n_grp,), int64: group owning each
-        boundary.
+        Shear groups and their sign-change boundaries (see :data:`ShearSectors`).
     law : DamageLaw
-        mem_ptr (n_grp + 1,), mem_cand, mem_scale: members of each group and
-        |c_j| / |grp_c[g]| (> 0); cand_n (n_cand, 3): normal stress
-        coefficients of each candidate on (sigma, tau) and its constant
-        normal stress (Pa); crit, sel_crit: criterion for damage and for
-        plane selection (CRIT_*); ca, cb, cc: criterion constants (see
-        ``_equivalent_batch``); s_scale: factor from Pa to the S-N curve
-        unit, times the thickness correction; seg_S_low, seg_m, seg_inv_a,
-        S_cut: S-N curve (see ``sn_inverse_life``).
+        Group members, normal stresses, criteria and S-N curve (see
+        :data:`DamageLaw`).
     residue_mode : int
         RESIDUE_HALF or RESIDUE_REPEAT.
     stack_cap : int
@@ -527,17 +737,9 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
     n_g = grp_c.shape[0]
     n_c = cand_n.shape[0]
     n_b = bnd_pa.shape[0]
-    n_half = n_b // 2
     status = np.zeros(n_p, dtype=np.int64)
-    # sector masks: bit g of smask[s] is the parity of group g's boundaries below
-    # sector s; a change of sector crosses (along the short arc) exactly the groups
-    # whose bits differ, each once (the long arc crosses the other boundary of
-    # each: the same parity)
     use_mask = n_g <= MASK_GROUPS
-    smask = np.zeros(n_b + 1, dtype=np.int64)
-    if use_mask:
-        for s in range(1, n_b + 1):
-            smask[s] = smask[s - 1] ^ (1 << bnd_grp[s - 1])
+    smask = _sector_masks(bnd_grp, use_mask)
     for p in prange(n_p):
         # rows padded by an odd number of doubles: the tops of the groups' stacks
         # do not all fall into one cache set (a power-of-two row stride would)
@@ -569,27 +771,13 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
         lawt = (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale,
                 seg_S_low, seg_m, seg_inv_a, S_cut)
         acc = (acc_dmg, acc_sel, acc_par)
-        L0 = loads_T[0]
-        L1 = loads_T[1]
-        L2 = loads_T[2]
-        L3 = loads_T[3]
-        L4 = loads_T[4]
-        L5 = loads_T[5]
-        a0 = coef_sig[p, 0]
-        a1 = coef_sig[p, 1]
-        a2 = coef_sig[p, 2]
-        a3 = coef_sig[p, 3]
-        a4 = coef_sig[p, 4]
-        a5 = coef_sig[p, 5]
-        b0 = coef_tau[p, 0]
-        b1 = coef_tau[p, 1]
-        b2 = coef_tau[p, 2]
-        b3 = coef_tau[p, 3]
-        b4 = coef_tau[p, 4]
-        b5 = coef_tau[p, 5]
-        tube = a1 == 0.0 and a2 == 0.0 and a5 == 0.0 and b0 == 0.0 and b3 == 0.0 and b4 == 0.0
-        sgb[0] = a0 * L0[0] + a1 * L1[0] + a2 * L2[0] + a3 * L3[0] + a4 * L4[0] + a5 * L5[0]
-        tab[0] = b0 * L0[0] + b1 * L1[0] + b2 * L2[0] + b3 * L3[0] + b4 * L4[0] + b5 * L5[0]
+        a = coef_sig[p]
+        b = coef_tau[p]
+        tube = a[1] == 0.0 and a[2] == 0.0 and a[5] == 0.0 and b[0] == 0.0 and b[3] == 0.0 \
+            and b[4] == 0.0
+        _plane_stress(loads_T, 0, 1, a, b, False, sgb, tab)  # sample 0, all six terms
+        sgb[0] = sgb[1]
+        tab[0] = tab[1]
         st = OK  # OR of the pushes' codes: STACK_OVERFLOW is the only failure they return
         for g in range(n_g):
             st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * sgb[0] + grp_c[g, 1] * tab[0],
@@ -598,153 +786,20 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
         cmask = 0  # its sector mask (mask mode)
         for k0 in range(1, n_t, BLOCK):
             nb = min(BLOCK, n_t - k0)
-            # stage 1a: plane stress of the block (one fused pass over the
-            # channels, vectorisable; tube surface points use three each)
-            # (the loops index views with the bare loop counter: an offset
-            # index such as k0 + i or i + 1 is not provably >= 0, numba keeps
-            # its negative-index wraparound and LLVM does not vectorise)
-            x0 = L0[k0:k0 + nb]
-            x1 = L1[k0:k0 + nb]
-            x2 = L2[k0:k0 + nb]
-            x3 = L3[k0:k0 + nb]
-            x4 = L4[k0:k0 + nb]
-            x5 = L5[k0:k0 + nb]
-            s_new = sgb[1:nb + 1]
-            t_new = tab[1:nb + 1]
-            if tube:
-                for i in range(nb):
-                    s_new[i] = a0 * x0[i] + a3 * x3[i] + a4 * x4[i]
-                    t_new[i] = b1 * x1[i] + b2 * x2[i] + b5 * x5[i]
-            else:
-                for i in range(nb):
-                    s_new[i] = a0 * x0[i] + a1 * x1[i] + a2 * x2[i] + a3 * x3[i] \
-                        + a4 * x4[i] + a5 * x5[i]
-                    t_new[i] = b0 * x0[i] + b1 * x1[i] + b2 * x2[i] + b3 * x3[i] \
-                        + b4 * x4[i] + b5 * x5[i]
-            # stage 1b: pseudo-angle of each increment direction (-1: no change),
-            # branch-free so that it vectorises; folded to [0, 2) (the boundaries
-            # come in antipodal pairs, pa and pa + 2)
-            s_old = sgb[0:nb]
-            t_old = tab[0:nb]
-            for i in range(nb):
-                dx = s_new[i] - s_old[i]
-                dy = t_new[i] - t_old[i]
-                den = abs(dx) + abs(dy)
-                r = dx / den
-                q = 1.0 - r if dy >= 0.0 else 3.0 + r
-                q = q if den != 0.0 else -1.0
-                pab[i] = q
-                up = q >= 2.0
-                paf[i] = q - 2.0 if up else q
-                secb[i] = n_half if up else 0
-            # stage 1c: sector of each increment direction = number of boundaries
-            # below its pseudo-angle (boundary-outer loop over the first half,
-            # vectorisable), then a compaction of the samples where it changes
-            # (four boundaries per pass: a quarter of the loads and stores)
-            ib = 0
-            while ib + 4 <= n_half:
-                bp0 = bnd_pa[ib]
-                bp1 = bnd_pa[ib + 1]
-                bp2 = bnd_pa[ib + 2]
-                bp3 = bnd_pa[ib + 3]
-                for i in range(nb):
-                    f = paf[i]
-                    secb[i] += ((1 if f > bp0 else 0) + (1 if f > bp1 else 0)
-                                + (1 if f > bp2 else 0) + (1 if f > bp3 else 0))
-                ib += 4
-            while ib < n_half:
-                bp = bnd_pa[ib]
-                for i in range(nb):
-                    secb[i] += 1 if paf[i] > bp else 0
-                ib += 1
-            nch = 0
+            # per-sample stages, vectorised over the block: plane stress,
+            # pseudo-angle and sector of each increment direction, the samples
+            # where the sector changes, each group's list of reversal samples
+            _plane_stress(loads_T, k0, nb, a, b, tube, sgb, tab)
+            _sectors(bnd_pa, nb, sgb, tab, pab, paf, secb)
             if use_mask:
-                # on masks (smask[n_b] = smask[0]: no folding; masks of two
-                # sectors differ iff the sectors do); the bits that change are
-                # the groups this change reverses
-                for i in range(nb):
-                    sm = smask[secb[i]]
-                    sm = cmask if pab[i] < 0.0 else sm  # no increment: it stays
-                    xm = sm ^ cmask
-                    chg_i[nch] = i
-                    chg_m[nch] = xm
-                    nch += (xm != 0) & (cur >= 0)  # bitwise: no branch
-                    cur = 0 if pab[i] >= 0.0 else cur
-                    cmask = sm
+                nch, cmask, cur = _changes_masked(smask, nb, secb, pab, chg_i, chg_m, cmask,
+                                                  cur)
+                _reversals_masked(nch, chg_i, chg_m, rev_i, rev_n)
             else:
                 cur0 = cur  # the sector before the block (for its first change)
-                for i in range(nb):
-                    s = secb[i]
-                    s = 0 if s >= n_b else s
-                    s = cur if pab[i] < 0.0 else s  # no increment: the sector stays
-                    secb[i] = s
-                    chg_i[nch] = i
-                    nch += 1 if (s != cur and cur >= 0) else 0
-                    cur = s
-            # stage 2a: direction changes -> each crossed group's list of
-            # reversal samples, in time order (a change crosses each group at
-            # most once, so a list holds <= nb samples). With masks: one
-            # branch-free compaction of the change list per group; else each
-            # change walks the boundaries on its short arc.
-            if use_mask:
-                chq = chg_i[:nch]
-                cmq = chg_m[:nch]
-                # three groups per pass over the change list (a third of its loads)
-                g = 0
-                while g + 3 <= n_g:
-                    r0 = rev_i[g]
-                    r1 = rev_i[g + 1]
-                    r2 = rev_i[g + 2]
-                    n0 = 0
-                    n1 = 0
-                    n2 = 0
-                    for q in range(nch):
-                        c = chq[q]
-                        xq = cmq[q] >> g
-                        r0[n0] = c
-                        r1[n1] = c
-                        r2[n2] = c
-                        n0 += xq & 1
-                        n1 += (xq >> 1) & 1
-                        n2 += (xq >> 2) & 1
-                    rev_n[g] = n0
-                    rev_n[g + 1] = n1
-                    rev_n[g + 2] = n2
-                    g += 3
-                while g < n_g:
-                    r0 = rev_i[g]
-                    n0 = 0
-                    for q in range(nch):
-                        r0[n0] = chq[q]
-                        n0 += (cmq[q] >> g) & 1
-                    rev_n[g] = n0
-                    g += 1
-            else:
-                for g in range(n_g):
-                    rev_n[g] = 0
-                for q in range(nch):
-                    i = chg_i[q]
-                    s = secb[i]
-                    prev = secb[i - 1] if i > 0 else cur0
-                    f = s - prev
-                    if f < 0:
-                        f += n_b
-                    if 2 * f <= n_b:
-                        i0 = prev
-                        cnt = f
-                    else:
-                        i0 = s
-                        cnt = n_b - f
-                    for r in range(cnt):
-                        ib = i0 + r
-                        if ib >= n_b:
-                            ib -= n_b
-                        g = bnd_grp[ib]
-                        rev_i[g, rev_n[g]] = i
-                        rev_n[g] += 1
-            # stage 2b: one group at a time, its reversals through its rainflow
-            # stack (the groups are independent: the same cycles in the same
-            # order per group as a sample-by-sample walk, in a tighter loop)
+                nch, cur = _changes_walked(n_b, nb, secb, pab, chg_i, cur)
+                _reversals_walked(bnd_grp, nch, cur0, secb, chg_i, rev_i, rev_n)
+            # one group at a time, its reversals through its rainflow stack
             for g in range(n_g):
                 c0 = grp_c[g, 0]
                 c1 = grp_c[g, 1]
@@ -755,24 +810,8 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
                     st |= _push_count(sv, sx, sy, ms, g, c0 * x + c1 * y, x, y, buf, lawt, acc)
             sgb[0] = sgb[nb]
             tab[0] = tab[nb]
-        # last sample closes every group's sequence
-        x = sgb[0]
-        y = tab[0]
-        for g in range(n_g):
-            st |= _push_count(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y, x, y, buf,
-                              lawt, acc)
-            m = ms[g]
-            if residue_mode == RESIDUE_HALF:
-                for i in range(m - 1):
-                    _add_cycle(g, abs(sv[g, i + 1] - sv[g, i]), sx[g, i], sy[g, i],
-                               sx[g, i + 1], sy[g, i + 1], 0.5, buf, lawt, acc)
-            elif residue_mode == RESIDUE_REPEAT:
-                rv = sv[g, :m].copy()
-                rx = sx[g, :m].copy()
-                ry = sy[g, :m].copy()
-                for i in range(m):
-                    st |= _push_count(sv, sx, sy, ms, g, rv[i], rx[i], ry[i], buf, lawt, acc)
-            _flush_group(g, buf, lawt, acc)
+        # the last sample closes every group's sequence
+        st |= _close_groups(grp_c, sgb[0], tab[0], residue_mode, sv, sx, sy, ms, buf, lawt, acc)
         for j in range(n_c):
             out_dmg[p, j] = acc_dmg[j]
             out_sel[p, j] = acc_dmg[j] if sel_crit == crit else acc_sel[j]
