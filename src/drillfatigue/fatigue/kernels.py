@@ -1,9 +1,7 @@
 """Numba kernels of the fatigue chain: indexed rainflow and multi-plane damage.
 
 Plain functions on float64 arrays in SI (stresses in Pa), importing only numpy,
-numba and math (and ``collections.namedtuple`` for the named bundles the
-multi-plane kernel takes: :data:`ShearSectors`, :data:`DamageLaw`). They write
-into preallocated ``out`` arrays and return a
+numba and math. They write into preallocated ``out`` arrays and return a
 status code of the package's one enumeration, :mod:`drillfatigue.status`
 (:func:`rainflow_indexed` returns the number of cycles, or minus a code); the
 Python wrappers in :mod:`drillfatigue.fatigue.rainflow` and
@@ -41,85 +39,19 @@ CRIT_SHEAR = 3  # Tresca-type: equivalent amplitude = shear range (plane selecti
 
 
 # ---------------------------------------------------------------------------
-# reversal stacks and the 4-point rule
-# ---------------------------------------------------------------------------
-@njit(cache=True, inline="always")
-def _push_group(sv, sx, sy, ms, g, v, x, y):
-    """Peak-valley filtered push of (value v, payload x, y) onto stack g;
-    ``OK`` or ``STACK_OVERFLOW``.
-
-    ``sv[g, :ms[g]]`` are the reversals of stack g and ``sx``, ``sy`` what each
-    carries: (sigma, tau) for a shear group, the sample index for a 1-D signal.
-    """
-    m = ms[g]
-    if m >= 1 and sv[g, m - 1] == v:
-        return OK  # plateau: the reversal stays at the first sample
-    if m >= 2 and (sv[g, m - 1] - sv[g, m - 2]) * (v - sv[g, m - 1]) > 0.0:
-        sv[g, m - 1] = v  # monotone continuation: the top was not a reversal
-        sx[g, m - 1] = x
-        sy[g, m - 1] = y
-        return OK
-    if m >= sv.shape[1]:
-        return STACK_OVERFLOW
-    sv[g, m] = v
-    sx[g, m] = x
-    sy[g, m] = y
-    ms[g] = m + 1
-    return OK
-
-
-@njit(cache=True, inline="always")
-def _close_cycle(sv, sx, sy, g, m):
-    """The 4-point rule on the top of stack g (``m`` reversals).
-
-    When the inner pair of the top four reversals closes a cycle (its range is
-    at most both outer ranges), the pair leaves the stack. Returns
-    ``(m, d, x1, y1, x2, y2)``: the new height (``m`` unchanged: no cycle),
-    the cycle's range and the payloads of its two ends.
-    """
-    if m >= 4:
-        s0 = sv[g, m - 4]
-        s1 = sv[g, m - 3]
-        s2 = sv[g, m - 2]
-        s3 = sv[g, m - 1]
-        d2 = abs(s2 - s1)
-        if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
-            x1 = sx[g, m - 3]
-            y1 = sy[g, m - 3]
-            x2 = sx[g, m - 2]
-            y2 = sy[g, m - 2]
-            sv[g, m - 3] = s3
-            sx[g, m - 3] = sx[g, m - 1]
-            sy[g, m - 3] = sy[g, m - 1]
-            return m - 2, d2, x1, y1, x2, y2
-    return m, 0.0, 0.0, 0.0, 0.0, 0.0
-
-
-# ---------------------------------------------------------------------------
 # 1-D indexed rainflow
 # ---------------------------------------------------------------------------
-@njit(cache=True, inline="always")
-def _count_sample(y, k, stack, out, nc):
-    """Push sample k of ``y`` (its index as payload), then record every cycle
-    the 4-point rule closes. Returns the new cycle count, or -1 when the
-    output arrays are full."""
-    sv, sx, sy, ms = stack
-    out_from, out_to, out_count = out
-    _push_group(sv, sx, sy, ms, 0, y[k], float(k), 0.0)  # capacity 2n + 2: never full
-    m = ms[0]
-    while True:
-        m2, _, x1, _, x2, _ = _close_cycle(sv, sx, sy, 0, m)
-        if m2 == m:
-            break
-        if nc >= out_from.shape[0]:
-            return -1
-        out_from[nc] = int(x1)
-        out_to[nc] = int(x2)
-        out_count[nc] = 1.0
-        nc += 1
-        m = m2
-    ms[0] = m
-    return nc
+@njit(cache=True)
+def _push_index(y, stk, m, k):
+    """Peak-valley filtered push of sample k onto the index stack; returns new m."""
+    v = y[k]
+    if m >= 1 and y[stk[m - 1]] == v:
+        return m  # plateau: the reversal stays at the first sample
+    if m >= 2 and (y[stk[m - 1]] - y[stk[m - 2]]) * (v - y[stk[m - 1]]) > 0.0:
+        stk[m - 1] = k  # monotone continuation: the top was not a reversal
+        return m
+    stk[m] = k
+    return m + 1
 
 
 @njit(cache=True)
@@ -147,34 +79,61 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
         arrays are too short.
     """
     n = y.shape[0]
-    # one stack of the signal's reversals, each carrying its sample index
-    stack = (np.empty((1, 2 * n + 2)), np.empty((1, 2 * n + 2)), np.zeros((1, 2 * n + 2)),
-             np.zeros(1, dtype=np.int64))
-    sv, sx, _, ms = stack
-    out = (out_from, out_to, out_count)
+    stk = np.empty(2 * n + 2, dtype=np.int64)
+    m = 0
     nc = 0
+    cap = out_from.shape[0]
     for k in range(n):
-        nc = _count_sample(y, k, stack, out, nc)
-        if nc < 0:
-            return -OUT_OVERFLOW
-    m = ms[0]
+        m = _push_index(y, stk, m, k)
+        while m >= 4:
+            s0 = y[stk[m - 4]]
+            s1 = y[stk[m - 3]]
+            s2 = y[stk[m - 2]]
+            s3 = y[stk[m - 1]]
+            d2 = abs(s2 - s1)
+            if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
+                if nc >= cap:
+                    return -OUT_OVERFLOW
+                out_from[nc] = stk[m - 3]
+                out_to[nc] = stk[m - 2]
+                out_count[nc] = 1.0
+                nc += 1
+                stk[m - 3] = stk[m - 1]
+                m -= 2
+            else:
+                break
     out_residue[0] = m
     for i in range(m):
-        out_residue[i + 1] = int(sx[0, i])
+        out_residue[i + 1] = stk[i]
     if residue_mode == RESIDUE_HALF:
         for i in range(m - 1):
-            if nc >= out_from.shape[0]:
+            if nc >= cap:
                 return -OUT_OVERFLOW
-            out_from[nc] = int(sx[0, i])
-            out_to[nc] = int(sx[0, i + 1])
+            out_from[nc] = stk[i]
+            out_to[nc] = stk[i + 1]
             out_count[nc] = 0.5
             nc += 1
     elif residue_mode == RESIDUE_REPEAT:
-        res = out_residue[1:m + 1]
-        for i in range(m):
-            nc = _count_sample(y, res[i], stack, out, nc)
-            if nc < 0:
-                return -OUT_OVERFLOW
+        res = stk[:m].copy()
+        for i in range(res.shape[0]):
+            m = _push_index(y, stk, m, res[i])
+            while m >= 4:
+                s0 = y[stk[m - 4]]
+                s1 = y[stk[m - 3]]
+                s2 = y[stk[m - 2]]
+                s3 = y[stk[m - 1]]
+                d2 = abs(s2 - s1)
+                if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
+                    if nc >= cap:
+                        return -OUT_OVERFLOW
+                    out_from[nc] = stk[m - 3]
+                    out_to[nc] = stk[m - 2]
+                    out_count[nc] = 1.0
+                    nc += 1
+                    stk[m - 3] = stk[m - 1]
+                    m -= 2
+                else:
+                    break
     return nc
 
 
@@ -223,10 +182,32 @@ def sn_inverse_life(S, seg_S_low, seg_m, seg_inv_a, S_cut):
 
 @njit(cache=True, inline="always")
 def _pseudo_angle(x, y):
-    """Monotone pseudo-angle of the direction (x, y) in [0, 4) (branch-free:
-    it vectorises; NaN for the zero vector)."""
-    r = x / (abs(x) + abs(y))
-    return 1.0 - r if y >= 0.0 else 3.0 + r
+    """Monotone pseudo-angle of the direction (x, y) in [0, 4)."""
+    ax = abs(x)
+    if y >= 0.0:
+        return 1.0 - x / (ax + y)
+    return 3.0 + x / (ax - y)
+
+
+@njit(cache=True, inline="always")
+def _push_group(sv, sx, sy, ms, g, v, x, y):
+    """Peak-valley filtered push of (shear v, sigma x, tau y) onto group g's stack;
+    ``OK`` or ``STACK_OVERFLOW``."""
+    m = ms[g]
+    if m >= 1 and sv[g, m - 1] == v:
+        return OK  # plateau: the reversal stays at the first sample
+    if m >= 2 and (sv[g, m - 1] - sv[g, m - 2]) * (v - sv[g, m - 1]) > 0.0:
+        sv[g, m - 1] = v  # monotone continuation: the top was not a reversal
+        sx[g, m - 1] = x
+        sy[g, m - 1] = y
+        return OK
+    if m >= sv.shape[1]:
+        return STACK_OVERFLOW
+    sv[g, m] = v
+    sx[g, m] = x
+    sy[g, m] = y
+    ms[g] = m + 1
+    return OK
 
 
 BATCH_FAST = {"reassoc", "nsz"}  # fastmath flags of the batch loops: sums, maxima reordered
@@ -357,7 +338,8 @@ def _flush_group(g, buf, law, acc):
     ``buf`` = (cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S): per group,
     the shear range, (sigma, tau) at the two turning instants and the count of
     each buffered cycle, the fill level, and scratch for the S-N ranges.
-    ``law`` : DamageLaw.
+    ``law`` = (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit,
+    s_scale, seg_S_low, seg_m, seg_inv_a, S_cut) (see ``multiplane_damage``).
     ``acc`` = (acc_dmg, acc_sel, acc_par), per candidate.
     Member j has shear range ``mem_scale * dtau`` and normal stress
     ``cand_n[j, :2] . (sigma, tau) + cand_n[j, 2]`` at each cycle's two
@@ -419,22 +401,26 @@ def _add_cycle(g, d, x1, y1, x2, y2, count, buf, law, acc):
 
 
 @njit(cache=True, inline="always")
-def _push_count(stack, g, v, x, y, rec):
+def _push_count(sv, sx, sy, ms, g, v, x, y, buf, law, acc):
     """Push (shear v, sigma x, tau y) on group g's stack, then 4-point rainflow:
-    closed cycles go to the group's buffer. Returns the push status.
-
-    ``stack`` = (sv, sx, sy, ms), ``rec`` = (buf, law, acc) (see ``_flush_group``).
-    """
-    sv, sx, sy, ms = stack
-    buf, law, acc = rec
+    closed cycles go to the group's buffer. Returns the push status."""
     st = _push_group(sv, sx, sy, ms, g, v, x, y)
     m = ms[g]
-    while True:
-        m2, d, x1, y1, x2, y2 = _close_cycle(sv, sx, sy, g, m)
-        if m2 == m:
+    while m >= 4:
+        s0 = sv[g, m - 4]
+        s1 = sv[g, m - 3]
+        s2 = sv[g, m - 2]
+        s3 = sv[g, m - 1]
+        d2 = abs(s2 - s1)
+        if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
+            _add_cycle(g, d2, sx[g, m - 3], sy[g, m - 3], sx[g, m - 2], sy[g, m - 2], 1.0,
+                       buf, law, acc)
+            sv[g, m - 3] = s3
+            sx[g, m - 3] = sx[g, m - 1]
+            sy[g, m - 3] = sy[g, m - 1]
+            m -= 2
+        else:
             break
-        _add_cycle(g, d, x1, y1, x2, y2, 1.0, buf, law, acc)
-        m = m2
     ms[g] = m
     return st
 
@@ -445,38 +431,31 @@ BLOCK = 2048
 STACK_PAD = 9
 CYCLE_BATCH = 256  # closed cycles buffered per group before their damage is evaluated
 MASK_GROUPS = 62  # up to this many shear groups, reversals are sorted by a group bit mask
-
 #: The damage law of ``multiplane_damage``: members of each shear group (group g
 #: is ``mem_cand[mem_ptr[g]:mem_ptr[g + 1]]``, member ranges ``mem_scale`` times
-#: the group's), the candidates' normal-stress coefficients ``cand_n``, the
+#: the group's, > 0), the candidates' normal-stress coefficients on (sigma, tau)
+#: and constant normal stress, Pa, ``cand_n`` (n_cand, 3), the
 #: criterion for damage ``crit`` and for plane selection ``sel_crit`` with its
-#: constants (ca, cb, cc), the factor ``s_scale`` from Pa to the S-N unit and the
+#: constants (ca, cb, cc) (see ``_equivalent_batch``), the factor ``s_scale``
+#: from Pa to the S-N unit times the thickness correction, and the
 #: S-N curve (seg_S_low, seg_m, seg_inv_a, S_cut) (see ``sn_inverse_life``).
 DamageLaw = namedtuple("DamageLaw", ["mem_ptr", "mem_cand", "mem_scale", "cand_n", "crit",
                                      "ca", "cb", "cc", "sel_crit", "s_scale", "seg_S_low",
                                      "seg_m", "seg_inv_a", "S_cut"])
 #: The shear groups' reversal geometry of ``multiplane_damage``: representative
-#: shear coefficients ``grp_c`` (n_grp, 2) on (sigma, tau), the sorted
+#: shear coefficients ``grp_c`` (n_grp, 2) on (sigma, tau); the sorted
 #: pseudo-angles ``bnd_pa`` (2 n_grp,) where some group's shear increment
-#: changes sign, and the group ``bnd_grp`` owning each.
+#: changes sign, the first half B in [0, 2), the second B + 2 (the antipodes);
+#: the group ``bnd_grp`` (2 n_grp,), int64, owning each.
 ShearSectors = namedtuple("ShearSectors", ["grp_c", "bnd_pa", "bnd_grp"])
-#: Per-block work of one surface point: plane stress ``sgb``, ``tab``
-#: (BLOCK + 1,) with the previous block's last sample first; pseudo-angle of each
-#: increment ``pab`` and folded to [0, 2) ``paf``; sector ``secb``; the sector
-#: changes ``chg_i`` (sample) and ``chg_m`` (groups crossed, mask mode); each
-#: group's reversal samples ``rev_i`` (n_grp, BLOCK) and their number ``rev_n``.
-Block = namedtuple("Block", ["sgb", "tab", "pab", "paf", "secb", "chg_i", "chg_m", "rev_i",
-                             "rev_n"])
 
 
-@njit(cache=True, inline="always")
-def _plane_stress(loads_T, k0, nb, a, b, tube, blk):
+@njit(cache=True)
+def _plane_stress(loads_T, k0, nb, a, b, tube, sgb, tab):
     """Plane stress (sigma, tau) of samples k0 .. k0 + nb - 1 into ``sgb[1:]``,
     ``tab[1:]``: one fused pass over the channels, vectorisable; tube surface
     points (``tube``: the other coefficients are zero) use three each.
-
-    ``a``, ``b`` : ndarray, shape (6,): the point's load-to-stress rows.
-    """
+    ``a``, ``b``: the point's load-to-stress rows, shape (6,)."""
     # the loops index views with the bare loop counter: an offset index such
     # as k0 + i or i + 1 is not provably >= 0, numba keeps its negative-index
     # wraparound and LLVM does not vectorise
@@ -488,8 +467,8 @@ def _plane_stress(loads_T, k0, nb, a, b, tube, blk):
     x3 = loads_T[3][k0:k0 + nb]
     x4 = loads_T[4][k0:k0 + nb]
     x5 = loads_T[5][k0:k0 + nb]
-    s_new = blk.sgb[1:nb + 1]
-    t_new = blk.tab[1:nb + 1]
+    s_new = sgb[1:nb + 1]
+    t_new = tab[1:nb + 1]
     if tube:
         for i in range(nb):
             s_new[i] = a0 * x0[i] + a3 * x3[i] + a4 * x4[i]
@@ -500,33 +479,33 @@ def _plane_stress(loads_T, k0, nb, a, b, tube, blk):
                 + a4 * x4[i] + a5 * x5[i]
             t_new[i] = b0 * x0[i] + b1 * x1[i] + b2 * x2[i] + b3 * x3[i] \
                 + b4 * x4[i] + b5 * x5[i]
+    return 0
 
 
-@njit(cache=True, inline="always")
-def _sectors(bnd_pa, nb, blk):
-    """Sector of each of the block's nb increment directions: the number of
-    boundaries below its pseudo-angle (``pab``, -1 for no change), counted on
-    the folded half [0, 2) (``paf``; the boundaries come in antipodal pairs, pa
-    and pa + 2), into ``secb``."""
+@njit(cache=True, error_model="numpy")
+def _sectors(bnd_pa, nb, sgb, tab, pab, paf, secb):
+    """Pseudo-angle ``pab`` of each of the block's nb increment directions (-1:
+    no change), branch-free so that it vectorises, folded to [0, 2) in ``paf``
+    (the boundaries come in antipodal pairs, pa and pa + 2); its sector
+    ``secb`` = the number of boundaries below it (boundary-outer loop over the
+    first half, vectorisable, four boundaries per pass: a quarter of the loads
+    and stores)."""
     n_half = bnd_pa.shape[0] // 2
-    pab = blk.pab
-    paf = blk.paf
-    secb = blk.secb
-    s_new = blk.sgb[1:nb + 1]
-    t_new = blk.tab[1:nb + 1]
-    s_old = blk.sgb[0:nb]
-    t_old = blk.tab[0:nb]
+    s_new = sgb[1:nb + 1]
+    t_new = tab[1:nb + 1]
+    s_old = sgb[0:nb]
+    t_old = tab[0:nb]
     for i in range(nb):
         dx = s_new[i] - s_old[i]
         dy = t_new[i] - t_old[i]
-        q = _pseudo_angle(dx, dy)
-        q = q if abs(dx) + abs(dy) != 0.0 else -1.0
+        den = abs(dx) + abs(dy)
+        r = dx / den
+        q = 1.0 - r if dy >= 0.0 else 3.0 + r
+        q = q if den != 0.0 else -1.0
         pab[i] = q
         up = q >= 2.0
         paf[i] = q - 2.0 if up else q
         secb[i] = n_half if up else 0
-    # boundary-outer loop over the first half (vectorisable), four boundaries
-    # per pass: a quarter of the loads and stores
     ib = 0
     while ib + 4 <= n_half:
         bp0 = bnd_pa[ib]
@@ -543,58 +522,70 @@ def _sectors(bnd_pa, nb, blk):
         for i in range(nb):
             secb[i] += 1 if paf[i] > bp else 0
         ib += 1
+    return 0
 
 
-@njit(cache=True, inline="always")
-def _changes_masked(smask, nb, blk, cmask, cur):
-    """Mask mode: the block's samples where the sector mask changes (branch-free
-    compaction into ``chg_i``, the groups each reverses as the bits of ``chg_m``).
-    ``cmask``, ``cur``: mask and state (-1: no increment yet, else 0) before the
-    block. Returns (number of changes, cmask, cur) after it.
+@njit(cache=True)
+def _sector_masks(bnd_grp, use_mask):
+    """Sector masks, shape (n_b + 1,), int64: bit g of ``smask[s]`` is the parity of
+    group g's boundaries below sector s; a change of sector crosses (along the
+    short arc) exactly the groups whose bits differ, each once (the long arc
+    crosses the other boundary of each: the same parity). Zeros unless
+    ``use_mask`` (at most ``MASK_GROUPS`` groups)."""
+    n_b = bnd_grp.shape[0]
+    smask = np.zeros(n_b + 1, dtype=np.int64)
+    if use_mask:
+        for s in range(1, n_b + 1):
+            smask[s] = smask[s - 1] ^ (1 << bnd_grp[s - 1])
+    return smask
 
-    On masks ``smask[n_b] = smask[0]`` (no folding), and masks of two sectors
-    differ iff the sectors do.
-    """
+
+@njit(cache=True)
+def _changes_masked(smask, nb, secb, pab, chg_i, chg_m, cmask, cur):
+    """Mask mode: branch-free compaction of the block's samples where the sector
+    mask changes into ``chg_i``, the groups each change reverses as the bits of
+    ``chg_m`` (``smask[n_b] = smask[0]``: no folding; masks of two sectors
+    differ iff the sectors do). ``cmask``, ``cur``: mask and state (-1: no
+    increment yet, else 0) before the block. Returns (changes, cmask, cur)."""
     nch = 0
     for i in range(nb):
-        sm = smask[blk.secb[i]]
-        sm = cmask if blk.pab[i] < 0.0 else sm  # no increment: it stays
+        sm = smask[secb[i]]
+        sm = cmask if pab[i] < 0.0 else sm  # no increment: it stays
         xm = sm ^ cmask
-        blk.chg_i[nch] = i
-        blk.chg_m[nch] = xm
+        chg_i[nch] = i
+        chg_m[nch] = xm
         nch += (xm != 0) & (cur >= 0)  # bitwise: no branch
-        cur = 0 if blk.pab[i] >= 0.0 else cur
+        cur = 0 if pab[i] >= 0.0 else cur
         cmask = sm
     return nch, cmask, cur
 
 
-@njit(cache=True, inline="always")
-def _changes_walked(n_b, nb, blk, cur):
+@njit(cache=True)
+def _changes_walked(n_b, nb, secb, pab, chg_i, cur):
     """Walk mode: the block's samples where the sector changes, into ``chg_i``;
-    ``secb`` becomes the sector of every sample (no increment: the sector
-    stays). ``cur``: the sector before the block (-1: none yet). Returns
-    (number of changes, the sector after the block)."""
+    ``secb`` becomes each sample's sector (no increment: it stays). ``cur``:
+    the sector before the block (-1: none yet). Returns (changes, cur)."""
     nch = 0
     for i in range(nb):
-        s = blk.secb[i]
+        s = secb[i]
         s = 0 if s >= n_b else s
-        s = cur if blk.pab[i] < 0.0 else s
-        blk.secb[i] = s
-        blk.chg_i[nch] = i
+        s = cur if pab[i] < 0.0 else s  # no increment: the sector stays
+        secb[i] = s
+        chg_i[nch] = i
         nch += 1 if (s != cur and cur >= 0) else 0
         cur = s
     return nch, cur
 
 
-@njit(cache=True, inline="always")
-def _reversals_masked(n_g, nch, blk):
-    """Mask mode: each group's list of reversal samples (``rev_i``, ``rev_n``),
-    in time order, by one branch-free compaction of the change list per group,
+@njit(cache=True)
+def _reversals_masked(nch, chg_i, chg_m, rev_i, rev_n):
+    """Mask mode: each group's list of reversal samples (``rev_i[g, :rev_n[g]]``),
+    in time order (a change crosses each group at most once, so a list holds
+    <= nb samples): one branch-free compaction of the change list per group,
     three groups per pass over the list (a third of its loads)."""
-    chq = blk.chg_i[:nch]
-    cmq = blk.chg_m[:nch]
-    rev_i = blk.rev_i
-    rev_n = blk.rev_n
+    n_g = rev_n.shape[0]
+    chq = chg_i[:nch]
+    cmq = chg_m[:nch]
     g = 0
     while g + 3 <= n_g:
         r0 = rev_i[g]
@@ -624,20 +615,19 @@ def _reversals_masked(n_g, nch, blk):
             n0 += (cmq[q] >> g) & 1
         rev_n[g] = n0
         g += 1
+    return 0
 
 
-@njit(cache=True, inline="always")
-def _reversals_walked(bnd_grp, nch, cur0, blk):
-    """Walk mode: each group's list of reversal samples (``rev_i``, ``rev_n``),
-    in time order, walking the boundaries on the short arc of each sector
-    change; ``cur0`` is the sector before the block."""
+@njit(cache=True)
+def _reversals_walked(bnd_grp, nch, cur0, secb, chg_i, rev_i, rev_n):
+    """Walk mode: each group's list of reversal samples, in time order, by
+    walking the boundaries on the short arc of each sector change (``cur0``:
+    the sector before the block)."""
     n_b = bnd_grp.shape[0]
-    n_g = blk.rev_n.shape[0]
-    secb = blk.secb
-    for g in range(n_g):
-        blk.rev_n[g] = 0
+    for g in range(rev_n.shape[0]):
+        rev_n[g] = 0
     for q in range(nch):
-        i = blk.chg_i[q]
+        i = chg_i[q]
         s = secb[i]
         prev = secb[i - 1] if i > 0 else cur0
         f = s - prev
@@ -654,38 +644,20 @@ def _reversals_walked(bnd_grp, nch, cur0, blk):
             if ib >= n_b:
                 ib -= n_b
             g = bnd_grp[ib]
-            blk.rev_i[g, blk.rev_n[g]] = i
-            blk.rev_n[g] += 1
+            rev_i[g, rev_n[g]] = i
+            rev_n[g] += 1
+    return 0
 
 
-@njit(cache=True, inline="always")
-def _count_reversals(grp_c, blk, stack, rec):
-    """Each group's reversals of the block through its rainflow stack, one group
-    at a time (the groups are independent: the same cycles in the same order
-    per group as a sample-by-sample walk, in a tighter loop). Returns the OR
-    of the push codes."""
-    st = OK
-    for g in range(grp_c.shape[0]):
-        c0 = grp_c[g, 0]
-        c1 = grp_c[g, 1]
-        for q in range(blk.rev_n[g]):
-            i = blk.rev_i[g, q]
-            x = blk.sgb[i]
-            y = blk.tab[i]
-            st |= _push_count(stack, g, c0 * x + c1 * y, x, y, rec)
-    return st
-
-
-@njit(cache=True, inline="always")
-def _close_groups(grp_c, x, y, residue_mode, stack, rec):
+@njit(cache=True)
+def _close_groups(grp_c, x, y, residue_mode, sv, sx, sy, ms, buf, law, acc):
     """The last sample (sigma x, tau y) closes every group's sequence; each
-    residue is closed (half cycles or repeated once) and every buffer is
+    residue is closed (half cycles, or repeated once) and every buffer is
     evaluated. Returns the OR of the push codes."""
-    sv, sx, sy, ms = stack
-    buf, law, acc = rec
     st = OK
     for g in range(grp_c.shape[0]):
-        st |= _push_count(stack, g, grp_c[g, 0] * x + grp_c[g, 1] * y, x, y, rec)
+        st |= _push_count(sv, sx, sy, ms, g, grp_c[g, 0] * x + grp_c[g, 1] * y, x, y, buf, law,
+                          acc)
         m = ms[g]
         if residue_mode == RESIDUE_HALF:
             for i in range(m - 1):
@@ -696,70 +668,8 @@ def _close_groups(grp_c, x, y, residue_mode, stack, rec):
             rx = sx[g, :m].copy()
             ry = sy[g, :m].copy()
             for i in range(m):
-                st |= _push_count(stack, g, rv[i], rx[i], ry[i], rec)
+                st |= _push_count(sv, sx, sy, ms, g, rv[i], rx[i], ry[i], buf, law, acc)
         _flush_group(g, buf, law, acc)
-    return st
-
-
-@njit(cache=True, error_model="numpy")
-def _point_damage(loads_T, a, b, sectors, law, smask, residue_mode, stack_cap, out):
-    """Damage, selection damage and parameter of every candidate at one surface
-    point (rows ``out`` = (dmg, sel, par), shape (n_cand,) each); see
-    ``multiplane_damage``. ``a``, ``b``: the point's load-to-stress rows (6,).
-    Returns ``OK`` or ``STACK_OVERFLOW``."""
-    grp_c, bnd_pa, bnd_grp = sectors
-    n_t = loads_T.shape[1]
-    n_g = grp_c.shape[0]
-    n_c = law.cand_n.shape[0]
-    n_b = bnd_pa.shape[0]
-    use_mask = n_g <= MASK_GROUPS
-    # rows padded by an odd number of doubles: the tops of the groups' stacks
-    # do not all fall into one cache set (a power-of-two row stride would)
-    stack = (np.empty((n_g, stack_cap + STACK_PAD)), np.empty((n_g, stack_cap + STACK_PAD)),
-             np.empty((n_g, stack_cap + STACK_PAD)), np.zeros(n_g, dtype=np.int64))
-    blk = Block(np.empty(BLOCK + 1), np.empty(BLOCK + 1), np.empty(BLOCK), np.empty(BLOCK),
-                np.empty(BLOCK, dtype=np.int64), np.empty(BLOCK, dtype=np.int64),
-                np.empty(BLOCK, dtype=np.int64), np.empty((n_g, BLOCK), dtype=np.int64),
-                np.zeros(n_g, dtype=np.int64))
-    buf = (np.empty((n_g, CYCLE_BATCH + STACK_PAD)), np.empty((n_g, CYCLE_BATCH + STACK_PAD)),
-           np.empty((n_g, CYCLE_BATCH + STACK_PAD)), np.empty((n_g, CYCLE_BATCH + STACK_PAD)),
-           np.empty((n_g, CYCLE_BATCH + STACK_PAD)), np.empty((n_g, CYCLE_BATCH + STACK_PAD)),
-           np.zeros(n_g, dtype=np.int64), np.empty(CYCLE_BATCH + STACK_PAD))
-    acc = (np.zeros(n_c), np.zeros(n_c), np.zeros(n_c))
-    rec = (buf, law, acc)
-    tube = a[1] == 0.0 and a[2] == 0.0 and a[5] == 0.0 and b[0] == 0.0 and b[3] == 0.0 \
-        and b[4] == 0.0
-    _plane_stress(loads_T, 0, 1, a, b, False, blk)  # sample 0 (all six terms) into sgb[1]
-    blk.sgb[0] = blk.sgb[1]
-    blk.tab[0] = blk.tab[1]
-    st = OK  # OR of the pushes' codes: STACK_OVERFLOW is the only failure they return
-    for g in range(n_g):
-        st |= _push_group(stack[0], stack[1], stack[2], stack[3], g,
-                          grp_c[g, 0] * blk.sgb[0] + grp_c[g, 1] * blk.tab[0], blk.sgb[0],
-                          blk.tab[0])
-    cur = -1  # sector of the last increment direction (-1: none yet; 0 in mask mode)
-    cmask = 0  # its sector mask (mask mode)
-    for k0 in range(1, n_t, BLOCK):
-        nb = min(BLOCK, n_t - k0)
-        _plane_stress(loads_T, k0, nb, a, b, tube, blk)
-        _sectors(bnd_pa, nb, blk)
-        if use_mask:
-            nch, cmask, cur = _changes_masked(smask, nb, blk, cmask, cur)
-            _reversals_masked(n_g, nch, blk)
-        else:
-            cur0 = cur
-            nch, cur = _changes_walked(n_b, nb, blk, cur)
-            _reversals_walked(bnd_grp, nch, cur0, blk)
-        st |= _count_reversals(grp_c, blk, stack, rec)
-        blk.sgb[0] = blk.sgb[nb]
-        blk.tab[0] = blk.tab[nb]
-    st |= _close_groups(grp_c, blk.sgb[0], blk.tab[0], residue_mode, stack, rec)
-    out_dmg, out_sel, out_par = out
-    acc_dmg, acc_sel, acc_par = acc
-    for j in range(n_c):
-        out_dmg[j] = acc_dmg[j]
-        out_sel[j] = acc_dmg[j] if law.sel_crit == law.crit else acc_sel[j]
-        out_par[j] = acc_par[j]
     return st
 
 
@@ -782,24 +692,18 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
 
     Instead of a reversal search per group, each increment's direction in the
     (sigma, tau) plane gets its sector among the sorted directions ``bnd_pa``
-    where some group's shear increment changes sign (pseudo-angles; the sector
-    is the number of boundaries below, a vectorised count); a sample is a
-    reversal of exactly the groups whose boundary lies on the short arc between
-    the previous and the new sector. The per-sample stages (plane stress,
-    pseudo-angle, sector) run vectorised over blocks of ``BLOCK`` samples; a
-    branch-free compaction keeps only the sector changes, which are sorted
-    into one list of reversal samples per group (up to ``MASK_GROUPS`` groups
-    by a bit mask per sector, bit g = parity of group g's boundaries below it,
-    so that a change reverses the groups whose bits differ, and one
-    branch-free compaction of the change list per group; beyond, by walking
-    the boundaries of each change's short arc); each group's list then goes
-    through that group's stack in one tight loop (the groups are independent,
-    so this gives the same cycles in the same order as a sample-by-sample
-    walk). Each group keeps its own 4-point rainflow stack with (shear, sigma,
-    tau) at each reversal; closed cycles are buffered per group and evaluated
-    in vectorised batches (the criterion's equivalent stress per member, Miner
-    damage 1/N from the S-N curve). The result equals a per-plane reversal
-    search and rainflow (exact values, no binning; batch sums are reassociated).
+    where some group's shear increment changes sign; a sample is a reversal of
+    exactly the groups whose boundary lies on the short arc between the
+    previous and the new sector. Blocks of ``BLOCK`` samples go through
+    vectorised stages (``_plane_stress``, ``_sectors``, ``_changes_*``,
+    ``_reversals_*``: by a bit mask per sector up to ``MASK_GROUPS`` groups,
+    else by walking the arc) to one list of reversal samples per group, which
+    then goes through that group's 4-point rainflow stack (shear, sigma, tau
+    at each reversal) in one tight loop: the same cycles in the same order as
+    a sample-by-sample walk. Closed cycles are buffered per group and evaluated
+    in vectorised batches (``_flush_group``). The result equals a per-plane
+    reversal search and rainflow (exact values, no binning; batch sums are
+    reassociated).
 
     Parameters
     ----------
@@ -808,11 +712,10 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
     coef_sig, coef_tau : ndarray, shape (n_points, 6)
         Load-to-stress maps (Pa per N or N m), from ``surface_coefficients``.
     sectors : ShearSectors
-        The shear groups and the pseudo-angles where their shear increments
-        change sign.
+        Shear groups and their sign-change boundaries (see :data:`ShearSectors`).
     law : DamageLaw
-        Members of each group, their normal stress, the criteria and the S-N
-        curve (criterion constants: see ``_equivalent_batch``).
+        Group members, normal stresses, criteria and S-N curve (see
+        :data:`DamageLaw`).
     residue_mode : int
         RESIDUE_HALF or RESIDUE_REPEAT.
     stack_cap : int
@@ -826,21 +729,94 @@ def multiplane_damage(loads_T, coef_sig, coef_tau, sectors, law, residue_mode, s
     int
         ``OK`` or ``STACK_OVERFLOW``.
     """
+    grp_c, bnd_pa, bnd_grp = sectors
+    (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale, seg_S_low,
+     seg_m, seg_inv_a, S_cut) = law
+    n_t = loads_T.shape[1]
     n_p = coef_sig.shape[0]
-    bnd_grp = sectors.bnd_grp
-    n_b = bnd_grp.shape[0]
+    n_g = grp_c.shape[0]
+    n_c = cand_n.shape[0]
+    n_b = bnd_pa.shape[0]
     status = np.zeros(n_p, dtype=np.int64)
-    # sector masks: bit g of smask[s] is the parity of group g's boundaries below
-    # sector s; a change of sector crosses (along the short arc) exactly the groups
-    # whose bits differ, each once (the long arc crosses the other boundary of
-    # each: the same parity)
-    smask = np.zeros(n_b + 1, dtype=np.int64)
-    if sectors.grp_c.shape[0] <= MASK_GROUPS:
-        for s in range(1, n_b + 1):
-            smask[s] = smask[s - 1] ^ (1 << bnd_grp[s - 1])
+    use_mask = n_g <= MASK_GROUPS
+    smask = _sector_masks(bnd_grp, use_mask)
     for p in prange(n_p):
-        status[p] = _point_damage(loads_T, coef_sig[p], coef_tau[p], sectors, law, smask,
-                                  residue_mode, stack_cap, (out_dmg[p], out_sel[p], out_par[p]))
+        # rows padded by an odd number of doubles: the tops of the groups' stacks
+        # do not all fall into one cache set (a power-of-two row stride would)
+        sv = np.empty((n_g, stack_cap + STACK_PAD))
+        sx = np.empty((n_g, stack_cap + STACK_PAD))
+        sy = np.empty((n_g, stack_cap + STACK_PAD))
+        ms = np.zeros(n_g, dtype=np.int64)
+        sgb = np.empty(BLOCK + 1)
+        tab = np.empty(BLOCK + 1)
+        pab = np.empty(BLOCK)
+        chg_i = np.empty(BLOCK, dtype=np.int64)
+        chg_m = np.empty(BLOCK, dtype=np.int64)
+        rev_i = np.empty((n_g, BLOCK), dtype=np.int64)
+        rev_n = np.zeros(n_g, dtype=np.int64)
+        secb = np.empty(BLOCK, dtype=np.int64)
+        paf = np.empty(BLOCK)
+        cyc_d = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_x1 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_y1 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_x2 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_y2 = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_c = np.empty((n_g, CYCLE_BATCH + STACK_PAD))
+        cyc_n = np.zeros(n_g, dtype=np.int64)
+        tmp_S = np.empty(CYCLE_BATCH + STACK_PAD)
+        acc_dmg = np.zeros(n_c)
+        acc_sel = np.zeros(n_c)
+        acc_par = np.zeros(n_c)
+        buf = (cyc_d, cyc_x1, cyc_y1, cyc_x2, cyc_y2, cyc_c, cyc_n, tmp_S)
+        lawt = (mem_ptr, mem_cand, mem_scale, cand_n, crit, ca, cb, cc, sel_crit, s_scale,
+                seg_S_low, seg_m, seg_inv_a, S_cut)
+        acc = (acc_dmg, acc_sel, acc_par)
+        a = coef_sig[p]
+        b = coef_tau[p]
+        tube = a[1] == 0.0 and a[2] == 0.0 and a[5] == 0.0 and b[0] == 0.0 and b[3] == 0.0 \
+            and b[4] == 0.0
+        _plane_stress(loads_T, 0, 1, a, b, False, sgb, tab)  # sample 0, all six terms
+        sgb[0] = sgb[1]
+        tab[0] = tab[1]
+        st = OK  # OR of the pushes' codes: STACK_OVERFLOW is the only failure they return
+        for g in range(n_g):
+            st |= _push_group(sv, sx, sy, ms, g, grp_c[g, 0] * sgb[0] + grp_c[g, 1] * tab[0],
+                              sgb[0], tab[0])
+        cur = -1  # sector of the last increment direction (-1: none yet; 0 in mask mode)
+        cmask = 0  # its sector mask (mask mode)
+        for k0 in range(1, n_t, BLOCK):
+            nb = min(BLOCK, n_t - k0)
+            # per-sample stages, vectorised over the block: plane stress,
+            # pseudo-angle and sector of each increment direction, the samples
+            # where the sector changes, each group's list of reversal samples
+            _plane_stress(loads_T, k0, nb, a, b, tube, sgb, tab)
+            _sectors(bnd_pa, nb, sgb, tab, pab, paf, secb)
+            if use_mask:
+                nch, cmask, cur = _changes_masked(smask, nb, secb, pab, chg_i, chg_m, cmask,
+                                                  cur)
+                _reversals_masked(nch, chg_i, chg_m, rev_i, rev_n)
+            else:
+                cur0 = cur  # the sector before the block (for its first change)
+                nch, cur = _changes_walked(n_b, nb, secb, pab, chg_i, cur)
+                _reversals_walked(bnd_grp, nch, cur0, secb, chg_i, rev_i, rev_n)
+            # one group at a time, its reversals through its rainflow stack
+            for g in range(n_g):
+                c0 = grp_c[g, 0]
+                c1 = grp_c[g, 1]
+                for q in range(rev_n[g]):
+                    i = rev_i[g, q]
+                    x = sgb[i]
+                    y = tab[i]
+                    st |= _push_count(sv, sx, sy, ms, g, c0 * x + c1 * y, x, y, buf, lawt, acc)
+            sgb[0] = sgb[nb]
+            tab[0] = tab[nb]
+        # the last sample closes every group's sequence
+        st |= _close_groups(grp_c, sgb[0], tab[0], residue_mode, sv, sx, sy, ms, buf, lawt, acc)
+        for j in range(n_c):
+            out_dmg[p, j] = acc_dmg[j]
+            out_sel[p, j] = acc_dmg[j] if sel_crit == crit else acc_sel[j]
+            out_par[p, j] = acc_par[j]
+        status[p] = st
     for p in range(n_p):
         if status[p] != OK:
             return STACK_OVERFLOW
@@ -873,3 +849,4 @@ def pseudo_angles(x, y, out):
     for i in range(x.shape[0]):
         out[i] = _pseudo_angle(x[i], y[i])
     return 0
+
