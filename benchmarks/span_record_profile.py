@@ -5,6 +5,10 @@ Workload: the first ``--cases`` cases of the default sweep design (``params.yaml
 memory (``simulate(case_from_dict(c), None, progress=False)``) over ``--duration``
 simulated seconds (the window rule's first window, 18 s, by default).
 
+Every time is the CPU time of the process (``time.process_time``: the simulation runs on
+one thread; on a machine shared with other work its wall time varied by 2x between
+repeats, its CPU time by a few %).
+
 ``profile`` (this tree, one process, numba cache warm)
     Per case: the simulation with ``contact.span_bending`` and without it (the record's
     cost is the difference), the number of loads samples, and, on states captured
@@ -18,11 +22,16 @@ simulated seconds (the window rule's first window, 18 s, by default).
     the runs with it (loads, span bending, channels, kinematics, final state) compared
     with ``np.array_equal`` (NaN positions included: ``equal_nan``) between the trees.
 
+    Each run also times :func:`span_sample` on the states captured every ``--stride``
+    samples (as ``profile``; the trees' runs are the same, so are their states):
+    ``ratio_span_sample_min`` is the span record alone. Ratios are baseline / this of
+    the best of the repeats; ``span_record_s`` = best with less best without.
+
 Run: ``python benchmarks/span_record_profile.py compare --baseline-rev ec28afb [--cases 3]
-[--duration 18] [--repeat 3]`` -> ``benchmarks/results/span_record_profile.json`` (its
-``compare`` section; ``profile`` writes its own section). Each tree compiles its kernels
-once (about 2 min per tree on a cold numba cache); an untimed warm-up run of each tree
-fills the cache before the timed runs.
+[--duration 18] [--repeat 3] [--stride 20]`` -> ``benchmarks/results/span_record_profile.json``
+(its ``compare`` section; ``profile`` writes its own section). Each tree compiles its
+kernels once (about 2 min per tree on a cold numba cache); an untimed short run of each
+tree loads them before the timed runs. About 10 min on 2 busy cores.
 """
 
 from __future__ import annotations
@@ -81,9 +90,9 @@ def _simulate(case: dict, span: bool) -> tuple[float, Any]:
 
     c = apply_overrides(case, {"contact.span_bending": span})
     cfg = case_from_dict(c)
-    t = time.perf_counter()
+    t = time.process_time()
     res = simulate(cfg, None, progress=False)
-    return time.perf_counter() - t, res
+    return time.process_time() - t, res
 
 
 def _capture(case: dict, stride: int) -> tuple[list, Any, int]:
@@ -131,10 +140,10 @@ def _time_span_sample(states: list, sel: Any, repeat: int) -> dict[str, Any]:
     out = np.zeros((sel.size, 2))
     best = np.inf
     for _ in range(repeat):
-        t = time.perf_counter()
+        t = time.process_time()
         for n, s, p, wk in states:
             span_sample(n, s, p, wk, sel, out)
-        best = min(best, time.perf_counter() - t)
+        best = min(best, time.process_time() - t)
     res: dict[str, Any] = {"span_sample_s_per_call": best / len(states)}
     from drillfatigue.dynamics import span_record
     if hasattr(span_record, "_new_scratch"):  # a tree with span_sample split in phases
@@ -194,10 +203,10 @@ def _time_phases(states: list, sel: Any, repeat: int) -> dict[str, float]:
         upto(n, s, p, wk, sel, out, stop)  # compiled
     for _ in range(repeat):
         for stop in (1, 2, 3, 4):
-            t = time.perf_counter()
+            t = time.process_time()
             for n, s, p, wk in states:
                 upto(n, s, p, wk, sel, out, stop)
-            best[stop] = min(best.get(stop, np.inf), (time.perf_counter() - t) / len(states))
+            best[stop] = min(best.get(stop, np.inf), (time.process_time() - t) / len(states))
     names = ("supports", "beam", "chain", "output")
     return {names[k - 1]: best[k] - best.get(k - 1, 0.0) for k in (1, 2, 3, 4)}
 
@@ -211,7 +220,9 @@ def child(args: argparse.Namespace) -> dict[str, Any]:
     cases = _cases(tree, args.cases, args.duration)
     out: dict[str, Any] = {"cases": []}
     t = time.perf_counter()
-    _simulate(cases[0][1], True)  # kernels loaded from the cache (or compiled)
+    # kernels loaded from the cache (or compiled): a short run (recording starts at 3 s)
+    from drillfatigue.sweep.design import apply_overrides
+    _simulate(apply_overrides(cases[0][1], {"operation.duration_s": 4.0}), True)
     out["warmup_s"] = time.perf_counter() - t
     for cid, case in cases:
         ph: dict[str, Any] = {"case_id": cid}
@@ -312,7 +323,7 @@ def main() -> None:
         runs: dict[str, list] = {k: [] for k in trees}
         for r in range(args.repeat):
             for name in (("baseline", "this") if r % 2 == 0 else ("this", "baseline")):
-                extra = [*common, "--no-nospan"] if r else [*common]
+                extra = [*common, "--stride", str(args.stride or 20)]
                 if r == 0:
                     extra += ["--dump", str(dumps[name])]
                 runs[name].append(_run_child(trees[name], extra))
@@ -322,12 +333,16 @@ def main() -> None:
         for run in rr:
             for c in run["cases"]:
                 d = per_case.setdefault(c["case_id"], {}).setdefault(name, {})
-                d.setdefault("simulate_span_s", []).append(c["simulate_span_s"])
-                if "simulate_no_span_s" in c:
-                    d.setdefault("simulate_no_span_s", []).append(c["simulate_no_span_s"])
+                for k in ("simulate_span_s", "simulate_no_span_s", "span_sample_s_per_call"):
+                    if k in c:
+                        d.setdefault(k, []).append(c[k])
+                if "span_phases_s_per_call" in c:
+                    d.setdefault("span_phases_s_per_call", []).append(c["span_phases_s_per_call"])
     for cid, d in per_case.items():
         b, t = d["baseline"], d["this"]
-        d["ratio_span_min"] = min(b["simulate_span_s"]) / min(t["simulate_span_s"])
+        d["ratio_simulate_span_min"] = min(b["simulate_span_s"]) / min(t["simulate_span_s"])
+        d["ratio_span_sample_min"] = (min(b["span_sample_s_per_call"])
+                                      / min(t["span_sample_s_per_call"]))
         if "simulate_no_span_s" in b and "simulate_no_span_s" in t:
             rec_b = min(b["simulate_span_s"]) - min(b["simulate_no_span_s"])
             rec_t = min(t["simulate_span_s"]) - min(t["simulate_no_span_s"])
@@ -339,6 +354,9 @@ def main() -> None:
                        "bit_identical": all(not v["differ"] for v in equal.values()),
                        "outputs": equal, "per_case": per_case,
                        "ratio_total_simulate_span": tot_b / tot_t,
+                       "ratio_total_span_record": sum(
+                           d["span_record_s"]["baseline"] for d in per_case.values())
+                       / sum(d["span_record_s"]["this"] for d in per_case.values()),
                        "load_avg": os.getloadavg()})
 
 

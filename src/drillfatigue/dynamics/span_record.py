@@ -216,6 +216,9 @@ ACT_SPLIT = 1
 ACT_RELEASE = 2
 
 
+# The helpers of a round and of a segment's support search are inlined into their
+# callers (``inline="always"``): a call hands every array of its bundles over one by one,
+# which cost a segment's search more than its arithmetic.
 #: the segments under one load (:func:`_solve_chain`): ends from the bit ``top_s``
 #: (n + 1,), m; bending stiffness ``ei`` (n,), N m^2; axial force ``T`` (n,), N; the load
 #: per length across each segment ``q`` (n, 3), N/m, world x, y, z; the part of it the
@@ -265,7 +268,7 @@ def _set_supports(cw, sup_c, sup_v, sup_n):
     return cw
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _offsets(cw, m):
     """Support offsets of the (x, y) and z solves (``cw.d``) from the supports' positions
     relative to the hole's axis (world components, m), taken from the first support's
@@ -299,7 +302,7 @@ def _span_means(sup_c, top_s, seg_v, out):
             out[k, c] /= (b - a)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _most_pulled(cw, m):
     """The interior wall support the continuous beam pulls from the wall the most, or -1.
 
@@ -354,7 +357,7 @@ def _most_pulled(cw, m):
     return worst
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _beam_moments(cw, sl):
     """The chain on the supports of ``cw`` under the load of ``sl`` (:data:`SegLoad`),
     pinned at both ends: the spans, their cut codes and the support moments of the
@@ -377,25 +380,30 @@ def _beam_moments(cw, sl):
     return STATUS_OK
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _release(cw, m, k, banned, nban):
     """Let go of support ``k`` of ``cw``; a mid-span support let go of is banned (no
     mid-span support is added there again in this sample: one at a span's middle that
     the beam pulls means the pipe touches the wall elsewhere in that span; let go of and
     split again it would cycle)."""
-    if cw.a[k]:
-        banned[nban[0]] = cw.c[k]
+    cw_a = cw.a
+    cw_c = cw.c
+    cw_m = cw.m
+    cw_n = cw.n
+    cw_v = cw.v
+    if cw_a[k]:
+        banned[nban[0]] = cw_c[k]
         nban[0] += 1
     for kk in range(k, m - 1):
-        cw.c[kk] = cw.c[kk + 1]
-        cw.a[kk] = cw.a[kk + 1]
+        cw_c[kk] = cw_c[kk + 1]
+        cw_a[kk] = cw_a[kk + 1]
         for c in range(3):
-            cw.v[kk, c] = cw.v[kk + 1, c]
-            cw.n[kk, c] = cw.n[kk + 1, c]
-    cw.m[0] = m - 1
+            cw_v[kk, c] = cw_v[kk + 1, c]
+            cw_n[kk, c] = cw_n[kk + 1, c]
+    cw_m[0] = m - 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _mark_splits(cw, m, sl, any_cut, may_split, banned, nban):
     """The spans of ``cw`` to split (``cw.split``, their new supports in ``cw.new_c,
     new_v, new_n``; :func:`_solve_round`): a span at its Euler load in compression, at its
@@ -404,28 +412,33 @@ def _mark_splits(cw, m, sl, any_cut, may_split, banned, nban):
     beyond the wall by more than ``SPLIT_TOL_M``, on the wall (``SPLIT_ON_WALL``: radially,
     with the wall's normal) or on its neighbours' chord (``SPLIT_ON_CHORD``). Returns how
     many."""
+    cw_M = cw.M
     c = cw.c
-    v = cw.v
+    cw_cut = cw.cut
+    cw_new_c = cw.new_c
+    new_n = cw.new_n
+    new_v = cw.new_v
     sp = cw.sp
     split = cw.split
-    new_v = cw.new_v
-    new_n = cw.new_n
+    v = cw.v
+    w = cw.w
+    sl_room = sl.room
+    sl_top_s = sl.top_s
     nsplit = 0
     for k in range(m - 1):
         split[k] = False
-        cw.new_c[k] = 0.5 * (c[k] + c[k + 1])
+        cw_new_c[k] = 0.5 * (c[k] + c[k + 1])
         for cc in range(3):
             new_v[k, cc] = 0.0
             new_n[k, cc] = 0.0
-        if cw.cut[k] == STATUS_SPAN_BUCKLED and sp.L[k] > 2.0 * MERGE_M:
+        if cw_cut[k] == STATUS_SPAN_BUCKLED and sp.L[k] > 2.0 * MERGE_M:
             split[k] = True
             nsplit += 1
             for cc in range(3):
                 new_v[k, cc] = 0.5 * (v[k, cc] + v[k + 1, cc])
     if any_cut:
         return nsplit
-    w = cw.w
-    if midspan_offset(sp.L[:m - 1], sp.ei[:m - 1], sp.T[:m - 1], sp.q[:m - 1], cw.M[:m],
+    if midspan_offset(sp.L[:m - 1], sp.ei[:m - 1], sp.T[:m - 1], sp.q[:m - 1], cw_M[:m],
                       w[:m - 1]) != STATUS_OK:
         return nsplit
     for k in range(m - 1):
@@ -441,8 +454,8 @@ def _mark_splits(cw, m, sl, any_cut, may_split, banned, nban):
         V0 = 0.5 * (v[k, 0] + v[k + 1, 0]) + w[k, 0]
         V1 = 0.5 * (v[k, 1] + v[k + 1, 1]) + w[k, 1]
         V2 = 0.5 * (v[k, 2] + v[k + 1, 2]) + w[k, 2]
-        i = segment_of(sl.top_s, 0.5 * (c[k] + c[k + 1]))
-        room = sl.room[i]
+        i = segment_of(sl_top_s, 0.5 * (c[k] + c[k + 1]))
+        room = sl_room[i]
         dist = math.sqrt(V0 * V0 + V1 * V1 + V2 * V2)
         if dist - room > SPLIT_TOL_M:
             split[k] = True
@@ -460,26 +473,39 @@ def _mark_splits(cw, m, sl, any_cut, may_split, banned, nban):
     return nsplit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _insert_splits(src, dst, m, nsplit):
     """The supports of ``src`` with its marked spans' new supports (added) in order, into
     ``dst`` (``src`` itself, filled from the top down, or a larger one)."""
+    dst_a = dst.a
+    dst_c = dst.c
+    dst_m = dst.m
+    dst_n = dst.n
+    dst_v = dst.v
+    src_a = src.a
+    src_c = src.c
+    src_n = src.n
+    src_new_c = src.new_c
+    src_new_n = src.new_n
+    src_new_v = src.new_v
+    src_split = src.split
+    src_v = src.v
     j = m + nsplit - 1
     for k in range(m - 1, -1, -1):
-        if k < m - 1 and src.split[k]:
-            dst.c[j] = src.new_c[k]
-            dst.a[j] = True
+        if k < m - 1 and src_split[k]:
+            dst_c[j] = src_new_c[k]
+            dst_a[j] = True
             for c in range(3):
-                dst.v[j, c] = src.new_v[k, c]
-                dst.n[j, c] = src.new_n[k, c]
+                dst_v[j, c] = src_new_v[k, c]
+                dst_n[j, c] = src_new_n[k, c]
             j -= 1
-        dst.c[j] = src.c[k]
-        dst.a[j] = src.a[k]
+        dst_c[j] = src_c[k]
+        dst_a[j] = src_a[k]
         for c in range(3):
-            dst.v[j, c] = src.v[k, c]
-            dst.n[j, c] = src.n[k, c]
+            dst_v[j, c] = src_v[k, c]
+            dst_n[j, c] = src_n[k, c]
         j -= 1
-    dst.m[0] = m + nsplit
+    dst_m[0] = m + nsplit
 
 
 @njit(cache=True)
@@ -689,20 +715,29 @@ def _new_scratch(n):
 @njit(cache=True)
 def _segment_loads(n, s, p, wk, g):
     """Segment boundaries, axes, loads and properties (module docstring, steps 2-3)."""
-    seg = p.seg
     cpar = p.cpar
-    rad = p.wall[:, 7]
+    p_ei = p.ei
+    seg = p.seg
+    p_wall = p.wall
+    Fw = s.Fw
+    cst = s.cst
     hint = s.hint
-    loads = wk.loads
-    top_s = g.top_s
+    s_q = s.q
+    v = s.v
     R = g.R
+    g_T = g.T
+    g_ei = g.ei
+    g_q = g.q
+    g_q3 = g.q3
+    g_qs = g.qs
+    g_room = g.room
+    top_s = g.top_s
+    rad = p_wall[:, 7]
+    loads = wk.loads
     for i in range(n):
         top_s[i + 1] = top_s[i] + 2.0 * seg[i, S_H]
     for i in range(n):
-        quat_to_rot(s.q[i], R[i])
-    Fw = s.Fw
-    v = s.v
-    cst = s.cst
+        quat_to_rot(s_q[i], R[i])
     dyn = cpar.shape[0] > P_SPANDYN and cpar[P_SPANDYN] > 0.0
     for i in range(n):
         inv_l = 1.0 / (2.0 * seg[i, S_H])
@@ -724,24 +759,24 @@ def _segment_loads(n, s, p, wk, g):
             gy = -cl * (v[i, 1] - vax * ey) - Fw[i, 1]
             gz = -cl * (v[i, 2] - vax * ez) - Fw[i, 2] + seg[i, S_W]
         ga = gx * ex + gy * ey + gz * ez
-        g.q[i, 0] = (gx - ga * ex) * inv_l
-        g.q[i, 1] = (gy - ga * ey) * inv_l
-        g.q[i, 2] = (gz - ga * ez) * inv_l
+        g_q[i, 0] = (gx - ga * ex) * inv_l
+        g_q[i, 1] = (gy - ga * ey) * inv_l
+        g_q[i, 2] = (gz - ga * ez) * inv_l
         # the buoyed weight alone across the axis: the load that decides the supports
         gw = seg[i, S_W] * ez
-        g.qs[i, 0] = -gw * ex * inv_l
-        g.qs[i, 1] = -gw * ey * inv_l
-        g.qs[i, 2] = (seg[i, S_W] - gw * ez) * inv_l
-        g.T[i] = segment_axial_N(i, n, loads)
-        g.ei[i] = p.ei[i]
+        g_qs[i, 0] = -gw * ex * inv_l
+        g_qs[i, 1] = -gw * ey * inv_l
+        g_qs[i, 2] = (seg[i, S_W] - gw * ez) * inv_l
+        g_T[i] = segment_axial_N(i, n, loads)
+        g_ei[i] = p_ei[i]
         h0 = hint[MAX_CONTACT_POINTS * i]
         Rh = rad[h0] if 0 <= h0 < rad.shape[0] else rad.min()
-        g.room[i] = Rh - seg[i, S_RB]
+        g_room[i] = Rh - seg[i, S_RB]
     # the load the rigid chain carries (before the line-contact rule hands a segment's
     # load to the wall)
     for i in range(n):
         for c in range(3):
-            g.q3[i, c] = g.q[i, c]
+            g_q3[i, c] = g_q[i, c]
 
 
 @njit(cache=True)
@@ -751,11 +786,18 @@ def _hole_nodes(n, s, p, g, nd, X, info):
     Also each node's hole radius, where it is relative to the hole's axis now, and its
     contact radius so far (the body's)."""
     seg = p.seg
-    x = s.x
-    R = g.R
     wall = p.wall
-    rad = wall[:, 7]
+    s_hint = s.hint
+    x = s.x
+    nd_C = nd.C
+    nd_R = nd.R
+    nd_now = nd.now
     node_r = nd.r
+    R = g.R
+    p0 = wall[:, 0:3]
+    axc = wall[:, 3:6]
+    lnc = wall[:, 6]
+    rad = wall[:, 7]
     for i in range(n):
         node_r[i] = max(node_r[i], seg[i, S_RB])
         node_r[i + 1] = max(node_r[i + 1], seg[i, S_RB])
@@ -770,33 +812,39 @@ def _hole_nodes(n, s, p, g, nd, X, info):
             for k in range(3):
                 X[k] = 0.5 * (x[j - 1, k] - seg[j - 1, S_H] * R[j - 1, k, 2]
                               + x[j, k] + seg[j, S_H] * R[j, k, 2])
-        ic = find_contact(X, seg[min(j, n - 1), S_RB], wall[:, 0:3], wall[:, 3:6], wall[:, 6],
-                          rad, s.hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
-        nd.R[j] = rad[ic] if ic >= 0 else rad.min()
+        ic = find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
+                          s_hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        nd_R[j] = rad[ic] if ic >= 0 else rad.min()
         for k in range(3):
-            nd.C[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
-            nd.now[j, k] = info[OUT_DIST] * info[OUT_NX + k]
+            nd_C[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
+            nd_now[j, k] = info[OUT_DIST] * info[OUT_NX + k]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _add_support(sw, s_m, P, N, hold_Y):
     """A support at ``s_m`` (from the bit) standing at ``P`` with normal ``N`` (3-vectors);
     with ``hold_Y`` (not empty) a hold of the rigid chain there too, where it is."""
-    k = sw.cnt[0]
-    sw.sup[k] = s_m
+    sw_N = sw.N
+    sw_P = sw.P
+    sw_Y = sw.Y
+    sw_cnt = sw.cnt
+    sw_hold = sw.hold
+    sw_sup = sw.sup
+    k = sw_cnt[0]
+    sw_sup[k] = s_m
     for c in range(3):
-        sw.P[k, c] = P[c]
-        sw.N[k, c] = N[c]
-    sw.cnt[0] = k + 1
+        sw_P[k, c] = P[c]
+        sw_N[k, c] = N[c]
+    sw_cnt[0] = k + 1
     if hold_Y.shape[0] > 0:
-        h = sw.cnt[1]
-        sw.hold[h] = s_m
+        h = sw_cnt[1]
+        sw_hold[h] = s_m
         for c in range(3):
-            sw.Y[h, c] = hold_Y[c]
-        sw.cnt[1] = h + 1
+            sw_Y[h, c] = hold_Y[c]
+        sw_cnt[1] = h + 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _points_curvature(pt, npi, axc, lnc):
     """The largest hole curvature at the cylinders of a segment's points found in the
     chain (:func:`_hole_curvature`), in the points' order, 1/m."""
@@ -808,11 +856,15 @@ def _points_curvature(pt, npi, axc, lnc):
     return kap
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _along_wall(i, npi, h, kap, top_s, sw, pt):
     """Whether segment ``i`` (half-length ``h``, hole curvature ``kap``, its ``npi`` points
     in ``pt``) lies along the wall of a curved hole (module docstring, step 2); if so its
     ends on the wall become supports."""
+    pt_W = pt.W
+    pt_gap = pt.gap
+    pt_n = pt.n
+    pt_u = pt.u
     # every point no further from the wall than the chord's offset from the arc there,
     # (h^2 - u^2) kappa / 2 resting on the outer wall (ends in it) or u^2 kappa / 2 on
     # the inner wall (middle in it). A segment whose bulge exceeds the clearance cannot
@@ -822,10 +874,10 @@ def _along_wall(i, npi, h, kap, top_s, sw, pt):
     outer = True
     inner = True
     for k in range(npi):
-        u2 = pt.u[k] * pt.u[k]
-        if pt.gap[k] > 0.5 * (h * h - u2) * kap + tol:
+        u2 = pt_u[k] * pt_u[k]
+        if pt_gap[k] > 0.5 * (h * h - u2) * kap + tol:
             outer = False
-        if pt.gap[k] > 0.5 * u2 * kap + tol:
+        if pt_gap[k] > 0.5 * u2 * kap + tol:
             inner = False
     if not (outer or inner):
         return False
@@ -834,31 +886,45 @@ def _along_wall(i, npi, h, kap, top_s, sw, pt):
         # a joint: the neighbour's chord meets it there). Points inside a rigid segment
         # lie on its chord, and the beam on supports a metre apart would turn the chain's
         # kinks at the joints between them into moments several times the chain's own
-        if pt.gap[k] >= 0.0 and abs(pt.u[k]) >= h - MERGE_M:
+        if pt_gap[k] >= 0.0 and abs(pt_u[k]) >= h - MERGE_M:
             # the pipe lies on the wall there: its axis where the wall puts it
-            _add_support(sw, top_s[i] + h - pt.u[k], pt.W[k], pt.n[k], pt.W[k, :0])
+            _add_support(sw, top_s[i] + h - pt_u[k], pt_W[k], pt_n[k], pt_W[k, :0])
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _segment_supports(i, n, s, p, g, nd, sw, pt, X, info):
     """The supports and holds of segment ``i`` (module docstring, steps 1-2): its points
     that penetrate the wall (and its deepest point with ``contact.deepest_point``), its
     ends where it lies along the wall; its line contact in ``g.line[i]`` (its loads
     zeroed then), its points' contact radii at its nodes in ``nd.r``."""
-    seg = p.seg
+    p_cp = p.cp
+    p_cp_n = p.cp_n
     cpar = p.cpar
-    x = s.x
-    hint = s.hint
+    seg = p.seg
     wall = p.wall
+    hint = s.hint
+    x = s.x
+    R = g.R
+    g_line = g.line
+    g_q = g.q
+    g_qs = g.qs
+    top_s = g.top_s
+    nd_r = nd.r
+    pt_W = pt.W
+    pt_g = pt.g
+    pt_gap = pt.gap
+    pt_hint = pt.hint
+    pt_ic = pt.ic
+    pt_n = pt.n
+    pt_u = pt.u
+    sw_bit_gap = sw.bit_gap
     p0 = wall[:, 0:3]
     axc = wall[:, 3:6]
     lnc = wall[:, 6]
     rad = wall[:, 7]
-    R = g.R
-    top_s = g.top_s
     own = cpar[P_CPTAB] != 0.0 and i < n - 1
-    npi = int(p.cp_n[i]) if own else int(cpar[P_NPTS])
+    npi = int(p_cp_n[i]) if own else int(cpar[P_NPTS])
     tbase = MAX_CONTACT_POINTS * x.shape[0]
     h = seg[i, S_H]
     ncon = 0
@@ -867,8 +933,8 @@ def _segment_supports(i, n, s, p, g, nd, sw, pt, X, info):
     dpen = 0.0
     for k in range(npi):
         if own:
-            off = p.cp[i, k, 0]
-            rc = p.cp[i, k, 1]
+            off = p_cp[i, k, 0]
+            rc = p_cp[i, k, 1]
             hi = hint[tbase + MAX_TABLE_POINTS * i + k]
             if hi < 0:
                 hi = hint[MAX_CONTACT_POINTS * i]
@@ -878,27 +944,27 @@ def _segment_supports(i, n, s, p, g, nd, sw, pt, X, info):
         for c in range(3):
             X[c] = x[i, c] + off * R[i, c, 2]
         ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
-        pt.ic[k] = ic
+        pt_ic[k] = ic
         if ic >= 0:
             clr = min(clr, rad[ic] - rc)
-        pt.u[k] = off
+        pt_u[k] = off
         if off >= h - MERGE_M:
-            nd.r[i] = max(nd.r[i], rc)
+            nd_r[i] = max(nd_r[i], rc)
         elif off <= -h + MERGE_M:
-            nd.r[i + 1] = max(nd.r[i + 1], rc)
-        pt.gap[k] = -info[OUT_DELTA]
+            nd_r[i + 1] = max(nd_r[i + 1], rc)
+        pt_gap[k] = -info[OUT_DELTA]
         # where the rigid wall puts the pipe's axis there, from the hole's axis
         rw = info[OUT_DIST] - info[OUT_DELTA]
         for c in range(3):
-            pt.n[k, c] = info[OUT_NX + c]
-            pt.W[k, c] = rw * info[OUT_NX + c]
+            pt_n[k, c] = info[OUT_NX + c]
+            pt_W[k, c] = rw * info[OUT_NX + c]
         if i == 0 and off >= h - MERGE_M:
-            sw.bit_gap[0] = -info[OUT_DELTA]
+            sw_bit_gap[0] = -info[OUT_DELTA]
         if info[OUT_DELTA] > 0.0:
-            _add_support(sw, top_s[i] + h - off, pt.W[k], pt.n[k], X)
+            _add_support(sw, top_s[i] + h - off, pt_W[k], pt_n[k], X)
             ncon += 1
-        pt.g[k] = info[OUT_DELTA] - rc
-        pt.hint[k] = hi
+        pt_g[k] = info[OUT_DELTA] - rc
+        pt_hint[k] = hi
         if info[OUT_DELTA] > dpen:
             dpen = info[OUT_DELTA]
         if rc != seg[i, S_RB]:
@@ -907,28 +973,28 @@ def _segment_supports(i, n, s, p, g, nd, sw, pt, X, info):
         # the deepest point between the tested points, a support where the contact
         # kernel pushes on it (contact.wall_contact: beyond the tested points' largest
         # penetration)
-        kd, ud, gd = deepest_point(pt.u, pt.g, npi)
+        kd, ud, gd = deepest_point(pt_u, pt_g, npi)
         if kd >= 0 and gd + seg[i, S_RB] > dpen:
             for c in range(3):
                 X[c] = x[i, c] + ud * R[i, c, 2]
-            find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt.hint[kd], info)
+            find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
             if info[OUT_DELTA] > dpen:
                 rw = info[OUT_DIST] - info[OUT_DELTA]
                 for c in range(3):
-                    pt.W[npi, c] = rw * info[OUT_NX + c]
-                _add_support(sw, top_s[i] + h - ud, pt.W[npi], info[OUT_NX:OUT_NX + 3], X)
+                    pt_W[npi, c] = rw * info[OUT_NX + c]
+                _add_support(sw, top_s[i] + h - ud, pt_W[npi], info[OUT_NX:OUT_NX + 3], X)
     line = npi >= 3 and ncon == npi
     if not raised and not line:
         # in a curved hole, a segment without raised points (module docstring, step 2)
         kap = _points_curvature(pt, npi, axc, lnc)
         if kap > STRAIGHT_KAPPA and 0.5 * h * h * kap < clr:
             line = _along_wall(i, npi, h, kap, top_s, sw, pt)
-    g.line[i] = line
+    g_line[i] = line
     if line:
         # line contact: the wall carries the segment's weight along its length
         for c in range(3):
-            g.q[i, c] = 0.0
-            g.qs[i, c] = 0.0
+            g_q[i, c] = 0.0
+            g_qs[i, c] = 0.0
 
 
 @njit(cache=True)
@@ -936,28 +1002,39 @@ def _find_supports(n, s, p, g, nd, sw, pt, X, info):
     """Supports of the continuous beam and holds of the rigid chain of the sample
     (:data:`Supports`; module docstring, step 1), segments in line contact, and the
     loads the wall carries along them (``g.qw``, ``g.qws``)."""
+    R = g.R
+    g_line = g.line
+    g_q = g.q
+    g_q3 = g.q3
+    g_qw = g.qw
+    g_qws = g.qws
+    g_top_s = g.top_s
+    nd_C = nd.C
+    sw_P = sw.P
+    sw_Y = sw.Y
+    sw_cnt = sw.cnt
+    sw_hold = sw.hold
     seg = p.seg
     x = s.x
-    R = g.R
-    sw.hold[1] = g.top_s[n]
+    sw_hold[1] = g_top_s[n]
     for k in range(3):
-        sw.Y[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
-        sw.P[0, k] = sw.Y[0, k] - nd.C[0, k]
-        sw.Y[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
-    sw.cnt[0] = 1
-    sw.cnt[1] = 2
+        sw_Y[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
+        sw_P[0, k] = sw_Y[0, k] - nd_C[0, k]
+        sw_Y[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
+    sw_cnt[0] = 1
+    sw_cnt[1] = 2
     for i in range(n):
         _segment_supports(i, n, s, p, g, nd, sw, pt, X, info)
     # the load the wall carries along segments in line contact (for the supports' check)
     for i in range(n):
         for c in range(3):
-            g.qw[i, c] = g.q3[i, c] - g.q[i, c]
-        if g.line[i]:
+            g_qw[i, c] = g_q3[i, c] - g_q[i, c]
+        if g_line[i]:
             inv_l = 1.0 / (2.0 * seg[i, S_H])
             gw = seg[i, S_W] * R[i, 2, 2]
-            g.qws[i, 0] = -gw * R[i, 0, 2] * inv_l
-            g.qws[i, 1] = -gw * R[i, 1, 2] * inv_l
-            g.qws[i, 2] = (seg[i, S_W] - gw * R[i, 2, 2]) * inv_l
+            g_qws[i, 0] = -gw * R[i, 0, 2] * inv_l
+            g_qws[i, 1] = -gw * R[i, 1, 2] * inv_l
+            g_qws[i, 2] = (seg[i, S_W] - gw * R[i, 2, 2]) * inv_l
 
 
 @njit(cache=True)
@@ -1066,9 +1143,16 @@ def _chain_moments(n, p, g, nd, sw, ms_chain):
     """What the rigid chain carries now, quasi-statically (module docstring, step 7): its
     joints' moments held where it is at the bit, its top and the points the wall pushes,
     under the same load, into ``ms_chain`` (n - 1, 3); returns the solve's status."""
-    nhold = sw.cnt[1]
+    nd_C = nd.C
+    nd_R = nd.R
+    nd_now = nd.now
+    nd_r = nd.r
+    sw_Y = sw.Y
+    sw_cnt = sw.cnt
+    sw_hold = sw.hold
+    nhold = sw_cnt[1]
     top_s = g.top_s
-    hs = sw.hold[:nhold]
+    hs = sw_hold[:nhold]
     ho = np.argsort(hs, kind="mergesort")
     hold_s = np.zeros(nhold)
     hold_y = np.zeros((nhold, 3))
@@ -1077,7 +1161,7 @@ def _chain_moments(n, p, g, nd, sw, ms_chain):
         i = segment_of(top_s, hold_s[kk])
         xi = (hold_s[kk] - top_s[i]) / (top_s[i + 1] - top_s[i])
         for c in range(3):
-            hold_y[kk, c] = sw.Y[ho[kk], c] - ((1.0 - xi) * nd.C[i, c] + xi * nd.C[i + 1, c])
+            hold_y[kk, c] = sw_Y[ho[kk], c] - ((1.0 - xi) * nd_C[i, c] + xi * nd_C[i + 1, c])
     k_joint = np.zeros(n - 1)
     for j in range(n - 1):
         k_joint[j] = p.jp[j, J_KB]
@@ -1086,16 +1170,17 @@ def _chain_moments(n, p, g, nd, sw, ms_chain):
     # bound, a moment no chain inside the hole can carry
     node_room = np.zeros(n + 1)
     for j in range(n + 1):
-        node_room[j] = nd.R[j] - nd.r[j]
+        node_room[j] = nd_R[j] - nd_r[j]
     n_held = np.zeros(2, dtype=np.int64)
     return chain_static_moments_in_hole(top_s, k_joint, g.T, g.q3, hold_s, hold_y, node_room,
-                                        nd.now, ms_chain, n_held)
+                                        nd_now, ms_chain, n_held)
 
 
 @njit(cache=True)
 def _correction(n, s, sel, rd, rok, ms_chain, out):
     """The correction at the joints ``sel`` (module docstring, step 8): the beam's moment
     ``rd`` less the chain's ``ms_chain``, resolved in each joint's frame, into ``out``."""
+    s_q = s.q
     qr = np.zeros(4)
     qh = np.zeros(4)
     qm = np.zeros(4)
@@ -1109,7 +1194,7 @@ def _correction(n, s, sel, rd, rok, ms_chain, out):
         msx = -rd[a, 1] - ms_chain[jj, 0]
         msy = rd[a, 0] - ms_chain[jj, 1]
         msz = -rd[a, 2] - ms_chain[jj, 2]
-        _joint_frame(s.q[jj], s.q[jj + 1], qr, qh, qm, Rm)
+        _joint_frame(s_q[jj], s_q[jj + 1], qr, qh, qm, Rm)
         t0 = Rm[0, 2]
         t1 = Rm[1, 2]
         t2 = Rm[2, 2]
