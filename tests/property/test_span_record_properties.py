@@ -1,4 +1,4 @@
-"""Properties of the recorded span correction (dynamics.span_record.span_sample).
+"""Properties of the recorded span correction (dynamics.span.record.span_sample).
 
 * Frame: spinning every segment by the same angle psi about its own axis
   changes neither the supports nor the load, so the moment vector is the same

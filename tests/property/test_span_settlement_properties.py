@@ -54,18 +54,20 @@ def test_zero_offsets_give_the_level_solution_bit_for_bit(L, seed, e0, e1, P) ->
     # the chain form: supports over a string of segments
     bounds = np.concatenate([[0.0], np.cumsum(L)])
     m = L.size
-    args = (bounds, bounds, ei, T, q, e0, e1, bounds[1:-1].copy())
+    chain = K.SegmentChain(bounds, ei, T, q)
+    args = (chain, e0, e1, bounds[1:-1].copy())
     outs = []
     for settled in (False, True):
         sup_M = np.zeros((m + 1, 2))
         read_M = np.zeros((m - 1, 2))
-        scratch = (np.zeros(m), np.zeros(m), np.zeros(m), np.zeros((m, 2)), np.zeros((m + 1, 6)))
+        scratch = (K.Spans(np.zeros(m), np.zeros(m), np.zeros(m), np.zeros((m, 2))),
+                   np.zeros((m + 1, 6)))
         cut = np.zeros(m, dtype=np.int64)
         if settled:
-            K.chain_span_moments_settled(args[0], np.zeros((m + 1, 2)), *args[1:], *scratch,
+            K.chain_span_moments_settled(bounds, np.zeros((m + 1, 2)), *args, *scratch,
                                          sup_M, read_M, cut, np.zeros(m - 1, dtype=np.int64))
         else:
-            K.chain_span_moments(*args, *scratch, sup_M, read_M, cut)
+            K.chain_span_moments(bounds, *args, *scratch, sup_M, read_M, cut)
         outs.append((sup_M, read_M))
     assert np.array_equal(outs[0][0], outs[1][0]) and np.array_equal(outs[0][1], outs[1][1])
 

@@ -12,19 +12,6 @@ ROOT = Path(drillfatigue.__file__).resolve().parent
 MAX_LINES = 150
 MAX_PARAMS = 16
 
-#: Functions over a limit that are being split or bundled right now, by module path
-#: under the package and name. Nothing else may join this list; an entry leaves it
-#: when its function fits (the test below fails on an entry that already fits).
-BEING_FIXED = {
-    ("dynamics/span/bending.py", "chain_span_moments_settled"),
-    ("dynamics/span/bending.py", "_chain_span"),
-    ("dynamics/span/chain.py", "chain_static_solve"),
-    ("dynamics/span/record.py", "_solve_or_split"),
-    ("dynamics/span/record.py", "_solve_chain"),
-    ("dynamics/span/record.py", "span_sample"),
-}
-
-
 def _n_params(fn: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
     """Every parameter a caller can pass (``self`` included, ``*args`` and ``**kw`` one each)."""
     a = fn.args
@@ -50,15 +37,9 @@ def _oversized() -> dict[tuple[str, str], str]:
 
 
 def test_no_function_is_over_150_lines_or_16_parameters() -> None:
-    over = {k: v for k, v in _oversized().items() if k not in BEING_FIXED}
+    over = _oversized()
     assert not over, "split these or give them named bundles:\n" + "\n".join(
         f"{path}:{name} ({what})" for (path, name), what in sorted(over.items()))
-
-
-def test_the_functions_being_fixed_are_still_over_a_limit() -> None:
-    # an entry whose function now fits (or is gone) must leave BEING_FIXED
-    fits = BEING_FIXED - set(_oversized())
-    assert not fits, f"remove from BEING_FIXED: {sorted(fits)}"
 
 
 def test_the_limits_are_measured_as_stated() -> None:

@@ -223,16 +223,16 @@ def chain_span_moments(support_s_m: np.ndarray, segment_bounds_m: np.ndarray,
     sup_M = np.empty((sup.size, 2))
     read_M = np.empty((rd.size, 2))
     cut = np.zeros(m, dtype=np.int64)
+    chain = K.SegmentChain(bounds, ei, ax, q)
+    spans = K.Spans(np.empty(m), np.empty(m), np.empty(m), np.empty((m, 2)))
+    e0, e1 = _ENDS[ends[0]], _ENDS[ends[1]]
     if support_offsets_m is None:
-        st = K.chain_span_moments(sup, bounds, ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], rd,
-                                  np.empty(m), np.empty(m), np.empty(m), np.empty((m, 2)),
-                                  np.empty((sup.size, 6)), sup_M, read_M, cut)
+        st = K.chain_span_moments(sup, chain, e0, e1, rd, spans, np.empty((sup.size, 6)), sup_M,
+                                  read_M, cut)
     else:
-        st = K.chain_span_moments_settled(sup, _offsets(support_offsets_m, sup.size), bounds,
-                                          ei, ax, q, _ENDS[ends[0]], _ENDS[ends[1]], rd,
-                                          np.empty(m), np.empty(m), np.empty(m),
-                                          np.empty((m, 2)), np.empty((sup.size, 6)), sup_M,
-                                          read_M, cut, np.zeros(rd.size, dtype=np.int64))
+        st = K.chain_span_moments_settled(sup, _offsets(support_offsets_m, sup.size), chain, e0,
+                                          e1, rd, spans, np.empty((sup.size, 6)), sup_M, read_M,
+                                          cut, np.zeros(rd.size, dtype=np.int64))
     if st != K.STATUS_OK:
         raise InputError("support_s_m", f"chain span solve failed (status {st})",
                          "increasing supports inside the segments, EI > 0")

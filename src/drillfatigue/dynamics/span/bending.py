@@ -89,6 +89,7 @@ axial loads); Roark's *Formulas for Stress and Strain*, 8th ed., table 8.5
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -232,16 +233,43 @@ def _support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, d_m, settled, end_left,
                      work, out_M):
     """Bending moments over the supports of a continuous beam-column (``settled``: with
     the support offsets ``d_m``, :func:`support_moments_settled`); arguments and status
-    codes as :func:`support_moments`."""
+    codes as :func:`support_moments`.
+
+    ``q_N_per_m`` may carry more than two load components (k columns; ``d_m`` and
+    ``out_M`` as many, ``work`` 4 + k columns): the first two give the moment vector
+    as for two, each further component c its sagging scalar negated in ``out_M[:, c]``
+    (the M_y of a load along the first axis). Every component is solved with the same
+    floating-point operations as alone."""
     n = span_m.shape[0]
-    ns = n + 1
     out_M[:, :] = 0.0
     if n == 0:
         return STATUS_OK
-    # work columns: 0 sub-diagonal, 1 diagonal, 2 super-diagonal, 3-4 right-hand
-    # sides of the two load components (sagging scalars), 5 Thomas scratch
+    st = _sagging_moments(span_m, ei_Nm2, axial_N, q_N_per_m, d_m, settled, end_left, end_right,
+                          work)
+    if st != STATUS_OK:
+        return st
+    # the load components: M_s of q_y gives M_x, M_s of q_x gives -M_y
+    for i in range(n + 1):
+        out_M[i, 0] = work[i, 5]
+        out_M[i, 1] = -work[i, 4]
+        for c in range(2, q_N_per_m.shape[1]):
+            out_M[i, c] = -work[i, 4 + c]
+    return STATUS_OK
+
+
+@njit(cache=True)
+def _sagging_moments(span_m, ei_Nm2, axial_N, q_N_per_m, d_m, settled, end_left, end_right,
+                     work):
+    """Sagging scalar moments over the supports of each load component ``q_N_per_m[:, c]``
+    (offsets ``d_m[:, c]`` when ``settled``) into ``work[:, 4 + c]``; status as
+    :func:`support_moments`. ``work`` (n_span + 1, 4 + k): columns 0-2 the sub-diagonal,
+    diagonal and super-diagonal, 3 the Thomas algorithm's scratch, 4.. the right-hand
+    sides, each solved alone (the same operations whatever the other columns)."""
+    n = span_m.shape[0]
+    ns = n + 1
+    k = q_N_per_m.shape[1]
     for i in range(ns):
-        for c in range(6):
+        for c in range(4 + k):
             work[i, c] = 0.0
     for i in range(n):
         L = span_m[i]
@@ -259,50 +287,42 @@ def _support_moments(span_m, ei_Nm2, axial_N, q_N_per_m, d_m, settled, end_left,
         work[i, 2] += far
         work[i + 1, 0] += far
         work[i + 1, 1] += near
-        # the load components: M_s of q_y gives M_x, M_s of q_x gives -M_y
-        work[i, 3] -= q_N_per_m[i, 1] * load
-        work[i + 1, 3] -= q_N_per_m[i, 1] * load
-        work[i, 4] -= q_N_per_m[i, 0] * load
-        work[i + 1, 4] -= q_N_per_m[i, 0] * load
+        for c in range(k):
+            work[i, 4 + c] -= q_N_per_m[i, c] * load
+            work[i + 1, 4 + c] -= q_N_per_m[i, c] * load
         if settled:
             # chord rotation of span i: - at its left support, + at its right one
-            # (column 3: the sagging scalar of the second component, 4: of the first)
-            psi_y = (d_m[i + 1, 1] - d_m[i, 1]) / L
-            psi_x = (d_m[i + 1, 0] - d_m[i, 0]) / L
-            work[i, 3] -= psi_y
-            work[i + 1, 3] += psi_y
-            work[i, 4] -= psi_x
-            work[i + 1, 4] += psi_x
+            for c in range(k):
+                psi = (d_m[i + 1, c] - d_m[i, c]) / L
+                work[i, 4 + c] -= psi
+                work[i + 1, 4 + c] += psi
     if end_left == END_PINNED:
         work[0, 1] = 1.0
         work[0, 2] = 0.0
-        work[0, 3] = 0.0
-        work[0, 4] = 0.0
+        for c in range(k):
+            work[0, 4 + c] = 0.0
     if end_right == END_PINNED:
         work[ns - 1, 0] = 0.0
         work[ns - 1, 1] = 1.0
-        work[ns - 1, 3] = 0.0
-        work[ns - 1, 4] = 0.0
-    # Thomas algorithm, both right-hand sides at once
+        for c in range(k):
+            work[ns - 1, 4 + c] = 0.0
+    # Thomas algorithm, every right-hand side at once
     b = work[0, 1]
     if b == 0.0:
         return STATUS_SINGULAR
-    work[0, 5] = work[0, 2] / b
-    work[0, 3] /= b
-    work[0, 4] /= b
+    work[0, 3] = work[0, 2] / b
+    for c in range(k):
+        work[0, 4 + c] /= b
     for i in range(1, ns):
-        den = work[i, 1] - work[i, 0] * work[i - 1, 5]
+        den = work[i, 1] - work[i, 0] * work[i - 1, 3]
         if den == 0.0 or not math.isfinite(den):
             return STATUS_SINGULAR
-        work[i, 5] = work[i, 2] / den
-        work[i, 3] = (work[i, 3] - work[i, 0] * work[i - 1, 3]) / den
-        work[i, 4] = (work[i, 4] - work[i, 0] * work[i - 1, 4]) / den
+        work[i, 3] = work[i, 2] / den
+        for c in range(k):
+            work[i, 4 + c] = (work[i, 4 + c] - work[i, 0] * work[i - 1, 4 + c]) / den
     for i in range(ns - 2, -1, -1):
-        work[i, 3] -= work[i, 5] * work[i + 1, 3]
-        work[i, 4] -= work[i, 5] * work[i + 1, 4]
-    for i in range(ns):
-        out_M[i, 0] = work[i, 3]
-        out_M[i, 1] = -work[i, 4]
+        for c in range(k):
+            work[i, 4 + c] -= work[i, 3] * work[i + 1, 4 + c]
     return STATUS_OK
 
 
@@ -419,8 +439,11 @@ def midspan_offset(span_m, ei_Nm2, axial_N, q_N_per_m, M_support, out_m):
     Parameters
     ----------
     span_m, ei_Nm2, axial_N, q_N_per_m, M_support
-        As :func:`midspan_deflection`.
-    out_m : ndarray, shape (n_span, 2)
+        As :func:`midspan_deflection`; ``q_N_per_m`` and ``M_support`` may carry
+        further load components as :func:`_support_moments` does (each column c >= 2
+        a load along the first axis with its moment M_y).
+    out_m : ndarray, shape (n_span, k)
+        k the load components of ``q_N_per_m``.
 
     Returns
     -------
@@ -442,6 +465,9 @@ def midspan_offset(span_m, ei_Nm2, axial_N, q_N_per_m, M_support, out_m):
             amp = 1.0 / (1.0 - ratio)
         out_m[i, 0] = amp * dx
         out_m[i, 1] = amp * dy
+        for c in range(2, q_N_per_m.shape[1]):
+            dc = c_q * q_N_per_m[i, c] - c_m * (M_support[i, c] + M_support[i + 1, c])
+            out_m[i, c] = amp * dc
     return STATUS_OK
 
 
@@ -521,9 +547,20 @@ def _span_code(L, EI, T):
     return STATUS_OK
 
 
+#: a chain of segments (:func:`chain_span_moments`): segment ends from the bit ``top_s``
+#: (n_seg + 1,), m (0 first, increasing); bending stiffness ``ei`` (n_seg,), N m^2;
+#: effective axial force ``T`` (n_seg,), N, tension > 0; transverse load per length ``q``
+#: (n_seg, k), N/m, in a common cross-section frame (k = 2; more: :func:`_support_moments`)
+SegmentChain = namedtuple("SegmentChain", ("top_s", "ei", "T", "q"))
+#: the spans between supports (outputs of :func:`chain_span_moments`, one row per span):
+#: length ``L``, m; bending stiffness ``ei``, N m^2; axial force ``T``, N; load ``q``
+#: (n_span, k), N/m (rows beyond the spans in use are left alone)
+Spans = namedtuple("Spans", ("L", "ei", "T", "q"))
+
+
 @njit(cache=True)
-def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_right, read_s,
-                       span_L, span_ei, span_T, span_q, work, sup_M, read_M, span_cut):
+def chain_span_moments(sup_s, chain, end_left, end_right, read_s, spans, work, sup_M, read_M,
+                       span_cut):
     """Span-bending moments at read points of a segment chain with given supports.
 
     The glue for the dynamics: supports (contact points in contact, tool
@@ -553,19 +590,14 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
     ----------
     sup_s : ndarray, shape (n_sup,)
         Support positions from the bit, m, strictly increasing (n_sup >= 2).
-    seg_top_s : ndarray, shape (n_seg + 1,)
-        Segment boundaries from the bit, m (0 first, increasing).
-    seg_ei, seg_T : ndarray, shape (n_seg,)
-        Bending stiffness (N m^2) and effective axial force (N, tension > 0).
-    seg_q : ndarray, shape (n_seg, 2)
-        Transverse load per length of each segment in the common
-        cross-section frame, N/m.
+    chain : SegmentChain
+        The segments: ends, EI, axial force and load per length (``q`` (n_seg, 2)).
     end_left, end_right : int
         End conditions at the first and last support.
     read_s : ndarray, shape (n_read,)
         Read positions from the bit, m.
-    span_L, span_ei, span_T : ndarray, shape (n_sup - 1,)
-    span_q : ndarray, shape (n_sup - 1, 2)
+    spans : Spans
+        Outputs, n_sup - 1 rows: the spans' lengths, EI, axial forces and loads.
     work : ndarray, shape (n_sup, 6)
         Scratch.
     sup_M : ndarray, shape (n_sup, 2)
@@ -584,15 +616,13 @@ def chain_span_moments(sup_s, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_rig
         segments (then every output is zero).
     """
     read_ok = np.zeros(read_s.shape[0], dtype=np.int64)
-    return _chain_span(sup_s, sup_M, False, seg_top_s, seg_ei, seg_T, seg_q, end_left,
-                       end_right, read_s, span_L, span_ei, span_T, span_q, work, sup_M, read_M,
-                       span_cut, read_ok)
+    return _chain_span(sup_s, sup_M, False, chain, end_left, end_right, read_s, spans, work,
+                       sup_M, read_M, span_cut, read_ok)
 
 
 @njit(cache=True)
-def chain_span_moments_settled(sup_s, sup_d, seg_top_s, seg_ei, seg_T, seg_q, end_left,
-                               end_right, read_s, span_L, span_ei, span_T, span_q, work, sup_M,
-                               read_M, span_cut, read_ok):
+def chain_span_moments_settled(sup_s, sup_d, chain, end_left, end_right, read_s, spans, work,
+                               sup_M, read_M, span_cut, read_ok):
     """:func:`chain_span_moments` on supports that stand at different heights.
 
     Every run of good spans is solved by :func:`support_moments_settled` with
@@ -604,43 +634,68 @@ def chain_span_moments_settled(sup_s, sup_d, seg_top_s, seg_ei, seg_T, seg_q, en
     Parameters
     ----------
     sup_d : ndarray, shape (n_sup, 2)
-        Offset of each support in the frame of ``seg_q``, m.
+        Offset of each support in the frame of ``chain.q``, m.
     read_ok : ndarray of int64, shape (n_read,)
         Output: 1 where a read point lies in a solved span (its moment is the
         beam's), 0 where it lies outside the supports or in a cut span.
     others
         As :func:`chain_span_moments`.
     """
-    return _chain_span(sup_s, sup_d, True, seg_top_s, seg_ei, seg_T, seg_q, end_left,
-                       end_right, read_s, span_L, span_ei, span_T, span_q, work, sup_M, read_M,
-                       span_cut, read_ok)
+    return _chain_span(sup_s, sup_d, True, chain, end_left, end_right, read_s, spans, work,
+                       sup_M, read_M, span_cut, read_ok)
 
 
 @njit(cache=True)
-def _chain_span(sup_s, sup_d, settled, seg_top_s, seg_ei, seg_T, seg_q, end_left, end_right,
-                read_s, span_L, span_ei, span_T, span_q, work, sup_M, read_M, span_cut, read_ok):
+def _chain_span(sup_s, sup_d, settled, chain, end_left, end_right, read_s, spans, work, sup_M,
+                read_M, span_cut, read_ok):
     """:func:`chain_span_moments` (``settled``: with the support offsets ``sup_d``)."""
     n_sup = sup_s.shape[0]
-    n_seg = seg_ei.shape[0]
     read_M[:, :] = 0.0
     sup_M[:, :] = 0.0
     span_cut[:] = STATUS_OK
     read_ok[:] = 0
     if n_sup < 2:
         return STATUS_OK
+    if span_properties(sup_s, chain, spans, span_cut) != STATUS_OK:
+        span_cut[:] = STATUS_BAD_SPAN
+        return STATUS_BAD_SPAN
+    runs_support_moments(sup_d, settled, spans, end_left, end_right, work, sup_M, span_cut)
+    read_moments(sup_s, spans, sup_M, span_cut, read_s, read_M, read_ok)
+    return STATUS_OK
+
+
+@njit(cache=True)
+def span_properties(sup_s, chain, spans, span_cut):
+    """The spans between the supports ``sup_s`` (n_sup,) over the segments ``chain``
+    (:func:`chain_span_moments`): their length, EI (length-weighted harmonic mean),
+    axial force and load per component (length-weighted means) into the first
+    n_sup - 1 rows of ``spans``, and whether the beam-column solution holds on each
+    (``span_cut``: ``STATUS_OK`` or why not). Returns ``STATUS_OK``, or
+    ``STATUS_BAD_SPAN`` for unsorted supports or a span outside the segments (the
+    outputs then partly written)."""
+    n_sup = sup_s.shape[0]
+    seg_top_s = chain.top_s
+    seg_ei = chain.ei
+    seg_T = chain.T
+    seg_q = chain.q
+    n_seg = seg_ei.shape[0]
+    nq = seg_q.shape[1]
+    span_L = spans.L
+    span_ei = spans.ei
+    span_T = spans.T
+    span_q = spans.q
     j = 0
     for k in range(n_sup - 1):
         a = sup_s[k]
         b = sup_s[k + 1]
         if not (b > a) or a < seg_top_s[0] - 1e-9 or b > seg_top_s[n_seg] + 1e-9:
-            span_cut[:] = STATUS_BAD_SPAN
             return STATUS_BAD_SPAN
         while j < n_seg - 1 and seg_top_s[j + 1] <= a:
             j += 1
         flex = 0.0
         t = 0.0
-        q0 = 0.0
-        q1 = 0.0
+        for c in range(nq):
+            span_q[k, c] = 0.0
         i = j
         while i < n_seg and seg_top_s[i] < b:
             lo = max(a, seg_top_s[i])
@@ -649,18 +704,31 @@ def _chain_span(sup_s, sup_d, settled, seg_top_s, seg_ei, seg_T, seg_q, end_left
             if w > 0.0:
                 flex += w / seg_ei[i]
                 t += w * seg_T[i]
-                q0 += w * seg_q[i, 0]
-                q1 += w * seg_q[i, 1]
+                for c in range(nq):
+                    span_q[k, c] += w * seg_q[i, c]
             i += 1
         L = b - a
         span_L[k] = L
         span_ei[k] = L / flex if flex > 0.0 else seg_ei[j]
         span_T[k] = t / L
-        span_q[k, 0] = q0 / L
-        span_q[k, 1] = q1 / L
+        for c in range(nq):
+            span_q[k, c] /= L
         span_cut[k] = _span_code(L, span_ei[k], span_T[k])
-    # each run [a, b) of good spans between cuts: its own continuous beam
-    n_span = n_sup - 1
+    return STATUS_OK
+
+
+@njit(cache=True)
+def runs_support_moments(sup_d, settled, spans, end_left, end_right, work, sup_M, span_cut):
+    """Support moments ``sup_M`` of every run of good spans (``span_cut`` ``STATUS_OK``;
+    the ``span_cut`` rows of the spans in use) as its own continuous beam, pinned at a
+    cut (:func:`chain_span_moments`); a run whose system is singular is zeroed and its
+    spans marked ``STATUS_SINGULAR``. ``sup_M``, ``sup_d`` (n_span + 1, k) and ``work``
+    (n_span + 1, 4 + k) as :func:`_support_moments`."""
+    n_span = span_cut.shape[0]
+    span_L = spans.L
+    span_ei = spans.ei
+    span_T = spans.T
+    span_q = spans.q
     a = 0
     while a < n_span:
         if span_cut[a] != STATUS_OK:
@@ -682,6 +750,19 @@ def _chain_span(sup_s, sup_d, settled, seg_top_s, seg_ei, seg_T, seg_q, end_left
             for k in range(a, b):
                 span_cut[k] = STATUS_SINGULAR
         a = b
+
+
+@njit(cache=True)
+def read_moments(sup_s, spans, sup_M, span_cut, read_s, read_M, read_ok):
+    """Moments at the read points ``read_s`` of the spans solved (``span_cut``
+    ``STATUS_OK``) between the supports ``sup_s`` (n_sup,), from the support moments
+    ``sup_M``: ``read_M`` (n_read, k), columns as ``sup_M``, and ``read_ok`` 1 there
+    (outputs not written elsewhere)."""
+    n_sup = sup_s.shape[0]
+    span_L = spans.L
+    span_ei = spans.ei
+    span_T = spans.T
+    span_q = spans.q
     for r in range(read_s.shape[0]):
         x = read_s[r]
         if x < sup_s[0] or x > sup_s[n_sup - 1]:
@@ -701,4 +782,5 @@ def _chain_span(sup_s, sup_d, settled, seg_top_s, seg_ei, seg_T, seg_q, end_left
         ga, gb, h = _span_shape(span_T[lo] * L * L / span_ei[lo], L, min(x - sup_s[lo], L))
         read_M[r, 0] = ga * sup_M[lo, 0] + gb * sup_M[lo + 1, 0] + h * span_q[lo, 1]
         read_M[r, 1] = ga * sup_M[lo, 1] + gb * sup_M[lo + 1, 1] - h * span_q[lo, 0]
-    return STATUS_OK
+        for c in range(2, sup_M.shape[1]):
+            read_M[r, c] = ga * sup_M[lo, c] + gb * sup_M[lo + 1, c] - h * span_q[lo, c]

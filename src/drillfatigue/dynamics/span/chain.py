@@ -168,8 +168,34 @@ def chain_static_solve(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M, out_
     for j in range(n - 1):
         if not k_joint[j] > 0.0:
             return STATUS_BAD_SPAN
-    # the polyline through the holds (the first of holds at one position) at the
-    # nodes, prolonged linearly beyond its ends
+    r = _hold_polyline(top_s, hold_s, hold_y)
+    # banded matrix: A0 diagonal, A1 first and A2 second super-diagonal; rhs per component
+    A0 = np.zeros(N)
+    A1 = np.zeros(N)
+    A2 = np.zeros(N)
+    rhs = np.zeros((N, m))
+    _assemble_chain(top_s, L, k_joint, seg_T, seg_q, hold_s, hold_y, r, A0, A1, A2, rhs)
+    if _banded_ldlt_solve(A0, A1, A2, rhs, fail) != STATUS_OK:
+        return STATUS_SINGULAR
+    u = rhs
+    for j in range(N):
+        for c in range(m):
+            out_y[j, c] = r[j, c] + u[j, c]
+    for j in range(1, n):
+        for c in range(m):
+            t_lo = (r[j, c] + u[j, c] - r[j - 1, c] - u[j - 1, c]) / L[j - 1]
+            t_up = (r[j + 1, c] + u[j + 1, c] - r[j, c] - u[j, c]) / L[j]
+            out_M[j - 1, c] = -k_joint[j - 1] * (t_up - t_lo)
+    return STATUS_OK
+
+
+@njit(cache=True)
+def _hold_polyline(top_s, hold_s, hold_y):
+    """The polyline through the holds (the first of holds at one position) at the nodes
+    ``top_s``, prolonged linearly beyond its ends: (n + 1, m)."""
+    nh = hold_s.shape[0]
+    m = hold_y.shape[1]
+    N = top_s.shape[0]
     us = np.empty(nh)
     uy = np.empty((nh, m))
     nu = 0
@@ -188,11 +214,16 @@ def chain_static_solve(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M, out_
         t = (s - us[a]) / (us[a + 1] - us[a])
         for c in range(m):
             r[j, c] = uy[a, c] + t * (uy[a + 1, c] - uy[a, c])
-    # banded matrix: A0 diagonal, A1 first and A2 second super-diagonal; rhs per component
-    A0 = np.zeros(N)
-    A1 = np.zeros(N)
-    A2 = np.zeros(N)
-    rhs = np.zeros((N, m))
+    return r
+
+
+@njit(cache=True)
+def _assemble_chain(top_s, L, k_joint, seg_T, seg_q, hold_s, hold_y, r, A0, A1, A2, rhs):
+    """The banded system of :func:`chain_static_solve` for the deviation from the
+    polyline ``r``: joint springs, axial force, load and hold penalties added into the
+    diagonal ``A0``, super-diagonals ``A1``, ``A2`` and right-hand sides ``rhs``."""
+    n = L.shape[0]
+    m = seg_q.shape[1]
     for j in range(1, n):
         kj = k_joint[j - 1]
         ca = 1.0 / L[j - 1]
@@ -219,7 +250,7 @@ def chain_static_solve(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M, out_
             f = 0.5 * seg_q[i, c] * L[i]
             rhs[i, c] += f
             rhs[i + 1, c] += f
-    for h in range(nh):
+    for h in range(hold_s.shape[0]):
         i = segment_of(top_s, hold_s[h])
         xi = (hold_s[h] - top_s[i]) / L[i]
         # the stiffest spring around the hold: the joints at its segment's ends over the
@@ -243,6 +274,15 @@ def chain_static_solve(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M, out_
             e = hold_y[h, c] - (wa * r[i, c] + wb * r[i + 1, c])
             rhs[i, c] += K * e * wa
             rhs[i + 1, c] += K * e * wb
+
+
+@njit(cache=True)
+def _banded_ldlt_solve(A0, A1, A2, rhs, fail):
+    """Solve the symmetric pentadiagonal system (diagonal ``A0``, super-diagonals ``A1``,
+    ``A2``) for every column of ``rhs`` in place by banded LDL^T; ``STATUS_SINGULAR`` (and
+    the node in ``fail[0]``) at a non-positive or non-finite pivot."""
+    N = A0.shape[0]
+    m = rhs.shape[1]
     # banded LDL^T: l1[j] = L_{j+1,j}, l2[j] = L_{j+2,j}
     d = np.zeros(N)
     l1 = np.zeros(N)
@@ -274,14 +314,6 @@ def chain_static_solve(top_s, k_joint, seg_T, seg_q, hold_s, hold_y, out_M, out_
             u[j, c] -= l1[j] * u[j + 1, c]
             if j + 2 < N:
                 u[j, c] -= l2[j] * u[j + 2, c]
-    for j in range(N):
-        for c in range(m):
-            out_y[j, c] = r[j, c] + u[j, c]
-    for j in range(1, n):
-        for c in range(m):
-            t_lo = (r[j, c] + u[j, c] - r[j - 1, c] - u[j - 1, c]) / L[j - 1]
-            t_up = (r[j + 1, c] + u[j + 1, c] - r[j, c] - u[j, c]) / L[j]
-            out_M[j - 1, c] = -k_joint[j - 1] * (t_up - t_lo)
     return STATUS_OK
 
 

@@ -121,13 +121,16 @@ and every other span is solved as in the chain without it; the number of
 such spans is returned (the caller counts them and the samples that had
 any), so a buckled span far away never zeroes a joint's correction.
 Arrays read: ``s.x, s.v, s.q, s.Fw, s.hint, s.cst``, ``p.seg, p.jp, p.wall, p.cpar,
-p.cp_n, p.cp, p.ei``, ``wk.loads``; scratch allocated per call (a sample is taken
-every few hundred steps).
+p.cp_n, p.cp, p.ei``, ``wk.loads``; scratch allocated once per call (a sample is
+taken every few hundred steps) and shared by the beam's rounds of releases and splits,
+which solve the (x, y) and z components together and read the moments at the joints
+after the last round only.
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -141,8 +144,8 @@ from drillfatigue.dynamics.core.layout import (
 )
 from drillfatigue.dynamics.core.rigid import quat_conj_mul, quat_mul, quat_to_rot
 from drillfatigue.dynamics.span.bending import (
-    END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments_settled,
-    midspan_offset,
+    END_PINNED, STATUS_BAD_SPAN, STATUS_OK, STATUS_SPAN_BUCKLED, Spans, midspan_offset,
+    read_moments, runs_support_moments, span_properties,
 )
 from drillfatigue.dynamics.span.chain import chain_static_moments_in_hole, segment_of
 from drillfatigue.dynamics.span.modal import segment_axial_N
@@ -202,27 +205,80 @@ SPLIT_TOL_M = 1e-5
 MIN_SPLIT_SPAN_M = 1.0
 #: internal: the supports were changed, solve again
 STATUS_SPLIT = -1
-#: ``may_split`` of :func:`_solve_or_split`: a mid-span support stands on the wall where
+#: ``may_split`` of :func:`_solve_round`: a mid-span support stands on the wall where
 #: the span's middle passes it (the weight's supports; True), or on the chord of its two
 #: neighbours (the bound the wall puts on the beam under the whole load)
 SPLIT_ON_WALL = 1
 SPLIT_ON_CHORD = 2
-#: what a round of :func:`_solve_or_split` did
+#: what a round of :func:`_solve_round` did
 ACT_NONE = 0
 ACT_SPLIT = 1
 ACT_RELEASE = 2
 
 
+# The helpers of a round and of a segment's support search are inlined into their
+# callers (``inline="always"``): a call hands every array of its bundles over one by one,
+# which cost a segment's search more than its arithmetic.
+#: the segments under one load (:func:`_solve_chain`): ends from the bit ``top_s``
+#: (n + 1,), m; bending stiffness ``ei`` (n,), N m^2; axial force ``T`` (n,), N; the load
+#: per length across each segment ``q`` (n, 3), N/m, world x, y, z; the part of it the
+#: wall carries along segments in line contact ``qw`` (n, 3), N/m; and the room of the
+#: body off the hole's axis ``room`` (n,), m (hole radius less body radius). Its first
+#: four fields are a :class:`~drillfatigue.dynamics.span.bending.SegmentChain`'s.
+SegLoad = namedtuple("SegLoad", ("top_s", "ei", "T", "q", "qw", "room"))
+#: the beam solves' scratch of one chain (:func:`_solve_chain`), rows for up to as many
+#: supports as ``c`` holds: supports ``c`` (from the bit, m, ``m[0]`` of them in use),
+#: ``v`` (positions relative to the hole's axis, world, m), ``n`` (outward wall normals;
+#: zero: a two-sided support), ``a`` (a mid-span support added where the weight's beam
+#: reached the wall or buckled); their offsets ``d`` and moments ``M`` (columns: M_x and
+#: M_y of the world (x, y) load, M_y of the z load, as the two solves of
+#: :func:`~drillfatigue.dynamics.span.bending.chain_span_moments_settled`); the spans
+#: ``sp`` (``q`` with the three world components), the wall's load per span ``qw``, the
+#: spans' cut codes ``cut``, the tridiagonal scratch ``work``, the mid-span offsets
+#: ``w``; the spans to split ``split`` with their new supports ``new_c, new_v, new_n``
+ChainWork = namedtuple("ChainWork", ("c", "v", "n", "a", "d", "M", "sp", "qw", "cut", "work",
+                                     "w", "split", "new_c", "new_v", "new_n", "m"))
+
+
 @njit(cache=True)
-def _offsets(sup_v, d_xy, d_z):
-    """Support offsets of the (x, y) and z solves from the supports' positions relative
-    to the hole's axis (world components, m), taken from the first support's (only
-    their chord rotations matter)."""
-    for k in range(sup_v.shape[0]):
-        d_xy[k, 0] = sup_v[k, 0] - sup_v[0, 0]
-        d_xy[k, 1] = sup_v[k, 1] - sup_v[0, 1]
-        d_z[k, 0] = sup_v[k, 2] - sup_v[0, 2]
-        d_z[k, 1] = 0.0
+def _chain_work(cap):
+    """A :data:`ChainWork` for up to ``cap`` supports, none in use."""
+    return ChainWork(np.zeros(cap), np.zeros((cap, 3)), np.zeros((cap, 3)),
+                     np.zeros(cap, dtype=np.bool_), np.zeros((cap, 3)), np.zeros((cap, 3)),
+                     Spans(np.zeros(cap), np.zeros(cap), np.zeros(cap), np.zeros((cap, 3))),
+                     np.zeros((cap, 3)), np.zeros(cap, dtype=np.int64), np.zeros((cap, 7)),
+                     np.zeros((cap, 3)), np.zeros(cap, dtype=np.bool_), np.zeros(cap),
+                     np.zeros((cap, 3)), np.zeros((cap, 3)), np.zeros(1, dtype=np.int64))
+
+
+@njit(cache=True)
+def _set_supports(cw, sup_c, sup_v, sup_n):
+    """``cw`` (or a larger :data:`ChainWork`) holding the supports ``sup_c`` at ``sup_v``
+    with normals ``sup_n``, none added."""
+    m = sup_c.shape[0]
+    if m > cw.c.shape[0]:
+        cw = _chain_work(2 * m)
+    for k in range(m):
+        cw.c[k] = sup_c[k]
+        cw.a[k] = False
+        for c in range(3):
+            cw.v[k, c] = sup_v[k, c]
+            cw.n[k, c] = sup_n[k, c]
+    cw.m[0] = m
+    return cw
+
+
+@njit(cache=True, inline="always")
+def _offsets(cw, m):
+    """Support offsets of the (x, y) and z solves (``cw.d``) from the supports' positions
+    relative to the hole's axis (world components, m), taken from the first support's
+    (only their chord rotations matter)."""
+    v = cw.v
+    d = cw.d
+    for k in range(m):
+        d[k, 0] = v[k, 0] - v[0, 0]
+        d[k, 1] = v[k, 1] - v[0, 1]
+        d[k, 2] = v[k, 2] - v[0, 2]
 
 
 @njit(cache=True)
@@ -246,24 +302,30 @@ def _span_means(sup_c, top_s, seg_v, out):
             out[k, c] /= (b - a)
 
 
-@njit(cache=True)
-def _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz, d_xy, d_z):
+@njit(cache=True, inline="always")
+def _most_pulled(cw, m):
     """The interior wall support the continuous beam pulls from the wall the most, or -1.
 
     The reaction of support k on the beam, per world component, is the jump of the
     lateral force S = M' + T w' (M sagging positive, w the offset: (M' + T w')' = -q for
     EI w'''' - T w'' = q), which integrated over a span gives S(0) = (M_b - M_a)/L
     + T psi + q L/2 at its first support and S(L) = S(0) - q L at its second (psi the
-    chord rotation). ``span_qw`` is the load the wall carries along segments in line
+    chord rotation). ``cw.qw`` is the load the wall carries along segments in line
     contact (their span load is zero): half of it on each span pushes its two
     supports, so a collar lying on the wall is let go of only where the beam pulls it
     harder than its weight presses it there. The wall can only push towards the hole's
-    axis: a reaction along the outward normal ``sup_n`` (zero: a two-sided support,
+    axis: a reaction along the outward normal ``cw.n`` (zero: a two-sided support,
     the bit) pulls."""
-    m = sup_n.shape[0]
+    sup_n = cw.n
+    span_L = cw.sp.L
+    span_T = cw.sp.T
+    span_q = cw.sp.q
+    span_qw = cw.qw
+    sup_M = cw.M
+    d = cw.d
     scale = 1.0
     for i in range(m - 1):
-        qq = math.sqrt(span_q[i, 0] ** 2 + span_q[i, 1] ** 2 + span_qz[i, 0] ** 2
+        qq = math.sqrt(span_q[i, 0] ** 2 + span_q[i, 1] ** 2 + span_q[i, 2] ** 2
                        + span_qw[i, 0] ** 2 + span_qw[i, 1] ** 2 + span_qw[i, 2] ** 2)
         scale = max(scale, qq * span_L[i])
     worst = -1
@@ -276,15 +338,13 @@ def _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz,
             if c == 0:
                 ma, mb, mc = -sup_M[k - 1, 1], -sup_M[k, 1], -sup_M[k + 1, 1]
                 qa, qb = span_q[k - 1, 0], span_q[k, 0]
-                da, db, dc = d_xy[k - 1, 0], d_xy[k, 0], d_xy[k + 1, 0]
             elif c == 1:
                 ma, mb, mc = sup_M[k - 1, 0], sup_M[k, 0], sup_M[k + 1, 0]
                 qa, qb = span_q[k - 1, 1], span_q[k, 1]
-                da, db, dc = d_xy[k - 1, 1], d_xy[k, 1], d_xy[k + 1, 1]
             else:
-                ma, mb, mc = -sup_Mz[k - 1, 1], -sup_Mz[k, 1], -sup_Mz[k + 1, 1]
-                qa, qb = span_qz[k - 1, 0], span_qz[k, 0]
-                da, db, dc = d_z[k - 1, 0], d_z[k, 0], d_z[k + 1, 0]
+                ma, mb, mc = -sup_M[k - 1, 2], -sup_M[k, 2], -sup_M[k + 1, 2]
+                qa, qb = span_q[k - 1, 2], span_q[k, 2]
+            da, db, dc = d[k - 1, c], d[k, c], d[k + 1, c]
             La = span_L[k - 1]
             Lb = span_L[k]
             s_end = (mb - ma) / La + span_T[k - 1] * (db - da) / La - 0.5 * qa * La
@@ -297,137 +357,242 @@ def _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz,
     return worst
 
 
-@njit(cache=True)
-def _solve_or_split(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
-                    seg_Rh, read_s, rxy, rz, rok, may_split, may_release, banned):
-    """Solve the chain on supports ``sup_c`` standing at ``sup_v`` (their positions
-    relative to the hole's axis; spans the solution cannot hold are cut,
-    :func:`~drillfatigue.dynamics.span.bending.chain_span_moments_settled`), then check
-    the solution against the wall (module docstring, step 5).
+@njit(cache=True, inline="always")
+def _beam_moments(cw, sl):
+    """The chain on the supports of ``cw`` under the load of ``sl`` (:data:`SegLoad`),
+    pinned at both ends: the spans, their cut codes and the support moments of the
+    (x, y) and z solves in ``cw`` (spans the solution cannot hold are cut,
+    :func:`~drillfatigue.dynamics.span.bending.chain_span_moments_settled`; the two
+    solves share their spans, axial forces and stiffness, so the same spans are cut).
+    Returns the status of the solve."""
+    m = cw.m[0]
+    cut = cw.cut[:m - 1]
+    cw.M[:m, :] = 0.0
+    cut[:] = STATUS_OK
+    if m < 2:
+        return STATUS_OK
+    if span_properties(cw.c[:m], sl, cw.sp, cut) != STATUS_OK:
+        cut[:] = STATUS_BAD_SPAN
+        return STATUS_BAD_SPAN
+    _offsets(cw, m)
+    runs_support_moments(cw.d[:m], True, cw.sp, END_PINNED, END_PINNED, cw.work[:m], cw.M[:m],
+                         cut)
+    return STATUS_OK
 
-    With ``may_release``, an interior wall support (outward normal ``sup_n`` not zero)
-    that the beam pulls from the wall is let go of (the most pulled one). Else, with
-    ``may_split``, where a span is at its Euler load in compression, or its middle
-    (the chord's middle plus the mid-span deflection, relative to the hole's axis) lies
-    beyond the wall by more than ``SPLIT_TOL_M`` (hole radius ``seg_Rh`` less body radius
-    ``seg_rb`` of the segment there), the elastic pipe lies on the wall there: a support
-    is added at that span's middle (on the wall, radially, with the wall's normal; at
-    the chord's middle and two-sided for a buckled span). Returns ``(status, supports,
-    positions, normals, cut, action)``: ``STATUS_SPLIT`` and ``ACT_RELEASE`` or
-    ``ACT_SPLIT`` when the supports changed, else the solve's status and ``ACT_NONE``
-    with the per-span cut codes and ``rok`` the read points solved."""
-    m = sup_c.shape[0]
-    span_L = np.zeros(m - 1)
-    span_ei = np.zeros(m - 1)
-    span_T = np.zeros(m - 1)
-    span_q = np.zeros((m - 1, 2))
-    span_qz = np.zeros((m - 1, 2))
-    work = np.zeros((m, 6))
-    sup_M = np.zeros((m, 2))
-    sup_Mz = np.zeros((m, 2))
-    d_xy = np.zeros((m, 2))
-    d_z = np.zeros((m, 2))
-    _offsets(sup_v, d_xy, d_z)
-    cut = np.zeros(m - 1, dtype=np.int64)
-    rok_z = np.zeros(rok.shape[0], dtype=np.int64)
-    st = chain_span_moments_settled(sup_c, d_xy, top_s, seg_ei, seg_T, seg_q, END_PINNED,
-                                    END_PINNED, read_s, span_L, span_ei, span_T, span_q, work,
-                                    sup_M, rxy, cut, rok)
-    if st != STATUS_OK:
-        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
-    # same spans, axial forces and stiffness: the same spans are cut
-    st = chain_span_moments_settled(sup_c, d_z, top_s, seg_ei, seg_T, seg_qz, END_PINNED,
-                                    END_PINNED, read_s, span_L, span_ei, span_T, span_qz, work,
-                                    sup_Mz, rz, cut, rok_z)
-    if st != STATUS_OK:
-        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
-    any_cut = False
-    for k in range(m - 1):
-        if cut[k] != STATUS_OK:
-            any_cut = True
-    if may_release and not any_cut and m > 2:
-        span_qw = np.zeros((m - 1, 3))
-        _span_means(sup_c, top_s, seg_qw, span_qw)
-        k = _most_pulled(sup_n, span_L, span_T, span_q, span_qz, span_qw, sup_M, sup_Mz, d_xy,
-                         d_z)
-        if k >= 0:
-            out = np.zeros(m - 1)
-            out_v = np.zeros((m - 1, 3))
-            out_n = np.zeros((m - 1, 3))
-            j = 0
-            for kk in range(m):
-                if kk == k:
-                    continue
-                out[j] = sup_c[kk]
-                for c in range(3):
-                    out_v[j, c] = sup_v[kk, c]
-                    out_n[j, c] = sup_n[kk, c]
-                j += 1
-            return STATUS_SPLIT, out, out_v, out_n, cut, ACT_RELEASE
-    if not may_split:
-        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
-    split = np.zeros(m - 1, dtype=np.bool_)
-    new_v = np.zeros((m - 1, 3))
-    new_n = np.zeros((m - 1, 3))
+
+@njit(cache=True, inline="always")
+def _release(cw, m, k, banned, nban):
+    """Let go of support ``k`` of ``cw``; a mid-span support let go of is banned (no
+    mid-span support is added there again in this sample: one at a span's middle that
+    the beam pulls means the pipe touches the wall elsewhere in that span; let go of and
+    split again it would cycle)."""
+    cw_a = cw.a
+    cw_c = cw.c
+    cw_m = cw.m
+    cw_n = cw.n
+    cw_v = cw.v
+    if cw_a[k]:
+        banned[nban[0]] = cw_c[k]
+        nban[0] += 1
+    for kk in range(k, m - 1):
+        cw_c[kk] = cw_c[kk + 1]
+        cw_a[kk] = cw_a[kk + 1]
+        for c in range(3):
+            cw_v[kk, c] = cw_v[kk + 1, c]
+            cw_n[kk, c] = cw_n[kk + 1, c]
+    cw_m[0] = m - 1
+
+
+@njit(cache=True, inline="always")
+def _mark_splits(cw, m, sl, any_cut, may_split, banned, nban):
+    """The spans of ``cw`` to split (``cw.split``, their new supports in ``cw.new_c,
+    new_v, new_n``; :func:`_solve_round`): a span at its Euler load in compression, at its
+    chord's middle, two-sided; else, where no span is cut, a span whose middle (the
+    chord's middle plus the mid-span deflection, relative to the hole's axis) lies
+    beyond the wall by more than ``SPLIT_TOL_M``, on the wall (``SPLIT_ON_WALL``: radially,
+    with the wall's normal) or on its neighbours' chord (``SPLIT_ON_CHORD``). Returns how
+    many."""
+    cw_M = cw.M
+    c = cw.c
+    cw_cut = cw.cut
+    cw_new_c = cw.new_c
+    new_n = cw.new_n
+    new_v = cw.new_v
+    sp = cw.sp
+    split = cw.split
+    v = cw.v
+    w = cw.w
+    sl_room = sl.room
+    sl_top_s = sl.top_s
     nsplit = 0
     for k in range(m - 1):
-        if cut[k] == STATUS_SPAN_BUCKLED and span_L[k] > 2.0 * MERGE_M:
+        split[k] = False
+        cw_new_c[k] = 0.5 * (c[k] + c[k + 1])
+        for cc in range(3):
+            new_v[k, cc] = 0.0
+            new_n[k, cc] = 0.0
+        if cw_cut[k] == STATUS_SPAN_BUCKLED and sp.L[k] > 2.0 * MERGE_M:
             split[k] = True
             nsplit += 1
+            for cc in range(3):
+                new_v[k, cc] = 0.5 * (v[k, cc] + v[k + 1, cc])
+    if any_cut:
+        return nsplit
+    if midspan_offset(sp.L[:m - 1], sp.ei[:m - 1], sp.T[:m - 1], sp.q[:m - 1], cw_M[:m],
+                      w[:m - 1]) != STATUS_OK:
+        return nsplit
+    for k in range(m - 1):
+        if not sp.L[k] >= MIN_SPLIT_SPAN_M:
+            continue
+        s_mid = 0.5 * (c[k] + c[k + 1])
+        again = False
+        for b in range(nban):
+            if abs(banned[b] - s_mid) < MERGE_M:
+                again = True
+        if again:
+            continue
+        V0 = 0.5 * (v[k, 0] + v[k + 1, 0]) + w[k, 0]
+        V1 = 0.5 * (v[k, 1] + v[k + 1, 1]) + w[k, 1]
+        V2 = 0.5 * (v[k, 2] + v[k + 1, 2]) + w[k, 2]
+        i = segment_of(sl_top_s, 0.5 * (c[k] + c[k + 1]))
+        room = sl_room[i]
+        dist = math.sqrt(V0 * V0 + V1 * V1 + V2 * V2)
+        if dist - room > SPLIT_TOL_M:
+            split[k] = True
+            nsplit += 1
+            if may_split == SPLIT_ON_CHORD:
+                # a bound, not a contact: on its neighbours' chord, no settlement
+                for cc in range(3):
+                    new_v[k, cc] = 0.5 * (v[k, cc] + v[k + 1, cc])
+            else:
+                new_n[k, 0] = V0 / dist
+                new_n[k, 1] = V1 / dist
+                new_n[k, 2] = V2 / dist
+                for cc in range(3):
+                    new_v[k, cc] = room * new_n[k, cc]
+    return nsplit
+
+
+@njit(cache=True, inline="always")
+def _insert_splits(src, dst, m, nsplit):
+    """The supports of ``src`` with its marked spans' new supports (added) in order, into
+    ``dst`` (``src`` itself, filled from the top down, or a larger one)."""
+    dst_a = dst.a
+    dst_c = dst.c
+    dst_m = dst.m
+    dst_n = dst.n
+    dst_v = dst.v
+    src_a = src.a
+    src_c = src.c
+    src_n = src.n
+    src_new_c = src.new_c
+    src_new_n = src.new_n
+    src_new_v = src.new_v
+    src_split = src.split
+    src_v = src.v
+    j = m + nsplit - 1
+    for k in range(m - 1, -1, -1):
+        if k < m - 1 and src_split[k]:
+            dst_c[j] = src_new_c[k]
+            dst_a[j] = True
             for c in range(3):
-                new_v[k, c] = 0.5 * (sup_v[k, c] + sup_v[k + 1, c])
-    if not any_cut:
-        w_xy = np.zeros((m - 1, 2))
-        w_z = np.zeros((m - 1, 2))
-        if (midspan_offset(span_L, span_ei, span_T, span_q, sup_M, w_xy) == STATUS_OK
-                and midspan_offset(span_L, span_ei, span_T, span_qz, sup_Mz, w_z) == STATUS_OK):
-            V = np.zeros(3)
-            for k in range(m - 1):
-                if not span_L[k] >= MIN_SPLIT_SPAN_M:
-                    continue
-                s_mid = 0.5 * (sup_c[k] + sup_c[k + 1])
-                again = False
-                for b in range(banned.shape[0]):
-                    if abs(banned[b] - s_mid) < MERGE_M:
-                        again = True
-                if again:
-                    continue
-                V[0] = 0.5 * (sup_v[k, 0] + sup_v[k + 1, 0]) + w_xy[k, 0]
-                V[1] = 0.5 * (sup_v[k, 1] + sup_v[k + 1, 1]) + w_xy[k, 1]
-                V[2] = 0.5 * (sup_v[k, 2] + sup_v[k + 1, 2]) + w_z[k, 0]
-                i = segment_of(top_s, 0.5 * (sup_c[k] + sup_c[k + 1]))
-                room = seg_Rh[i] - seg_rb[i]
-                dist = math.sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2])
-                if dist - room > SPLIT_TOL_M:
-                    split[k] = True
-                    nsplit += 1
-                    if may_split == SPLIT_ON_CHORD:
-                        # a bound, not a contact: on its neighbours' chord, no settlement
-                        for c in range(3):
-                            new_v[k, c] = 0.5 * (sup_v[k, c] + sup_v[k + 1, c])
-                    else:
-                        for c in range(3):
-                            new_n[k, c] = V[c] / dist
-                            new_v[k, c] = room * new_n[k, c]
-    if nsplit == 0:
-        return st, sup_c, sup_v, sup_n, cut, ACT_NONE
-    out = np.zeros(m + nsplit)
-    out_v = np.zeros((m + nsplit, 3))
-    out_n = np.zeros((m + nsplit, 3))
-    j = 0
-    for k in range(m):
-        out[j] = sup_c[k]
+                dst_v[j, c] = src_new_v[k, c]
+                dst_n[j, c] = src_new_n[k, c]
+            j -= 1
+        dst_c[j] = src_c[k]
+        dst_a[j] = src_a[k]
         for c in range(3):
-            out_v[j, c] = sup_v[k, c]
-            out_n[j, c] = sup_n[k, c]
-        j += 1
-        if k < m - 1 and split[k]:
-            out[j] = 0.5 * (sup_c[k] + sup_c[k + 1])
-            for c in range(3):
-                out_v[j, c] = new_v[k, c]
-                out_n[j, c] = new_n[k, c]
-            j += 1
-    return STATUS_SPLIT, out, out_v, out_n, cut, ACT_SPLIT
+            dst_v[j, c] = src_v[k, c]
+            dst_n[j, c] = src_n[k, c]
+        j -= 1
+    dst_m[0] = m + nsplit
+
+
+@njit(cache=True)
+def _solve_round(cw, sl, may_split, may_release, banned, nban):
+    """Solve the chain on the supports of ``cw`` under ``sl`` (:func:`_beam_moments`),
+    then check the solution against the wall (module docstring, step 5).
+
+    With ``may_release``, an interior wall support (outward normal not zero) that the
+    beam pulls from the wall is let go of (the most pulled one, :func:`_release`;
+    ``banned[:nban[0]]`` the mid-span supports let go of so far). Else, with
+    ``may_split`` (``SPLIT_ON_WALL`` or ``SPLIT_ON_CHORD``), mid-span supports are added
+    where a span buckles or reaches the wall (:func:`_mark_splits`), none within
+    ``MERGE_M`` of a banned one. Returns ``(status, action, cw)``: ``STATUS_SPLIT`` and
+    ``ACT_RELEASE`` or ``ACT_SPLIT`` when the supports changed (``cw`` may be a larger
+    one then), else the solve's status and ``ACT_NONE``."""
+    m = cw.m[0]
+    st = _beam_moments(cw, sl)
+    if st != STATUS_OK:
+        return st, ACT_NONE, cw
+    any_cut = False
+    for k in range(m - 1):
+        if cw.cut[k] != STATUS_OK:
+            any_cut = True
+    if may_release and not any_cut and m > 2:
+        _span_means(cw.c[:m], sl.top_s, sl.qw, cw.qw)
+        k = _most_pulled(cw, m)
+        if k >= 0:
+            _release(cw, m, k, banned, nban)
+            return STATUS_SPLIT, ACT_RELEASE, cw
+    if not may_split:
+        return st, ACT_NONE, cw
+    nsplit = _mark_splits(cw, m, sl, any_cut, may_split, banned, nban[0])
+    if nsplit == 0:
+        return st, ACT_NONE, cw
+    dst = cw if m + nsplit <= cw.c.shape[0] else _chain_work(2 * (m + nsplit))
+    _insert_splits(cw, dst, m, nsplit)
+    return STATUS_SPLIT, ACT_SPLIT, dst
+
+
+@njit(cache=True)
+def _solve_chain(cw, dec, sl, read_s, rd, rok):
+    """The chain on the supports of ``cw`` pinned at both ends, with the wall supports
+    the beam pulls let go of and mid-span supports added where a span reaches the wall
+    or buckles (module docstring, step 5), decided under the load of ``dec``
+    (:data:`SegLoad`), then solved under that of ``sl`` on the supports so found, with
+    mid-span supports added on their neighbours' chord where that load takes a span's
+    middle beyond the wall (none let go of).
+
+    Returns ``(status, spans cut, cw)`` with the read moments at ``read_s`` in ``rd``
+    (n_read, 3: M_x, M_y of the (x, y) load, M_y of the z load) and the read points
+    solved flagged in ``rok`` (both written only with ``STATUS_OK``)."""
+    rounds = 0
+    releases = 0
+    banned = np.zeros(MAX_RELEASES)
+    nban = np.zeros(1, dtype=np.int64)
+    while True:
+        st, act, cw = _solve_round(cw, dec, SPLIT_ON_WALL if rounds < MAX_SPLIT_ROUNDS else 0,
+                                   releases < MAX_RELEASES, banned, nban)
+        if act == ACT_RELEASE:
+            releases += 1
+        elif act == ACT_SPLIT:
+            rounds += 1
+        else:
+            break
+    if st != STATUS_OK:
+        return st, 0, cw
+    # the whole load on those supports, bounded by the wall: where it takes a span's middle
+    # beyond the wall a mid-span support on the chord of its neighbours (none let go of)
+    none = np.zeros(1, dtype=np.int64)
+    for _r in range(MAX_SPLIT_ROUNDS + 1):
+        st, act, cw = _solve_round(cw, sl, SPLIT_ON_CHORD if _r < MAX_SPLIT_ROUNDS else 0, False,
+                                   banned, none)
+        if act == ACT_NONE:
+            break
+    if st != STATUS_OK:
+        return st, 0, cw
+    # the moments at the read points, of the last solve only (each round's supports
+    # replace the last's)
+    m = cw.m[0]
+    rd[:, :] = 0.0
+    rok[:] = 0
+    read_moments(cw.c[:m], cw.sp, cw.M[:m], cw.cut[:m - 1], read_s, rd, rok)
+    n_cut = 0
+    for k in range(m - 1):
+        if cw.cut[k] != STATUS_OK:
+            n_cut += 1
+    return st, n_cut, cw
 
 
 @njit(cache=True)
@@ -501,121 +666,78 @@ def _hole_curvature_vector(axc, lnc, ic, out):
         out[k] = (axc[hi, k] - axc[lo, k]) / ds
 
 
-@njit(cache=True)
-def _solve_chain(sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb,
-                 seg_Rh, read_s, rxy, rz, rok, dec_q, dec_qz, dec_qw):
-    """The chain on supports ``sup_c`` at ``sup_v`` (outward wall normals ``sup_n``)
-    pinned at both ends, with the wall supports the beam pulls let go of and mid-span
-    supports added where a span reaches the wall or buckles (module docstring, step 5),
-    decided under the loads ``dec_q``, ``dec_qz``, ``dec_qw``, then solved under
-    ``seg_q``, ``seg_qz`` on the supports so found, with mid-span supports added on
-    their neighbours' chord where that load takes a span's middle beyond the wall
-    (none let go of):
-    ``(status, cut)`` with the read moments in ``rxy``, ``rz`` and the read points
-    solved flagged in ``rok``."""
-    st = STATUS_OK
-    cut = np.zeros(sup_c.shape[0] - 1, dtype=np.int64)
-    rounds = 0
-    releases = 0
-    # mid-span supports added, and those let go of: no mid-span support is added there
-    # again in this sample (one at a span's middle that the beam pulls means the pipe
-    # touches the wall elsewhere in that span; let go of and split again it would cycle)
-    added = np.zeros(0)
-    banned = np.zeros(MAX_RELEASES)
-    nban = 0
-    while True:
-        old_c = sup_c
-        st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
-            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, dec_q, dec_qz, dec_qw, seg_rb, seg_Rh,
-            read_s, rxy, rz, rok, SPLIT_ON_WALL if rounds < MAX_SPLIT_ROUNDS else 0,
-            releases < MAX_RELEASES,
-            banned[:nban])
-        if act == ACT_RELEASE:
-            # the one support let go of: the first of the old ones missing from the new
-            k = 0
-            while k < sup_c.shape[0] and old_c[k] == sup_c[k]:
-                k += 1
-            for a in range(added.shape[0]):
-                if added[a] == old_c[k]:
-                    banned[nban] = old_c[k]
-                    nban += 1
-                    break
-            releases += 1
-        elif act == ACT_SPLIT:
-            # the new ones: those of the new supports not among the old
-            more = np.zeros(sup_c.shape[0] - old_c.shape[0])
-            j = 0
-            k = 0
-            for a in range(sup_c.shape[0]):
-                if k < old_c.shape[0] and sup_c[a] == old_c[k]:
-                    k += 1
-                else:
-                    more[j] = sup_c[a]
-                    j += 1
-            added = np.concatenate((added, more))
-            rounds += 1
-        else:
-            break
-    if st != STATUS_OK:
-        return st, cut
-    # the whole load on those supports, bounded by the wall: where it takes a span's middle
-    # beyond the wall a mid-span support on the chord of its neighbours (none let go of)
-    for _r in range(MAX_SPLIT_ROUNDS + 1):
-        st, sup_c, sup_v, sup_n, cut, act = _solve_or_split(
-            sup_c, sup_v, sup_n, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
-            read_s, rxy, rz, rok, SPLIT_ON_CHORD if _r < MAX_SPLIT_ROUNDS else 0, False,
-            banned[:0])
-        if act == ACT_NONE:
-            break
-    return st, cut
+#: one sample's per-segment arrays (:func:`_segment_loads`): segment ends from the bit
+#: ``top_s`` (n + 1,), m; rotation matrices ``R`` (n, 3, 3); the load per length across
+#: each segment ``q`` and the buoyed weight's alone ``qs`` (n, 3), N/m, world x, y, z
+#: (zero for a segment in line contact); the load the rigid chain carries ``q3`` (``q``
+#: before the line-contact rule); the parts of them the wall carries along segments in
+#: line contact ``qw``, ``qws``; axial force ``T``, N; ``ei``, N m^2; the body's room off
+#: the hole's axis ``room``, m; line contact ``line``
+Segs = namedtuple("Segs", ("top_s", "R", "q", "qs", "q3", "qw", "qws", "T", "ei", "room",
+                           "line"))
+#: the hole beside each node (segment end) of the chain (:func:`_hole_nodes`): the foot
+#: of the perpendicular from the node on the hole's axis ``C`` (n + 1, 3), m; the hole's
+#: radius there ``R`` (n + 1,), m; where the node is relative to the hole's axis ``now``
+#: (n + 1, 3), m; the node's largest contact radius ``r`` (n + 1,), m
+Nodes = namedtuple("Nodes", ("C", "R", "now", "r"))
+#: supports of the continuous beam and holds of the rigid chain (:func:`_find_supports`):
+#: supports ``sup`` (from the bit, m) at ``P`` (where the rigid wall puts the pipe's
+#: axis, relative to the hole's axis; the bit where it is) with outward wall normals
+#: ``N``; holds ``hold`` (from the bit, m) where the chain is, ``Y`` (world, m: the bit,
+#: the points the wall pushes, the top end); ``cnt`` (supports, holds) in use;
+#: ``bit_gap`` (1,): the bit end's distance from the wall (the pendulum's offset r), m
+Supports = namedtuple("Supports", ("sup", "P", "N", "hold", "Y", "cnt", "bit_gap"))
+#: the tested points of one segment (:func:`_segment_supports`): offsets along its axis
+#: ``u``, m; gap to the wall ``gap``, m; axis offset from the wall ``g``, m; cylinder
+#: hints ``hint`` and found cylinders ``ic``; outward normals ``n``; where the rigid wall
+#: puts the pipe's axis ``W`` (relative to the hole's axis), m
+Points = namedtuple("Points", ("u", "gap", "g", "hint", "ic", "n", "W"))
 
 
 @njit(cache=True)
-def span_sample(n, s, p, wk, sel, out):
-    """Span correction at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
-    ``sel[a]``'s frame and in the convention of its recorded joint moment
-    (``bending_x/y_Nm``), N m: the continuous beam's moment there less the rigid
-    chain's own quasi-static moment (module docstring).
+def _new_scratch(n):
+    """The per-sample scratch of ``n`` segments: (:data:`Segs`, :data:`Nodes`,
+    :data:`Supports`, :data:`Points`)."""
+    g = Segs(np.zeros(n + 1), np.zeros((n, 3, 3)), np.zeros((n, 3)), np.zeros((n, 3)),
+             np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n), np.zeros(n),
+             np.zeros(n), np.zeros(n, dtype=np.bool_))
+    nd = Nodes(np.zeros((n + 1, 3)), np.zeros(n + 1), np.zeros((n + 1, 3)), np.zeros(n + 1))
+    cap = 2 + n * (MAX_TABLE_POINTS + 1)
+    sw = Supports(np.zeros(cap), np.zeros((cap, 3)), np.zeros((cap, 3)), np.zeros(cap),
+                  np.zeros((cap, 3)), np.zeros(2, dtype=np.int64), np.zeros(1))
+    npmax = MAX_TABLE_POINTS + MAX_CONTACT_POINTS
+    pt = Points(np.zeros(npmax), np.zeros(npmax), np.zeros(npmax),
+                np.zeros(npmax, dtype=np.int64), np.zeros(npmax, dtype=np.int64),
+                np.zeros((npmax, 3)), np.zeros((npmax, 3)))
+    return g, nd, sw, pt
 
-    Returns the number of spans handled locally (no correction in them, the chain
-    cut there), or minus a status code when no span could be solved or the chain's
-    static moments could not be found (every ``out`` zero)."""
-    for a in range(sel.size):
-        out[a, 0] = 0.0
-        out[a, 1] = 0.0
-    if n < 2:
-        return 0
-    seg = p.seg
+
+@njit(cache=True)
+def _segment_loads(n, s, p, wk, g):
+    """Segment boundaries, axes, loads and properties (module docstring, steps 2-3)."""
     cpar = p.cpar
-    x = s.x
+    p_ei = p.ei
+    seg = p.seg
+    p_wall = p.wall
+    Fw = s.Fw
+    cst = s.cst
     hint = s.hint
-    wall = p.wall
-    p0 = wall[:, 0:3]
-    axc = wall[:, 3:6]
-    lnc = wall[:, 6]
-    rad = wall[:, 7]
+    s_q = s.q
+    v = s.v
+    R = g.R
+    g_T = g.T
+    g_ei = g.ei
+    g_q = g.q
+    g_q3 = g.q3
+    g_qs = g.qs
+    g_room = g.room
+    top_s = g.top_s
+    rad = p_wall[:, 7]
     loads = wk.loads
-    table = cpar[P_CPTAB] != 0.0
-    npts = int(cpar[P_NPTS])
-    tbase = MAX_CONTACT_POINTS * x.shape[0]
-    # segment boundaries from the bit, axes, loads and properties
-    top_s = np.zeros(n + 1)
     for i in range(n):
         top_s[i + 1] = top_s[i] + 2.0 * seg[i, S_H]
-    R = np.zeros((n, 3, 3))
     for i in range(n):
-        quat_to_rot(s.q[i], R[i])
-    seg_q = np.zeros((n, 2))
-    seg_qz = np.zeros((n, 2))
-    seg_qs = np.zeros((n, 2))
-    seg_qzs = np.zeros((n, 2))
-    seg_T = np.zeros(n)
-    seg_ei = np.zeros(n)
-    seg_rb = np.zeros(n)
-    seg_Rh = np.zeros(n)
-    Fw = s.Fw
-    v = s.v
-    cst = s.cst
+        quat_to_rot(s_q[i], R[i])
     dyn = cpar.shape[0] > P_SPANDYN and cpar[P_SPANDYN] > 0.0
     for i in range(n):
         inv_l = 1.0 / (2.0 * seg[i, S_H])
@@ -637,36 +759,45 @@ def span_sample(n, s, p, wk, sel, out):
             gy = -cl * (v[i, 1] - vax * ey) - Fw[i, 1]
             gz = -cl * (v[i, 2] - vax * ez) - Fw[i, 2] + seg[i, S_W]
         ga = gx * ex + gy * ey + gz * ez
-        seg_q[i, 0] = (gx - ga * ex) * inv_l
-        seg_q[i, 1] = (gy - ga * ey) * inv_l
-        seg_qz[i, 0] = (gz - ga * ez) * inv_l
+        g_q[i, 0] = (gx - ga * ex) * inv_l
+        g_q[i, 1] = (gy - ga * ey) * inv_l
+        g_q[i, 2] = (gz - ga * ez) * inv_l
         # the buoyed weight alone across the axis: the load that decides the supports
         gw = seg[i, S_W] * ez
-        seg_qs[i, 0] = -gw * ex * inv_l
-        seg_qs[i, 1] = -gw * ey * inv_l
-        seg_qzs[i, 0] = (seg[i, S_W] - gw * ez) * inv_l
-        seg_T[i] = segment_axial_N(i, n, loads)
-        seg_ei[i] = p.ei[i]
-        seg_rb[i] = seg[i, S_RB]
+        g_qs[i, 0] = -gw * ex * inv_l
+        g_qs[i, 1] = -gw * ey * inv_l
+        g_qs[i, 2] = (seg[i, S_W] - gw * ez) * inv_l
+        g_T[i] = segment_axial_N(i, n, loads)
+        g_ei[i] = p_ei[i]
         h0 = hint[MAX_CONTACT_POINTS * i]
-        seg_Rh[i] = rad[h0] if 0 <= h0 < rad.shape[0] else rad.min()
+        Rh = rad[h0] if 0 <= h0 < rad.shape[0] else rad.min()
+        g_room[i] = Rh - seg[i, S_RB]
     # the load the rigid chain carries (before the line-contact rule hands a segment's
     # load to the wall)
-    q3 = np.zeros((n, 3))
     for i in range(n):
-        q3[i, 0] = seg_q[i, 0]
-        q3[i, 1] = seg_q[i, 1]
-        q3[i, 2] = seg_qz[i, 0]
-    # the hole's axis beside each node (segment end) of the chain: the foot of the
-    # perpendicular from the node; positions are taken relative to it (module docstring)
-    X = np.zeros(3)
-    info = np.zeros(OUT_SIZE)
-    C_node = np.zeros((n + 1, 3))
-    # each node's hole radius, where it is relative to the hole's axis now, and its
-    # largest contact radius (the body's, or a tool joint's or blade's at the segment end)
-    node_R = np.zeros(n + 1)
-    node_now = np.zeros((n + 1, 3))
-    node_r = np.zeros(n + 1)
+        for c in range(3):
+            g_q3[i, c] = g_q[i, c]
+
+
+@njit(cache=True)
+def _hole_nodes(n, s, p, g, nd, X, info):
+    """The hole's axis beside each node (segment end) of the chain: the foot of the
+    perpendicular from the node; positions are taken relative to it (module docstring).
+    Also each node's hole radius, where it is relative to the hole's axis now, and its
+    contact radius so far (the body's)."""
+    seg = p.seg
+    wall = p.wall
+    s_hint = s.hint
+    x = s.x
+    nd_C = nd.C
+    nd_R = nd.R
+    nd_now = nd.now
+    node_r = nd.r
+    R = g.R
+    p0 = wall[:, 0:3]
+    axc = wall[:, 3:6]
+    lnc = wall[:, 6]
+    rad = wall[:, 7]
     for i in range(n):
         node_r[i] = max(node_r[i], seg[i, S_RB])
         node_r[i + 1] = max(node_r[i + 1], seg[i, S_RB])
@@ -682,167 +813,240 @@ def span_sample(n, s, p, wk, sel, out):
                 X[k] = 0.5 * (x[j - 1, k] - seg[j - 1, S_H] * R[j - 1, k, 2]
                               + x[j, k] + seg[j, S_H] * R[j, k, 2])
         ic = find_contact(X, seg[min(j, n - 1), S_RB], p0, axc, lnc, rad,
-                          hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
-        node_R[j] = rad[ic] if ic >= 0 else rad.min()
+                          s_hint[MAX_CONTACT_POINTS * min(j, n - 1)], info)
+        nd_R[j] = rad[ic] if ic >= 0 else rad.min()
         for k in range(3):
-            C_node[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
-            node_now[j, k] = info[OUT_DIST] * info[OUT_NX + k]
-    # supports of the continuous beam (sup, at their true positions supP: a point in or
-    # along the wall where the rigid wall puts the pipe's axis, the bit where it is) and
-    # holds of the rigid chain (hold, where the chain is: the bit, the points the wall
-    # pushes, the top end)
-    cap = 2 + n * (MAX_TABLE_POINTS + 1)
-    sup = np.zeros(cap)
-    supP = np.zeros((cap, 3))
-    supN = np.zeros((cap, 3))
-    hold = np.zeros(cap)
-    holdY = np.zeros((cap, 3))
-    hold[1] = top_s[n]
-    for k in range(3):
-        holdY[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
-        supP[0, k] = holdY[0, k] - C_node[0, k]
-        holdY[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
-    nsup = 1
-    nhold = 2
-    npmax = MAX_TABLE_POINTS + MAX_CONTACT_POINTS
-    pt_u = np.zeros(npmax)
-    pt_gap = np.zeros(npmax)
-    pt_g = np.zeros(npmax)
-    pt_hint = np.zeros(npmax, dtype=np.int64)
-    pt_n = np.zeros((npmax, 3))
-    pt_W = np.zeros((npmax, 3))
-    deep = cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0
-    seg_line = np.zeros(n, dtype=np.bool_)
-    # the bit end's distance from the wall (the pendulum's offset r), m
-    bit_gap = 0.0
-    for i in range(n):
-        own = table and i < n - 1
-        npi = int(p.cp_n[i]) if own else npts
-        h = seg[i, S_H]
-        ncon = 0
-        kap = 0.0
-        clr = np.inf
-        raised = False
-        dpen = 0.0
-        for pt in range(npi):
-            if own:
-                off = p.cp[i, pt, 0]
-                rc = p.cp[i, pt, 1]
-                hi = hint[tbase + MAX_TABLE_POINTS * i + pt]
-                if hi < 0:
-                    hi = hint[MAX_CONTACT_POINTS * i]
-            else:
-                off, rc = contact_point(seg, i, pt)
-                hi = hint[MAX_CONTACT_POINTS * i + pt]
-            for k in range(3):
-                X[k] = x[i, k] + off * R[i, k, 2]
-            ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
-            if ic >= 0:
-                kap = max(kap, _hole_curvature(axc, lnc, ic))
-                clr = min(clr, rad[ic] - rc)
-            pt_u[pt] = off
-            if off >= h - MERGE_M:
-                node_r[i] = max(node_r[i], rc)
-            elif off <= -h + MERGE_M:
-                node_r[i + 1] = max(node_r[i + 1], rc)
-            pt_gap[pt] = -info[OUT_DELTA]
-            # where the rigid wall puts the pipe's axis there, from the hole's axis
-            rw = info[OUT_DIST] - info[OUT_DELTA]
-            for k in range(3):
-                pt_n[pt, k] = info[OUT_NX + k]
-                pt_W[pt, k] = rw * info[OUT_NX + k]
-            if i == 0 and off >= h - MERGE_M:
-                bit_gap = -info[OUT_DELTA]
-            if info[OUT_DELTA] > 0.0:
-                sup[nsup] = top_s[i] + h - off
-                hold[nhold] = sup[nsup]
-                for k in range(3):
-                    supP[nsup, k] = pt_W[pt, k]
-                    supN[nsup, k] = info[OUT_NX + k]
-                    holdY[nhold, k] = X[k]
-                nsup += 1
-                nhold += 1
-                ncon += 1
-            pt_g[pt] = info[OUT_DELTA] - rc
-            pt_hint[pt] = hi
+            nd_C[j, k] = X[k] - info[OUT_DIST] * info[OUT_NX + k]
+            nd_now[j, k] = info[OUT_DIST] * info[OUT_NX + k]
+
+
+@njit(cache=True, inline="always")
+def _add_support(sw, s_m, P, N, hold_Y):
+    """A support at ``s_m`` (from the bit) standing at ``P`` with normal ``N`` (3-vectors);
+    with ``hold_Y`` (not empty) a hold of the rigid chain there too, where it is."""
+    sw_N = sw.N
+    sw_P = sw.P
+    sw_Y = sw.Y
+    sw_cnt = sw.cnt
+    sw_hold = sw.hold
+    sw_sup = sw.sup
+    k = sw_cnt[0]
+    sw_sup[k] = s_m
+    for c in range(3):
+        sw_P[k, c] = P[c]
+        sw_N[k, c] = N[c]
+    sw_cnt[0] = k + 1
+    if hold_Y.shape[0] > 0:
+        h = sw_cnt[1]
+        sw_hold[h] = s_m
+        for c in range(3):
+            sw_Y[h, c] = hold_Y[c]
+        sw_cnt[1] = h + 1
+
+
+@njit(cache=True, inline="always")
+def _points_curvature(pt, npi, axc, lnc):
+    """The largest hole curvature at the cylinders of a segment's points found in the
+    chain (:func:`_hole_curvature`), in the points' order, 1/m."""
+    kap = 0.0
+    for k in range(npi):
+        ic = pt.ic[k]
+        if ic >= 0:
+            kap = max(kap, _hole_curvature(axc, lnc, ic))
+    return kap
+
+
+@njit(cache=True, inline="always")
+def _along_wall(i, npi, h, kap, top_s, sw, pt):
+    """Whether segment ``i`` (half-length ``h``, hole curvature ``kap``, its ``npi`` points
+    in ``pt``) lies along the wall of a curved hole (module docstring, step 2); if so its
+    ends on the wall become supports."""
+    pt_W = pt.W
+    pt_gap = pt.gap
+    pt_n = pt.n
+    pt_u = pt.u
+    # every point no further from the wall than the chord's offset from the arc there,
+    # (h^2 - u^2) kappa / 2 resting on the outer wall (ends in it) or u^2 kappa / 2 on
+    # the inner wall (middle in it). A segment whose bulge exceeds the clearance cannot
+    # lie along one wall (it touches both; the hole-fit rule cuts segments so that it
+    # does not)
+    tol = CHORD_TOL * 0.5 * h * h * kap
+    outer = True
+    inner = True
+    for k in range(npi):
+        u2 = pt_u[k] * pt_u[k]
+        if pt_gap[k] > 0.5 * (h * h - u2) * kap + tol:
+            outer = False
+        if pt_gap[k] > 0.5 * u2 * kap + tol:
+            inner = False
+    if not (outer or inner):
+        return False
+    for k in range(npi):
+        # the touching points are supports already; of the others the segment's ends (at
+        # a joint: the neighbour's chord meets it there). Points inside a rigid segment
+        # lie on its chord, and the beam on supports a metre apart would turn the chain's
+        # kinks at the joints between them into moments several times the chain's own
+        if pt_gap[k] >= 0.0 and abs(pt_u[k]) >= h - MERGE_M:
+            # the pipe lies on the wall there: its axis where the wall puts it
+            _add_support(sw, top_s[i] + h - pt_u[k], pt_W[k], pt_n[k], pt_W[k, :0])
+    return True
+
+
+@njit(cache=True, inline="always")
+def _segment_supports(i, n, s, p, g, nd, sw, pt, X, info):
+    """The supports and holds of segment ``i`` (module docstring, steps 1-2): its points
+    that penetrate the wall (and its deepest point with ``contact.deepest_point``), its
+    ends where it lies along the wall; its line contact in ``g.line[i]`` (its loads
+    zeroed then), its points' contact radii at its nodes in ``nd.r``."""
+    p_cp = p.cp
+    p_cp_n = p.cp_n
+    cpar = p.cpar
+    seg = p.seg
+    wall = p.wall
+    hint = s.hint
+    x = s.x
+    R = g.R
+    g_line = g.line
+    g_q = g.q
+    g_qs = g.qs
+    top_s = g.top_s
+    nd_r = nd.r
+    pt_W = pt.W
+    pt_g = pt.g
+    pt_gap = pt.gap
+    pt_hint = pt.hint
+    pt_ic = pt.ic
+    pt_n = pt.n
+    pt_u = pt.u
+    sw_bit_gap = sw.bit_gap
+    p0 = wall[:, 0:3]
+    axc = wall[:, 3:6]
+    lnc = wall[:, 6]
+    rad = wall[:, 7]
+    own = cpar[P_CPTAB] != 0.0 and i < n - 1
+    npi = int(p_cp_n[i]) if own else int(cpar[P_NPTS])
+    tbase = MAX_CONTACT_POINTS * x.shape[0]
+    h = seg[i, S_H]
+    ncon = 0
+    clr = np.inf
+    raised = False
+    dpen = 0.0
+    for k in range(npi):
+        if own:
+            off = p_cp[i, k, 0]
+            rc = p_cp[i, k, 1]
+            hi = hint[tbase + MAX_TABLE_POINTS * i + k]
+            if hi < 0:
+                hi = hint[MAX_CONTACT_POINTS * i]
+        else:
+            off, rc = contact_point(seg, i, k)
+            hi = hint[MAX_CONTACT_POINTS * i + k]
+        for c in range(3):
+            X[c] = x[i, c] + off * R[i, c, 2]
+        ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
+        pt_ic[k] = ic
+        if ic >= 0:
+            clr = min(clr, rad[ic] - rc)
+        pt_u[k] = off
+        if off >= h - MERGE_M:
+            nd_r[i] = max(nd_r[i], rc)
+        elif off <= -h + MERGE_M:
+            nd_r[i + 1] = max(nd_r[i + 1], rc)
+        pt_gap[k] = -info[OUT_DELTA]
+        # where the rigid wall puts the pipe's axis there, from the hole's axis
+        rw = info[OUT_DIST] - info[OUT_DELTA]
+        for c in range(3):
+            pt_n[k, c] = info[OUT_NX + c]
+            pt_W[k, c] = rw * info[OUT_NX + c]
+        if i == 0 and off >= h - MERGE_M:
+            sw_bit_gap[0] = -info[OUT_DELTA]
+        if info[OUT_DELTA] > 0.0:
+            _add_support(sw, top_s[i] + h - off, pt_W[k], pt_n[k], X)
+            ncon += 1
+        pt_g[k] = info[OUT_DELTA] - rc
+        pt_hint[k] = hi
+        if info[OUT_DELTA] > dpen:
+            dpen = info[OUT_DELTA]
+        if rc != seg[i, S_RB]:
+            raised = True
+    if cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0 and npi >= 3:
+        # the deepest point between the tested points, a support where the contact
+        # kernel pushes on it (contact.wall_contact: beyond the tested points' largest
+        # penetration)
+        kd, ud, gd = deepest_point(pt_u, pt_g, npi)
+        if kd >= 0 and gd + seg[i, S_RB] > dpen:
+            for c in range(3):
+                X[c] = x[i, c] + ud * R[i, c, 2]
+            find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
             if info[OUT_DELTA] > dpen:
-                dpen = info[OUT_DELTA]
-            if rc != seg[i, S_RB]:
-                raised = True
-        if deep and npi >= 3:
-            # the deepest point between the tested points, a support where the contact
-            # kernel pushes on it (contact.wall_contact: beyond the tested points'
-            # largest penetration)
-            kd, ud, gd = deepest_point(pt_u, pt_g, npi)
-            if kd >= 0 and gd + seg[i, S_RB] > dpen:
-                for k in range(3):
-                    X[k] = x[i, k] + ud * R[i, k, 2]
-                find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
-                if info[OUT_DELTA] > dpen:
-                    sup[nsup] = top_s[i] + h - ud
-                    hold[nhold] = sup[nsup]
-                    rw = info[OUT_DIST] - info[OUT_DELTA]
-                    for k in range(3):
-                        supP[nsup, k] = rw * info[OUT_NX + k]
-                        supN[nsup, k] = info[OUT_NX + k]
-                        holdY[nhold, k] = X[k]
-                    nsup += 1
-                    nhold += 1
-        line = npi >= 3 and ncon == npi
-        if kap > STRAIGHT_KAPPA and not raised and not line and 0.5 * h * h * kap < clr:
-            # along the wall of a curved hole: every point no further from the wall than
-            # the chord's offset from the arc there, (h^2 - u^2) kappa / 2 resting on the
-            # outer wall (ends in it) or u^2 kappa / 2 on the inner wall (middle in it).
-            # A segment whose bulge exceeds the clearance cannot lie along one wall (it
-            # touches both; the hole-fit rule cuts segments so that it does not)
-            tol = CHORD_TOL * 0.5 * h * h * kap
-            outer = True
-            inner = True
-            for pt in range(npi):
-                u2 = pt_u[pt] * pt_u[pt]
-                if pt_gap[pt] > 0.5 * (h * h - u2) * kap + tol:
-                    outer = False
-                if pt_gap[pt] > 0.5 * u2 * kap + tol:
-                    inner = False
-            if outer or inner:
-                line = True
-                for pt in range(npi):
-                    # the touching points are supports already; of the others the
-                    # segment's ends (at a joint: the neighbour's chord meets it there).
-                    # Points inside a rigid segment lie on its chord, and the beam on
-                    # supports a metre apart would turn the chain's kinks at the joints
-                    # between them into moments several times the chain's own
-                    if pt_gap[pt] >= 0.0 and abs(pt_u[pt]) >= h - MERGE_M:
-                        # the pipe lies on the wall there: its axis where the wall puts it
-                        sup[nsup] = top_s[i] + h - pt_u[pt]
-                        for k in range(3):
-                            supP[nsup, k] = pt_W[pt, k]
-                            supN[nsup, k] = pt_n[pt, k]
-                        nsup += 1
-        seg_line[i] = line
-        if line:
-            # line contact: the wall carries the segment's weight along its length
-            seg_q[i, 0] = 0.0
-            seg_q[i, 1] = 0.0
-            seg_qz[i, 0] = 0.0
-            seg_qs[i, 0] = 0.0
-            seg_qs[i, 1] = 0.0
-            seg_qzs[i, 0] = 0.0
-    # the load the wall carries along segments in line contact (for the supports' check)
-    seg_qw = np.zeros((n, 3))
-    seg_qws = np.zeros((n, 3))
+                rw = info[OUT_DIST] - info[OUT_DELTA]
+                for c in range(3):
+                    pt_W[npi, c] = rw * info[OUT_NX + c]
+                _add_support(sw, top_s[i] + h - ud, pt_W[npi], info[OUT_NX:OUT_NX + 3], X)
+    line = npi >= 3 and ncon == npi
+    if not raised and not line:
+        # in a curved hole, a segment without raised points (module docstring, step 2)
+        kap = _points_curvature(pt, npi, axc, lnc)
+        if kap > STRAIGHT_KAPPA and 0.5 * h * h * kap < clr:
+            line = _along_wall(i, npi, h, kap, top_s, sw, pt)
+    g_line[i] = line
+    if line:
+        # line contact: the wall carries the segment's weight along its length
+        for c in range(3):
+            g_q[i, c] = 0.0
+            g_qs[i, c] = 0.0
+
+
+@njit(cache=True)
+def _find_supports(n, s, p, g, nd, sw, pt, X, info):
+    """Supports of the continuous beam and holds of the rigid chain of the sample
+    (:data:`Supports`; module docstring, step 1), segments in line contact, and the
+    loads the wall carries along them (``g.qw``, ``g.qws``)."""
+    R = g.R
+    g_line = g.line
+    g_q = g.q
+    g_q3 = g.q3
+    g_qw = g.qw
+    g_qws = g.qws
+    g_top_s = g.top_s
+    nd_C = nd.C
+    sw_P = sw.P
+    sw_Y = sw.Y
+    sw_cnt = sw.cnt
+    sw_hold = sw.hold
+    seg = p.seg
+    x = s.x
+    sw_hold[1] = g_top_s[n]
+    for k in range(3):
+        sw_Y[0, k] = x[0, k] + seg[0, S_H] * R[0, k, 2]
+        sw_P[0, k] = sw_Y[0, k] - nd_C[0, k]
+        sw_Y[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
+    sw_cnt[0] = 1
+    sw_cnt[1] = 2
     for i in range(n):
-        seg_qw[i, 0] = q3[i, 0] - seg_q[i, 0]
-        seg_qw[i, 1] = q3[i, 1] - seg_q[i, 1]
-        seg_qw[i, 2] = q3[i, 2] - seg_qz[i, 0]
-        if seg_line[i]:
+        _segment_supports(i, n, s, p, g, nd, sw, pt, X, info)
+    # the load the wall carries along segments in line contact (for the supports' check)
+    for i in range(n):
+        for c in range(3):
+            g_qw[i, c] = g_q3[i, c] - g_q[i, c]
+        if g_line[i]:
             inv_l = 1.0 / (2.0 * seg[i, S_H])
             gw = seg[i, S_W] * R[i, 2, 2]
-            seg_qws[i, 0] = -gw * R[i, 0, 2] * inv_l
-            seg_qws[i, 1] = -gw * R[i, 1, 2] * inv_l
-            seg_qws[i, 2] = (seg[i, S_W] - gw * R[i, 2, 2]) * inv_l
+            g_qws[i, 0] = -gw * R[i, 0, 2] * inv_l
+            g_qws[i, 1] = -gw * R[i, 1, 2] * inv_l
+            g_qws[i, 2] = (seg[i, S_W] - gw * R[i, 2, 2]) * inv_l
+
+
+@njit(cache=True)
+def _merge_supports(sw, top):
+    """The supports of ``sw`` clipped to the chain [0, ``top``], sorted, those closer than
+    ``MERGE_M`` counted once: (positions, heights, normals); the bit where a point of it
+    is in the wall stands there, held by the wall."""
+    nsup = sw.cnt[0]
+    supP = sw.P
+    supN = sw.N
     # clipped to the chain before merging, so that the kept supports stay strictly increasing
-    sup_s = np.minimum(np.maximum(sup[:nsup], 0.0), top_s[n])
+    sup_s = np.minimum(np.maximum(sw.sup[:nsup], 0.0), top)
     order = np.argsort(sup_s, kind="mergesort")
     keep = np.zeros(nsup, dtype=np.bool_)
     last = -1.0
@@ -860,8 +1064,6 @@ def span_sample(n, s, p, wk, sel, out):
             for c in range(3):
                 supP[kept, c] = supP[k, c]
                 supN[kept, c] = supN[k, c]
-    if m < 2:
-        return 0
     sup_c = np.zeros(m)
     sup_Pc = np.zeros((m, 3))
     sup_Nc = np.zeros((m, 3))
@@ -873,73 +1075,84 @@ def span_sample(n, s, p, wk, sel, out):
                 sup_Pc[j, c] = supP[order[kk], c]
                 sup_Nc[j, c] = supN[order[kk], c]
             j += 1
-    nr = sel.size
-    read_s = np.zeros(nr)
-    for a in range(nr):
-        read_s[a] = top_s[min(sel[a], n - 1) + 1]
-    rxy = np.zeros((nr, 2))
-    rz = np.zeros((nr, 2))
-    rok = np.zeros(nr, dtype=np.int64)
+    return sup_c, sup_Pc, sup_Nc
+
+
+@njit(cache=True)
+def _beam_sample(n, s, p, g, sw, sup, read_s, rd, rok):
+    """The continuous beam's moments at ``read_s`` on the merged supports ``sup``
+    (positions, heights, normals; module docstring, steps 4-6) into ``rd`` (n_read, 3:
+    M_x, M_y of the (x, y) load, M_y of the z load) and ``rok``: (status, spans cut)."""
+    sup_c, sup_P, sup_N = sup
+    m = sup_c.shape[0]
+    top_s = g.top_s
+    wall = p.wall
+    rad = wall[:, 7]
+    dec = SegLoad(top_s, g.ei, g.T, g.qs, g.qws, g.room)
+    sl = SegLoad(top_s, g.ei, g.T, g.q, g.qw, g.room)
+    cw = _chain_work(2 * m + 8)
     # the span from the bit ends at the tangency where the string reaches a wall it
     # then lies along (module docstring, step 6)
     s_hi = sup_c[1]
     i_hi = 0
     while i_hi < n - 1 and top_s[i_hi + 1] <= s_hi + MERGE_M:
         i_hi += 1
+    if not (sup_c[0] == 0.0 and g.line[i_hi] and not g.line[0]):
+        cw = _set_supports(cw, sup_c, sup_P, sup_N)
+        st, n_cut, cw = _solve_chain(cw, dec, sl, read_s, rd, rok)
+        return st, n_cut
+    seg_q = g.q
+    q0 = math.sqrt(seg_q[0, 0] ** 2 + seg_q[0, 1] ** 2 + seg_q[0, 2] ** 2)
+    h0 = s.hint[MAX_CONTACT_POINTS * 0]
+    kap_out = 0.0
+    if 0 <= h0 < rad.shape[0] and q0 > 0.0:
+        kv = np.zeros(3)
+        _hole_curvature_vector(wall[:, 3:6], wall[:, 6], h0, kv)
+        # the load's share pointing away from the centre of curvature
+        kap_out = -(kv[0] * seg_q[0, 0] + kv[1] * seg_q[0, 1] + kv[2] * seg_q[0, 2]) / q0
+    l_t = tangency_length_m(g.ei[0], sw.bit_gap[0], q0, kap_out)
+    bit_span = np.zeros(2)
+    bit_span[1] = min(l_t, s_hi)
     n_cut = 0
-    if sup_c[0] == 0.0 and seg_line[i_hi] and not seg_line[0]:
-        q0 = math.sqrt(seg_q[0, 0] ** 2 + seg_q[0, 1] ** 2 + seg_qz[0, 0] ** 2)
-        h0 = hint[MAX_CONTACT_POINTS * 0]
-        kap_out = 0.0
-        if 0 <= h0 < rad.shape[0] and q0 > 0.0:
-            kv = np.zeros(3)
-            _hole_curvature_vector(axc, lnc, h0, kv)
-            # the load's share pointing away from the centre of curvature
-            kap_out = -(kv[0] * seg_q[0, 0] + kv[1] * seg_q[0, 1] + kv[2] * seg_qz[0, 0]) / q0
-        l_t = tangency_length_m(seg_ei[0], bit_gap, q0, kap_out)
-        bit_span = np.zeros(2)
-        bit_span[1] = min(l_t, s_hi)
-        # a tangency within MERGE_M of the bit leaves no span there (zero moments); a
-        # single span pinned at both ends takes no moment from its ends' offsets
-        if bit_span[1] > MERGE_M:
-            st, cut = _solve_chain(bit_span, np.zeros((2, 3)), np.zeros((2, 3)), top_s, seg_ei,
-                                   seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh, read_s, rxy,
-                                   rz, rok, seg_qs, seg_qzs, seg_qws)
-            if st != STATUS_OK:
-                return -st
-            for k in range(cut.shape[0]):
-                if cut[k] != STATUS_OK:
-                    n_cut += 1
-        if m > 2:
-            rxy2 = np.zeros((nr, 2))
-            rz2 = np.zeros((nr, 2))
-            rok2 = np.zeros(nr, dtype=np.int64)
-            st, cut = _solve_chain(sup_c[1:].copy(), sup_Pc[1:].copy(), sup_Nc[1:].copy(), top_s,
-                                   seg_ei, seg_T, seg_q, seg_qz, seg_qw, seg_rb, seg_Rh,
-                                   read_s, rxy2, rz2, rok2, seg_qs, seg_qzs, seg_qws)
-            if st != STATUS_OK:
-                return -st
-            # read points outside a chain's supports get zero from it
-            for a in range(nr):
-                for k in range(2):
-                    rxy[a, k] += rxy2[a, k]
-                    rz[a, k] += rz2[a, k]
-                if rok2[a] != 0:
-                    rok[a] = 1
-            for k in range(cut.shape[0]):
-                if cut[k] != STATUS_OK:
-                    n_cut += 1
-    else:
-        st, cut = _solve_chain(sup_c, sup_Pc, sup_Nc, top_s, seg_ei, seg_T, seg_q, seg_qz, seg_qw,
-                               seg_rb, seg_Rh, read_s, rxy, rz, rok, seg_qs, seg_qzs, seg_qws)
+    # a tangency within MERGE_M of the bit leaves no span there (zero moments); a
+    # single span pinned at both ends takes no moment from its ends' offsets
+    if bit_span[1] > MERGE_M:
+        cw = _set_supports(cw, bit_span, np.zeros((2, 3)), np.zeros((2, 3)))
+        st, n_cut, cw = _solve_chain(cw, dec, sl, read_s, rd, rok)
         if st != STATUS_OK:
-            return -st
-        for k in range(cut.shape[0]):
-            if cut[k] != STATUS_OK:
-                n_cut += 1
-    # what the rigid chain carries there now, quasi-statically: its joints' moments held
-    # where it is at the bit, its top and the points the wall pushes, under the same load
-    hs = hold[:nhold]
+            return st, 0
+    if m > 2:
+        rd2 = np.zeros(rd.shape)
+        rok2 = np.zeros(rok.shape[0], dtype=np.int64)
+        cw = _set_supports(cw, sup_c[1:], sup_P[1:], sup_N[1:])
+        st, cut2, cw = _solve_chain(cw, dec, sl, read_s, rd2, rok2)
+        if st != STATUS_OK:
+            return st, 0
+        # read points outside a chain's supports get zero from it
+        for a in range(rd.shape[0]):
+            for k in range(3):
+                rd[a, k] += rd2[a, k]
+            if rok2[a] != 0:
+                rok[a] = 1
+        n_cut += cut2
+    return STATUS_OK, n_cut
+
+
+@njit(cache=True)
+def _chain_moments(n, p, g, nd, sw, ms_chain):
+    """What the rigid chain carries now, quasi-statically (module docstring, step 7): its
+    joints' moments held where it is at the bit, its top and the points the wall pushes,
+    under the same load, into ``ms_chain`` (n - 1, 3); returns the solve's status."""
+    nd_C = nd.C
+    nd_R = nd.R
+    nd_now = nd.now
+    nd_r = nd.r
+    sw_Y = sw.Y
+    sw_cnt = sw.cnt
+    sw_hold = sw.hold
+    nhold = sw_cnt[1]
+    top_s = g.top_s
+    hs = sw_hold[:nhold]
     ho = np.argsort(hs, kind="mergesort")
     hold_s = np.zeros(nhold)
     hold_y = np.zeros((nhold, 3))
@@ -948,37 +1161,40 @@ def span_sample(n, s, p, wk, sel, out):
         i = segment_of(top_s, hold_s[kk])
         xi = (hold_s[kk] - top_s[i]) / (top_s[i + 1] - top_s[i])
         for c in range(3):
-            hold_y[kk, c] = holdY[ho[kk], c] - ((1.0 - xi) * C_node[i, c]
-                                                 + xi * C_node[i + 1, c])
+            hold_y[kk, c] = sw_Y[ho[kk], c] - ((1.0 - xi) * nd_C[i, c] + xi * nd_C[i + 1, c])
     k_joint = np.zeros(n - 1)
     for j in range(n - 1):
         k_joint[j] = p.jp[j, J_KB]
-    ms_chain = np.zeros((n - 1, 3))
     # kept inside the hole, as the continuous beam is (span_chain): a free run between
     # holds near or beyond its buckling load would otherwise amplify its load without
     # bound, a moment no chain inside the hole can carry
     node_room = np.zeros(n + 1)
     for j in range(n + 1):
-        node_room[j] = node_R[j] - node_r[j]
+        node_room[j] = nd_R[j] - nd_r[j]
     n_held = np.zeros(2, dtype=np.int64)
-    st = chain_static_moments_in_hole(top_s, k_joint, seg_T, q3, hold_s, hold_y, node_room,
-                                      node_now, ms_chain, n_held)
-    if st != STATUS_OK:
-        return -st
+    return chain_static_moments_in_hole(top_s, k_joint, g.T, g.q3, hold_s, hold_y, node_room,
+                                        nd_now, ms_chain, n_held)
+
+
+@njit(cache=True)
+def _correction(n, s, sel, rd, rok, ms_chain, out):
+    """The correction at the joints ``sel`` (module docstring, step 8): the beam's moment
+    ``rd`` less the chain's ``ms_chain``, resolved in each joint's frame, into ``out``."""
+    s_q = s.q
     qr = np.zeros(4)
     qh = np.zeros(4)
     qm = np.zeros(4)
     Rm = np.zeros((3, 3))
-    for a in range(nr):
+    for a in range(sel.size):
         jj = sel[a]
         if jj >= n - 1 or rok[a] == 0:
             continue
         # sagging moments of the world components (span_bending's convention): the
         # continuous beam's less the chain's
-        msx = -rxy[a, 1] - ms_chain[jj, 0]
-        msy = rxy[a, 0] - ms_chain[jj, 1]
-        msz = -rz[a, 1] - ms_chain[jj, 2]
-        _joint_frame(s.q[jj], s.q[jj + 1], qr, qh, qm, Rm)
+        msx = -rd[a, 1] - ms_chain[jj, 0]
+        msy = rd[a, 0] - ms_chain[jj, 1]
+        msz = -rd[a, 2] - ms_chain[jj, 2]
+        _joint_frame(s_q[jj], s_q[jj + 1], qr, qh, qm, Rm)
         t0 = Rm[0, 2]
         t1 = Rm[1, 2]
         t2 = Rm[2, 2]
@@ -989,4 +1205,44 @@ def span_sample(n, s, p, wk, sel, out):
         mw2 = msy * t0 - msx * t1
         out[a, 0] = Rm[0, 0] * mw0 + Rm[1, 0] * mw1 + Rm[2, 0] * mw2
         out[a, 1] = Rm[0, 1] * mw0 + Rm[1, 1] * mw1 + Rm[2, 1] * mw2
+
+
+@njit(cache=True)
+def span_sample(n, s, p, wk, sel, out):
+    """Span correction at the joints ``sel`` now: ``out[a] = (M_x, M_y)`` in joint
+    ``sel[a]``'s frame and in the convention of its recorded joint moment
+    (``bending_x/y_Nm``), N m: the continuous beam's moment there less the rigid
+    chain's own quasi-static moment (module docstring).
+
+    Returns the number of spans handled locally (no correction in them, the chain
+    cut there), or minus a status code when no span could be solved or the chain's
+    static moments could not be found (every ``out`` zero)."""
+    for a in range(sel.size):
+        out[a, 0] = 0.0
+        out[a, 1] = 0.0
+    if n < 2:
+        return 0
+    g, nd, sw, pt = _new_scratch(n)
+    _segment_loads(n, s, p, wk, g)
+    X = np.zeros(3)
+    info = np.zeros(OUT_SIZE)
+    _hole_nodes(n, s, p, g, nd, X, info)
+    _find_supports(n, s, p, g, nd, sw, pt, X, info)
+    sup = _merge_supports(sw, g.top_s[n])
+    if sup[0].shape[0] < 2:
+        return 0
+    nr = sel.size
+    read_s = np.zeros(nr)
+    for a in range(nr):
+        read_s[a] = g.top_s[min(sel[a], n - 1) + 1]
+    rd = np.zeros((nr, 3))
+    rok = np.zeros(nr, dtype=np.int64)
+    st, n_cut = _beam_sample(n, s, p, g, sw, sup, read_s, rd, rok)
+    if st != STATUS_OK:
+        return -st
+    ms_chain = np.zeros((n - 1, 3))
+    st = _chain_moments(n, p, g, nd, sw, ms_chain)
+    if st != STATUS_OK:
+        return -st
+    _correction(n, s, sel, rd, rok, ms_chain, out)
     return n_cut

@@ -23,11 +23,12 @@ import math
 import numpy as np
 
 from drillfatigue.dynamics.span.bending import (
-    END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, chain_span_moments, chain_span_moments_settled,
+    END_PINNED, STATUS_OK, STATUS_SPAN_BUCKLED, SegmentChain, Spans, chain_span_moments,
+    chain_span_moments_settled, read_moments,
 )
 from drillfatigue.dynamics.span.record import (
     ACT_NONE, ACT_RELEASE, ACT_SPLIT, MAX_RELEASES, MAX_SPLIT_ROUNDS, MIN_SPLIT_SPAN_M, SPLIT_TOL_M,
-    STATUS_SPLIT, _solve_chain, _solve_or_split,
+    STATUS_SPLIT, SegLoad, _chain_work, _set_supports, _solve_chain, _solve_round,
 )
 
 EI = 2.07e11 * math.pi / 64.0 * (0.127 ** 4 - 0.1086 ** 4)  # 5 in 19.5 ppf body, N m^2
@@ -67,21 +68,72 @@ def _direct(sup, top_s, seg_ei, seg_T, seg_qz, read_s):
     m = sup.size
     out = np.zeros((read_s.size, 2))
     cut = np.zeros(m - 1, dtype=np.int64)
-    st = chain_span_moments(sup, top_s, seg_ei, seg_T, seg_qz, END_PINNED, END_PINNED, read_s,
-                            np.zeros(m - 1), np.zeros(m - 1), np.zeros(m - 1),
-                            np.zeros((m - 1, 2)), np.zeros((m, 6)), np.zeros((m, 2)), out, cut)
+    st = chain_span_moments(sup, SegmentChain(top_s, seg_ei, seg_T, seg_qz), END_PINNED,
+                            END_PINNED, read_s, _spans(m - 1), np.zeros((m, 6)),
+                            np.zeros((m, 2)), out, cut)
     return st, out, cut
 
 
+def _spans(n):
+    return Spans(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((n, 2)))
+
+
+def _settled(sup, d, top_s, ei, T, qz, read):
+    """The z solve of the chain on ``sup`` at offsets ``d``: (spans, support moments)."""
+    m = sup.size
+    sp = _spans(m - 1)
+    M = np.zeros((m, 2))
+    chain_span_moments_settled(sup, d, SegmentChain(top_s, ei, T, qz), END_PINNED, END_PINNED,
+                               read, sp, np.zeros((m, 6)), M, np.zeros((read.size, 2)),
+                               np.zeros(m - 1, np.int64), np.zeros(read.size, np.int64))
+    return sp, M
+
+
+def _load(top_s, ei, T, q, qz, qw, rb, Rh):
+    """The recorder's segments under the (x, y) load ``q`` and the z load ``qz[:, 0]``."""
+    q3 = np.ascontiguousarray(np.column_stack([q[:, 0], q[:, 1], qz[:, 0]]))
+    return SegLoad(top_s, ei, T, q3, qw, Rh - rb)
+
+
+def _work(sup, sup_P, sup_n):
+    return _set_supports(_chain_work(2 * sup.size + 8), sup, sup_P, sup_n)
+
+
 def _round(args, may_split=True, may_release=True, banned=None):
+    """One round of the recorder's solve: ((status, supports, heights, normals, cut codes,
+    action), z moments as the z solve's (M_x, M_y), read points solved)."""
     sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read = args
-    rxy = np.zeros((read.size, 2))
-    rz = np.zeros((read.size, 2))
+    b = np.zeros(MAX_RELEASES)
+    nb = np.zeros(1, dtype=np.int64)
+    if banned:
+        b[:len(banned)] = banned
+        nb[0] = len(banned)
+    st, act, cw = _solve_round(_work(sup, sup_P, sup_n), _load(top_s, ei, T, q, qz, qw, rb, Rh),
+                               int(may_split), bool(may_release), b, nb)
+    m = cw.m[0]
+    rd = np.zeros((read.size, 3))
     rok = np.zeros(read.size, dtype=np.int64)
-    got = _solve_or_split(sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read, rxy, rz, rok,
-                          may_split, may_release,
-                          np.zeros(0) if banned is None else np.asarray(banned, dtype=float))
+    if st == STATUS_OK and act == ACT_NONE:
+        read_moments(cw.c[:m], cw.sp, cw.M[:m], cw.cut[:m - 1], read, rd, rok)
+    rz = np.zeros((read.size, 2))
+    rz[:, 1] = rd[:, 2]
+    got = (st, cw.c[:m].copy(), cw.v[:m].copy(), cw.n[:m].copy(), cw.cut[:m - 1].copy(), act)
     return got, rz, rok
+
+
+def _chain_solve(args, dec=None):
+    """The recorder's chain solve of ``args`` (as :func:`_chain`'s), decided under ``dec``
+    ((x, y) load, z load, wall load; default: the loads of ``args``): (status, cut codes,
+    read moments (x, y), z moments as the z solve's (M_x, M_y), read points solved)."""
+    sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read = args
+    dq, dqz, dqw = (q, qz, qw) if dec is None else dec
+    rd = np.zeros((read.size, 3))
+    rok = np.zeros(read.size, dtype=np.int64)
+    st, _, cw = _solve_chain(_work(sup, sup_P, sup_n), _load(top_s, ei, T, dq, dqz, dqw, rb, Rh),
+                             _load(top_s, ei, T, q, qz, qw, rb, Rh), read, rd, rok)
+    rz = np.zeros((read.size, 2))
+    rz[:, 1] = rd[:, 2]
+    return st, cw.cut[:cw.m[0] - 1].copy(), rd[:, :2].copy(), rz, rok
 
 
 def test_a_span_within_its_room_is_solved_as_on_level_supports() -> None:
@@ -143,11 +195,7 @@ def test_after_the_splits_no_span_passes_the_wall() -> None:
     m = sup.size
     d = np.zeros((m, 2))
     d[:, 0] = sup_P[:, 2] - sup_P[0, 2]
-    L, e, t, qq = np.zeros(m - 1), np.zeros(m - 1), np.zeros(m - 1), np.zeros((m - 1, 2))
-    M = np.zeros((m, 2))
-    chain_span_moments_settled(sup, d, top_s, ei, T, qz, END_PINNED, END_PINNED, read, L, e, t,
-                               qq, np.zeros((m, 6)), M, np.zeros((read.size, 2)),
-                               np.zeros(m - 1, np.int64), np.zeros(read.size, np.int64))
+    (L, e, t, qq), M = _settled(sup, d, top_s, ei, T, qz, read)
     # the middle of each span: chord's middle plus the amplified sag (z down, load +z);
     # spans too short to split may pass by the split tolerance
     sag = (5 * qq[:, 0] * L ** 4 / (384 * e) - (M[:-1, 1] + M[1:, 1]) * L ** 2 / (16 * e)) \
@@ -176,11 +224,7 @@ def test_a_wall_support_the_beam_pulls_is_let_go_of() -> None:
     assert sup2.size == sup.size - 1 and L_JOINT not in sup2
     # with the weight: loop to the end, then check every reaction by hand
     top_s, ei, T, q, qz, qw, rb, Rh, read = args[3:]
-    rxy = np.zeros((read.size, 2))
-    rz = np.zeros((read.size, 2))
-    rok = np.zeros(read.size, dtype=np.int64)
-    st, _ = _solve_chain(sup, sup_P, sup_n, top_s, ei, T, q, qz, qw, rb, Rh, read, rxy, rz, rok, q, qz,
-                         qw)
+    st = _chain_solve((sup, sup_P, sup_n) + tuple(args[3:]))[0]
     assert st == STATUS_OK
     s, P, n = sup, sup_P, sup_n
     for _ in range(64):
@@ -191,11 +235,7 @@ def test_a_wall_support_the_beam_pulls_is_let_go_of() -> None:
     m = s.size
     d = np.zeros((m, 2))
     d[:, 0] = P[:, 2] - P[0, 2]
-    L, e, t, qq = np.zeros(m - 1), np.zeros(m - 1), np.zeros(m - 1), np.zeros((m - 1, 2))
-    M = np.zeros((m, 2))
-    chain_span_moments_settled(s, d, top_s, ei, T, qz, END_PINNED, END_PINNED, read, L, e, t, qq,
-                               np.zeros((m, 6)), M, np.zeros((read.size, 2)),
-                               np.zeros(m - 1, np.int64), np.zeros(read.size, np.int64))
+    (L, e, t, qq), M = _settled(s, d, top_s, ei, T, qz, read)
     ms = -M[:, 1]  # sagging moment of the z component
     psi = np.diff(d[:, 0]) / L
     s_start = np.diff(ms) / L + qq[:, 0] * L / 2 + t * psi
@@ -240,20 +280,11 @@ def test_spans_merged_by_releases_are_split_until_inside_the_wall() -> None:
     m = sup.size
     d = np.zeros((m, 2))
     d[:, 0] = sup_P[:, 2] - sup_P[0, 2]
-    Ls, e, t, qq = np.zeros(m - 1), np.zeros(m - 1), np.zeros(m - 1), np.zeros((m - 1, 2))
-    M = np.zeros((m, 2))
-    chain_span_moments_settled(sup, d, top_s, ei, T, qz, END_PINNED, END_PINNED, read, Ls, e, t,
-                               qq, np.zeros((m, 6)), M, np.zeros((read.size, 2)),
-                               np.zeros(m - 1, np.int64), np.zeros(read.size, np.int64))
+    (Ls, e, t, qq), M = _settled(sup, d, top_s, ei, T, qz, read)
     sag = 5 * qq[:, 0] * Ls ** 4 / (384 * e) - (M[:-1, 1] + M[1:, 1]) * Ls ** 2 / (16 * e)
     mid_z = 0.5 * (sup_P[:-1, 2] + sup_P[1:, 2]) + sag
     assert np.all(np.abs(mid_z[Ls >= MIN_SPLIT_SPAN_M]) <= HOLE_R - R_BODY + SPLIT_TOL_M)
-    _, _, _, top_s, ei, T, q, qz, qw, rb, Rh, read = args
-    rxy = np.zeros((read.size, 2))
-    rz = np.zeros((read.size, 2))
-    rok = np.zeros(read.size, dtype=np.int64)
-    st, _ = _solve_chain(args[0], args[1], args[2], top_s, ei, T, q, qz, qw, rb, Rh, read, rxy,
-                         rz, rok, q, qz, qw)
+    st, _, _, rz, _ = _chain_solve(tuple(args))
     assert st == STATUS_OK
     np.testing.assert_allclose(rz, rz_loop, rtol=1e-12, atol=1e-9)
 
@@ -275,10 +306,7 @@ def test_the_wall_bounds_the_beam_under_the_whole_load_too() -> None:
     q_dyn = np.zeros_like(q)
     q_dyn[:, 1] = 1500.0
     qz0 = np.zeros_like(qz)
-    rxy = np.zeros((read.size, 2))
-    rz = np.zeros((read.size, 2))
-    rok = np.zeros(read.size, dtype=np.int64)
-    st, cut = _solve_chain(sup, sup_P, sup_n, top_s, ei, T, q_dyn, qz0, qw, rb, Rh, read, rxy,
-                           rz, rok, np.zeros_like(q), qz0, np.zeros_like(qw))
+    st, cut, rxy, _, rok = _chain_solve((sup, sup_P, sup_n, top_s, ei, T, q_dyn, qz0, qw, rb, Rh,
+                                         read), dec=(np.zeros_like(q), qz0, np.zeros_like(qw)))
     assert st == STATUS_OK and not cut.any() and np.all(rok == 1)
     assert np.abs(rxy).max() < 1500.0 * L_JOINT ** 2 / 8.0
