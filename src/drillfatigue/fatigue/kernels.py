@@ -54,6 +54,7 @@ def _push_index(y, stk, m, k):
     return m + 1
 
 
+
 @njit(cache=True)
 def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
     """Rainflow cycles of ``y`` with the sample index of each cycle's ends.
@@ -80,43 +81,17 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
     """
     n = y.shape[0]
     stk = np.empty(2 * n + 2, dtype=np.int64)
+    seq = np.arange(n)  # the samples, then (repeat) the residue once more
     m = 0
     nc = 0
     cap = out_from.shape[0]
-    for k in range(n):
-        m = _push_index(y, stk, m, k)
-        while m >= 4:
-            s0 = y[stk[m - 4]]
-            s1 = y[stk[m - 3]]
-            s2 = y[stk[m - 2]]
-            s3 = y[stk[m - 1]]
-            d2 = abs(s2 - s1)
-            if d2 <= abs(s1 - s0) and d2 <= abs(s3 - s2):
-                if nc >= cap:
-                    return -OUT_OVERFLOW
-                out_from[nc] = stk[m - 3]
-                out_to[nc] = stk[m - 2]
-                out_count[nc] = 1.0
-                nc += 1
-                stk[m - 3] = stk[m - 1]
-                m -= 2
-            else:
+    for again in range(2):
+        if again:
+            if residue_mode != RESIDUE_REPEAT:
                 break
-    out_residue[0] = m
-    for i in range(m):
-        out_residue[i + 1] = stk[i]
-    if residue_mode == RESIDUE_HALF:
-        for i in range(m - 1):
-            if nc >= cap:
-                return -OUT_OVERFLOW
-            out_from[nc] = stk[i]
-            out_to[nc] = stk[i + 1]
-            out_count[nc] = 0.5
-            nc += 1
-    elif residue_mode == RESIDUE_REPEAT:
-        res = stk[:m].copy()
-        for i in range(res.shape[0]):
-            m = _push_index(y, stk, m, res[i])
+            seq = stk[:m].copy()
+        for j in range(seq.shape[0]):
+            m = _push_index(y, stk, m, seq[j])
             while m >= 4:
                 s0 = y[stk[m - 4]]
                 s1 = y[stk[m - 3]]
@@ -134,6 +109,18 @@ def rainflow_indexed(y, residue_mode, out_from, out_to, out_count, out_residue):
                     m -= 2
                 else:
                     break
+        if not again:  # the signal ends: the stack is the residue
+            out_residue[0] = m
+            for i in range(m):
+                out_residue[i + 1] = stk[i]
+    if residue_mode == RESIDUE_HALF:
+        for i in range(m - 1):
+            if nc >= cap:
+                return -OUT_OVERFLOW
+            out_from[nc] = stk[i]
+            out_to[nc] = stk[i + 1]
+            out_count[nc] = 0.5
+            nc += 1
     return nc
 
 
