@@ -892,12 +892,14 @@ def _along_wall(i, npi, h, kap, top_s, sw, pt):
     return True
 
 
-@njit(cache=True, inline="always")
-def _segment_supports(i, n, s, p, g, nd, sw, pt, X, info):
-    """The supports and holds of segment ``i`` (module docstring, steps 1-2): its points
+@njit(cache=True)
+def _segment_supports(n, s, p, g, nd, sw, pt, X, info):
+    """The supports and holds of each segment (module docstring, steps 1-2): its points
     that penetrate the wall (and its deepest point with ``contact.deepest_point``), its
     ends where it lies along the wall; its line contact in ``g.line[i]`` (its loads
-    zeroed then), its points' contact radii at its nodes in ``nd.r``."""
+    zeroed then), its points' contact radii at its nodes in ``nd.r``. The bundles' arrays
+    are bound once, outside the segment loop (bound per segment, their reference counts
+    cost as much as the search in a hole without contact)."""
     p_cp = p.cp
     p_cp_n = p.cp_n
     cpar = p.cpar
@@ -923,78 +925,79 @@ def _segment_supports(i, n, s, p, g, nd, sw, pt, X, info):
     axc = wall[:, 3:6]
     lnc = wall[:, 6]
     rad = wall[:, 7]
-    own = cpar[P_CPTAB] != 0.0 and i < n - 1
-    npi = int(p_cp_n[i]) if own else int(cpar[P_NPTS])
     tbase = MAX_CONTACT_POINTS * x.shape[0]
-    h = seg[i, S_H]
-    ncon = 0
-    clr = np.inf
-    raised = False
-    dpen = 0.0
-    for k in range(npi):
-        if own:
-            off = p_cp[i, k, 0]
-            rc = p_cp[i, k, 1]
-            hi = hint[tbase + MAX_TABLE_POINTS * i + k]
-            if hi < 0:
-                hi = hint[MAX_CONTACT_POINTS * i]
-        else:
-            off, rc = contact_point(seg, i, k)
-            hi = hint[MAX_CONTACT_POINTS * i + k]
-        for c in range(3):
-            X[c] = x[i, c] + off * R[i, c, 2]
-        ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
-        pt_ic[k] = ic
-        if ic >= 0:
-            clr = min(clr, rad[ic] - rc)
-        pt_u[k] = off
-        if off >= h - MERGE_M:
-            nd_r[i] = max(nd_r[i], rc)
-        elif off <= -h + MERGE_M:
-            nd_r[i + 1] = max(nd_r[i + 1], rc)
-        pt_gap[k] = -info[OUT_DELTA]
-        # where the rigid wall puts the pipe's axis there, from the hole's axis
-        rw = info[OUT_DIST] - info[OUT_DELTA]
-        for c in range(3):
-            pt_n[k, c] = info[OUT_NX + c]
-            pt_W[k, c] = rw * info[OUT_NX + c]
-        if i == 0 and off >= h - MERGE_M:
-            sw_bit_gap[0] = -info[OUT_DELTA]
-        if info[OUT_DELTA] > 0.0:
-            _add_support(sw, top_s[i] + h - off, pt_W[k], pt_n[k], X)
-            ncon += 1
-        pt_g[k] = info[OUT_DELTA] - rc
-        pt_hint[k] = hi
-        if info[OUT_DELTA] > dpen:
-            dpen = info[OUT_DELTA]
-        if rc != seg[i, S_RB]:
-            raised = True
-    if cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0 and npi >= 3:
-        # the deepest point between the tested points, a support where the contact
-        # kernel pushes on it (contact.wall_contact: beyond the tested points' largest
-        # penetration)
-        kd, ud, gd = deepest_point(pt_u, pt_g, npi)
-        if kd >= 0 and gd + seg[i, S_RB] > dpen:
+    for i in range(n):
+        own = cpar[P_CPTAB] != 0.0 and i < n - 1
+        npi = int(p_cp_n[i]) if own else int(cpar[P_NPTS])
+        h = seg[i, S_H]
+        ncon = 0
+        clr = np.inf
+        raised = False
+        dpen = 0.0
+        for k in range(npi):
+            if own:
+                off = p_cp[i, k, 0]
+                rc = p_cp[i, k, 1]
+                hi = hint[tbase + MAX_TABLE_POINTS * i + k]
+                if hi < 0:
+                    hi = hint[MAX_CONTACT_POINTS * i]
+            else:
+                off, rc = contact_point(seg, i, k)
+                hi = hint[MAX_CONTACT_POINTS * i + k]
             for c in range(3):
-                X[c] = x[i, c] + ud * R[i, c, 2]
-            find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
+                X[c] = x[i, c] + off * R[i, c, 2]
+            ic = find_contact(X, rc, p0, axc, lnc, rad, hi, info)
+            pt_ic[k] = ic
+            if ic >= 0:
+                clr = min(clr, rad[ic] - rc)
+            pt_u[k] = off
+            if off >= h - MERGE_M:
+                nd_r[i] = max(nd_r[i], rc)
+            elif off <= -h + MERGE_M:
+                nd_r[i + 1] = max(nd_r[i + 1], rc)
+            pt_gap[k] = -info[OUT_DELTA]
+            # where the rigid wall puts the pipe's axis there, from the hole's axis
+            rw = info[OUT_DIST] - info[OUT_DELTA]
+            for c in range(3):
+                pt_n[k, c] = info[OUT_NX + c]
+                pt_W[k, c] = rw * info[OUT_NX + c]
+            if i == 0 and off >= h - MERGE_M:
+                sw_bit_gap[0] = -info[OUT_DELTA]
+            if info[OUT_DELTA] > 0.0:
+                _add_support(sw, top_s[i] + h - off, pt_W[k], pt_n[k], X)
+                ncon += 1
+            pt_g[k] = info[OUT_DELTA] - rc
+            pt_hint[k] = hi
             if info[OUT_DELTA] > dpen:
-                rw = info[OUT_DIST] - info[OUT_DELTA]
+                dpen = info[OUT_DELTA]
+            if rc != seg[i, S_RB]:
+                raised = True
+        if cpar.shape[0] > P_DEEP and cpar[P_DEEP] != 0.0 and npi >= 3:
+            # the deepest point between the tested points, a support where the contact
+            # kernel pushes on it (contact.wall_contact: beyond the tested points' largest
+            # penetration)
+            kd, ud, gd = deepest_point(pt_u, pt_g, npi)
+            if kd >= 0 and gd + seg[i, S_RB] > dpen:
                 for c in range(3):
-                    pt_W[npi, c] = rw * info[OUT_NX + c]
-                _add_support(sw, top_s[i] + h - ud, pt_W[npi], info[OUT_NX:OUT_NX + 3], X)
-    line = npi >= 3 and ncon == npi
-    if not raised and not line:
-        # in a curved hole, a segment without raised points (module docstring, step 2)
-        kap = _points_curvature(pt, npi, axc, lnc)
-        if kap > STRAIGHT_KAPPA and 0.5 * h * h * kap < clr:
-            line = _along_wall(i, npi, h, kap, top_s, sw, pt)
-    g_line[i] = line
-    if line:
-        # line contact: the wall carries the segment's weight along its length
-        for c in range(3):
-            g_q[i, c] = 0.0
-            g_qs[i, c] = 0.0
+                    X[c] = x[i, c] + ud * R[i, c, 2]
+                find_contact(X, seg[i, S_RB], p0, axc, lnc, rad, pt_hint[kd], info)
+                if info[OUT_DELTA] > dpen:
+                    rw = info[OUT_DIST] - info[OUT_DELTA]
+                    for c in range(3):
+                        pt_W[npi, c] = rw * info[OUT_NX + c]
+                    _add_support(sw, top_s[i] + h - ud, pt_W[npi], info[OUT_NX:OUT_NX + 3], X)
+        line = npi >= 3 and ncon == npi
+        if not raised and not line:
+            # in a curved hole, a segment without raised points (module docstring, step 2)
+            kap = _points_curvature(pt, npi, axc, lnc)
+            if kap > STRAIGHT_KAPPA and 0.5 * h * h * kap < clr:
+                line = _along_wall(i, npi, h, kap, top_s, sw, pt)
+        g_line[i] = line
+        if line:
+            # line contact: the wall carries the segment's weight along its length
+            for c in range(3):
+                g_q[i, c] = 0.0
+                g_qs[i, c] = 0.0
 
 
 @njit(cache=True)
@@ -1023,8 +1026,7 @@ def _find_supports(n, s, p, g, nd, sw, pt, X, info):
         sw_Y[1, k] = x[n - 1, k] - seg[n - 1, S_H] * R[n - 1, k, 2]
     sw_cnt[0] = 1
     sw_cnt[1] = 2
-    for i in range(n):
-        _segment_supports(i, n, s, p, g, nd, sw, pt, X, info)
+    _segment_supports(n, s, p, g, nd, sw, pt, X, info)
     # the load the wall carries along segments in line contact (for the supports' check)
     for i in range(n):
         for c in range(3):
