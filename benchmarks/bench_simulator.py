@@ -59,6 +59,12 @@ import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
 
 from drillfatigue.files import atomic_write_json  # noqa: E402
+from drillfatigue.numba_cache import scope_numba_cache  # noqa: E402
+
+# numba's cache under the kernels' digest: its own index only sees a kernel's own file,
+# so a cached step would keep an edited callee's old code
+scope_numba_cache()
+
 from drillfatigue.config import case_from_dict  # noqa: E402
 from drillfatigue.dynamics.core import layout as L  # noqa: E402
 from drillfatigue.dynamics.run.model import build_model, evaluate_forces, straight_path  # noqa: E402
